@@ -1,0 +1,88 @@
+//! Errors are values: each names the entity at fault and the fix.
+
+use std::path::PathBuf;
+
+use crate::dynamics::InstabilityReport;
+
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    #[error(
+        "mesh `{mesh}`: element {element} has non-positive volume {volume:.6e} m^3 (nodes {nodes:?}); \
+         its nodes are numbered in the wrong sense or it is collapsed. Fix: number the nodes so the \
+         volume is positive (swap two of them) or regenerate the mesh; it is never flipped silently"
+    )]
+    InvertedElement {
+        mesh: String,
+        element: usize,
+        volume: f64,
+        nodes: [u32; 4],
+    },
+
+    #[error(
+        "mesh `{mesh}`: element {element} is degenerate (smallest altitude {altitude:.3e} m against \
+         longest edge {edge:.3e} m, ratio {ratio:.3e} below {limit:.1e}). Fix: remesh the region"
+    )]
+    DegenerateElement {
+        mesh: String,
+        element: usize,
+        altitude: f64,
+        edge: f64,
+        ratio: f64,
+        limit: f64,
+    },
+
+    #[error("mesh `{mesh}`: element {element} refers to node {node} but the mesh has {count} nodes")]
+    NodeOutOfRange {
+        mesh: String,
+        element: usize,
+        node: u32,
+        count: usize,
+    },
+
+    #[error("cannot read mesh file `{path}`: {message}")]
+    MeshRead { path: PathBuf, message: String },
+
+    #[error(
+        "time step {requested:.6e} s is above the stable limit {stable:.6e} s (smallest altitude over \
+         dilatational wave speed, element {element}). Fix: lower `time_step` or set \
+         `allow_unstable_time_step: true` to run above the limit on purpose"
+    )]
+    TimeStepAboveStable {
+        requested: f64,
+        stable: f64,
+        element: usize,
+    },
+
+    #[error("{0}")]
+    Unstable(Box<InstabilityReport>),
+
+    #[error("scene: {entity}: {message}")]
+    InvalidScene { entity: String, message: String },
+
+    #[error(
+        "static analysis did not converge at load step {step} of {steps}: residual {residual:.3e} N \
+         after {iterations} Newton iterations (tolerance {tolerance:.3e}). Fix: use more load steps"
+    )]
+    StaticNotConverged {
+        step: usize,
+        steps: usize,
+        iterations: usize,
+        residual: f64,
+        tolerance: f64,
+    },
+
+    #[error("static analysis: the tangent stiffness is singular ({0}). Fix: restrain rigid-body motion")]
+    SingularStiffness(String),
+
+    #[error("element {element}: deformation gradient has det F = {det:.3e} <= 0 (element inverted)")]
+    ElementInverted { element: usize, det: f64 },
+
+    #[error("cannot write `{path}`: {source}")]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+pub type Result<T, E = SolverError> = std::result::Result<T, E>;

@@ -1,0 +1,104 @@
+//! Geometry and kinematics of the linear tetrahedron (thesis 3.3, FORMULATION section 1).
+//!
+//! The element has constant shape-function gradients, so every quantity here is exact: there is
+//! no quadrature. Gradients are taken in the reference configuration (total Lagrangian), and the
+//! internal force `f_a = V P grad_X N_a` equals the updated-Lagrangian `v sigma grad_x N_a` of
+//! (3.102) because `P = J sigma F^-T` and `grad_x N_a = F^-T grad_X N_a`.
+
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+/// Signed volume of the tetrahedron `x` (3.40): positive when `x1-x0, x2-x0, x3-x0` is a
+/// right-handed triple.
+#[inline]
+pub fn signed_volume(x: &[Vector3<f64>; 4]) -> f64 {
+    (x[1] - x[0]).cross(&(x[2] - x[0])).dot(&(x[3] - x[0])) / 6.0
+}
+
+/// Gradients `grad N_a` of the four barycentric shape functions (3.44), with the volume.
+///
+/// With `J = [x1-x0 | x2-x0 | x3-x0]`, `N_i = (J^-1 (x - x0))_i` for `i = 1..3`, so `grad N_i`
+/// is row `i` of `J^-1`, and `grad N_0 = -(grad N_1 + grad N_2 + grad N_3)` because the
+/// functions sum to one. Returns `None` for a volume that is not positive.
+pub fn shape_gradients(x: &[Vector3<f64>; 4]) -> Option<([Vector3<f64>; 4], f64)> {
+    let e1 = x[1] - x[0];
+    let e2 = x[2] - x[0];
+    let e3 = x[3] - x[0];
+    let det = e1.cross(&e2).dot(&e3);
+    if !(det > 0.0) {
+        return None;
+    }
+    // Rows of J^-1 are the scaled cross products of the columns of J.
+    let g1 = e2.cross(&e3) / det;
+    let g2 = e3.cross(&e1) / det;
+    let g3 = e1.cross(&e2) / det;
+    Some(([-(g1 + g2 + g3), g1, g2, g3], det / 6.0))
+}
+
+/// Displacement gradient `H = grad_X u = sum_a u_a (x) grad_X N_a`.
+#[inline]
+pub fn displacement_gradient(u: &[Vector3<f64>; 4], grad_n: &[Vector3<f64>; 4]) -> Matrix3<f64> {
+    u[0] * grad_n[0].transpose()
+        + u[1] * grad_n[1].transpose()
+        + u[2] * grad_n[2].transpose()
+        + u[3] * grad_n[3].transpose()
+}
+
+/// Deformation gradient `F = I + H` (2.47), from the displacements so that small strains keep
+/// their significant digits.
+#[inline]
+pub fn deformation_gradient(u: &[Vector3<f64>; 4], grad_n: &[Vector3<f64>; 4]) -> Matrix3<f64> {
+    Matrix3::identity() + displacement_gradient(u, grad_n)
+}
+
+/// Green-Lagrange strain `E = (F^T F - I)/2 = (H + H^T + H^T H)/2` (2.73), from `H` to keep
+/// precision at small strain.
+#[inline]
+pub fn green_lagrange_from_h(h: &Matrix3<f64>) -> Matrix3<f64> {
+    0.5 * (h + h.transpose() + h.transpose() * h)
+}
+
+/// Green-Lagrange strain `E = (F^T F - I)/2` (2.73).
+#[inline]
+pub fn green_lagrange(f: &Matrix3<f64>) -> Matrix3<f64> {
+    0.5 * (f.transpose() * f - Matrix3::identity())
+}
+
+/// Cofactor `cof F = det(F) F^-T`, written out so that it exists for every `F` and needs no
+/// division. It maps reference area to current area (Nanson) and is the bridge `P = sigma cof F`.
+#[inline]
+pub fn cofactor(f: &Matrix3<f64>) -> Matrix3<f64> {
+    let c0 = f.column(0);
+    let c1 = f.column(1);
+    let c2 = f.column(2);
+    // Columns of cof F are the cross products of the other two columns of F.
+    Matrix3::from_columns(&[c1.cross(&c2), c2.cross(&c0), c0.cross(&c1)])
+}
+
+/// Polar decomposition `F = R U` (2.2.3), with `U` from the eigen-decomposition of `C = F^T F`.
+///
+/// Exact to round-off for any `F` with `det F > 0`; returns `None` when `det F <= 0` (an
+/// inverted element) instead of producing NaN.
+pub fn polar_decomposition(f: &Matrix3<f64>) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+    if !(f.determinant() > 0.0) {
+        return None;
+    }
+    let eig = SymmetricEigen::new(f.transpose() * f);
+    let q = eig.eigenvectors;
+    let stretches = eig.eigenvalues.map(f64::sqrt);
+    let u = q * Matrix3::from_diagonal(&stretches) * q.transpose();
+    let u_inv = q * Matrix3::from_diagonal(&stretches.map(|s| 1.0 / s)) * q.transpose();
+    Some((f * u_inv, u))
+}
+
+/// Principal values of a symmetric tensor, in ascending order.
+pub fn principal_values(a: &Matrix3<f64>) -> Vector3<f64> {
+    let mut v = SymmetricEigen::new(*a).eigenvalues;
+    v.as_mut_slice().sort_by(|x, y| x.total_cmp(y));
+    v
+}
+
+/// Symmetric tensor in Voigt order `[xx, yy, zz, xy, yz, xz]`.
+#[inline]
+pub fn voigt(a: &Matrix3<f64>) -> [f64; 6] {
+    [a[(0, 0)], a[(1, 1)], a[(2, 2)], a[(0, 1)], a[(1, 2)], a[(0, 2)]]
+}

@@ -1,0 +1,23 @@
+//! `impact-solver`: explicit finite-strain dynamics of linear tetrahedra for concrete under
+//! impact, after V. Travaš (2009), *Three-dimensional finite element formulation for concrete
+//! failure at high-energy impact loadings* (the "thesis"), with the decisions recorded in the
+//! project's `FORMULATION.md`.
+//!
+//! Data flows one way through a time step:
+//! `kinematics -> material (stress) -> internal forces -> integrator -> state at n+1 -> energies/output`.
+//!
+//! Units are SI throughout (m, kg, s, Pa, J) and every quantity is `f64`.
+
+pub mod dynamics;
+pub mod error;
+pub mod kinematics;
+pub mod material;
+pub mod mesh;
+pub mod model;
+pub mod output;
+pub mod rng;
+pub mod scene;
+pub mod statics;
+
+pub use error::SolverError;
+pub use nalgebra::{Matrix3, Vector3};

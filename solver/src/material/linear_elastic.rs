@@ -1,0 +1,87 @@
+//! Linear elasticity in the co-rotated frame: the elastic limit of the microplane model.
+
+use nalgebra::Matrix3;
+
+use super::{IsotropicElastic, Material};
+use crate::kinematics::{cofactor, green_lagrange_from_h};
+
+/// Hooke's law between the back-rotated Cauchy stress `s` and the Green-Lagrange strain `E`,
+/// `s = lambda tr(E) I + 2 mu E`, with `sigma = R s R^T` (FORMULATION 1; MICROPLANE.md gives the
+/// microplane model the same measures, so this is its elastic limit).
+///
+/// For an isotropic law the rotation need not be computed: `R E R^T = (F F^T - I)/2 = e_b` and
+/// `tr E = tr e_b`, so `sigma = lambda tr(e_b) I + 2 mu e_b` and `P = sigma cof F`. The model is
+/// objective to round-off at any rotation, costs no polar decomposition, and coincides with
+/// Saint-Venant-Kirchhoff to first order in the strain. It is Cauchy-elastic, not
+/// hyperelastic: on large closed strain cycles its work is zero only to second order, so use
+/// Saint-Venant-Kirchhoff where exact energy conservation at large strain matters.
+#[derive(Debug, Clone, Copy)]
+pub struct LinearElastic {
+    c: IsotropicElastic,
+    lambda: f64,
+    two_mu: f64,
+}
+
+impl LinearElastic {
+    pub fn new(c: IsotropicElastic) -> Self {
+        Self {
+            c,
+            lambda: c.lambda(),
+            two_mu: 2.0 * c.mu(),
+        }
+    }
+
+    /// `e_b = (F F^T - I)/2 = (H + H^T + H H^T)/2`.
+    #[inline(always)]
+    fn spatial_strain(h: &Matrix3<f64>) -> Matrix3<f64> {
+        0.5 * (h + h.transpose() + h * h.transpose())
+    }
+
+    #[inline(always)]
+    fn hooke(&self, e: &Matrix3<f64>) -> Matrix3<f64> {
+        let mut s = e * self.two_mu;
+        let p = self.lambda * e.trace();
+        s[(0, 0)] += p;
+        s[(1, 1)] += p;
+        s[(2, 2)] += p;
+        s
+    }
+}
+
+impl Material for LinearElastic {
+    #[inline(always)]
+    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
+        self.hooke(&Self::spatial_strain(h)) * cofactor(f)
+    }
+
+    /// `dP = d(sigma) cof F + sigma d(cof F)`, with `d sigma = hooke(sym(dF F^T))` and the
+    /// derivative of the cofactor taken column by column from `cof F = [f1 x f2 | ...]`.
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64> {
+        let h = f - Matrix3::identity();
+        let sigma = self.hooke(&Self::spatial_strain(&h));
+        let df_ft = df * f.transpose();
+        let dsigma = self.hooke(&(0.5 * (df_ft + df_ft.transpose())));
+        let (c0, c1, c2) = (f.column(0), f.column(1), f.column(2));
+        let (d0, d1, d2) = (df.column(0), df.column(1), df.column(2));
+        let dcof = Matrix3::from_columns(&[
+            d1.cross(&c2) + c1.cross(&d2),
+            d2.cross(&c0) + c2.cross(&d0),
+            d0.cross(&c1) + c0.cross(&d1),
+        ]);
+        dsigma * cofactor(f) + sigma * dcof
+    }
+
+    /// The small-strain energy `lambda/2 (tr E)^2 + mu tr E^2`: exact to second order in the
+    /// strain for this Cauchy-elastic model.
+    fn strain_energy_density(&self, h: &Matrix3<f64>) -> f64 {
+        self.c.strain_energy_density(&green_lagrange_from_h(h))
+    }
+
+    fn density(&self) -> f64 {
+        self.c.density
+    }
+
+    fn dilatational_wave_speed(&self) -> f64 {
+        self.c.dilatational_wave_speed()
+    }
+}

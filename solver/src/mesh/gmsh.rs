@@ -1,0 +1,1 @@
+//! Gmsh reader (in progress)
