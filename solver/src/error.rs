@@ -31,7 +31,9 @@ pub enum SolverError {
         limit: f64,
     },
 
-    #[error("mesh `{mesh}`: element {element} refers to node {node} but the mesh has {count} nodes")]
+    #[error(
+        "mesh `{mesh}`: element {element} refers to node {node} but the mesh has {count} nodes"
+    )]
     NodeOutOfRange {
         mesh: String,
         element: usize,
@@ -71,10 +73,14 @@ pub enum SolverError {
         tolerance: f64,
     },
 
-    #[error("static analysis: the tangent stiffness is singular ({0}). Fix: restrain rigid-body motion")]
+    #[error(
+        "static analysis: the tangent stiffness is singular ({0}). Fix: restrain rigid-body motion"
+    )]
     SingularStiffness(String),
 
-    #[error("element {element}: deformation gradient has det F = {det:.3e} <= 0 (element inverted)")]
+    #[error(
+        "element {element}: deformation gradient has det F = {det:.3e} <= 0 (element inverted)"
+    )]
     ElementInverted { element: usize, det: f64 },
 
     #[error("cannot write `{path}`: {source}")]

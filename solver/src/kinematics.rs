@@ -100,5 +100,12 @@ pub fn principal_values(a: &Matrix3<f64>) -> Vector3<f64> {
 /// Symmetric tensor in Voigt order `[xx, yy, zz, xy, yz, xz]`.
 #[inline]
 pub fn voigt(a: &Matrix3<f64>) -> [f64; 6] {
-    [a[(0, 0)], a[(1, 1)], a[(2, 2)], a[(0, 1)], a[(1, 2)], a[(0, 2)]]
+    [
+        a[(0, 0)],
+        a[(1, 1)],
+        a[(2, 2)],
+        a[(0, 1)],
+        a[(1, 2)],
+        a[(0, 2)],
+    ]
 }

@@ -1,4 +1,10 @@
-//! (in progress)
-#[derive(Debug)]
-pub struct InstabilityReport;
-impl std::fmt::Display for InstabilityReport { fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result { write!(f, "unstable") } }
+//! Explicit dynamics: lumped mass, central differences, energies and instability detection
+//! (thesis chapter 4, FORMULATION sections 2 and 3).
+
+mod energy;
+mod explicit;
+mod report;
+
+pub use energy::EnergyLedger;
+pub use explicit::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary};
+pub use report::InstabilityReport;

@@ -32,7 +32,10 @@ const KUHN_AXIS_ORDERS: [[usize; 3]; 6] = [
 /// `i + (nx + 1) * (j + (ny + 1) * k)`; elements run cell by cell in the same order.
 pub fn box_mesh(spec: &BoxSpec) -> Mesh {
     let [nx, ny, nz] = spec.divisions;
-    assert!(nx > 0 && ny > 0 && nz > 0, "a box needs at least one cell per axis");
+    assert!(
+        nx > 0 && ny > 0 && nz > 0,
+        "a box needs at least one cell per axis"
+    );
     let id = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
     let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
     for k in 0..=nz {

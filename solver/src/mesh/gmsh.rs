@@ -1,1 +1,313 @@
-//! Gmsh reader (in progress)
+//! Reader for Gmsh `.msh` files in format 4.1, ASCII or binary.
+//!
+//! `mshio` parses the `$Entities`, `$Nodes` and `$Elements` sections; `$PhysicalNames` is always
+//! ASCII, even in binary files, and `mshio` skips it, so it is read here.
+//!
+//! Choices:
+//! - Only linear tetrahedra (type 4) become elements. Lower-dimensional elements (points, lines,
+//!   triangles, ...) only feed node sets; any other volume element is an error, because silently
+//!   dropping it would lose mass.
+//! - Nodes are renumbered 0.. in file order, keeping only those used by a tetrahedron or by a
+//!   physical group. Geometry-only nodes (a circle's centre, say) are dropped because they would
+//!   carry no mass.
+//! - Element nodes keep the file's order: orientation is checked by [`Mesh::validate`].
+//! - Every physical group becomes `node_sets[name]` (`"dim:tag"` when unnamed): the sorted node
+//!   ids of all elements on its entities, plus, for points, the nodes classified on them. Groups
+//!   sharing a name (in different dimensions) are merged.
+//!
+//! Limitation: when the node tags form one contiguous range, mshio drops them and the k-th node
+//! in the file is taken to have tag `min_node_tag + k`. Gmsh always writes them so; a hand-edited
+//! file listing dense tags out of order would be misread.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use mshio::{ElementType, MshFile};
+use nalgebra::Vector3;
+
+use super::Mesh;
+use crate::error::{Result, SolverError};
+
+/// Physical group key: (dimension, physical tag).
+type Group = (i32, i32);
+
+const REEXPORT: &str = "re-export it from Gmsh as format 4.1 (`gmsh -3 -format msh41 model.geo`)";
+
+/// Reads a Gmsh 4.1 mesh (ASCII or binary) and returns its linear tetrahedra.
+///
+/// See the module documentation for which nodes, elements and node sets are kept.
+pub fn read_msh(path: &Path) -> Result<Mesh> {
+    let bytes = std::fs::read(path).map_err(|e| SolverError::MeshRead {
+        path: path.to_path_buf(),
+        message: format!(
+            "{e}. Fix: check the path (relative paths start at the working directory)"
+        ),
+    })?;
+    parse_msh(&bytes, &path.to_string_lossy())
+}
+
+/// Same from bytes already in memory; `name` labels error messages.
+pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh> {
+    let fail = |message: String| SolverError::MeshRead {
+        path: name.into(),
+        message,
+    };
+    let binary = check_format(bytes).map_err(fail)?;
+    let names = physical_names(bytes).map_err(fail)?;
+    // mshio panics on a few malformed inputs (e.g. an unsupported data size); a bad file must be
+    // an error, not a crash.
+    let parsed = std::panic::catch_unwind(|| {
+        mshio::parse_msh_bytes(bytes).map_err(|e| describe_parse_error(&e, bytes, binary))
+    })
+    .unwrap_or_else(|_| {
+        Err(format!(
+            "the file is malformed (the parser gave up); {REEXPORT}"
+        ))
+    });
+    build(&parsed.map_err(fail)?, &names).map_err(fail)
+}
+
+/// Rejects other versions up front: mshio would only say "unsupported version", without which.
+/// Returns whether the file is binary.
+fn check_format(bytes: &[u8]) -> std::result::Result<bool, String> {
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]);
+    let mut lines = head.lines();
+    if lines.next().map(str::trim_end) != Some("$MeshFormat") {
+        return Err(format!(
+            "not a Gmsh mesh: it does not start with `$MeshFormat`; {REEXPORT}"
+        ));
+    }
+    let mut header = lines.next().unwrap_or("").split_whitespace();
+    match header.next() {
+        Some("4.1") => Ok(header.next() == Some("1")),
+        Some(version) => Err(format!(
+            "Gmsh format {version} is not supported: re-export with `-format msh41` \
+             (or `Mesh.MshFileVersion = 4.1;`)"
+        )),
+        None => Err(format!("the file ends inside `$MeshFormat`; {REEXPORT}")),
+    }
+}
+
+/// Maps each named physical group to its name, from the optional `$PhysicalNames` section.
+fn physical_names(bytes: &[u8]) -> std::result::Result<HashMap<Group, String>, String> {
+    let Some(start) = find_line(bytes, b"$PhysicalNames") else {
+        return Ok(HashMap::new());
+    };
+    let body = &bytes[start + b"$PhysicalNames".len()..];
+    let end = find_line(body, b"$EndPhysicalNames")
+        .ok_or_else(|| format!("`$PhysicalNames` has no `$EndPhysicalNames`; {REEXPORT}"))?;
+    let text = String::from_utf8_lossy(&body[..end]);
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let count: usize = lines.next().and_then(|l| l.parse().ok()).unwrap_or(0);
+    let mut names = HashMap::new();
+    for line in lines {
+        let mut fields = line.splitn(3, char::is_whitespace);
+        let dim = fields.next().and_then(|f| f.parse().ok());
+        let tag = fields.next().and_then(|f| f.parse().ok());
+        let name = fields.next().map(|f| f.trim().trim_matches('"'));
+        let (Some(dim), Some(tag), Some(name)) = (dim, tag, name) else {
+            return Err(format!(
+                "`$PhysicalNames` line `{line}` is not `dim tag \"name\"`; {REEXPORT}"
+            ));
+        };
+        names.insert((dim, tag), name.to_string());
+    }
+    if names.len() != count {
+        return Err(format!(
+            "`$PhysicalNames` announces {count} names but lists {}; {REEXPORT}",
+            names.len()
+        ));
+    }
+    Ok(names)
+}
+
+/// Offset of the first line that is exactly `tag`; anchoring on line starts keeps
+/// `$EndPhysicalNames` from matching `$PhysicalNames`.
+fn find_line(bytes: &[u8], tag: &[u8]) -> Option<usize> {
+    (0..bytes.len()).find(|&i| {
+        (i == 0 || bytes[i - 1] == b'\n')
+            && bytes[i..].starts_with(tag)
+            && matches!(bytes.get(i + tag.len()), None | Some(b'\n' | b'\r'))
+    })
+}
+
+/// mshio's own `Display` appends a hex dump of the whole rest of the file; name the place
+/// instead.
+fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: bool) -> String {
+    let trace = e.filtered_backtrace();
+    let Some((rest, kind)) = trace.first() else {
+        return format!("the file is malformed; {REEXPORT}");
+    };
+    let offset = (rest.as_ptr() as usize).saturating_sub(bytes.as_ptr() as usize);
+    let mut place = format!("byte {offset}");
+    if !binary {
+        let line = bytes[..offset.min(bytes.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        place = format!("line {}", line + 1);
+    }
+    for (_, k) in trace[1..].iter().rev() {
+        place += &format!(
+            ", in {}",
+            k.context().map_or_else(|| k.to_string(), str::to_string)
+        );
+    }
+    format!(
+        "parse error at {place}: {}. The file is damaged or truncated; {REEXPORT}",
+        kind.to_string().trim_end_matches('.')
+    )
+}
+
+/// Turns the parsed file into a [`Mesh`] following the rules in the module documentation.
+fn build(
+    msh: &MshFile<u64, i32, f64>,
+    names: &HashMap<Group, String>,
+) -> std::result::Result<Mesh, String> {
+    // mshio keeps a block's node tags only when the file's tags are sparse; when they are dense
+    // it drops them, so they are rebuilt as min_node_tag, min_node_tag + 1, ... in file order,
+    // which is how Gmsh writes them.
+    let mut coords = Vec::new();
+    let mut index_of = HashMap::new();
+    let mut point_nodes: HashMap<i32, Vec<usize>> = HashMap::new();
+    if let Some(nodes) = &msh.data.nodes {
+        for block in &nodes.node_blocks {
+            let first = coords.len();
+            let tags: Vec<u64> = match &block.node_tags {
+                Some(map) if map.len() != block.nodes.len() => {
+                    return Err(format!(
+                        "a node tag appears twice in the `$Nodes` block of entity {}:{}; \
+                         {REEXPORT}",
+                        block.entity_dim, block.entity_tag
+                    ));
+                }
+                Some(map) => {
+                    let mut tags = vec![0; block.nodes.len()];
+                    map.iter().for_each(|(&tag, &i)| tags[i] = tag);
+                    tags
+                }
+                None => (0..block.nodes.len() as u64)
+                    .map(|k| nodes.min_node_tag + first as u64 + k)
+                    .collect(),
+            };
+            for (k, (tag, node)) in tags.into_iter().zip(&block.nodes).enumerate() {
+                if index_of.insert(tag, first + k).is_some() {
+                    return Err(format!(
+                        "node tag {tag} is defined twice in `$Nodes`; {REEXPORT}"
+                    ));
+                }
+                coords.push(Vector3::new(node.x, node.y, node.z));
+            }
+            if block.entity_dim == 0 {
+                point_nodes
+                    .entry(block.entity_tag)
+                    .or_default()
+                    .extend(first..coords.len());
+            }
+        }
+    }
+
+    let mut physical: HashMap<Group, &[i32]> = HashMap::new();
+    if let Some(entities) = &msh.data.entities {
+        let points = entities.points.iter().map(|e| (0, e.tag, &e.physical_tags));
+        let curves = entities.curves.iter().map(|e| (1, e.tag, &e.physical_tags));
+        let surfaces = entities
+            .surfaces
+            .iter()
+            .map(|e| (2, e.tag, &e.physical_tags));
+        let volumes = entities
+            .volumes
+            .iter()
+            .map(|e| (3, e.tag, &e.physical_tags));
+        for (dim, tag, tags) in points.chain(curves).chain(surfaces).chain(volumes) {
+            physical.insert((dim, tag), tags.as_slice());
+        }
+    }
+
+    let mut tets: Vec<[usize; 4]> = Vec::new();
+    let mut groups: BTreeMap<Group, Vec<usize>> =
+        names.keys().map(|&group| (group, Vec::new())).collect();
+    for (&tag, nodes) in &point_nodes {
+        for &group in physical.get(&(0, tag)).copied().unwrap_or_default() {
+            groups.entry((0, group)).or_default().extend(nodes);
+        }
+    }
+    for block in msh.data.elements.iter().flat_map(|e| &e.element_blocks) {
+        let (dim, entity) = (block.entity_dim, block.entity_tag);
+        if block.element_type == ElementType::Tet10 {
+            return Err(format!(
+                "volume {entity} holds quadratic tetrahedra (type 11); only linear tetrahedra \
+                 (type 4) are supported: re-mesh with `-order 1` (`Mesh.ElementOrder = 1;`)"
+            ));
+        }
+        let is_tet = block.element_type == ElementType::Tet4;
+        if dim == 3 && !is_tet {
+            return Err(format!(
+                "volume {entity} holds {:?} elements (type {}); only linear tetrahedra (type 4) \
+                 are supported: re-mesh the volume with tetrahedra (no `Recombine`)",
+                block.element_type, block.element_type as i32
+            ));
+        }
+        let entity_groups = physical.get(&(dim, entity)).copied().unwrap_or_default();
+        for element in &block.elements {
+            let ids = element
+                .nodes
+                .iter()
+                .map(|tag| {
+                    index_of.get(tag).copied().ok_or_else(|| {
+                        format!(
+                            "element {} refers to node tag {tag}, which `$Nodes` does not \
+                             define; {REEXPORT}",
+                            element.element_tag
+                        )
+                    })
+                })
+                .collect::<std::result::Result<Vec<usize>, String>>()?;
+            if is_tet {
+                tets.push([ids[0], ids[1], ids[2], ids[3]]);
+            }
+            for &group in entity_groups {
+                groups.entry((dim, group)).or_default().extend(&ids);
+            }
+        }
+    }
+    if tets.is_empty() {
+        let hint = "mesh the volume in 3D (`gmsh -3`) and, when physical groups are defined, \
+                    put the volume in one (Gmsh then saves only elements of physical groups)";
+        return Err(format!(
+            "the file holds no linear tetrahedra (type 4): {hint}"
+        ));
+    }
+
+    let mut used = vec![false; coords.len()];
+    tets.iter()
+        .flatten()
+        .chain(groups.values().flatten())
+        .for_each(|&i| used[i] = true);
+    let mut new_id = vec![u32::MAX; coords.len()];
+    let mut kept = Vec::new();
+    for (i, x) in coords.into_iter().enumerate().filter(|&(i, _)| used[i]) {
+        new_id[i] = u32::try_from(kept.len())
+            .map_err(|_| "the mesh has more than 2^32 nodes, beyond u32 node ids".to_string())?;
+        kept.push(x);
+    }
+
+    let mut node_sets: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    for ((dim, tag), members) in groups {
+        let name = names
+            .get(&(dim, tag))
+            .cloned()
+            .unwrap_or_else(|| format!("{dim}:{tag}"));
+        let set = node_sets.entry(name).or_default();
+        set.extend(members.iter().map(|&i| new_id[i]));
+    }
+    for set in node_sets.values_mut() {
+        set.sort_unstable();
+        set.dedup();
+    }
+    Ok(Mesh {
+        nodes: kept,
+        tets: tets.iter().map(|t| t.map(|i| new_id[i])).collect(),
+        node_sets,
+    })
+}

@@ -37,7 +37,11 @@ pub fn element_quality(x: &[Vector3<f64>; 4]) -> ElementQuality {
     }
     ElementQuality {
         volume,
-        min_altitude: if max_area > 0.0 { 3.0 * volume / max_area } else { 0.0 },
+        min_altitude: if max_area > 0.0 {
+            3.0 * volume / max_area
+        } else {
+            0.0
+        },
         volume_size: (6.0 * volume.max(0.0)).cbrt(),
         edge_ratio: max_edge / min_edge,
         max_edge,

@@ -1,1 +1,9 @@
-//! (in progress)
+//! What a run leaves on disk: time histories as CSV ([`history`]) and fields as VTK XML files
+//! with a ParaView collection ([`vtu`]). Both are plain, documented formats so results can be
+//! inspected and post-processed without this crate.
+
+pub mod history;
+pub mod vtu;
+
+pub use history::HistoryTable;
+pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};

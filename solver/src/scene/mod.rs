@@ -1,1 +1,205 @@
-//! (in progress)
+//! The description of a simulation as serde types: what the YAML catalogue writes, what Rust code
+//! can build directly. Unknown keys are rejected everywhere.
+
+mod build;
+mod selector;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+pub use build::build_problem;
+pub use selector::Selector;
+
+use crate::dynamics::ExplicitSettings;
+use crate::error::{Result, SolverError};
+use crate::material::MaterialModel;
+use crate::mesh::BoxSpec;
+use crate::model::{ProbeQuantity, TimeFunction};
+use crate::statics::StaticSettings;
+
+/// A complete simulation: bodies, conditions and the analysis to run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub bodies: Vec<BodySpec>,
+    #[serde(default)]
+    pub boundary_conditions: Vec<BoundaryCondition>,
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
+    /// Gravitational acceleration (m/s^2).
+    #[serde(default)]
+    pub gravity: Option<[f64; 3]>,
+    #[serde(default)]
+    pub probes: Vec<ProbeSpec>,
+    pub analysis: Analysis,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub name: String,
+    pub mesh: MeshSource,
+    pub material: MaterialModel,
+    #[serde(default)]
+    pub initial_velocity: Option<InitialVelocity>,
+}
+
+/// Where a body's mesh comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MeshSource {
+    /// The structured generator; optionally with interior nodes moved at random.
+    Box {
+        #[serde(flatten)]
+        spec: BoxSpec,
+        #[serde(default)]
+        perturb: Option<Perturbation>,
+    },
+    /// A Gmsh 4.1 file, relative to the scene file.
+    Gmsh(PathBuf),
+}
+
+/// Random displacement of interior nodes by up to `fraction` of the cell size.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Perturbation {
+    pub fraction: f64,
+    pub seed: u64,
+}
+
+/// `v(X) = translation + angular_velocity x (X - center) + gradient (X - center)`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialVelocity {
+    #[serde(default)]
+    pub translation: [f64; 3],
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    #[serde(default)]
+    pub gradient: Option<[[f64; 3]; 3]>,
+    #[serde(default)]
+    pub center: [f64; 3],
+}
+
+/// Displacement components, named.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Component {
+    X,
+    Y,
+    Z,
+}
+
+/// A condition on the nodes of one body picked by a selector.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryCondition {
+    /// Labels the reaction-force history; defaults to `bc<index>`.
+    #[serde(default)]
+    pub name: Option<String>,
+    pub body: String,
+    pub nodes: Selector,
+    pub motion: MotionSpec,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MotionSpec {
+    Fixed(Vec<Component>),
+    Velocity {
+        components: Vec<Component>,
+        value: TimeFunction,
+    },
+    Displacement {
+        components: Vec<Component>,
+        value: TimeFunction,
+    },
+    AffineVelocity {
+        #[serde(default)]
+        translation: [f64; 3],
+        gradient: [[f64; 3]; 3],
+        #[serde(default)]
+        center: [f64; 3],
+    },
+    AffineDisplacement {
+        #[serde(default)]
+        translation: [f64; 3],
+        gradient: [[f64; 3]; 3],
+        #[serde(default)]
+        center: [f64; 3],
+        #[serde(default = "unit_function")]
+        scale: TimeFunction,
+    },
+    Rotation {
+        axis: [f64; 3],
+        #[serde(default)]
+        center: [f64; 3],
+        /// Angle in radians as a function of time.
+        angle: TimeFunction,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub body: String,
+    pub nodes: Selector,
+    /// Force on each selected node (N), scaled by `function`.
+    pub force_per_node: [f64; 3],
+    #[serde(default = "unit_function")]
+    pub function: TimeFunction,
+}
+
+fn unit_function() -> TimeFunction {
+    TimeFunction::Constant(1.0)
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    pub name: String,
+    pub body: String,
+    pub nodes: Selector,
+    pub quantity: ProbeQuantity,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Analysis {
+    Explicit(ExplicitSettings),
+    Static(StaticSettings),
+}
+
+impl Scene {
+    /// Parses a scene from YAML; `source` names the file in error messages, which carry the line.
+    pub fn from_yaml(text: &str, source: &str) -> Result<Self> {
+        serde_norway::from_str(text).map_err(|e| SolverError::InvalidScene {
+            entity: source.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Reads and parses a scene file; relative mesh paths are resolved against its folder.
+    pub fn from_yaml_file(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| SolverError::InvalidScene {
+            entity: path.display().to_string(),
+            message: format!("cannot read the scene file: {e}"),
+        })?;
+        let mut scene = Self::from_yaml(&text, &path.display().to_string())?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        for body in &mut scene.bodies {
+            if let MeshSource::Gmsh(p) = &mut body.mesh {
+                if p.is_relative() {
+                    *p = base.join(&*p);
+                }
+            }
+        }
+        Ok(scene)
+    }
+}

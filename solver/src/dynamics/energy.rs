@@ -1,0 +1,48 @@
+//! The energy balance of a run (FORMULATION section 3).
+
+/// Energies accumulated by the time stepper, all in joules.
+///
+/// Works are integrated with the trapezoidal rule over each displacement increment:
+/// `W += 1/2 (f_n + f_{n+1}) . (x_{n+1} - x_n)`. The stepper adds `1/2 f_n . du_{n-1/2}` to close
+/// the interval ending at `t_n` and keeps `1/2 f_n . du_{n+1/2}` pending for the next one, so the
+/// values read at `t_n` are complete up to `t_n`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnergyLedger {
+    /// Kinetic energy at the current full step, `1/2 sum m v^2`.
+    pub kinetic: f64,
+    /// Kinetic energy at the start of the run.
+    pub initial_kinetic: f64,
+    /// Work of the internal forces: stored plus dissipated energy.
+    pub internal_work: f64,
+    /// Work of loads, gravity and reaction forces at prescribed nodes.
+    pub external_work: f64,
+    /// Work dissipated by mass-proportional damping.
+    pub damping_work: f64,
+}
+
+impl EnergyLedger {
+    /// `K + W_int + W_damp - W_ext - K_0`: zero for an exact balance.
+    pub fn balance_error(&self) -> f64 {
+        self.kinetic + self.internal_work + self.damping_work
+            - self.external_work
+            - self.initial_kinetic
+    }
+
+    /// The energy scale the error is measured against: the largest of the energy put in
+    /// (`K_0 + |W_ext|`), the kinetic energy and the internal work.
+    pub fn scale(&self) -> f64 {
+        (self.initial_kinetic + self.external_work.abs())
+            .max(self.kinetic)
+            .max(self.internal_work.abs())
+    }
+
+    /// Balance error relative to [`Self::scale`] (zero when nothing has happened yet).
+    pub fn relative_error(&self) -> f64 {
+        let s = self.scale();
+        if s > 0.0 {
+            self.balance_error() / s
+        } else {
+            0.0
+        }
+    }
+}

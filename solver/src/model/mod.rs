@@ -1,0 +1,232 @@
+//! The discrete model: every body's nodes and elements in global arrays, with the reference
+//! geometry, lumped masses and the deterministic internal-force assembly.
+
+mod assembly;
+mod conditions;
+mod fields;
+mod problem;
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+use nalgebra::{Matrix3, Vector3};
+
+pub use assembly::ForceAssembler;
+pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
+pub use fields::{field_frame, ElementFields};
+pub use problem::{Probe, ProbeQuantity, Problem};
+
+use crate::error::{Result, SolverError};
+use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};
+use crate::material::{Material, MaterialModel};
+use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
+use crate::with_material;
+
+/// One body of the model: a mesh of one material.
+#[derive(Debug, Clone)]
+pub struct Body {
+    pub name: String,
+    pub material: MaterialModel,
+    /// Global ids of its nodes.
+    pub nodes: Range<usize>,
+    /// Global ids of its elements.
+    pub elements: Range<usize>,
+    /// Named node sets of its mesh, in global ids.
+    pub node_sets: BTreeMap<String, Vec<u32>>,
+}
+
+/// The assembled model in its reference configuration.
+#[derive(Debug)]
+pub struct Model {
+    /// Reference coordinates `X` (m).
+    pub reference: Vec<Vector3<f64>>,
+    /// Global connectivity.
+    pub tets: Vec<[u32; 4]>,
+    /// Reference shape-function gradients `grad_X N_a` per element (3.44).
+    pub grad_n: Vec<[Vector3<f64>; 4]>,
+    /// Reference volumes `V` (m^3).
+    pub volume: Vec<f64>,
+    /// Smallest altitude `3 V / A_max` per element (m), the length of the stable step.
+    pub min_altitude: Vec<f64>,
+    /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes.
+    pub mass: Vec<f64>,
+    pub bodies: Vec<Body>,
+    /// Body index of each element.
+    pub element_body: Vec<u16>,
+    assembler: ForceAssembler,
+}
+
+impl Model {
+    /// Assembles bodies `(name, mesh, material)`; each mesh is validated first so that an
+    /// inverted or degenerate element is reported with its body and id.
+    pub fn new(bodies: Vec<(String, Mesh, MaterialModel)>) -> Result<Self> {
+        let mut reference = Vec::new();
+        let mut tets = Vec::new();
+        let mut model_bodies = Vec::new();
+        let mut element_body = Vec::new();
+        for (index, (name, mesh, material)) in bodies.into_iter().enumerate() {
+            mesh.validate(&name, DEFAULT_MIN_ALTITUDE_RATIO)?;
+            material
+                .constants()
+                .validate()
+                .map_err(|message| SolverError::InvalidScene {
+                    entity: format!("body `{name}` material"),
+                    message,
+                })?;
+            let offset = reference.len() as u32;
+            let first_element = tets.len();
+            reference.extend_from_slice(&mesh.nodes);
+            tets.extend(mesh.tets.iter().map(|t| t.map(|n| n + offset)));
+            element_body.extend(std::iter::repeat_n(index as u16, mesh.tets.len()));
+            let node_sets = mesh
+                .node_sets
+                .iter()
+                .map(|(k, v)| (k.clone(), v.iter().map(|n| n + offset).collect()))
+                .collect();
+            model_bodies.push(Body {
+                name,
+                material,
+                nodes: offset as usize..reference.len(),
+                elements: first_element..tets.len(),
+                node_sets,
+            });
+        }
+        let mut grad_n = Vec::with_capacity(tets.len());
+        let mut volume = Vec::with_capacity(tets.len());
+        let mut min_altitude = Vec::with_capacity(tets.len());
+        let mut mass = vec![0.0; reference.len()];
+        for (e, tet) in tets.iter().enumerate() {
+            let x = tet.map(|n| reference[n as usize]);
+            let (g, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
+            grad_n.push(g);
+            volume.push(v);
+            min_altitude.push(element_quality(&x).min_altitude);
+            let m = model_bodies[element_body[e] as usize].material.density() * v / 4.0;
+            for &n in tet {
+                mass[n as usize] += m;
+            }
+        }
+        let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
+        let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
+        Ok(Self {
+            reference,
+            tets,
+            grad_n,
+            volume,
+            min_altitude,
+            mass,
+            bodies: model_bodies,
+            element_body,
+            assembler,
+        })
+    }
+
+    pub fn node_count(&self) -> usize {
+        self.reference.len()
+    }
+
+    pub fn element_count(&self) -> usize {
+        self.tets.len()
+    }
+
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    pub fn material_of(&self, element: usize) -> &MaterialModel {
+        &self.bodies[self.element_body[element] as usize].material
+    }
+
+    /// Critical time step `dt_cr = min_e L_e / c_e` with `L_e` the smallest altitude and `c_e`
+    /// the dilatational wave speed (FORMULATION 2), and the element that sets it.
+    pub fn critical_time_step(&self) -> (f64, usize) {
+        let mut best = (f64::INFINITY, 0);
+        for (e, &l) in self.min_altitude.iter().enumerate() {
+            let dt = l / self.material_of(e).dilatational_wave_speed();
+            if dt < best.0 {
+                best = (dt, e);
+            }
+        }
+        best
+    }
+
+    /// Displacements of element `e`'s nodes.
+    #[inline]
+    pub fn element_displacements(&self, e: usize, u: &[Vector3<f64>]) -> [Vector3<f64>; 4] {
+        self.tets[e].map(|n| u[n as usize])
+    }
+
+    /// Deformation gradient `F` of element `e`.
+    pub fn deformation_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
+        deformation_gradient(&self.element_displacements(e, u), &self.grad_n[e])
+    }
+
+    /// Internal nodal forces `f_a = V P grad_X N_a` summed per node, written into `f`.
+    ///
+    /// The sum at every node runs over its elements in ascending order whatever the number of
+    /// threads, so the result is bitwise reproducible. Returns the lowest-numbered element with
+    /// `det F <= 0` (or a non-finite `F`) if any: the caller stops the run.
+    pub fn internal_forces(&self, u: &[Vector3<f64>], f: &mut [Vector3<f64>]) -> Option<usize> {
+        self.assembler.assemble(self, u, f)
+    }
+
+    /// Elastic energy stored in all elements, `sum_e V_e W(E_e)`.
+    pub fn stored_energy(&self, u: &[Vector3<f64>]) -> f64 {
+        self.bodies
+            .iter()
+            .map(|body| {
+                with_material!(&body.material, |m| {
+                    body.elements
+                        .clone()
+                        .map(|e| {
+                            let h = displacement_gradient(
+                                &self.element_displacements(e, u),
+                                &self.grad_n[e],
+                            );
+                            self.volume[e] * m.strain_energy_density(&h)
+                        })
+                        .sum::<f64>()
+                })
+            })
+            .sum()
+    }
+
+    /// Nodes of `body` that lie in the node set named `set` (a Gmsh physical group).
+    pub fn body_node_set(&self, body: usize, set: &str) -> Option<&[u32]> {
+        self.bodies[body].node_sets.get(set).map(Vec::as_slice)
+    }
+
+    /// Total mass of the model (kg).
+    pub fn total_mass(&self) -> f64 {
+        self.mass.iter().sum()
+    }
+
+    /// Bytes held per element by the model's element arrays (connectivity, gradients, volume,
+    /// altitude, body id, assembly slots), for the memory report of the benchmarks.
+    pub fn bytes_per_element(&self) -> f64 {
+        let per_element = std::mem::size_of::<[u32; 4]>()
+            + std::mem::size_of::<[Vector3<f64>; 4]>()
+            + 2 * std::mem::size_of::<f64>()
+            + std::mem::size_of::<u16>();
+        let per_node = std::mem::size_of::<Vector3<f64>>() + std::mem::size_of::<f64>();
+        (per_element * self.element_count()
+            + per_node * self.node_count()
+            + self.assembler.heap_bytes()) as f64
+            / self.element_count().max(1) as f64
+    }
+}
+
+/// Element kernel shared by dynamics and statics: forces `V P grad N_a` of one element and its
+/// `det F` (to detect inversion).
+#[inline(always)]
+pub fn element_internal_forces<M: Material>(
+    material: &M,
+    grad_n: &[Vector3<f64>; 4],
+    volume: f64,
+    u: &[Vector3<f64>; 4],
+) -> ([Vector3<f64>; 4], f64) {
+    let h = displacement_gradient(u, grad_n);
+    let f = Matrix3::identity() + h;
+    let p = material.first_piola(&f, &h) * volume;
+    (grad_n.map(|g| p * g), f.determinant())
+}

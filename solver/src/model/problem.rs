@@ -1,0 +1,90 @@
+//! A model together with what acts on it: the complete input of an analysis.
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use super::{Constraint, Model, NodalLoad};
+
+/// What a probe records: the mean over its nodes, three components.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProbeQuantity {
+    Displacement,
+    Velocity,
+}
+
+/// A history of the mean displacement or velocity of a node set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probe {
+    pub name: String,
+    pub nodes: Vec<u32>,
+    pub quantity: ProbeQuantity,
+}
+
+/// A model with its boundary conditions, loads and initial state.
+#[derive(Debug)]
+pub struct Problem {
+    pub model: Model,
+    /// Applied in order; where two constrain the same node component, the later one wins.
+    pub constraints: Vec<Constraint>,
+    pub loads: Vec<NodalLoad>,
+    /// Gravitational acceleration (m/s^2), if any.
+    pub gravity: Option<Vector3<f64>>,
+    /// Initial velocity of every node (m/s).
+    pub initial_velocity: Vec<Vector3<f64>>,
+    pub probes: Vec<Probe>,
+}
+
+impl Problem {
+    /// A model at rest with nothing acting on it.
+    pub fn new(model: Model) -> Self {
+        let n = model.node_count();
+        Self {
+            model,
+            constraints: Vec::new(),
+            loads: Vec::new(),
+            gravity: None,
+            initial_velocity: vec![Vector3::zeros(); n],
+            probes: Vec::new(),
+        }
+    }
+
+    /// For each node, the index of the last constraint acting on each component (if any).
+    pub fn constraint_map(&self) -> Vec<[Option<u16>; 3]> {
+        let mut map = vec![[None; 3]; self.model.node_count()];
+        for (c, constraint) in self.constraints.iter().enumerate() {
+            let dofs = constraint.motion.dofs();
+            for &n in &constraint.nodes {
+                for d in 0..3 {
+                    if dofs[d] {
+                        map[n as usize][d] = Some(c as u16);
+                    }
+                }
+            }
+        }
+        map
+    }
+
+    /// External nodal forces at time `t` (loads and gravity) into `f`; `false` when the problem
+    /// has none, so the caller can skip the term.
+    pub fn external_forces(&self, t: f64, f: &mut [Vector3<f64>]) -> bool {
+        if self.loads.is_empty() && self.gravity.is_none() {
+            return false;
+        }
+        match self.gravity {
+            Some(g) => {
+                for (fi, m) in f.iter_mut().zip(&self.model.mass) {
+                    *fi = g * *m;
+                }
+            }
+            None => f.iter_mut().for_each(|x| *x = Vector3::zeros()),
+        }
+        for load in &self.loads {
+            let force = load.force_per_node * load.function.eval(t);
+            for &n in &load.nodes {
+                f[n as usize] += force;
+            }
+        }
+        true
+    }
+}

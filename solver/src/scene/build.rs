@@ -1,0 +1,224 @@
+//! From a scene description to a [`Problem`]: meshes made or read, selectors resolved.
+
+use nalgebra::{Matrix3, Unit, Vector3};
+
+use super::{Component, MeshSource, MotionSpec, Scene, Selector};
+use crate::error::{Result, SolverError};
+use crate::mesh::{box_mesh, gmsh::read_msh, perturb_interior, Mesh};
+use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Problem};
+
+fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
+    SolverError::InvalidScene {
+        entity: entity.into(),
+        message: message.into(),
+    }
+}
+
+fn dofs(components: &[Component]) -> [bool; 3] {
+    let mut d = [false; 3];
+    for c in components {
+        d[*c as usize] = true;
+    }
+    d
+}
+
+/// Builds the model and the conditions of `scene`.
+pub fn build_problem(scene: &Scene) -> Result<Problem> {
+    let mut bodies = Vec::new();
+    for (i, body) in scene.bodies.iter().enumerate() {
+        if scene.bodies[..i].iter().any(|b| b.name == body.name) {
+            return Err(invalid(
+                format!("body `{}`", body.name),
+                "two bodies have this name; names must be unique",
+            ));
+        }
+        let mesh = match &body.mesh {
+            MeshSource::Box { spec, perturb } => {
+                if spec.divisions.contains(&0) || spec.size.iter().any(|s| !(*s > 0.0)) {
+                    return Err(invalid(
+                        format!("body `{}` mesh.box", body.name),
+                        "size must be positive and divisions at least 1 per axis",
+                    ));
+                }
+                let mut mesh = box_mesh(spec);
+                if let Some(p) = perturb {
+                    if !(0.0..0.5).contains(&p.fraction) {
+                        return Err(invalid(
+                            format!("body `{}` mesh.box.perturb", body.name),
+                            format!(
+                                "fraction must lie in [0, 0.5) to keep elements valid, got {}",
+                                p.fraction
+                            ),
+                        ));
+                    }
+                    perturb_interior(&mut mesh, spec, p.fraction, p.seed);
+                }
+                mesh
+            }
+            MeshSource::Gmsh(path) => read_msh(path)?,
+        };
+        bodies.push((body.name.clone(), mesh, body.material));
+    }
+    let meshes: Vec<Mesh> = bodies.iter().map(|(_, m, _)| m.clone()).collect();
+    let model = Model::new(bodies)?;
+    let mut problem = Problem::new(model);
+
+    for (b, body) in scene.bodies.iter().enumerate() {
+        if let Some(iv) = &body.initial_velocity {
+            let model = &problem.model;
+            let (t, w, c) = (
+                Vector3::from(iv.translation),
+                Vector3::from(iv.angular_velocity),
+                Vector3::from(iv.center),
+            );
+            let g = iv.gradient.map(|g| Matrix3::from_row_slice(&g.concat()));
+            for n in model.bodies[b].nodes.clone() {
+                let r = model.reference[n] - c;
+                problem.initial_velocity[n] =
+                    t + w.cross(&r) + g.map_or(Vector3::zeros(), |g| g * r);
+            }
+        }
+    }
+    let resolve = |entity: &str, body: &str, selector: &Selector| -> Result<Vec<u32>> {
+        let b = problem.model.body_index(body).ok_or_else(|| {
+            invalid(
+                entity,
+                format!(
+                    "no body named `{body}`; the bodies are {:?}",
+                    scene.bodies.iter().map(|b| &b.name).collect::<Vec<_>>()
+                ),
+            )
+        })?;
+        let range = problem.model.bodies[b].nodes.clone();
+        let offset = range.start as u32;
+        let nodes: Vec<u32> = match selector {
+            Selector::Group(name) => meshes[b]
+                .node_sets
+                .get(name)
+                .ok_or_else(|| {
+                    invalid(
+                        entity,
+                        format!(
+                            "body `{body}` has no node set `{name}`; it has {:?}",
+                            meshes[b].node_sets.keys().collect::<Vec<_>>()
+                        ),
+                    )
+                })?
+                .iter()
+                .map(|n| n + offset)
+                .collect(),
+            Selector::Nodes(ids) => {
+                if let Some(bad) = ids.iter().find(|&&n| n as usize >= range.len()) {
+                    return Err(invalid(
+                        entity,
+                        format!(
+                            "node {bad} is out of range: body `{body}` has {} nodes",
+                            range.len()
+                        ),
+                    ));
+                }
+                ids.iter().map(|n| n + offset).collect()
+            }
+            geometric => {
+                let (lo, hi) = meshes[b].bounding_box();
+                let scale = (hi - lo).norm();
+                range
+                    .clone()
+                    .filter(|&n| {
+                        geometric.contains(&problem.model.reference[n], scale) == Some(true)
+                    })
+                    .map(|n| n as u32)
+                    .collect()
+            }
+        };
+        if nodes.is_empty() {
+            return Err(invalid(entity, format!("the selector {selector:?} picks no node of body `{body}`; check its coordinates against the mesh")));
+        }
+        Ok(nodes)
+    };
+
+    let mut constraints = Vec::new();
+    for (i, bc) in scene.boundary_conditions.iter().enumerate() {
+        let name = bc.name.clone().unwrap_or_else(|| format!("bc{i}"));
+        let entity = format!("boundary condition `{name}`");
+        let nodes = resolve(&entity, &bc.body, &bc.nodes)?;
+        let motion = match &bc.motion {
+            MotionSpec::Fixed(c) => Motion::Fixed(dofs(c)),
+            MotionSpec::Velocity { components, value } => {
+                Motion::Velocity(dofs(components), value.clone())
+            }
+            MotionSpec::Displacement { components, value } => {
+                Motion::Displacement(dofs(components), value.clone())
+            }
+            MotionSpec::AffineVelocity {
+                translation,
+                gradient,
+                center,
+            } => Motion::AffineVelocity {
+                translation: Vector3::from(*translation),
+                gradient: Matrix3::from_row_slice(&gradient.concat()),
+                center: Vector3::from(*center),
+            },
+            MotionSpec::AffineDisplacement {
+                translation,
+                gradient,
+                center,
+                scale,
+            } => Motion::AffineDisplacement {
+                translation: Vector3::from(*translation),
+                gradient: Matrix3::from_row_slice(&gradient.concat()),
+                center: Vector3::from(*center),
+                scale: scale.clone(),
+            },
+            MotionSpec::Rotation {
+                axis,
+                center,
+                angle,
+            } => {
+                let axis = Unit::try_new(Vector3::from(*axis), 1e-300)
+                    .ok_or_else(|| invalid(&entity, "rotation axis must not be zero"))?;
+                Motion::Rotation {
+                    axis,
+                    center: Vector3::from(*center),
+                    angle: angle.clone(),
+                }
+            }
+        };
+        if let MotionSpec::Velocity { value, .. } | MotionSpec::Displacement { value, .. } =
+            &bc.motion
+        {
+            value.validate().map_err(|m| invalid(&entity, m))?;
+        }
+        constraints.push(Constraint {
+            name,
+            nodes,
+            motion,
+        });
+    }
+    let mut loads = Vec::new();
+    for (i, load) in scene.loads.iter().enumerate() {
+        let name = load.name.clone().unwrap_or_else(|| format!("load{i}"));
+        let entity = format!("load `{name}`");
+        load.function.validate().map_err(|m| invalid(&entity, m))?;
+        loads.push(NodalLoad {
+            nodes: resolve(&entity, &load.body, &load.nodes)?,
+            name,
+            force_per_node: Vector3::from(load.force_per_node),
+            function: load.function.clone(),
+        });
+    }
+    let mut probes = Vec::new();
+    for p in &scene.probes {
+        let entity = format!("probe `{}`", p.name);
+        probes.push(Probe {
+            nodes: resolve(&entity, &p.body, &p.nodes)?,
+            name: p.name.clone(),
+            quantity: p.quantity,
+        });
+    }
+    problem.constraints = constraints;
+    problem.loads = loads;
+    problem.probes = probes;
+    problem.gravity = scene.gravity.map(Vector3::from);
+    Ok(problem)
+}

@@ -1,0 +1,76 @@
+//! Builders shared by the integration tests.
+#![allow(dead_code)]
+
+use impact_solver::material::{IsotropicElastic, MaterialModel};
+use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
+use impact_solver::model::{Model, Problem};
+use nalgebra::{Matrix3, Vector3};
+
+pub const STEEL: IsotropicElastic = IsotropicElastic {
+    density: 7800.0,
+    youngs_modulus: 200e9,
+    poisson_ratio: 0.3,
+};
+
+pub fn spec(size: [f64; 3], divisions: [usize; 3]) -> BoxSpec {
+    BoxSpec {
+        origin: [0.0; 3],
+        size,
+        divisions,
+    }
+}
+
+/// A box mesh, with interior nodes moved by up to `perturb` of the cell size.
+pub fn box_body(size: [f64; 3], divisions: [usize; 3], perturb: f64, seed: u64) -> Mesh {
+    let s = spec(size, divisions);
+    let mut mesh = box_mesh(&s);
+    if perturb > 0.0 {
+        perturb_interior(&mut mesh, &s, perturb, seed);
+    }
+    mesh
+}
+
+pub fn problem(mesh: Mesh, material: MaterialModel) -> Problem {
+    Problem::new(Model::new(vec![("body".into(), mesh, material)]).unwrap())
+}
+
+/// Nodes on the boundary of the box `[0, size]`.
+pub fn box_boundary_nodes(model: &Model, size: [f64; 3]) -> Vec<u32> {
+    let tol = 1e-9;
+    (0..model.node_count() as u32)
+        .filter(|&n| {
+            let x = model.reference[n as usize];
+            (0..3).any(|a| x[a].abs() < tol || (x[a] - size[a]).abs() < tol)
+        })
+        .collect()
+}
+
+/// Cauchy stress of Saint-Venant-Kirchhoff written out from (2.120)-(2.123), independent of the
+/// solver's material code: `S = lambda tr(E) I + 2 mu E`, `sigma = F S F^T / det F`.
+pub fn svk_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
+    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
+    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
+    f * s * f.transpose() / f.determinant()
+}
+
+/// Cauchy stress of the co-rotated linear elastic model from its definition `sigma = R s R^T`,
+/// `s = lambda tr(E) I + 2 mu E`, with `R` from an independent polar decomposition (SVD).
+pub fn corotated_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
+    let svd = f.svd(true, true);
+    let r = svd.u.unwrap() * svd.v_t.unwrap();
+    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
+    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
+    r * s * r.transpose()
+}
+
+pub fn max_abs(m: &Matrix3<f64>) -> f64 {
+    m.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+pub fn voigt_to_matrix(v: &[f64; 6]) -> Matrix3<f64> {
+    Matrix3::new(v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2])
+}
+
+pub fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::from(a)
+}

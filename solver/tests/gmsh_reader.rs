@@ -1,0 +1,179 @@
+//! Gmsh 4.1 reader against small meshes in `cases/meshes/test/`.
+//!
+//! `cube_sparse.msh` is hand-written: a unit cube cut into six positive tetrahedra around the
+//! diagonal (0,0,0)-(1,1,1), with sparse, shuffled node tags, a geometry-only node (tag 50) and
+//! physical groups in every dimension. `cube_sparse_bin.msh` is the same file saved by Gmsh 4.8.4
+//! as binary (`gmsh cube_sparse.msh -0 -format msh41 -bin -o cube_sparse_bin.msh`), which keeps
+//! the tags. The `cube_gmsh*` files and the error cases come from `cube.geo` (commands there).
+
+use std::path::{Path, PathBuf};
+
+use impact_solver::mesh::gmsh::{parse_msh, read_msh};
+use impact_solver::mesh::{Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
+use impact_solver::SolverError;
+
+fn path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../cases/meshes/test")
+        .join(name)
+}
+
+fn read(name: &str) -> Mesh {
+    read_msh(&path(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The error message, after checking it is a `MeshRead` that names `name`.
+fn message_of(result: impact_solver::error::Result<Mesh>, name: &str) -> String {
+    match result {
+        Err(e @ SolverError::MeshRead { .. }) => {
+            let message = e.to_string();
+            assert!(message.contains(name), "`{message}` does not name `{name}`");
+            message
+        }
+        Err(e) => panic!("expected MeshRead, got {e}"),
+        Ok(mesh) => panic!("expected an error, read {} tets", mesh.element_count()),
+    }
+}
+
+fn read_err(name: &str) -> String {
+    message_of(read_msh(&path(name)), name)
+}
+
+fn assert_same(a: &Mesh, b: &Mesh) {
+    assert_eq!(a.nodes, b.nodes);
+    assert_eq!(a.tets, b.tets);
+    assert_eq!(a.node_sets, b.node_sets);
+}
+
+#[test]
+fn ascii_cube_with_sparse_tags() {
+    let mesh = read("cube_sparse.msh");
+    // File order, without the geometry-only node (tag 50): tags 7, 3, 12, 30, 99, 21, 15, 4.
+    let expected_nodes = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [1.0, 0.0, 1.0],
+    ];
+    assert_eq!(mesh.node_count(), 8);
+    for (node, expected) in mesh.nodes.iter().zip(expected_nodes) {
+        assert_eq!(node.as_slice(), expected);
+    }
+    // Element 104 is `7 3 99 4` in the file: tags map to ids, order kept.
+    assert_eq!(mesh.element_count(), 6);
+    assert_eq!(
+        mesh.tets,
+        [
+            [0, 1, 2, 4],
+            [0, 1, 4, 7],
+            [0, 3, 4, 2],
+            [0, 3, 6, 4],
+            [0, 5, 7, 4],
+            [0, 5, 4, 6]
+        ]
+    );
+    let sets: Vec<(&str, &[u32])> = mesh
+        .node_sets
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.as_slice()))
+        .collect();
+    assert_eq!(
+        sets,
+        [
+            ("2:7", &[4, 5, 6, 7][..]),
+            ("bottom", &[0, 1, 2, 3][..]),
+            ("corner", &[0][..]),
+            ("edge", &[0, 1][..]),
+            ("solid", &[0, 1, 2, 3, 4, 5, 6, 7][..]),
+        ]
+    );
+    assert!((mesh.volume() - 1.0).abs() < 1e-12, "{}", mesh.volume());
+    mesh.validate("cube_sparse", DEFAULT_MIN_ALTITUDE_RATIO)
+        .unwrap();
+}
+
+#[test]
+fn binary_cube_with_sparse_tags_matches_ascii() {
+    assert_same(&read("cube_sparse_bin.msh"), &read("cube_sparse.msh"));
+}
+
+#[test]
+fn gmsh_generated_cube_binary_matches_ascii() {
+    let mesh = read("cube_gmsh.msh");
+    assert_same(&read("cube_gmsh_bin.msh"), &mesh);
+    assert_eq!((mesh.node_count(), mesh.element_count()), (14, 24));
+    assert!((mesh.volume() - 1.0).abs() < 1e-12, "{}", mesh.volume());
+    mesh.validate("cube_gmsh", DEFAULT_MIN_ALTITUDE_RATIO)
+        .unwrap();
+
+    let names: Vec<&str> = mesh.node_sets.keys().map(String::as_str).collect();
+    assert_eq!(names, ["2:7", "bottom", "origin", "solid"]);
+    let z = |set: &str| -> Vec<f64> {
+        mesh.node_sets[set]
+            .iter()
+            .map(|&n| mesh.nodes[n as usize].z)
+            .collect()
+    };
+    assert_eq!(z("bottom"), [0.0; 5]);
+    assert_eq!(z("2:7"), [1.0; 5]);
+    let origin = &mesh.node_sets["origin"];
+    assert_eq!(origin.len(), 1);
+    assert_eq!(mesh.nodes[origin[0] as usize].as_slice(), [0.0; 3]);
+    assert_eq!(mesh.node_sets["solid"], (0..14).collect::<Vec<u32>>());
+}
+
+#[test]
+fn format_2_2_is_rejected_with_the_export_option() {
+    let message = read_err("cube_v22.msh");
+    assert!(message.contains("2.2 is not supported"), "{message}");
+    assert!(message.contains("-format msh41"), "{message}");
+}
+
+#[test]
+fn truncated_files_are_rejected() {
+    let message = read_err("cube_truncated.msh");
+    assert!(message.contains("truncated"), "{message}");
+
+    let binary = std::fs::read(path("cube_gmsh_bin.msh")).unwrap();
+    for len in [30, binary.len() / 3, binary.len() / 2, binary.len() - 20] {
+        let message = message_of(parse_msh(&binary[..len], "cut_bin.msh"), "cut_bin.msh");
+        assert!(message.contains("truncated"), "{len} bytes: {message}");
+    }
+}
+
+#[test]
+fn a_file_without_tetrahedra_is_rejected() {
+    let message = read_err("cube_surface_only.msh");
+    assert!(message.contains("no linear tetrahedra"), "{message}");
+    assert!(message.contains("gmsh -3"), "{message}");
+}
+
+#[test]
+fn a_missing_file_is_rejected() {
+    read_err("no_such_mesh.msh");
+}
+
+#[test]
+fn an_element_with_an_unknown_node_is_rejected() {
+    let text = std::fs::read_to_string(path("cube_sparse.msh")).unwrap();
+    let broken = text.replace("120 7 21 99 15", "120 7 21 99 16");
+    let message = message_of(parse_msh(broken.as_bytes(), "broken.msh"), "broken.msh");
+    assert!(
+        message.contains("element 120 refers to node tag 16"),
+        "{message}"
+    );
+}
+
+#[test]
+fn quadratic_tetrahedra_are_rejected() {
+    let tet10 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 10 1 10\n3 1 0 10\n\
+                 1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.5 0 0\n\
+                 0.5 0.5 0\n0 0.5 0\n0 0 0.5\n0 0.5 0.5\n0.5 0 0.5\n$EndNodes\n\
+                 $Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+    let message = message_of(parse_msh(tet10.as_bytes(), "tet10.msh"), "tet10.msh");
+    assert!(message.contains("only linear tetrahedra"), "{message}");
+}
