@@ -1,0 +1,80 @@
+//! Free vibration of an elastic cantilever (CATALOGUE `energy/free-vibration`): released from a
+//! statically bent state with no damping, it must keep its energy for 10 periods.
+
+mod common;
+
+use common::*;
+use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
+use impact_solver::material::MaterialModel;
+use impact_solver::model::{Constraint, Motion, NodalLoad, TimeFunction};
+use impact_solver::statics::{solve_static, StaticSettings};
+use nalgebra::Vector3;
+
+#[test]
+fn cantilever_keeps_its_energy_for_ten_periods() {
+    let (l, h) = (1.0, 0.1);
+    for material in [
+        MaterialModel::SaintVenantKirchhoff(STEEL),
+        MaterialModel::LinearElastic(STEEL),
+    ] {
+        let mut p = problem(box_body([l, h, h], [20, 2, 2], 0.0, 0), material);
+        let clamp: Vec<u32> = (0..p.model.node_count() as u32)
+            .filter(|&n| p.model.reference[n as usize].x < 1e-12)
+            .collect();
+        let tip: Vec<u32> = (0..p.model.node_count() as u32)
+            .filter(|&n| (p.model.reference[n as usize].x - l).abs() < 1e-12)
+            .collect();
+        p.constraints.push(Constraint {
+            name: "clamp".into(),
+            nodes: clamp,
+            motion: Motion::Fixed([true; 3]),
+        });
+        p.loads.push(NodalLoad {
+            name: "tip".into(),
+            nodes: tip.clone(),
+            force_per_node: Vector3::new(0.0, 0.0, -2e4),
+            function: TimeFunction::Constant(1.0),
+        });
+        let bent = solve_static(&p, &StaticSettings::default()).unwrap();
+        let stored = p.model.stored_energy(&bent.u);
+        p.loads.clear();
+        // First bending period of a cantilever: f = (1.875^2 / 2 pi) sqrt(E I / (rho A L^4)).
+        let freq = 1.875f64.powi(2) / (2.0 * std::f64::consts::PI)
+            * (STEEL.youngs_modulus * h * h / 12.0 / STEEL.density / l.powi(4)).sqrt();
+        let end = 10.0 / freq;
+        let mut settings = ExplicitSettings::new(end);
+        settings.history_interval = Some(end / 2000.0);
+        let mut solver = ExplicitSolver::new(&p, settings, OutputSettings::default()).unwrap();
+        solver.set_initial_displacement(&bent.u);
+        let summary = solver.run(&mut |_| {}).unwrap();
+        let hist = &summary.history;
+        let kinetic = hist.column("kinetic").unwrap();
+        let errors = hist.column("energy_error").unwrap();
+        // Energy really moves between strain and motion (the beam vibrates).
+        let k_max = kinetic.iter().cloned().fold(0.0, f64::max);
+        assert!(
+            k_max > 0.5 * stored,
+            "{}: peak kinetic {k_max:e} J against stored {stored:e} J",
+            material.name()
+        );
+        let worst = errors.iter().map(|e| e.abs()).fold(0.0, f64::max) / stored;
+        assert!(
+            worst < 1e-3,
+            "{}: energy balance error {worst:.2e} of the initial stored energy",
+            material.name()
+        );
+        // Independent of the solver's bookkeeping: kinetic + stored energy stays the initial stored energy.
+        let strain = hist.column("stored_energy").unwrap();
+        let total_drift = kinetic
+            .iter()
+            .zip(&strain)
+            .map(|(k, w)| (k + w - stored).abs())
+            .fold(0.0, f64::max)
+            / stored;
+        assert!(
+            total_drift < 1e-3,
+            "{}: K + W drifted by {total_drift:.2e}",
+            material.name()
+        );
+    }
+}
