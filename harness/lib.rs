@@ -1,1 +1,5 @@
+//! The V&V harness of the concrete-impact solver: runs scenes and benchmark cases against their
+//! references and reports the verdicts.
 
+pub mod progress;
+pub mod scene_run;

@@ -97,7 +97,7 @@ pub struct RunSummary {
     pub critical_element: usize,
     pub wall_seconds: f64,
     pub energies: EnergyLedger,
-    /// Largest |relative balance error| over the run.
+    /// Largest |balance error| over the run divided by the largest energy scale of the run.
     pub max_relative_energy_error: f64,
     /// Steps in which some node moved more than `eta` times its smallest element altitude.
     pub mesh_stability_flags: usize,
@@ -282,7 +282,7 @@ impl<'p> ExplicitSolver<'p> {
         let mut next_field = 0.0;
         let mut written = Vec::new();
         let mut max_scale: f64 = 0.0;
-        let mut max_rel: f64 = 0.0;
+        let mut max_abs_error: f64 = 0.0;
         let mut flags = 0;
         let progress_every = (steps / 100).max(1);
 
@@ -303,9 +303,7 @@ impl<'p> ExplicitSolver<'p> {
             let e = self.energies;
             max_scale = max_scale.max(e.scale());
             let error = e.balance_error();
-            if max_scale > 0.0 {
-                max_rel = max_rel.max(error.abs() / max_scale);
-            }
+            max_abs_error = max_abs_error.max(error.abs());
             if n > 10 && error.abs() > self.settings.instability_energy_tolerance * max_scale {
                 let reason = format!(
                     "energy balance error {:.3e} J exceeds {} of the energy scale {:.3e} J",
@@ -351,7 +349,7 @@ impl<'p> ExplicitSolver<'p> {
             critical_element: self.critical_element,
             wall_seconds: started.elapsed().as_secs_f64(),
             energies: self.energies,
-            max_relative_energy_error: max_rel,
+            max_relative_energy_error: if max_scale > 0.0 { max_abs_error / max_scale } else { 0.0 },
             mesh_stability_flags: flags,
             history,
             written,
@@ -514,11 +512,17 @@ impl<'p> ExplicitSolver<'p> {
                 .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
             row.extend((sum / p.nodes.len().max(1) as f64).iter());
         }
-        for k in &self.problem.constraints {
-            let sum = k
-                .nodes
-                .iter()
-                .fold(Vector3::zeros(), |acc, &n| acc + self.reaction[n as usize]);
+        // Each constraint reports only the components it owns (a later constraint on the same
+        // node component takes it over).
+        for (c, k) in self.problem.constraints.iter().enumerate() {
+            let mut sum = Vector3::zeros();
+            for &n in &k.nodes {
+                for d in 0..3 {
+                    if self.constraint_of[n as usize][d] == Some(c as u16) {
+                        sum[d] += self.reaction[n as usize][d];
+                    }
+                }
+            }
             row.extend(sum.iter());
         }
         row

@@ -33,7 +33,8 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             ));
         }
         let mesh = match &body.mesh {
-            MeshSource::Box { spec, perturb } => {
+            MeshSource::Box(b) => {
+                let (spec, perturb) = (&b.spec(), &b.perturb);
                 if spec.divisions.contains(&0) || spec.size.iter().any(|s| !(*s > 0.0)) {
                     return Err(invalid(
                         format!("body `{}` mesh.box", body.name),

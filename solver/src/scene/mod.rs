@@ -53,14 +53,26 @@ pub struct BodySpec {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MeshSource {
     /// The structured generator; optionally with interior nodes moved at random.
-    Box {
-        #[serde(flatten)]
-        spec: BoxSpec,
-        #[serde(default)]
-        perturb: Option<Perturbation>,
-    },
+    Box(BoxMeshSpec),
     /// A Gmsh 4.1 file, relative to the scene file.
     Gmsh(PathBuf),
+}
+
+/// A structured box mesh (six tetrahedra per cell), as written in a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxMeshSpec {
+    pub origin: [f64; 3],
+    pub size: [f64; 3],
+    pub divisions: [usize; 3],
+    #[serde(default)]
+    pub perturb: Option<Perturbation>,
+}
+
+impl BoxMeshSpec {
+    pub fn spec(&self) -> BoxSpec {
+        BoxSpec { origin: self.origin, size: self.size, divisions: self.divisions }
+    }
 }
 
 /// Random displacement of interior nodes by up to `fraction` of the cell size.
@@ -178,8 +190,12 @@ pub enum Analysis {
 
 impl Scene {
     /// Parses a scene from YAML; `source` names the file in error messages, which carry the line.
+    ///
+    /// Enums are written as single-key maps (`material: { linear_elastic: {...} }`) rather than
+    /// YAML tags, which reads naturally and is what users of other YAML tools expect.
     pub fn from_yaml(text: &str, source: &str) -> Result<Self> {
-        serde_norway::from_str(text).map_err(|e| SolverError::InvalidScene {
+        let de = serde_norway::Deserializer::from_str(text);
+        serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|e| SolverError::InvalidScene {
             entity: source.to_string(),
             message: e.to_string(),
         })

@@ -62,7 +62,21 @@ pub struct StaticSolution {
 }
 
 impl StaticSolution {
-    /// Sum of the reactions over `nodes`.
+    /// Reaction of constraint `c` of `problem`: the components it owns, summed over its nodes.
+    pub fn constraint_reaction(&self, problem: &Problem, c: usize) -> Vector3<f64> {
+        let owner = problem.constraint_map();
+        let mut sum = Vector3::zeros();
+        for &n in &problem.constraints[c].nodes {
+            for d in 0..3 {
+                if owner[n as usize][d] == Some(c as u16) {
+                    sum[d] += self.reaction[n as usize][d];
+                }
+            }
+        }
+        sum
+    }
+
+    /// Sum of the reactions over `nodes`, all prescribed components.
     pub fn total_reaction(&self, nodes: &[u32]) -> Vector3<f64> {
         nodes
             .iter()
