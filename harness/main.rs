@@ -6,7 +6,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "impact-vv", version, about = "Verification and validation of the concrete-impact solver")]
+#[command(
+    name = "impact-vv",
+    version,
+    about = "Verification and validation of the concrete-impact solver"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -30,17 +34,19 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Scene { path, out, no_fields } => {
-            match impact_vv::scene_run::run_scene_file(&path, &out, !no_fields) {
-                Ok(report) => {
-                    println!("{report}");
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(e.exit_code())
-                }
+        Command::Scene {
+            path,
+            out,
+            no_fields,
+        } => match impact_vv::scene_run::run_scene_file(&path, &out, !no_fields) {
+            Ok(report) => {
+                println!("{report}");
+                ExitCode::SUCCESS
             }
-        }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(e.exit_code())
+            }
+        },
     }
 }

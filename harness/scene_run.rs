@@ -3,13 +3,10 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use impact_solver::dynamics::{ExplicitSolver, OutputSettings, RunSummary};
-use impact_solver::model::field_frame;
-use impact_solver::output::PvdWriter;
-use impact_solver::scene::{build_problem, Analysis, Scene};
-use impact_solver::statics::solve_static;
+use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
+use crate::execute::{execute, ExecuteOptions};
 use crate::progress::fraction_bar;
 
 /// Why a scene run stopped.
@@ -32,25 +29,33 @@ impl SceneRunError {
     }
 }
 
-impl From<SolverError> for SceneRunError {
-    fn from(e: SolverError) -> Self {
-        match e {
-            SolverError::Unstable(_)
+/// Whether an error is the input's fault (as opposed to a run that went wrong).
+pub fn is_input_error(e: &SolverError) -> bool {
+    !matches!(
+        e,
+        SolverError::Unstable(_)
             | SolverError::StaticNotConverged { .. }
             | SolverError::SingularStiffness(_)
             | SolverError::ElementInverted { .. }
-            | SolverError::Write { .. } => SceneRunError::Run(e),
-            _ => SceneRunError::Input(e),
+            | SolverError::TimeLimit { .. }
+            | SolverError::Write { .. }
+    )
+}
+
+impl From<SolverError> for SceneRunError {
+    fn from(e: SolverError) -> Self {
+        if is_input_error(&e) {
+            SceneRunError::Input(e)
+        } else {
+            SceneRunError::Run(e)
         }
     }
 }
 
 /// What a finished scene run prints.
 pub struct SceneReport {
-    pub plan: String,
-    pub summary: Option<RunSummary>,
-    pub written: Vec<PathBuf>,
     pub lines: Vec<String>,
+    pub written: Vec<PathBuf>,
 }
 
 impl fmt::Display for SceneReport {
@@ -69,47 +74,42 @@ impl fmt::Display for SceneReport {
 /// Reads, builds and runs the scene at `path`, writing its output under `out`.
 pub fn run_scene_file(path: &Path, out: &Path, fields: bool) -> Result<SceneReport, SceneRunError> {
     let scene = Scene::from_yaml_file(path)?;
-    let problem = build_problem(&scene)?;
-    let stem = scene.name.clone();
-    let mut lines = Vec::new();
-    match &scene.analysis {
-        Analysis::Explicit(settings) => {
-            let output = OutputSettings { dir: Some(out.to_path_buf()), stem, fields };
-            let mut solver = ExplicitSolver::new(&problem, settings.clone(), output)?;
-            let plan = solver.plan();
-            eprintln!("{plan}");
-            let bar = fraction_bar(&scene.name);
-            let result = solver.run(&mut |x| bar.set_position((1000.0 * x) as u64));
-            bar.finish_and_clear();
-            let summary = result?;
+    let mut problem = build_problem(&scene)?;
+    let bar = fraction_bar(&scene.name);
+    let options = ExecuteOptions {
+        out: Some(out),
+        stem: &scene.name,
+        fields,
+        time_limit_s: None,
+    };
+    let result = execute(&mut problem, &scene.analysis, &options, &mut |x| {
+        bar.set_position((1000.0 * x) as u64)
+    });
+    bar.finish_and_clear();
+    let run = result?;
+    let mut lines = vec![run.plan.clone()];
+    if let Some(s) = &run.summary {
+        lines.push(format!(
+            "done: {} steps in {:.2} s wall; energy balance error at most {:.2e} of the energy scale; \
+             mesh-stability flags {}",
+            s.steps, s.wall_seconds, s.max_relative_energy_error, s.mesh_stability_flags
+        ));
+    }
+    if let Some(s) = &run.static_solution {
+        lines.push(format!(
+            "static: Newton iterations per load step {:?}",
+            s.iterations
+        ));
+        for (i, c) in problem.constraints.iter().enumerate() {
+            let r = s.constraint_reaction(&problem, i);
             lines.push(format!(
-                "done: {} steps in {:.2} s wall; energy balance error at most {:.2e} of the energy scale; \
-                 mesh-stability flags {}",
-                summary.steps, summary.wall_seconds, summary.max_relative_energy_error, summary.mesh_stability_flags
+                "reaction `{}`: [{:.6e}, {:.6e}, {:.6e}] N",
+                c.name, r.x, r.y, r.z
             ));
-            Ok(SceneReport { plan, written: summary.written.clone(), summary: Some(summary), lines })
-        }
-        Analysis::Static(settings) => {
-            let plan = format!(
-                "static analysis: {} nodes, {} elements, {} load steps",
-                problem.model.node_count(),
-                problem.model.element_count(),
-                settings.load_steps
-            );
-            eprintln!("{plan}");
-            let solution = solve_static(&problem, settings)?;
-            lines.push(format!("converged: Newton iterations per load step {:?}", solution.iterations));
-            let mut written = Vec::new();
-            if fields {
-                let mut pvd = PvdWriter::new(out, &stem)?;
-                let points: Vec<_> = problem.model.reference.iter().zip(&solution.u).map(|(x, u)| x + u).collect();
-                written.push(pvd.write_frame(&field_frame(&problem.model, &points, &solution.u, None, 1.0))?);
-            }
-            for (i, c) in problem.constraints.iter().enumerate() {
-                let r = solution.constraint_reaction(&problem, i);
-                lines.push(format!("reaction `{}`: [{:.6e}, {:.6e}, {:.6e}] N", c.name, r.x, r.y, r.z));
-            }
-            Ok(SceneReport { plan, summary: None, written, lines })
         }
     }
+    Ok(SceneReport {
+        lines,
+        written: run.written,
+    })
 }

@@ -83,6 +83,16 @@ pub enum SolverError {
     )]
     ElementInverted { element: usize, det: f64 },
 
+    #[error(
+        "run stopped at its time limit of {limit_s:.0} s wall time at step {step} (t = {time:.6e} s); \
+         output up to there is written. Fix: raise the case's time limit or coarsen the case"
+    )]
+    TimeLimit {
+        limit_s: f64,
+        step: usize,
+        time: f64,
+    },
+
     #[error("cannot write `{path}`: {source}")]
     Write {
         path: PathBuf,

@@ -135,6 +135,7 @@ pub struct ExplicitSolver<'p> {
     pending: EnergyLedger,
     pub step: usize,
     pub time: f64,
+    deadline: Option<(Instant, f64)>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -205,6 +206,7 @@ impl<'p> ExplicitSolver<'p> {
             pending: EnergyLedger::default(),
             step: 0,
             time: 0.0,
+            deadline: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -216,6 +218,15 @@ impl<'p> ExplicitSolver<'p> {
     /// reference configuration. Work is counted from this state on.
     pub fn set_initial_displacement(&mut self, u0: &[Vector3<f64>]) {
         self.u.copy_from_slice(u0);
+    }
+
+    /// Stops the run with [`SolverError::TimeLimit`] once `seconds` of wall time have passed,
+    /// after writing the output computed so far.
+    pub fn set_time_limit(&mut self, seconds: f64) {
+        self.deadline = Some((
+            Instant::now() + std::time::Duration::from_secs_f64(seconds),
+            seconds,
+        ));
     }
 
     pub fn time_step(&self) -> f64 {
@@ -330,6 +341,20 @@ impl<'p> ExplicitSolver<'p> {
             }
             if n % progress_every == 0 {
                 progress(n as f64 / steps.max(1) as f64);
+                if let Some((deadline, limit_s)) = self.deadline {
+                    if Instant::now() > deadline {
+                        if let Some(path) = self.history_path() {
+                            if history.write_csv(&path).is_ok() {
+                                written.push(path);
+                            }
+                        }
+                        return Err(SolverError::TimeLimit {
+                            limit_s,
+                            step: self.step,
+                            time: self.time,
+                        });
+                    }
+                }
             }
             if last {
                 break;
@@ -349,7 +374,11 @@ impl<'p> ExplicitSolver<'p> {
             critical_element: self.critical_element,
             wall_seconds: started.elapsed().as_secs_f64(),
             energies: self.energies,
-            max_relative_energy_error: if max_scale > 0.0 { max_abs_error / max_scale } else { 0.0 },
+            max_relative_energy_error: if max_scale > 0.0 {
+                max_abs_error / max_scale
+            } else {
+                0.0
+            },
             mesh_stability_flags: flags,
             history,
             written,

@@ -71,7 +71,11 @@ pub struct BoxMeshSpec {
 
 impl BoxMeshSpec {
     pub fn spec(&self) -> BoxSpec {
-        BoxSpec { origin: self.origin, size: self.size, divisions: self.divisions }
+        BoxSpec {
+            origin: self.origin,
+            size: self.size,
+            divisions: self.divisions,
+        }
     }
 }
 
@@ -186,6 +190,12 @@ pub struct ProbeSpec {
 pub enum Analysis {
     Explicit(ExplicitSettings),
     Static(StaticSettings),
+    /// Static equilibrium under the loads, then the loads are removed and the body is released
+    /// from that deformed state at rest (free vibration).
+    Release {
+        preload: StaticSettings,
+        explicit: ExplicitSettings,
+    },
 }
 
 impl Scene {
@@ -195,9 +205,11 @@ impl Scene {
     /// YAML tags, which reads naturally and is what users of other YAML tools expect.
     pub fn from_yaml(text: &str, source: &str) -> Result<Self> {
         let de = serde_norway::Deserializer::from_str(text);
-        serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|e| SolverError::InvalidScene {
-            entity: source.to_string(),
-            message: e.to_string(),
+        serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|e| {
+            SolverError::InvalidScene {
+                entity: source.to_string(),
+                message: e.to_string(),
+            }
         })
     }
 

@@ -1,0 +1,132 @@
+//! Running a scene's analysis: the one place that drives the solver for both the `scene` command
+//! and the catalogue runner.
+
+use std::path::Path;
+
+use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary};
+use impact_solver::model::{field_frame, Problem};
+use impact_solver::output::{HistoryTable, PvdWriter};
+use impact_solver::scene::Analysis;
+use impact_solver::statics::{solve_static, StaticSettings, StaticSolution};
+use impact_solver::{SolverError, Vector3};
+
+/// The outcome of an analysis: the final state and what was recorded on the way.
+pub struct Execution {
+    pub plan: String,
+    /// Final displacement.
+    pub u: Vec<Vector3<f64>>,
+    /// Final full-step velocity (explicit runs).
+    pub v: Option<Vec<Vector3<f64>>>,
+    pub history: Option<HistoryTable>,
+    pub summary: Option<RunSummary>,
+    pub static_solution: Option<StaticSolution>,
+    pub written: Vec<std::path::PathBuf>,
+}
+
+/// Options of one execution.
+pub struct ExecuteOptions<'a> {
+    pub out: Option<&'a Path>,
+    pub stem: &'a str,
+    pub fields: bool,
+    pub time_limit_s: Option<f64>,
+}
+
+/// Runs `analysis` on `problem`, reporting progress in `[0, 1]`.
+pub fn execute(
+    problem: &mut Problem,
+    analysis: &Analysis,
+    options: &ExecuteOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Execution, SolverError> {
+    match analysis {
+        Analysis::Explicit(settings) => explicit(problem, settings, None, options, progress),
+        Analysis::Static(settings) => statics(problem, settings, options),
+        Analysis::Release {
+            preload,
+            explicit: settings,
+        } => {
+            let loaded = solve_static(problem, preload)?;
+            problem.loads.clear();
+            let mut run = explicit(problem, settings, Some(&loaded.u), options, progress)?;
+            run.plan = format!(
+                "static preload ({} load steps), then release: {}",
+                preload.load_steps, run.plan
+            );
+            run.static_solution = Some(loaded);
+            Ok(run)
+        }
+    }
+}
+
+fn explicit(
+    problem: &Problem,
+    settings: &ExplicitSettings,
+    initial_u: Option<&[Vector3<f64>]>,
+    options: &ExecuteOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Execution, SolverError> {
+    let output = OutputSettings {
+        dir: options.out.map(Path::to_path_buf),
+        stem: options.stem.to_string(),
+        fields: options.fields,
+    };
+    let mut solver = ExplicitSolver::new(problem, settings.clone(), output)?;
+    if let Some(u0) = initial_u {
+        solver.set_initial_displacement(u0);
+    }
+    if let Some(limit) = options.time_limit_s {
+        solver.set_time_limit(limit);
+    }
+    let plan = solver.plan();
+    let summary = solver.run(progress)?;
+    Ok(Execution {
+        plan,
+        u: solver.u.clone(),
+        v: Some(solver.v_full.clone()),
+        history: Some(summary.history.clone()),
+        written: summary.written.clone(),
+        summary: Some(summary),
+        static_solution: None,
+    })
+}
+
+fn statics(
+    problem: &Problem,
+    settings: &StaticSettings,
+    options: &ExecuteOptions,
+) -> Result<Execution, SolverError> {
+    let plan = format!(
+        "static analysis: {} nodes, {} elements, {} load steps, Newton with sparse LU",
+        problem.model.node_count(),
+        problem.model.element_count(),
+        settings.load_steps
+    );
+    let solution = solve_static(problem, settings)?;
+    let mut written = Vec::new();
+    if let (Some(dir), true) = (options.out, options.fields) {
+        let mut pvd = PvdWriter::new(dir, options.stem)?;
+        let points: Vec<_> = problem
+            .model
+            .reference
+            .iter()
+            .zip(&solution.u)
+            .map(|(x, u)| x + u)
+            .collect();
+        written.push(pvd.write_frame(&field_frame(
+            &problem.model,
+            &points,
+            &solution.u,
+            None,
+            1.0,
+        ))?);
+    }
+    Ok(Execution {
+        plan,
+        u: solution.u.clone(),
+        v: None,
+        history: None,
+        summary: None,
+        static_solution: Some(solution),
+        written,
+    })
+}

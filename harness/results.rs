@@ -1,0 +1,187 @@
+//! What a run of the harness records: the per-case verdicts (`results.json`), the plots to draw,
+//! and one line per case in `reports/history.jsonl` for trends. Scripts read `results.json`:
+//! extend these types, never rename a field.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+/// Verdict of a case.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    Pass,
+    Fail,
+    /// Not run, with the reason in `CaseResult::message`.
+    Skipped,
+    /// The case could not be evaluated (bad input, solver error); the message says why.
+    Error,
+}
+
+/// One measured quantity against its reference.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MetricResult {
+    pub name: String,
+    pub value: f64,
+    pub reference: f64,
+    /// `|value - reference|`, divided by the reference scale for relative tolerances.
+    pub error: f64,
+    pub tolerance: f64,
+    pub unit: String,
+    pub pass: bool,
+    /// `absolute`, `relative` or `relative_to_scale`.
+    #[serde(default)]
+    pub tolerance_kind: String,
+    /// Where the reference comes from (formula and source, or data file).
+    #[serde(default)]
+    pub reference_source: String,
+}
+
+/// A curve of a plot.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    pub name: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+/// A horizontal reference line with an optional acceptance band `[lo, hi]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceLine {
+    pub label: String,
+    pub y: f64,
+    pub band: Option<[f64; 2]>,
+}
+
+/// A plot of a case: curves plus reference lines and bands.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlotData {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    #[serde(default)]
+    pub reference_lines: Vec<ReferenceLine>,
+    /// Draw both axes logarithmically (convergence and work-precision diagrams).
+    #[serde(default)]
+    pub log_log: bool,
+}
+
+/// One level of a refinement sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepLevel {
+    /// The swept parameter's value (element size in m, or time-step factor).
+    pub parameter: f64,
+    pub wall_s: f64,
+    /// Error of each metric against its reference at this level.
+    pub errors: BTreeMap<String, f64>,
+    pub values: BTreeMap<String, f64>,
+    #[serde(default)]
+    pub status: String,
+}
+
+/// A refinement sweep: levels and the observed convergence order of each metric's error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepResult {
+    pub parameter: String,
+    pub levels: Vec<SweepLevel>,
+    /// Least-squares slope of log(error) against log(parameter) over the levels.
+    pub observed_order: BTreeMap<String, f64>,
+}
+
+/// The result of one case under one solver variant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseResult {
+    pub id: String,
+    pub variant: String,
+    pub status: Status,
+    pub wall_s: f64,
+    pub metrics: Vec<MetricResult>,
+    #[serde(default)]
+    pub description: String,
+    #[serde(default)]
+    pub tier: String,
+    #[serde(default)]
+    pub tags: Vec<String>,
+    /// Why a case failed, was skipped or errored; the solver's plan otherwise.
+    #[serde(default)]
+    pub message: Option<String>,
+    #[serde(default)]
+    pub plots: Vec<PlotData>,
+    #[serde(default)]
+    pub sweep: Option<SweepResult>,
+}
+
+/// Everything one `impact-vv run` produced: written as `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunResults {
+    pub run_id: String,
+    pub commit: String,
+    pub tier: String,
+    pub cases: Vec<CaseResult>,
+    #[serde(default)]
+    pub date: String,
+    #[serde(default)]
+    pub machine: String,
+    #[serde(default)]
+    pub threads: usize,
+    #[serde(default)]
+    pub versions: BTreeMap<String, String>,
+    #[serde(default)]
+    pub wall_s: f64,
+}
+
+/// One line of `reports/history.jsonl`: one case of one run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HistoryRecord {
+    pub run_id: String,
+    pub commit: String,
+    pub date: String,
+    pub machine: String,
+    pub threads: usize,
+    pub versions: BTreeMap<String, String>,
+    pub case: String,
+    pub variant: String,
+    pub status: Status,
+    pub wall_s: f64,
+    pub metrics: BTreeMap<String, f64>,
+}
+
+impl RunResults {
+    /// The history lines of this run, one per case.
+    pub fn history_records(&self) -> Vec<HistoryRecord> {
+        self.cases
+            .iter()
+            .map(|c| HistoryRecord {
+                run_id: self.run_id.clone(),
+                commit: self.commit.clone(),
+                date: self.date.clone(),
+                machine: self.machine.clone(),
+                threads: self.threads,
+                versions: self.versions.clone(),
+                case: c.id.clone(),
+                variant: c.variant.clone(),
+                status: c.status,
+                wall_s: c.wall_s,
+                metrics: c
+                    .metrics
+                    .iter()
+                    .map(|m| (m.name.clone(), m.value))
+                    .collect(),
+            })
+            .collect()
+    }
+
+    /// Exit status of the run: 0 when every case passed or was skipped, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        if self
+            .cases
+            .iter()
+            .all(|c| matches!(c.status, Status::Pass | Status::Skipped))
+        {
+            0
+        } else {
+            1
+        }
+    }
+}
