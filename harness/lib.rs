@@ -1,8 +1,16 @@
-//! The V&V harness of the concrete-impact solver: runs scenes and benchmark cases against their
-//! references and reports the verdicts.
+//! The V&V harness of the concrete-impact solver: reads the YAML catalogue, runs each case with
+//! the solver, measures, judges against references, and reports.
+//!
+//! Pipeline: `catalogue -> runner (execute, measure) -> judge -> results -> report`.
 
+pub mod catalogue;
 pub mod execute;
+pub mod judge;
+pub mod measure;
+pub mod metadata;
 pub mod progress;
+pub mod reference;
 pub mod report;
 pub mod results;
+pub mod runner;
 pub mod scene_run;

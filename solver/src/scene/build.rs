@@ -4,7 +4,9 @@ use nalgebra::{Matrix3, Unit, Vector3};
 
 use super::{Component, MeshSource, MotionSpec, Scene, Selector};
 use crate::error::{Result, SolverError};
-use crate::mesh::{box_mesh, gmsh::read_msh, perturb_interior, Mesh};
+use crate::mesh::{
+    boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
+};
 use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Problem};
 
 fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
@@ -105,6 +107,10 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                         ),
                     )
                 })?
+                .iter()
+                .map(|n| n + offset)
+                .collect(),
+            Selector::Boundary => boundary_nodes(&boundary_faces(&meshes[b]))
                 .iter()
                 .map(|n| n + offset)
                 .collect(),

@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 pub enum Selector {
     /// Every node of the body.
     All,
+    /// The nodes on the boundary surface of the body's mesh.
+    Boundary,
     /// Nodes inside the axis-aligned box `[min, max]` (closed, with a relative tolerance).
     Box { min: [f64; 3], max: [f64; 3] },
     /// Nodes within `tolerance` (m; default a millionth of the body size) of the plane through
@@ -44,7 +46,7 @@ impl Selector {
                 let d = (x - Vector3::from(*point)).dot(&n) / n.norm();
                 Some(d.abs() <= tolerance.unwrap_or(1e-6 * scale))
             }
-            Selector::Group(_) | Selector::Nodes(_) => None,
+            Selector::Group(_) | Selector::Nodes(_) | Selector::Boundary => None,
         }
     }
 }

@@ -1,0 +1,254 @@
+//! The benchmark catalogue: one YAML case per file under `cases/`, strictly parsed.
+
+use std::path::{Path, PathBuf};
+
+use impact_solver::scene::Scene;
+use serde::{Deserialize, Serialize};
+
+use crate::measure::Measure;
+use crate::reference::Reference;
+
+/// How often a case runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Tier {
+    /// Seconds: CI and the snapshot tests run these.
+    Quick,
+    /// The full catalogue, every night.
+    Nightly,
+    /// Stability and robustness sweeps.
+    Stress,
+}
+
+impl Tier {
+    pub fn name(self) -> &'static str {
+        match self {
+            Tier::Quick => "quick",
+            Tier::Nightly => "nightly",
+            Tier::Stress => "stress",
+        }
+    }
+
+    /// Tiers included when running `self`: nightly includes quick; stress is its own.
+    pub fn includes(self, case: Tier) -> bool {
+        match self {
+            Tier::Quick => case == Tier::Quick,
+            Tier::Nightly => matches!(case, Tier::Quick | Tier::Nightly),
+            Tier::Stress => case == Tier::Stress,
+        }
+    }
+}
+
+/// A benchmark case: a scene, what to measure, and the reference each measurement must meet.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseSpec {
+    pub id: String,
+    /// One line: what the case checks.
+    pub description: String,
+    pub tier: Tier,
+    #[serde(default)]
+    pub tags: Vec<String>,
+    pub scene: Scene,
+    #[serde(default)]
+    pub sweep: Option<Sweep>,
+    pub metrics: Vec<MetricSpec>,
+    #[serde(default)]
+    pub plots: Vec<PlotSpec>,
+    /// Wall-time limit of one solver run of this case (s).
+    #[serde(default)]
+    pub time_limit_s: Option<f64>,
+}
+
+/// A refinement sweep: the case runs once per level; metrics are judged at the last level and
+/// their errors give the observed convergence order and a work-precision diagram.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Sweep {
+    /// Box divisions of the first body, coarse to fine; the parameter is the cell size along x.
+    Mesh(Vec<[usize; 3]>),
+    /// Time step as a fraction of the stable estimate (runs above 1 are allowed on purpose).
+    TimeStepFactor(Vec<f64>),
+}
+
+/// How far a value may lie from its reference.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Tolerance {
+    /// `|value - reference| <= tolerance`.
+    Absolute(f64),
+    /// `|value - reference| <= tolerance |reference|`.
+    Relative(f64),
+    /// `value <= tolerance` (an error measure that must stay small; reference 0).
+    AtMost(f64),
+    /// `value >= tolerance` (a quantity that must reach a floor; reference the bound).
+    AtLeast(f64),
+}
+
+/// One measurement of a case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetricSpec {
+    pub name: String,
+    #[serde(default)]
+    pub unit: String,
+    pub measure: Measure,
+    /// Required: a metric without a reference fails the case (never skipped).
+    #[serde(default)]
+    pub reference: Option<Reference>,
+    pub tolerance: Tolerance,
+}
+
+/// A plot of history columns against time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlotSpec {
+    pub title: String,
+    /// History columns to draw against time.
+    pub columns: Vec<String>,
+    #[serde(default)]
+    pub y_label: String,
+    /// Draw the reference (and band) of this metric as a horizontal line.
+    #[serde(default)]
+    pub reference_metric: Option<String>,
+}
+
+/// A case with the file it came from.
+#[derive(Debug, Clone)]
+pub struct LoadedCase {
+    pub path: PathBuf,
+    pub spec: CaseSpec,
+}
+
+/// An error in the catalogue: names the file, the line when known, and the problem.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct CatalogueError {
+    pub path: String,
+    pub message: String,
+}
+
+/// Parses one case file. Mesh paths in its scene are resolved against the file's folder.
+pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
+    let fail = |message: String| CatalogueError {
+        path: path.display().to_string(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let de = serde_norway::Deserializer::from_str(&text);
+    let mut spec: CaseSpec = serde_norway::with::singleton_map_recursive::deserialize(de)
+        .map_err(|e| fail(e.to_string()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    for body in &mut spec.scene.bodies {
+        if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
+            if p.is_relative() {
+                *p = base.join(&*p);
+            }
+        }
+    }
+    if spec.metrics.is_empty() {
+        return Err(fail(
+            "the case has no metrics: every case measures something against a reference".into(),
+        ));
+    }
+    for m in &spec.metrics {
+        if spec.metrics.iter().filter(|n| n.name == m.name).count() > 1 {
+            return Err(fail(format!("metric `{}` appears twice", m.name)));
+        }
+    }
+    Ok(LoadedCase {
+        path: path.to_path_buf(),
+        spec,
+    })
+}
+
+/// Every `*.yaml` case under `dir` (recursively, sorted by path), skipping `dir/examples` and
+/// `dir/materials` (scenes and material data, not cases). All errors are collected.
+pub fn load_catalogue(dir: &Path) -> Result<Vec<LoadedCase>, Vec<CatalogueError>> {
+    let mut files = Vec::new();
+    collect_yaml(dir, dir, &mut files);
+    files.sort();
+    let mut cases = Vec::new();
+    let mut errors = Vec::new();
+    for f in files {
+        match load_case(&f) {
+            Ok(c) => cases.push(c),
+            Err(e) => errors.push(e),
+        }
+    }
+    for (i, c) in cases.iter().enumerate() {
+        if let Some(other) = cases[..i].iter().find(|o| o.spec.id == c.spec.id) {
+            errors.push(CatalogueError {
+                path: c.path.display().to_string(),
+                message: format!(
+                    "case id `{}` is also used by {}",
+                    c.spec.id,
+                    other.path.display()
+                ),
+            });
+        }
+    }
+    if errors.is_empty() {
+        Ok(cases)
+    } else {
+        Err(errors)
+    }
+}
+
+fn collect_yaml(root: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            let skip = path.parent() == Some(root)
+                && matches!(
+                    path.file_name().and_then(|n| n.to_str()),
+                    Some("examples" | "materials" | "meshes")
+                );
+            if !skip {
+                collect_yaml(root, &path, out);
+            }
+        } else if path.extension().is_some_and(|e| e == "yaml" || e == "yml") {
+            out.push(path);
+        }
+    }
+}
+
+/// Whether a case is selected by a pattern: its id, a glob with `*`, a tag `tag:<name>`, or the
+/// path of its file.
+pub fn matches(case: &LoadedCase, pattern: &str) -> bool {
+    if let Some(tag) = pattern.strip_prefix("tag:") {
+        return case.spec.tags.iter().any(|t| t == tag);
+    }
+    if Path::new(pattern) == case.path || case.path.ends_with(pattern) {
+        return true;
+    }
+    glob_match(pattern, &case.spec.id)
+}
+
+/// `*` matches any run of characters; everything else literally.
+fn glob_match(pattern: &str, text: &str) -> bool {
+    let parts: Vec<&str> = pattern.split('*').collect();
+    if parts.len() == 1 {
+        return pattern == text;
+    }
+    let mut rest = text;
+    for (i, part) in parts.iter().enumerate() {
+        if i == 0 {
+            let Some(r) = rest.strip_prefix(part) else {
+                return false;
+            };
+            rest = r;
+        } else if i == parts.len() - 1 {
+            return rest.ends_with(part);
+        } else {
+            let Some(pos) = rest.find(part) else {
+                return false;
+            };
+            rest = &rest[pos + part.len()..];
+        }
+    }
+    true
+}

@@ -1,0 +1,78 @@
+//! Judgement: a measured value against its reference and tolerance.
+
+use crate::catalogue::{MetricSpec, Tolerance};
+use crate::results::MetricResult;
+
+/// Judges `value` for `spec` against the evaluated `reference` (value and source).
+pub fn judge(spec: &MetricSpec, value: f64, reference: f64, source: &str) -> MetricResult {
+    let (error, tolerance, pass, kind) = match spec.tolerance {
+        Tolerance::Absolute(t) => {
+            let e = (value - reference).abs();
+            (e, t, e <= t, "absolute")
+        }
+        Tolerance::Relative(t) => {
+            let e = (value - reference).abs() / reference.abs();
+            (e, t, e <= t, "relative")
+        }
+        Tolerance::AtMost(t) => (value, t, value <= t, "at_most"),
+        Tolerance::AtLeast(t) => (value, t, value >= t, "at_least"),
+    };
+    MetricResult {
+        name: spec.name.clone(),
+        value,
+        reference,
+        error,
+        tolerance,
+        unit: spec.unit.clone(),
+        // NaN compares false: a NaN value never passes.
+        pass: pass && value.is_finite(),
+        tolerance_kind: kind.to_string(),
+        reference_source: source.to_string(),
+    }
+}
+
+/// The error of a value against its reference in the metric's own sense, for convergence
+/// orders and work-precision diagrams: relative when the tolerance is relative, else absolute.
+pub fn error_for_sweep(spec: &MetricSpec, value: f64, reference: f64) -> f64 {
+    match spec.tolerance {
+        Tolerance::Relative(_) => (value - reference).abs() / reference.abs(),
+        Tolerance::AtMost(_) | Tolerance::AtLeast(_) => value.abs(),
+        Tolerance::Absolute(_) => (value - reference).abs(),
+    }
+}
+
+/// Least-squares slope of `log(error)` against `log(parameter)`: the observed order of
+/// convergence (Roache 1998). `None` with fewer than two usable points.
+pub fn observed_order(points: &[(f64, f64)]) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(h, e)| *h > 0.0 && *e > 0.0 && h.is_finite() && e.is_finite())
+        .map(|(h, e)| (h.ln(), e.ln()))
+        .collect();
+    if logs.len() < 2 {
+        return None;
+    }
+    let n = logs.len() as f64;
+    let (mx, my) = (
+        logs.iter().map(|p| p.0).sum::<f64>() / n,
+        logs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn observed_order_of_an_exact_power_law() {
+        let pts: Vec<(f64, f64)> = [0.1, 0.05, 0.025]
+            .iter()
+            .map(|h| (*h, 3.0 * h * h))
+            .collect();
+        assert!((observed_order(&pts).unwrap() - 2.0).abs() < 1e-12);
+        assert!(observed_order(&pts[..1]).is_none());
+    }
+}

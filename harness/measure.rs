@@ -1,0 +1,408 @@
+//! Measurements: numbers taken from a run's histories and final fields.
+
+use impact_solver::material::MaterialModel;
+use impact_solver::model::Problem;
+use impact_solver::Vector3;
+use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
+
+use crate::execute::Execution;
+use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
+
+/// Nodes a field measure looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NodeScope {
+    /// Nodes not on the boundary of the body.
+    #[default]
+    Interior,
+    All,
+}
+
+/// Field measured against an affine exact field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FieldQuantity {
+    Displacement,
+    Velocity,
+}
+
+/// A tensor component in Voigt order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TensorComponent {
+    Xx,
+    Yy,
+    Zz,
+    Xy,
+    Yz,
+    Xz,
+}
+
+/// What to measure. Sweep measures (`observed_order`, stability) need a sweep in the case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Measure {
+    /// Largest value of a history column.
+    HistoryMax { column: String },
+    /// Smallest value of a history column.
+    HistoryMin { column: String },
+    /// Last recorded value of a history column.
+    HistoryFinal { column: String },
+    /// Time of the largest absolute value of a column.
+    PeakTime { column: String },
+    /// Total time during which the column exceeds `threshold`.
+    DurationAbove { column: String, threshold: f64 },
+    /// Mean of a column over the time window `[from, to]`.
+    PlateauMean { column: String, from: f64, to: f64 },
+    /// First time the column reaches `level` (linear interpolation between records).
+    ArrivalTime { column: String, level: f64 },
+    /// `distance / (t_to - t_from)` from the arrival of `level` at two probes: the front speed.
+    FrontSpeed {
+        from: String,
+        to: String,
+        distance: f64,
+        level: f64,
+    },
+    /// Largest |energy balance error| over the run, over the largest energy scale.
+    EnergyBalanceError,
+    /// Largest |K - K_0| / K_0 over the history: the drift of the kinetic energy.
+    KineticEnergyDrift,
+    /// Largest |field - exact| over the nodes, over the largest |exact|, for the exact field
+    /// `scale (translation + gradient (X - center))`, where `scale` is the final time for an
+    /// explicit displacement (constant velocity field) and 1 otherwise.
+    AffineFieldError {
+        quantity: FieldQuantity,
+        #[serde(default)]
+        translation: [f64; 3],
+        gradient: [[f64; 3]; 3],
+        #[serde(default)]
+        center: [f64; 3],
+        #[serde(default)]
+        nodes: NodeScope,
+    },
+    /// Largest relative deviation of any element's Cauchy stress from the exact stress of the
+    /// homogeneous deformation `F = I + scale gradient` (scale as in `affine_field_error`).
+    UniformStressError { gradient: [[f64; 3]; 3] },
+    /// Largest |sigma_ij| over all elements, divided by Young's modulus of its body.
+    MaxStressOverModulus,
+    /// Mean Cauchy stress component over the elements whose centroid lies in `[min, max]`.
+    ElementStressMean {
+        component: TensorComponent,
+        min: [f64; 3],
+        max: [f64; 3],
+    },
+    /// Mean Green-Lagrange strain component over all elements.
+    ElementStrainMean { component: TensorComponent },
+    /// Reaction of a constraint (static: at equilibrium; explicit: the last record), divided by
+    /// `divide_by` (for example an area, giving a nominal stress).
+    Reaction {
+        constraint: String,
+        component: TensorAxis,
+        #[serde(default = "one")]
+        divide_by: f64,
+    },
+    /// Frequency from the mean spacing of upward zero crossings of a column (Hz).
+    ZeroCrossingFrequency { column: String },
+    /// Observed convergence order of another metric's error over the sweep.
+    ObservedOrder { metric: String },
+    /// 1 if every sweep level with time-step factor up to 1 ran stably, else 0.
+    StableUpToEstimate,
+    /// Smallest time-step factor of the sweep whose run went unstable: the measured stability
+    /// limit over the estimate (the largest factor plus one step if none did).
+    MeasuredStabilityLimit,
+    /// 1 if every unstable level stopped with an instability report (no NaN, no other error).
+    UnstableRunsReported,
+}
+
+/// A displacement axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TensorAxis {
+    X,
+    Y,
+    Z,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Measure {
+    /// Whether the measure is computed over the levels of a sweep rather than from one run.
+    pub fn is_sweep_measure(&self) -> bool {
+        matches!(
+            self,
+            Measure::ObservedOrder { .. }
+                | Measure::StableUpToEstimate
+                | Measure::MeasuredStabilityLimit
+                | Measure::UnstableRunsReported
+        )
+    }
+
+    /// Evaluates a per-run measure.
+    pub fn evaluate(&self, problem: &Problem, run: &Execution) -> Result<f64, String> {
+        let history = || {
+            run.history
+                .as_ref()
+                .ok_or("this measure needs an explicit run's history".to_string())
+        };
+        let column = |name: &str| -> Result<Vec<f64>, String> {
+            let h = history()?;
+            h.column(name).ok_or_else(|| {
+                format!(
+                    "the history has no column `{name}`; it has {:?}",
+                    h.columns()
+                )
+            })
+        };
+        let time = || column("time");
+        let explicit_time = run.summary.as_ref().map_or(1.0, |s| s.time);
+        Ok(match self {
+            Measure::HistoryMax { column: c } => {
+                column(c)?.into_iter().fold(f64::NEG_INFINITY, f64::max)
+            }
+            Measure::HistoryMin { column: c } => {
+                column(c)?.into_iter().fold(f64::INFINITY, f64::min)
+            }
+            Measure::HistoryFinal { column: c } => *column(c)?.last().ok_or("empty history")?,
+            Measure::PeakTime { column: c } => {
+                let (t, y) = (time()?, column(c)?);
+                let i = (0..y.len())
+                    .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+                    .ok_or("empty history")?;
+                t[i]
+            }
+            Measure::DurationAbove {
+                column: c,
+                threshold,
+            } => {
+                let (t, y) = (time()?, column(c)?);
+                (1..y.len())
+                    .filter(|&i| y[i] > *threshold)
+                    .map(|i| t[i] - t[i - 1])
+                    .sum()
+            }
+            Measure::PlateauMean {
+                column: c,
+                from,
+                to,
+            } => {
+                let (t, y) = (time()?, column(c)?);
+                let window: Vec<f64> = (0..y.len())
+                    .filter(|&i| t[i] >= *from && t[i] <= *to)
+                    .map(|i| y[i])
+                    .collect();
+                if window.is_empty() {
+                    return Err(format!("no record of `{c}` between t = {from} and {to}"));
+                }
+                window.iter().sum::<f64>() / window.len() as f64
+            }
+            Measure::ArrivalTime { column: c, level } => crossing(&time()?, &column(c)?, *level)?,
+            Measure::FrontSpeed {
+                from,
+                to,
+                distance,
+                level,
+            } => {
+                let t = time()?;
+                distance
+                    / (crossing(&t, &column(to)?, *level)? - crossing(&t, &column(from)?, *level)?)
+            }
+            Measure::EnergyBalanceError => {
+                run.summary
+                    .as_ref()
+                    .ok_or("needs an explicit run")?
+                    .max_relative_energy_error
+            }
+            Measure::KineticEnergyDrift => {
+                let k = column("kinetic")?;
+                let k0 = k[0];
+                if !(k0 > 0.0) {
+                    return Err("the initial kinetic energy is zero".into());
+                }
+                k.iter().map(|x| (x - k0).abs() / k0).fold(0.0, f64::max)
+            }
+            Measure::AffineFieldError {
+                quantity,
+                translation,
+                gradient,
+                center,
+                nodes,
+            } => {
+                let (field, scale) = match quantity {
+                    FieldQuantity::Displacement => (
+                        &run.u,
+                        if run.summary.is_some() {
+                            explicit_time
+                        } else {
+                            1.0
+                        },
+                    ),
+                    FieldQuantity::Velocity => {
+                        (run.v.as_ref().ok_or("needs an explicit run")?, 1.0)
+                    }
+                };
+                let g = Matrix3::from_row_slice(&gradient.concat());
+                let (t, c) = (Vector3::from(*translation), Vector3::from(*center));
+                let boundary = boundary_node_flags(problem);
+                let exact = |x: &Vector3<f64>| (t + g * (x - c)) * scale;
+                let norm = problem
+                    .model
+                    .reference
+                    .iter()
+                    .map(|x| exact(x).norm())
+                    .fold(0.0, f64::max);
+                let mut worst: f64 = 0.0;
+                for (n, x) in problem.model.reference.iter().enumerate() {
+                    if *nodes == NodeScope::Interior && boundary[n] {
+                        continue;
+                    }
+                    worst = worst.max((field[n] - exact(x)).norm());
+                }
+                worst / norm
+            }
+            Measure::UniformStressError { gradient } => {
+                let scale = if run.summary.is_some() {
+                    explicit_time
+                } else {
+                    1.0
+                };
+                let f = Matrix3::identity() + Matrix3::from_row_slice(&gradient.concat()) * scale;
+                let fields = problem.model.element_fields(&run.u);
+                let mut worst: f64 = 0.0;
+                for (e, s) in fields.cauchy.iter().enumerate() {
+                    let exact = match problem.model.material_of(e) {
+                        MaterialModel::SaintVenantKirchhoff(c) => svk_cauchy(c, &f),
+                        MaterialModel::LinearElastic(c) => corotated_cauchy(c, &f),
+                    };
+                    let diff = matrix_from_voigt(s) - exact;
+                    worst = worst.max(max_abs(&diff) / max_abs(&exact));
+                }
+                worst
+            }
+            Measure::MaxStressOverModulus => {
+                let fields = problem.model.element_fields(&run.u);
+                fields
+                    .cauchy
+                    .iter()
+                    .enumerate()
+                    .map(|(e, s)| {
+                        s.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+                            / problem.model.material_of(e).constants().youngs_modulus
+                    })
+                    .fold(0.0, f64::max)
+            }
+            Measure::ElementStressMean {
+                component,
+                min,
+                max,
+            } => {
+                let fields = problem.model.element_fields(&run.u);
+                let mut values = Vec::new();
+                for (e, tet) in problem.model.tets.iter().enumerate() {
+                    let centroid = tet
+                        .iter()
+                        .map(|&n| problem.model.reference[n as usize])
+                        .sum::<Vector3<f64>>()
+                        / 4.0;
+                    if (0..3).all(|a| centroid[a] >= min[a] && centroid[a] <= max[a]) {
+                        values.push(fields.cauchy[e][*component as usize]);
+                    }
+                }
+                if values.is_empty() {
+                    return Err(format!(
+                        "no element centroid lies in the box {min:?} - {max:?}"
+                    ));
+                }
+                values.iter().sum::<f64>() / values.len() as f64
+            }
+            Measure::ElementStrainMean { component } => {
+                let fields = problem.model.element_fields(&run.u);
+                fields
+                    .green_lagrange
+                    .iter()
+                    .map(|s| s[*component as usize])
+                    .sum::<f64>()
+                    / fields.green_lagrange.len() as f64
+            }
+            Measure::Reaction {
+                constraint,
+                component,
+                divide_by,
+            } => {
+                let c = problem
+                    .constraints
+                    .iter()
+                    .position(|c| &c.name == constraint)
+                    .ok_or_else(|| format!("no constraint named `{constraint}`"))?;
+                let axis = *component as usize;
+                let value = match (&run.static_solution, &run.summary) {
+                    (Some(s), None) => s.constraint_reaction(problem, c)[axis],
+                    _ => *column(&format!("{constraint}_reaction_{}", ["x", "y", "z"][axis]))?
+                        .last()
+                        .ok_or("empty history")?,
+                };
+                value / divide_by
+            }
+            Measure::ZeroCrossingFrequency { column: c } => {
+                let (t, y) = (time()?, column(c)?);
+                let mean = y.iter().sum::<f64>() / y.len() as f64;
+                let ups: Vec<f64> = (1..y.len())
+                    .filter(|&i| y[i - 1] < mean && y[i] >= mean)
+                    .map(|i| t[i - 1] + (mean - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
+                    .collect();
+                if ups.len() < 2 {
+                    return Err(format!("`{c}` crosses its mean fewer than twice"));
+                }
+                (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0])
+            }
+            sweep => {
+                return Err(format!(
+                    "{sweep:?} is a sweep measure: the case needs a sweep"
+                ))
+            }
+        })
+    }
+}
+
+/// First time `signal` reaches `level` (upward or downward, whichever way it starts from).
+fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
+    let start = signal.first().copied().unwrap_or(0.0);
+    let up = level >= start;
+    for i in 1..signal.len() {
+        let reached = if up {
+            signal[i] >= level
+        } else {
+            signal[i] <= level
+        };
+        if reached {
+            let s = (level - signal[i - 1]) / (signal[i] - signal[i - 1]);
+            return Ok(time[i - 1] + s * (time[i] - time[i - 1]));
+        }
+    }
+    Err(format!("the signal never reaches {level}"))
+}
+
+fn boundary_node_flags(problem: &Problem) -> Vec<bool> {
+    let mut flags = vec![false; problem.model.node_count()];
+    let mesh_like = impact_solver::mesh::Mesh {
+        nodes: problem.model.reference.clone(),
+        tets: problem.model.tets.clone(),
+        ..Default::default()
+    };
+    for f in impact_solver::mesh::boundary_faces(&mesh_like) {
+        for n in f.nodes {
+            flags[n as usize] = true;
+        }
+    }
+    flags
+}
+
+fn matrix_from_voigt(v: &[f64; 6]) -> Matrix3<f64> {
+    Matrix3::new(v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2])
+}
+
+fn max_abs(m: &Matrix3<f64>) -> f64 {
+    m.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}

@@ -1,0 +1,116 @@
+//! References named by cases: literal values with their source, or analytic formulas from
+//! `references/analytic.rs` evaluated with the case's own material constants.
+
+use impact_solver::material::IsotropicElastic;
+use impact_solver::scene::Scene;
+use serde::{Deserialize, Serialize};
+
+#[path = "../references/analytic.rs"]
+pub mod analytic;
+
+/// Where a metric's expected value comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Reference {
+    /// A published or experimental number, with its source.
+    Value { value: f64, source: String },
+    /// A closed-form solution.
+    Analytic(Analytic),
+}
+
+/// Quantities of the uniaxial Saint-Venant-Kirchhoff solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SvkQuantity {
+    E11,
+    E22,
+    S11,
+    P11,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Analytic {
+    /// Zero: the reference of error measures (patch-test residuals, drifts).
+    Zero,
+    DilatationalWaveSpeed {
+        body: String,
+    },
+    RayleighWaveSpeed {
+        body: String,
+    },
+    /// Stress behind a plane wave driven at `velocity` into `body`: `-rho c_d v`.
+    PlaneWaveStress {
+        body: String,
+        velocity: f64,
+    },
+    SvkUniaxial {
+        body: String,
+        stretch: f64,
+        quantity: SvkQuantity,
+    },
+    CantileverFirstFrequency {
+        body: String,
+        length: f64,
+        depth: f64,
+    },
+}
+
+/// The elastic constants of a body of the scene.
+pub fn body_constants(scene: &Scene, body: &str) -> Result<IsotropicElastic, String> {
+    scene
+        .bodies
+        .iter()
+        .find(|b| b.name == body)
+        .map(|b| *b.material.constants())
+        .ok_or_else(|| format!("the reference names body `{body}`, which the scene does not have"))
+}
+
+impl Reference {
+    /// The reference value and a line saying where it comes from.
+    pub fn evaluate(&self, scene: &Scene) -> Result<(f64, String), String> {
+        use analytic::*;
+        Ok(match self {
+            Reference::Value { value, source } => (*value, source.clone()),
+            Reference::Analytic(a) => {
+                match a {
+                    Analytic::Zero => (0.0, "exact solution: zero".into()),
+                    Analytic::DilatationalWaveSpeed { body } => (
+                        dilatational_wave_speed(&body_constants(scene, body)?),
+                        "c_d = sqrt((lambda + 2 mu)/rho)".into(),
+                    ),
+                    Analytic::RayleighWaveSpeed { body } => (
+                        rayleigh_wave_speed(&body_constants(scene, body)?),
+                        "root of Rayleigh's equation (Rayleigh 1885)".into(),
+                    ),
+                    Analytic::PlaneWaveStress { body, velocity } => (
+                        plane_wave_stress(&body_constants(scene, body)?, *velocity),
+                        "sigma = -rho c_d v0 (1-D wave theory)".into(),
+                    ),
+                    Analytic::SvkUniaxial {
+                        body,
+                        stretch,
+                        quantity,
+                    } => {
+                        let s = svk_uniaxial(&body_constants(scene, body)?, *stretch);
+                        let v = match quantity {
+                            SvkQuantity::E11 => s.e11,
+                            SvkQuantity::E22 => s.e22,
+                            SvkQuantity::S11 => s.s11,
+                            SvkQuantity::P11 => s.p11,
+                        };
+                        (v, format!("Saint-Venant-Kirchhoff uniaxial stress at stretch {stretch} (2.123)"))
+                    }
+                    Analytic::CantileverFirstFrequency {
+                        body,
+                        length,
+                        depth,
+                    } => (
+                        cantilever_first_frequency(&body_constants(scene, body)?, *length, *depth),
+                        "Euler-Bernoulli cantilever, beta L = 1.8751".into(),
+                    ),
+                }
+            }
+        })
+    }
+}

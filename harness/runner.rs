@@ -1,0 +1,366 @@
+//! The runner: plans which cases and levels to run, runs them (several at once when cores
+//! allow), measures, judges, and assembles the run's results.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
+use impact_solver::SolverError;
+use rayon::prelude::*;
+
+use crate::catalogue::{LoadedCase, Sweep};
+use crate::execute::{execute, ExecuteOptions, Execution};
+use crate::judge::{error_for_sweep, judge, observed_order};
+use crate::measure::Measure;
+use crate::results::{
+    CaseResult, MetricResult, PlotData, ReferenceLine, Series, Status, SweepLevel, SweepResult,
+};
+
+/// Options of a harness run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Where the cases' solver output goes (`<dir>/cases/<id>/`); `None` keeps it in memory.
+    pub output_dir: Option<PathBuf>,
+    /// Wall-time limit per solver run unless the case sets its own (s).
+    pub time_limit_s: f64,
+    /// Run cases in parallel.
+    pub parallel: bool,
+}
+
+/// Runs the cases and returns their results in the order given. `on_done` is called as each
+/// case finishes (for progress display).
+pub fn run_cases(
+    cases: &[LoadedCase],
+    options: &RunOptions,
+    on_done: &(dyn Fn(&CaseResult) + Sync),
+) -> Vec<CaseResult> {
+    let run_one = |case: &LoadedCase| {
+        let result = run_case(case, options);
+        on_done(&result);
+        result
+    };
+    if options.parallel {
+        cases.par_iter().map(run_one).collect()
+    } else {
+        cases.iter().map(run_one).collect()
+    }
+}
+
+/// One solver run of a case (one sweep level).
+struct LevelRun {
+    parameter: f64,
+    wall_s: f64,
+    outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
+}
+
+/// Runs one case: every level of its sweep (or the scene once), then judges its metrics.
+pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
+    let spec = &case.spec;
+    let started = Instant::now();
+    let mut result = CaseResult {
+        id: spec.id.clone(),
+        variant: "default".into(),
+        status: Status::Error,
+        wall_s: 0.0,
+        metrics: Vec::new(),
+        description: spec.description.clone(),
+        tier: spec.tier.name().into(),
+        tags: spec.tags.clone(),
+        message: None,
+        plots: Vec::new(),
+        sweep: None,
+    };
+    let levels = match level_scenes(&spec.scene, spec.sweep.as_ref()) {
+        Ok(l) => l,
+        Err(message) => {
+            result.message = Some(message);
+            return result;
+        }
+    };
+    let case_dir = options
+        .output_dir
+        .as_ref()
+        .map(|d| d.join("cases").join(spec.id.replace('/', "__")));
+    let runs: Vec<LevelRun> = levels
+        .iter()
+        .enumerate()
+        .map(|(i, (parameter, scene))| {
+            let t0 = Instant::now();
+            let stem = if levels.len() > 1 {
+                format!("level{i}")
+            } else {
+                "run".to_string()
+            };
+            let outcome = build_problem(scene).and_then(|mut problem| {
+                let opts = ExecuteOptions {
+                    out: case_dir.as_deref(),
+                    stem: &stem,
+                    fields: false,
+                    time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
+                };
+                execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
+            });
+            LevelRun {
+                parameter: *parameter,
+                wall_s: t0.elapsed().as_secs_f64(),
+                outcome,
+            }
+        })
+        .collect();
+    result.wall_s = started.elapsed().as_secs_f64();
+
+    // Per-run metrics are judged at the last level that completed (the finest mesh).
+    let judged = runs.iter().rposition(|r| r.outcome.is_ok());
+    let Some(judged) = judged else {
+        let e = runs
+            .last()
+            .and_then(|r| r.outcome.as_ref().err())
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        result.message = Some(format!("the solver run failed: {e}"));
+        return result;
+    };
+    if matches!(spec.sweep, Some(Sweep::Mesh(_))) {
+        if let Some((i, e)) = runs
+            .iter()
+            .enumerate()
+            .find_map(|(i, r)| r.outcome.as_ref().err().map(|e| (i, e)))
+        {
+            result.message = Some(format!("sweep level {i} failed: {e}"));
+            return result;
+        }
+    }
+    let (problem, run) = runs[judged]
+        .outcome
+        .as_ref()
+        .expect("judged level completed");
+    result.message = Some(run.plan.clone());
+    let mut failures = Vec::new();
+    let mut sweep_levels: Vec<SweepLevel> = runs
+        .iter()
+        .map(|r| SweepLevel {
+            parameter: r.parameter,
+            wall_s: r.wall_s,
+            errors: BTreeMap::new(),
+            values: BTreeMap::new(),
+            status: match &r.outcome {
+                Ok(_) => "completed".into(),
+                Err(SolverError::Unstable(_)) => "unstable".into(),
+                Err(e) => format!("error: {e}"),
+            },
+        })
+        .collect();
+    for m in &spec.metrics {
+        let Some(reference) = &m.reference else {
+            failures.push(format!(
+                "metric `{}` has no reference: every metric needs one",
+                m.name
+            ));
+            continue;
+        };
+        let (ref_value, source) = match reference.evaluate(&spec.scene) {
+            Ok(r) => r,
+            Err(e) => {
+                failures.push(format!("metric `{}`: reference: {e}", m.name));
+                continue;
+            }
+        };
+        let value = if m.measure.is_sweep_measure() {
+            sweep_measure(&m.measure, spec, &runs, &sweep_levels)
+        } else {
+            for (level, r) in sweep_levels.iter_mut().zip(&runs) {
+                if let Ok((p, e)) = &r.outcome {
+                    if let Ok(v) = m.measure.evaluate(p, e) {
+                        level.values.insert(m.name.clone(), v);
+                        level
+                            .errors
+                            .insert(m.name.clone(), error_for_sweep(m, v, ref_value));
+                    }
+                }
+            }
+            m.measure.evaluate(problem, run)
+        };
+        match value {
+            Ok(v) => result.metrics.push(judge(m, v, ref_value, &source)),
+            Err(e) => failures.push(format!("metric `{}`: {e}", m.name)),
+        }
+    }
+    if spec.sweep.is_some() {
+        let observed = spec
+            .metrics
+            .iter()
+            .filter(|m| !m.measure.is_sweep_measure())
+            .filter_map(|m| {
+                let pts: Vec<(f64, f64)> = sweep_levels
+                    .iter()
+                    .filter_map(|l| l.errors.get(&m.name).map(|e| (l.parameter, *e)))
+                    .collect();
+                observed_order(&pts).map(|o| (m.name.clone(), o))
+            })
+            .collect();
+        result.sweep = Some(SweepResult {
+            parameter: match spec.sweep {
+                Some(Sweep::Mesh(_)) => "element size (m)".into(),
+                _ => "time step / stable estimate".into(),
+            },
+            levels: sweep_levels,
+            observed_order: observed,
+        });
+    }
+    result.plots = plots(spec, run, &result.metrics);
+    let failed: Vec<&MetricResult> = result.metrics.iter().filter(|m| !m.pass).collect();
+    result.status = if !failures.is_empty() {
+        result.message = Some(failures.join("; "));
+        Status::Fail
+    } else if !failed.is_empty() {
+        let names: Vec<String> = failed
+            .iter()
+            .map(|m| {
+                format!(
+                    "`{}` = {:.6e} against {:.6e} (error {:.3e}, tolerance {:.3e})",
+                    m.name, m.value, m.reference, m.error, m.tolerance
+                )
+            })
+            .collect();
+        result.message = Some(format!("failed: {}", names.join("; ")));
+        Status::Fail
+    } else {
+        Status::Pass
+    };
+    result
+}
+
+/// The scene of every level: the case's scene with the sweep's parameter applied.
+fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)>, String> {
+    match sweep {
+        None => Ok(vec![(1.0, scene.clone())]),
+        Some(Sweep::Mesh(divisions)) => divisions
+            .iter()
+            .map(|d| {
+                let mut s = scene.clone();
+                let MeshSource::Box(b) = &mut s.bodies[0].mesh else {
+                    return Err("a mesh sweep needs a box mesh on the first body".to_string());
+                };
+                b.divisions = *d;
+                Ok((b.size[0] / d[0] as f64, s))
+            })
+            .collect(),
+        Some(Sweep::TimeStepFactor(factors)) => {
+            let problem = build_problem(scene).map_err(|e| e.to_string())?;
+            let (dt_cr, _) = problem.model.critical_time_step();
+            factors
+                .iter()
+                .map(|f| {
+                    let mut s = scene.clone();
+                    let Analysis::Explicit(settings) = &mut s.analysis else {
+                        return Err("a time-step sweep needs an explicit analysis".to_string());
+                    };
+                    settings.time_step = Some(f * dt_cr);
+                    settings.allow_unstable_time_step = *f > 1.0;
+                    Ok((*f, s))
+                })
+                .collect()
+        }
+    }
+}
+
+fn sweep_measure(
+    measure: &Measure,
+    spec: &crate::catalogue::CaseSpec,
+    runs: &[LevelRun],
+    levels: &[SweepLevel],
+) -> Result<f64, String> {
+    let Some(sweep) = &spec.sweep else {
+        return Err("this measure needs a sweep in the case".into());
+    };
+    let unstable = |r: &LevelRun| matches!(r.outcome, Err(SolverError::Unstable(_)));
+    match measure {
+        Measure::ObservedOrder { metric } => {
+            let pts: Vec<(f64, f64)> = levels
+                .iter()
+                .filter_map(|l| l.errors.get(metric).map(|e| (l.parameter, *e)))
+                .collect();
+            observed_order(&pts).ok_or_else(|| {
+                format!("metric `{metric}` has fewer than two levels with a positive error")
+            })
+        }
+        Measure::StableUpToEstimate => Ok(runs
+            .iter()
+            .filter(|r| r.parameter <= 1.0)
+            .all(|r| r.outcome.is_ok()) as u8 as f64),
+        Measure::MeasuredStabilityLimit => {
+            let Sweep::TimeStepFactor(factors) = sweep else {
+                return Err("needs a time-step sweep".into());
+            };
+            Ok(runs.iter().find(|r| unstable(r)).map_or_else(
+                || factors.iter().cloned().fold(0.0, f64::max) + 0.1,
+                |r| r.parameter,
+            ))
+        }
+        Measure::UnstableRunsReported => {
+            Ok(runs.iter().all(|r| r.outcome.is_ok() || unstable(r)) as u8 as f64)
+        }
+        _ => unreachable!("not a sweep measure"),
+    }
+}
+
+/// The case's plots of history columns, with reference lines and bands from their metrics.
+fn plots(
+    spec: &crate::catalogue::CaseSpec,
+    run: &Execution,
+    metrics: &[MetricResult],
+) -> Vec<PlotData> {
+    let Some(history) = &run.history else {
+        return Vec::new();
+    };
+    let Some(time) = history.column("time") else {
+        return Vec::new();
+    };
+    spec.plots
+        .iter()
+        .map(|p| PlotData {
+            title: p.title.clone(),
+            x_label: "time (s)".into(),
+            y_label: p.y_label.clone(),
+            series: p
+                .columns
+                .iter()
+                .filter_map(|c| {
+                    history.column(c).map(|y| Series {
+                        name: c.clone(),
+                        x: time.clone(),
+                        y,
+                    })
+                })
+                .collect(),
+            reference_lines: p
+                .reference_metric
+                .iter()
+                .filter_map(|name| metrics.iter().find(|m| &m.name == name))
+                .map(|m| ReferenceLine {
+                    label: format!("{} reference", m.name),
+                    y: m.reference,
+                    band: band(m),
+                })
+                .collect(),
+            log_log: false,
+        })
+        .collect()
+}
+
+fn band(m: &MetricResult) -> Option<[f64; 2]> {
+    match m.tolerance_kind.as_str() {
+        "relative" => Some([
+            m.reference - m.tolerance * m.reference.abs(),
+            m.reference + m.tolerance * m.reference.abs(),
+        ]),
+        "absolute" => Some([m.reference - m.tolerance, m.reference + m.tolerance]),
+        _ => None,
+    }
+}
+
+/// Path helpers for a run folder.
+pub fn run_dir(reports: &Path, run_id: &str) -> PathBuf {
+    reports.join(run_id)
+}

@@ -1,0 +1,130 @@
+//! Analytic reference solutions. Each function states its formula and source; the catalogue
+//! names them under `reference: { analytic: ... }` and the harness evaluates them with the
+//! material constants of the case's scene, so no reference number is pasted into a case.
+
+use impact_solver::material::IsotropicElastic;
+use nalgebra::Matrix3;
+
+/// Dilatational (P) wave speed `c_d = sqrt((lambda + 2 mu) / rho)` (e.g. Achenbach 1973, (2.27)).
+pub fn dilatational_wave_speed(c: &IsotropicElastic) -> f64 {
+    c.dilatational_wave_speed()
+}
+
+/// Shear wave speed `c_s = sqrt(mu / rho)`.
+pub fn shear_wave_speed(c: &IsotropicElastic) -> f64 {
+    (c.mu() / c.density).sqrt()
+}
+
+/// Rayleigh wave speed: the root `x = (c_R / c_s)^2` in `(0, 1)` of Rayleigh's equation
+/// `x^3 - 8 x^2 + (24 - 16 k) x - 16 (1 - k) = 0` with `k = (c_s / c_d)^2`
+/// (Rayleigh 1885; Achenbach 1973, (5.56)), found by bisection to round-off.
+pub fn rayleigh_wave_speed(c: &IsotropicElastic) -> f64 {
+    let cs = shear_wave_speed(c);
+    let k = (cs / dilatational_wave_speed(c)).powi(2);
+    let f = |x: f64| x * x * x - 8.0 * x * x + (24.0 - 16.0 * k) * x - 16.0 * (1.0 - k);
+    // f(0) = -16 (1 - k) < 0 and f(1) = 1 > 0: exactly one root in between for -1 < nu < 0.5.
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    cs * (0.5 * (lo + hi)).sqrt()
+}
+
+/// Axial Cauchy stress behind a plane dilatational wave driven by a boundary velocity `v`
+/// into the body: `sigma_xx = -rho c_d v` (compression; one-dimensional wave theory, Kolsky 1963).
+pub fn plane_wave_stress(c: &IsotropicElastic, velocity: f64) -> f64 {
+    -c.density * dilatational_wave_speed(c) * velocity
+}
+
+/// Saint-Venant-Kirchhoff under uniaxial stress at axial stretch `l` (from (2.123) with
+/// `S22 = S33 = 0`): `E11 = (l^2 - 1)/2`, `E22 = E33 = -nu E11`, `S11 = E E11`,
+/// `P11 = l S11 = E l (l^2 - 1)/2`.
+pub struct SvkUniaxial {
+    pub e11: f64,
+    pub e22: f64,
+    pub s11: f64,
+    pub p11: f64,
+}
+
+pub fn svk_uniaxial(c: &IsotropicElastic, stretch: f64) -> SvkUniaxial {
+    let e11 = 0.5 * (stretch * stretch - 1.0);
+    SvkUniaxial {
+        e11,
+        e22: -c.poisson_ratio * e11,
+        s11: c.youngs_modulus * e11,
+        p11: c.youngs_modulus * stretch * e11,
+    }
+}
+
+/// Cauchy stress of Saint-Venant-Kirchhoff at a homogeneous deformation gradient `F`:
+/// `S = lambda tr(E) I + 2 mu E`, `E = (F^T F - I)/2` (2.123), `sigma = F S F^T / det F`.
+/// The exact stress of the static and dynamic patch tests.
+pub fn svk_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
+    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
+    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
+    f * s * f.transpose() / f.determinant()
+}
+
+/// Cauchy stress of the co-rotated linear elastic model at `F`, from its definition
+/// `sigma = R (lambda tr(E) I + 2 mu E) R^T` with `R` the rotation of `F = R U` taken from an
+/// SVD (`F = W S V^T`, `R = W V^T`), independently of the solver's own formula.
+pub fn corotated_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
+    let svd = f.svd(true, true);
+    let r = svd.u.expect("u requested") * svd.v_t.expect("v_t requested");
+    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
+    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
+    r * s * r.transpose()
+}
+
+/// First bending frequency of a cantilever (Euler-Bernoulli, clamped-free):
+/// `f_1 = (beta_1 L)^2 / (2 pi L^2) sqrt(E I / (rho A))` with `beta_1 L = 1.875104`
+/// (e.g. Rao, *Mechanical Vibrations*, Table 8.4). For a rectangular section of depth `h`
+/// bending about its width, `I / A = h^2 / 12`.
+pub fn cantilever_first_frequency(c: &IsotropicElastic, length: f64, depth: f64) -> f64 {
+    let beta_l: f64 = 1.875_104_068_711_961;
+    beta_l * beta_l / (2.0 * std::f64::consts::PI * length * length)
+        * (c.youngs_modulus * depth * depth / 12.0 / c.density).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const C: IsotropicElastic = IsotropicElastic {
+        density: 2300.0,
+        youngs_modulus: 30e9,
+        poisson_ratio: 0.18,
+    };
+
+    #[test]
+    fn rayleigh_speed_matches_the_viktorov_approximation() {
+        // Viktorov's fit c_R / c_s = (0.862 + 1.14 nu) / (1 + nu), good to about 0.5 %.
+        let approx =
+            shear_wave_speed(&C) * (0.862 + 1.14 * C.poisson_ratio) / (1.0 + C.poisson_ratio);
+        let exact = rayleigh_wave_speed(&C);
+        assert!((exact - approx).abs() / exact < 5e-3, "{exact} vs {approx}");
+        // For nu = 0.25 the root is known in closed form: x = 2 - 2/sqrt(3).
+        let c = IsotropicElastic {
+            poisson_ratio: 0.25,
+            ..C
+        };
+        let expected = shear_wave_speed(&c) * (2.0 - 2.0 / 3f64.sqrt()).sqrt();
+        assert!((rayleigh_wave_speed(&c) - expected).abs() / expected < 1e-14);
+    }
+
+    #[test]
+    fn svk_uniaxial_is_consistent_with_the_cauchy_formula() {
+        let s = svk_uniaxial(&C, 1.3);
+        let l2 = (1.0 + 2.0 * s.e22).sqrt();
+        let f = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.3, l2, l2));
+        let sigma = svk_cauchy(&C, &f);
+        assert!(sigma[(1, 1)].abs() < 1e-6 * s.s11);
+        // sigma11 = P11 F11 / J = P11 * 1.3 / (1.3 l2^2).
+        assert!((sigma[(0, 0)] - s.p11 / (l2 * l2)).abs() < 1e-9 * s.s11);
+    }
+}

@@ -1,0 +1,92 @@
+//! The quick tier of the catalogue: every case passes against its independent reference, and
+//! its metrics, rounded to six significant figures, match the committed snapshots (a guard
+//! against unintended change, never a proof of correctness).
+
+use std::path::Path;
+
+use impact_vv::catalogue::{load_catalogue, Tier};
+use impact_vv::results::Status;
+use impact_vv::runner::{run_cases, RunOptions};
+
+/// Rounds to `digits` significant figures, so snapshots survive last-bit differences between
+/// compilers and machines while catching any real change.
+fn significant(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
+}
+
+/// The snapshot form of a metric. Error measures far below their bound (round-off residuals of
+/// patch tests) vary in their digits between compilers and CPUs, so they are recorded by decade
+/// class only; everything else to six significant figures.
+fn snapshot_value(m: &impact_vv::results::MetricResult) -> String {
+    if m.tolerance_kind == "at_most" && m.value.abs() < 1e-3 * m.tolerance {
+        "below 1e-3 of its bound".to_string()
+    } else {
+        format!("{}", significant(m.value, 6))
+    }
+}
+
+#[test]
+fn quick_tier_passes_and_matches_snapshots() {
+    let cases = load_catalogue(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("cases")
+            .as_path(),
+    )
+    .expect("catalogue loads");
+    let quick: Vec<_> = cases
+        .into_iter()
+        .filter(|c| c.spec.tier == Tier::Quick)
+        .collect();
+    assert!(
+        quick.len() >= 10,
+        "the quick tier has {} cases",
+        quick.len()
+    );
+    let options = RunOptions {
+        output_dir: None,
+        time_limit_s: 600.0,
+        parallel: true,
+    };
+    let results = run_cases(&quick, &options, &|_| {});
+    let mut failures = Vec::new();
+    for r in &results {
+        eprintln!("{:<40} {:?} {:.2} s", r.id, r.status, r.wall_s);
+        for m in &r.metrics {
+            eprintln!(
+                "    {:<32} {:>14.6e} ref {:>14.6e} err {:.3e} tol {:.1e} {}",
+                m.name,
+                m.value,
+                m.reference,
+                m.error,
+                m.tolerance,
+                if m.pass { "ok" } else { "FAIL" }
+            );
+        }
+        if r.status != Status::Pass {
+            failures.push(format!(
+                "{}: {:?}: {}",
+                r.id,
+                r.status,
+                r.message.clone().unwrap_or_default()
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "quick cases failed:\n{}",
+        failures.join("\n")
+    );
+
+    for r in &results {
+        let rounded: Vec<(String, String)> = r
+            .metrics
+            .iter()
+            .map(|m| (m.name.clone(), snapshot_value(m)))
+            .collect();
+        insta::assert_yaml_snapshot!(r.id.replace('/', "__"), rounded);
+    }
+}
