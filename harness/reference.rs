@@ -28,40 +28,54 @@ pub enum SvkQuantity {
     P11,
 }
 
+/// The material a formula is evaluated for: stated in the reference itself (the physical
+/// problem, independent of the solver input, so a wrong solver setting shows as a failure), or
+/// taken from a body of the scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialRef {
+    Material(IsotropicElastic),
+    Body(String),
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Analytic {
     /// Zero: the reference of error measures (patch-test residuals, drifts).
     Zero,
     DilatationalWaveSpeed {
-        body: String,
+        of: MaterialRef,
     },
     RayleighWaveSpeed {
-        body: String,
+        of: MaterialRef,
     },
     /// Stress behind a plane wave driven at `velocity` into `body`: `-rho c_d v`.
     PlaneWaveStress {
-        body: String,
+        of: MaterialRef,
         velocity: f64,
     },
     SvkUniaxial {
-        body: String,
+        of: MaterialRef,
         stretch: f64,
         quantity: SvkQuantity,
     },
     CantileverFirstFrequency {
-        body: String,
+        of: MaterialRef,
         length: f64,
         depth: f64,
     },
 }
 
-/// The elastic constants of a body of the scene.
-pub fn body_constants(scene: &Scene, body: &str) -> Result<IsotropicElastic, String> {
+/// The elastic constants named by a reference.
+pub fn body_constants(scene: &Scene, of: &MaterialRef) -> Result<IsotropicElastic, String> {
+    let body = match of {
+        MaterialRef::Material(c) => return Ok(*c),
+        MaterialRef::Body(b) => b,
+    };
     scene
         .bodies
         .iter()
-        .find(|b| b.name == body)
+        .find(|b| &b.name == body)
         .map(|b| *b.material.constants())
         .ok_or_else(|| format!("the reference names body `{body}`, which the scene does not have"))
 }
@@ -75,24 +89,24 @@ impl Reference {
             Reference::Analytic(a) => {
                 match a {
                     Analytic::Zero => (0.0, "exact solution: zero".into()),
-                    Analytic::DilatationalWaveSpeed { body } => (
-                        dilatational_wave_speed(&body_constants(scene, body)?),
+                    Analytic::DilatationalWaveSpeed { of } => (
+                        dilatational_wave_speed(&body_constants(scene, of)?),
                         "c_d = sqrt((lambda + 2 mu)/rho)".into(),
                     ),
-                    Analytic::RayleighWaveSpeed { body } => (
-                        rayleigh_wave_speed(&body_constants(scene, body)?),
+                    Analytic::RayleighWaveSpeed { of } => (
+                        rayleigh_wave_speed(&body_constants(scene, of)?),
                         "root of Rayleigh's equation (Rayleigh 1885)".into(),
                     ),
-                    Analytic::PlaneWaveStress { body, velocity } => (
-                        plane_wave_stress(&body_constants(scene, body)?, *velocity),
+                    Analytic::PlaneWaveStress { of, velocity } => (
+                        plane_wave_stress(&body_constants(scene, of)?, *velocity),
                         "sigma = -rho c_d v0 (1-D wave theory)".into(),
                     ),
                     Analytic::SvkUniaxial {
-                        body,
+                        of,
                         stretch,
                         quantity,
                     } => {
-                        let s = svk_uniaxial(&body_constants(scene, body)?, *stretch);
+                        let s = svk_uniaxial(&body_constants(scene, of)?, *stretch);
                         let v = match quantity {
                             SvkQuantity::E11 => s.e11,
                             SvkQuantity::E22 => s.e22,
@@ -102,11 +116,11 @@ impl Reference {
                         (v, format!("Saint-Venant-Kirchhoff uniaxial stress at stretch {stretch} (2.123)"))
                     }
                     Analytic::CantileverFirstFrequency {
-                        body,
+                        of,
                         length,
                         depth,
                     } => (
-                        cantilever_first_frequency(&body_constants(scene, body)?, *length, *depth),
+                        cantilever_first_frequency(&body_constants(scene, of)?, *length, *depth),
                         "Euler-Bernoulli cantilever, beta L = 1.8751".into(),
                     ),
                 }
