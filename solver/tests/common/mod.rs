@@ -74,3 +74,13 @@ pub fn voigt_to_matrix(v: &[f64; 6]) -> Matrix3<f64> {
 pub fn v3(a: [f64; 3]) -> Vector3<f64> {
     Vector3::from(a)
 }
+
+/// Largest |sigma_ij| over all elements at displacement `u`.
+pub fn max_element_stress(model: &Model, u: &[Vector3<f64>]) -> f64 {
+    model
+        .element_fields(u)
+        .cauchy
+        .iter()
+        .map(|s| max_abs(&voigt_to_matrix(s)))
+        .fold(0.0, f64::max)
+}
