@@ -1,0 +1,3 @@
+//! Contact (thesis chapters 6 and 7).
+
+pub mod ccd;
