@@ -1,9 +1,14 @@
 //! `impact-vv`: the command line of the concrete-impact V&V harness.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 use clap::{Parser, Subcommand};
+use impact_vv::catalogue::{load_catalogue, matches, LoadedCase, Tier};
+use impact_vv::results::{RunResults, Status};
+use impact_vv::runner::{run_cases, RunOptions};
+use impact_vv::{metadata, report};
 
 #[derive(Parser)]
 #[command(
@@ -18,11 +23,46 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// List the cases of the catalogue.
+    List {
+        /// Case ids, globs (`patch/*`), tags (`tag:wave`) or case files.
+        patterns: Vec<String>,
+        #[arg(long)]
+        tier: Option<String>,
+        #[arg(long, default_value = "cases")]
+        catalogue: PathBuf,
+    },
+    /// Run cases and write a report to `<reports>/<run-id>/index.html`.
+    Run {
+        /// Case ids, globs (`patch/*`), tags (`tag:wave`) or case files; empty: the whole tier.
+        patterns: Vec<String>,
+        /// quick, nightly (quick + nightly) or stress.
+        #[arg(long, default_value = "quick")]
+        tier: String,
+        /// Rerun the cases that failed in the last run.
+        #[arg(long)]
+        failed: bool,
+        #[arg(long, default_value = "cases")]
+        catalogue: PathBuf,
+        #[arg(long, default_value = "reports")]
+        reports: PathBuf,
+        /// Wall-time limit per solver run (s), unless a case sets its own.
+        #[arg(long, default_value_t = 900.0)]
+        time_limit: f64,
+        /// Run cases one after the other.
+        #[arg(long)]
+        serial: bool,
+    },
+    /// Rebuild a run's report from its `results.json`.
+    Report {
+        /// The run folder (`reports/<run-id>`).
+        run: PathBuf,
+        #[arg(long, default_value = "reports")]
+        reports: PathBuf,
+    },
     /// Run one scene file and write its history (CSV) and fields (VTU + PVD for ParaView).
     Scene {
-        /// The scene, a YAML file (see cases/examples/).
         path: PathBuf,
-        /// Output folder.
         #[arg(long, default_value = "reports/scene")]
         out: PathBuf,
         /// Skip the VTU field frames.
@@ -31,9 +71,146 @@ enum Command {
     },
 }
 
+fn parse_tier(s: &str) -> Result<Tier, String> {
+    match s {
+        "quick" => Ok(Tier::Quick),
+        "nightly" => Ok(Tier::Nightly),
+        "stress" => Ok(Tier::Stress),
+        other => Err(format!(
+            "unknown tier `{other}`: use quick, nightly or stress"
+        )),
+    }
+}
+
+/// Loads the catalogue or prints every error (file and line) and gives exit status 2.
+fn catalogue(dir: &Path) -> Result<Vec<LoadedCase>, ExitCode> {
+    load_catalogue(dir).map_err(|errors| {
+        for e in &errors {
+            eprintln!("error: {e}");
+        }
+        eprintln!("{} catalogue error(s); nothing was run", errors.len());
+        ExitCode::from(2)
+    })
+}
+
+fn select<'a>(cases: &'a [LoadedCase], patterns: &[String], tier: Option<Tier>) -> Vec<LoadedCase> {
+    cases
+        .iter()
+        .filter(|c| {
+            if patterns.is_empty() {
+                tier.is_none_or(|t| t.includes(c.spec.tier))
+            } else {
+                patterns.iter().any(|p| matches(c, p))
+            }
+        })
+        .cloned()
+        .collect()
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::List {
+            patterns,
+            tier,
+            catalogue: dir,
+        } => {
+            let tier = match tier.as_deref().map(parse_tier).transpose() {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            };
+            let cases = match catalogue(&dir) {
+                Ok(c) => c,
+                Err(code) => return code,
+            };
+            for c in select(&cases, &patterns, tier) {
+                println!(
+                    "{:<40} {:<8} {:<30} {}",
+                    c.spec.id,
+                    c.spec.tier.name(),
+                    c.spec.tags.join(","),
+                    c.spec.description
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Command::Run {
+            patterns,
+            tier,
+            failed,
+            catalogue: dir,
+            reports,
+            time_limit,
+            serial,
+        } => {
+            let tier = match parse_tier(&tier) {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            };
+            let cases = match catalogue(&dir) {
+                Ok(c) => c,
+                Err(code) => return code,
+            };
+            let patterns = if failed {
+                match std::fs::read_to_string(reports.join("last-failed.txt")) {
+                    Ok(s) => s.lines().map(String::from).collect(),
+                    Err(_) => {
+                        eprintln!(
+                            "no record of failed cases ({}): run first",
+                            reports.join("last-failed.txt").display()
+                        );
+                        return ExitCode::from(2);
+                    }
+                }
+            } else {
+                patterns
+            };
+            let selected = select(&cases, &patterns, Some(tier));
+            if selected.is_empty() {
+                eprintln!(
+                    "error: no case matches {patterns:?} in tier {}",
+                    tier.name()
+                );
+                return ExitCode::from(2);
+            }
+            run(selected, tier, &reports, time_limit, !serial)
+        }
+        Command::Report { run, reports } => {
+            let text = match std::fs::read_to_string(run.join("results.json")) {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!(
+                        "error: cannot read {}: {e}",
+                        run.join("results.json").display()
+                    );
+                    return ExitCode::from(2);
+                }
+            };
+            let results: RunResults = match serde_json::from_str(&text) {
+                Ok(r) => r,
+                Err(e) => {
+                    eprintln!("error: {}: {e}", run.join("results.json").display());
+                    return ExitCode::from(2);
+                }
+            };
+            let history = report::read_history(&reports.join("history.jsonl")).unwrap_or_default();
+            match report::write_report(&run, &results, &history) {
+                Ok(index) => {
+                    println!("report: {}", index.display());
+                    ExitCode::from(results.exit_code())
+                }
+                Err(e) => {
+                    eprintln!("error: cannot write the report: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Command::Scene {
             path,
             out,
@@ -49,4 +226,103 @@ fn main() -> ExitCode {
             }
         },
     }
+}
+
+fn run(
+    cases: Vec<LoadedCase>,
+    tier: Tier,
+    reports: &Path,
+    time_limit: f64,
+    parallel: bool,
+) -> ExitCode {
+    let (date, run_id) = metadata::now();
+    let dir = reports.join(&run_id);
+    let started = Instant::now();
+    let threads = rayon::current_num_threads();
+    eprintln!(
+        "impact-vv: {} case(s), tier {}, {} thread(s), run {run_id}",
+        cases.len(),
+        tier.name(),
+        threads
+    );
+    let bar = indicatif::ProgressBar::new(cases.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix:>10} [{bar:40}] {pos}/{len} cases, {elapsed_precise}, left {eta}  {msg}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    );
+    bar.set_prefix("running");
+    let results = run_cases(
+        &cases,
+        &RunOptions {
+            output_dir: Some(dir.clone()),
+            time_limit_s: time_limit,
+            parallel,
+        },
+        &|r| {
+            bar.inc(1);
+            bar.set_message(format!("{} {:?}", r.id, r.status));
+            let line = format!(
+                "{:<8} {:<40} {:>8.2} s",
+                format!("{:?}", r.status).to_lowercase(),
+                r.id,
+                r.wall_s
+            );
+            if bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                bar.println(line);
+            }
+        },
+    );
+    bar.finish_and_clear();
+    let results = RunResults {
+        run_id: run_id.clone(),
+        commit: metadata::commit(),
+        tier: tier.name().into(),
+        cases: results,
+        date,
+        machine: metadata::machine(),
+        threads,
+        versions: metadata::versions(),
+        wall_s: started.elapsed().as_secs_f64(),
+    };
+    let history_path = reports.join("history.jsonl");
+    if let Err(e) = report::append_history(&history_path, &results.history_records()) {
+        eprintln!("warning: cannot append to {}: {e}", history_path.display());
+    }
+    let failed: Vec<&str> = results
+        .cases
+        .iter()
+        .filter(|c| matches!(c.status, Status::Fail | Status::Error))
+        .map(|c| c.id.as_str())
+        .collect();
+    let _ = std::fs::create_dir_all(reports);
+    let _ = std::fs::write(reports.join("last-failed.txt"), failed.join("\n"));
+    let history = report::read_history(&history_path).unwrap_or_default();
+    match report::write_report(&dir, &results, &history) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => {
+            eprintln!("error: cannot write the report: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    let passed = results
+        .cases
+        .iter()
+        .filter(|c| c.status == Status::Pass)
+        .count();
+    println!("{passed} passed, {} failed", results.cases.len() - passed);
+    for c in results.cases.iter().filter(|c| c.status != Status::Pass) {
+        println!(
+            "  {} {:?}: {}",
+            c.id,
+            c.status,
+            c.message.as_deref().unwrap_or("")
+        );
+    }
+    println!("wall time {:.1} s", results.wall_s);
+    ExitCode::from(results.exit_code())
 }

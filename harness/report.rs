@@ -1,1 +1,43 @@
-//! (in progress)
+//! The report of a run: a self-contained `index.html` (summary, per-case metrics, plots, sweep
+//! diagrams and trends), a `summary.md` to paste into a chat, and `results.json` for scripts;
+//! plus the `reports/history.jsonl` file the trends are read from.
+//!
+//! The page is plain HTML with inline CSS and inline SVG (drawn with plotters' SVG backend), so
+//! it opens from a CI artifact or a mail attachment without network access or fonts.
+
+mod axis;
+mod diagrams;
+mod format;
+mod history;
+mod html;
+mod markdown;
+mod plot;
+mod summary;
+
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use crate::results::{HistoryRecord, RunResults};
+
+pub use history::{append_history, read_history};
+pub use plot::render_plot;
+
+/// Writes `<dir>/index.html` (one self-contained page), `<dir>/summary.md`, and
+/// `<dir>/results.json`, creating `dir` if needed; returns the index path.
+///
+/// `history` should already contain this run's records (see [`RunResults::history_records`]),
+/// so that each trend ends with the run being reported.
+pub fn write_report(
+    dir: &Path,
+    results: &RunResults,
+    history: &[HistoryRecord],
+) -> io::Result<PathBuf> {
+    fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(results).map_err(io::Error::other)?;
+    fs::write(dir.join("results.json"), json + "\n")?;
+    fs::write(dir.join("summary.md"), markdown::summary(results))?;
+    let index = dir.join("index.html");
+    fs::write(&index, html::page(results, history))?;
+    Ok(index)
+}

@@ -6,6 +6,23 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+/// JSON has no NaN or infinity: serde_json writes them as `null`. These read `null` back as
+/// NaN so that a run with a non-finite value can still be reloaded by `impact-vv report`.
+mod lenient {
+    use serde::{Deserialize, Deserializer};
+
+    pub fn f64<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+    }
+
+    pub fn vec<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+        Ok(Vec::<Option<f64>>::deserialize(d)?
+            .into_iter()
+            .map(|x| x.unwrap_or(f64::NAN))
+            .collect())
+    }
+}
+
 /// Verdict of a case.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -22,10 +39,14 @@ pub enum Status {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricResult {
     pub name: String,
+    #[serde(deserialize_with = "lenient::f64")]
     pub value: f64,
+    #[serde(deserialize_with = "lenient::f64")]
     pub reference: f64,
     /// `|value - reference|`, divided by the reference scale for relative tolerances.
+    #[serde(deserialize_with = "lenient::f64")]
     pub error: f64,
+    #[serde(deserialize_with = "lenient::f64")]
     pub tolerance: f64,
     pub unit: String,
     pub pass: bool,
@@ -41,7 +62,9 @@ pub struct MetricResult {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
     pub name: String,
+    #[serde(deserialize_with = "lenient::vec")]
     pub x: Vec<f64>,
+    #[serde(deserialize_with = "lenient::vec")]
     pub y: Vec<f64>,
 }
 
@@ -49,6 +72,7 @@ pub struct Series {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceLine {
     pub label: String,
+    #[serde(deserialize_with = "lenient::f64")]
     pub y: f64,
     pub band: Option<[f64; 2]>,
 }
@@ -71,7 +95,9 @@ pub struct PlotData {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepLevel {
     /// The swept parameter's value (element size in m, or time-step factor).
+    #[serde(deserialize_with = "lenient::f64")]
     pub parameter: f64,
+    #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
     /// Error of each metric against its reference at this level.
     pub errors: BTreeMap<String, f64>,
@@ -95,6 +121,7 @@ pub struct CaseResult {
     pub id: String,
     pub variant: String,
     pub status: Status,
+    #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
     pub metrics: Vec<MetricResult>,
     #[serde(default)]
@@ -128,6 +155,7 @@ pub struct RunResults {
     #[serde(default)]
     pub versions: BTreeMap<String, String>,
     #[serde(default)]
+    #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
 }
 
@@ -143,6 +171,7 @@ pub struct HistoryRecord {
     pub case: String,
     pub variant: String,
     pub status: Status,
+    #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
     pub metrics: BTreeMap<String, f64>,
 }

@@ -1,0 +1,422 @@
+//! The self-contained `index.html`: inline CSS, inline SVG plots, no scripts. Every piece of
+//! text from the results goes through [`format::html`]; the helpers below take either escaped
+//! fragments (`Cell::Html`, `inner`) or plain text, and say which.
+
+use super::diagrams::{self, Trend};
+use super::format;
+use super::plot::{render_plot, render_plot_sized, TREND_SIZE};
+use super::summary::{self, status_name, tolerance_ratio, CaseSummary, STATUSES};
+use crate::results::{CaseResult, HistoryRecord, MetricResult, RunResults, Status, SweepResult};
+
+/// The page's style sheet, inlined so that the page opens from a CI artifact without network.
+const STYLE: &str = include_str!("style.css");
+
+/// The whole page.
+pub fn page(results: &RunResults, history: &[HistoryRecord]) -> String {
+    let summaries = summary::summaries(results);
+    let mut body = header(results);
+    body.push_str(&summary_section(&summaries));
+    for s in &summaries {
+        body.push_str(&case_section(s, history));
+    }
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>V&amp;V report {}</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n{body}</body>\n</html>\n",
+        format::html(&results.run_id)
+    )
+}
+
+/// `<tag class="class">inner</tag>`; `inner` must already be HTML.
+fn element(tag: &str, class: &str, inner: &str) -> String {
+    if class.is_empty() {
+        format!("<{tag}>{inner}</{tag}>\n")
+    } else {
+        format!("<{tag} class=\"{class}\">{inner}</{tag}>\n")
+    }
+}
+
+/// A coloured status badge.
+fn badge(status: Status) -> String {
+    let name = status_name(status);
+    format!("<span class=\"badge {name}\">{name}</span>")
+}
+
+/// A table cell: escaped HTML content, or a number (right-aligned, tabular figures).
+enum Cell {
+    Html(String),
+    Num(String),
+}
+
+/// A cell showing plain `text`.
+fn text(text: &str) -> Cell {
+    Cell::Html(format::html(text))
+}
+
+/// A cell showing the number `v`.
+fn number(v: f64) -> Cell {
+    Cell::Num(format::num(v))
+}
+
+/// A table row with an optional CSS class (`bad` for failing rows).
+struct Row {
+    class: &'static str,
+    cells: Vec<Cell>,
+}
+
+impl Row {
+    fn new(cells: Vec<Cell>) -> Self {
+        Row { class: "", cells }
+    }
+}
+
+/// A table with a header row of plain-text titles; wrapped so that wide tables scroll instead of
+/// widening the page.
+fn table(head: &[String], rows: &[Row]) -> String {
+    let head: String = head
+        .iter()
+        .map(|h| format!("<th>{}</th>", format::html(h)))
+        .collect();
+    let body: String = rows.iter().map(row_html).collect();
+    format!(
+        "<div class=\"table-wrap\"><table>\n<thead><tr>{head}</tr></thead>\n<tbody>\n{body}</tbody>\n</table></div>\n"
+    )
+}
+
+/// One `<tr>`.
+fn row_html(row: &Row) -> String {
+    let cells: String = row
+        .cells
+        .iter()
+        .map(|c| match c {
+            Cell::Html(h) => format!("<td>{h}</td>"),
+            Cell::Num(n) => format!("<td class=\"num\">{n}</td>"),
+        })
+        .collect();
+    if row.class.is_empty() {
+        format!("<tr>{cells}</tr>\n")
+    } else {
+        format!("<tr class=\"{}\">{cells}</tr>\n", row.class)
+    }
+}
+
+/// Owned header titles from string literals.
+fn titles(names: &[&str]) -> Vec<String> {
+    names.iter().map(|s| s.to_string()).collect()
+}
+
+/// SVG plots side by side, wrapping to the next line when the page is narrow; `class` is
+/// `plots`, or `plots small` for the trend plots.
+fn plots(class: &str, svgs: impl IntoIterator<Item = String>) -> String {
+    let figures: String = svgs
+        .into_iter()
+        .map(|svg| element("figure", "", &svg))
+        .collect();
+    element("div", class, &figures)
+}
+
+/// A greyed note, for absent content.
+fn note(text: &str) -> String {
+    element("p", "muted", &format::html(text))
+}
+
+/// Title, verdict banner, status counts and the run's provenance.
+fn header(results: &RunResults) -> String {
+    let verdict = summary::verdict(results);
+    let counts: String = STATUSES
+        .iter()
+        .map(|&s| format!("<span>{} {}</span>", badge(s), summary::count(results, s)))
+        .collect();
+    let versions = results
+        .versions
+        .iter()
+        .map(|(k, v)| format!("{k} {v}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let meta = [
+        ("Run", results.run_id.clone()),
+        ("Commit", results.commit.clone()),
+        ("Tier", results.tier.clone()),
+        ("Date", results.date.clone()),
+        ("Machine", results.machine.clone()),
+        ("Threads", results.threads.to_string()),
+        ("Versions", versions),
+        ("Wall time", format::seconds(results.wall_s)),
+    ];
+    let meta: String = meta
+        .iter()
+        .map(|(k, v)| format!("<dt>{k}</dt><dd>{}</dd>", format::html(v)))
+        .collect();
+    let banner_class = if verdict.ok {
+        "verdict ok"
+    } else {
+        "verdict bad"
+    };
+    format!(
+        "<header>\n<h1>Concrete-impact V&amp;V report</h1>\n{}{}{}</header>\n",
+        element("div", banner_class, &format::html(&verdict.text)),
+        element("div", "counts", &counts),
+        element("dl", "meta", &meta),
+    )
+}
+
+/// The summary table: one row per case, linking to its section.
+fn summary_section(summaries: &[CaseSummary<'_>]) -> String {
+    let rows: Vec<Row> = summaries.iter().map(summary_row).collect();
+    let head = titles(&[
+        "case",
+        "variant",
+        "status",
+        "wall time",
+        "metrics passed",
+        "worst metric",
+    ]);
+    format!(
+        "<section id=\"summary\">\n<h2>Summary</h2>\n{}</section>\n",
+        table(&head, &rows)
+    )
+}
+
+/// One row of the summary table.
+fn summary_row(s: &CaseSummary<'_>) -> Row {
+    let c = s.case;
+    let link = format!("<a href=\"#{}\">{}</a>", s.anchor, format::html(&c.id));
+    let worst = match s.worst {
+        Some(m) => Cell::Html(worst_html(m)),
+        None => text("—"),
+    };
+    Row {
+        class: if matches!(c.status, Status::Fail | Status::Error) {
+            "bad"
+        } else {
+            ""
+        },
+        cells: vec![
+            Cell::Html(link),
+            text(&c.variant),
+            Cell::Html(badge(c.status)),
+            Cell::Num(format::seconds(c.wall_s)),
+            Cell::Num(format!("{}/{}", s.passed, s.total)),
+            worst,
+        ],
+    }
+}
+
+/// The worst metric's name and its error/tolerance ratio, red when above 1.
+fn worst_html(m: &MetricResult) -> String {
+    let ratio = tolerance_ratio(m);
+    let class = if ratio > 1.0 || !m.pass {
+        "ratio bad"
+    } else {
+        "ratio"
+    };
+    format!(
+        "{} <span class=\"{class}\">{}× tol</span>",
+        format::html(&m.name),
+        format::tick(ratio)
+    )
+}
+
+/// The section of one case: what it is, why it did not pass, its metrics, plots, sweep and trend.
+fn case_section(s: &CaseSummary<'_>, history: &[HistoryRecord]) -> String {
+    let c = s.case;
+    let mut html = format!(
+        "<section class=\"case\" id=\"{}\">\n<h2>{} {} <span class=\"variant\">{}</span></h2>\n",
+        s.anchor,
+        badge(c.status),
+        format::html(&c.id),
+        format::html(&c.variant)
+    );
+    html.push_str(&case_facts(c));
+    if !c.description.is_empty() {
+        html.push_str(&element("p", "description", &format::html(&c.description)));
+    }
+    html.push_str(&message(c));
+    html.push_str(&element("h3", "", "Metrics"));
+    html.push_str(&metrics_table(&c.metrics, s.worst));
+    if !c.plots.is_empty() {
+        html.push_str(&element("h3", "", "Plots"));
+        html.push_str(&plots("plots", c.plots.iter().map(render_plot)));
+    }
+    if let Some(sweep) = &c.sweep {
+        html.push_str(&sweep_section(c, sweep));
+    }
+    html.push_str(&trend_section(&diagrams::trend(c, history)));
+    html.push_str("</section>\n");
+    html
+}
+
+/// Tier, wall time and tags of a case, on one line, with a way back to the summary.
+fn case_facts(c: &CaseResult) -> String {
+    let tags: String = c
+        .tags
+        .iter()
+        .map(|t| format!("<span class=\"tag\">{}</span>", format::html(t)))
+        .collect();
+    format!(
+        "<p class=\"facts\">tier <b>{}</b> · wall time <b>{}</b> {tags} · <a href=\"#summary\">back to summary</a></p>\n",
+        format::html(if c.tier.is_empty() { "—" } else { &c.tier }),
+        format::seconds(c.wall_s),
+    )
+}
+
+/// The case's message: a coloured call-out with the reason when it did not pass, the solver's
+/// plan folded away when it did.
+fn message(c: &CaseResult) -> String {
+    let msg = c.message.as_deref().unwrap_or("");
+    let pre = element("pre", "", &format::html(msg));
+    match c.status {
+        Status::Pass if msg.is_empty() => String::new(),
+        Status::Pass => format!("<details><summary>Solver plan</summary>\n{pre}</details>\n"),
+        status => {
+            let title = match status {
+                Status::Fail => "Why it failed",
+                Status::Error => "Why it could not be evaluated",
+                _ => "Why it was skipped",
+            };
+            let body = if msg.is_empty() {
+                note("no reason given")
+            } else {
+                pre
+            };
+            element(
+                "div",
+                &format!("callout {}", status_name(status)),
+                &format!("<div class=\"callout-title\">{title}</div>\n{body}"),
+            )
+        }
+    }
+}
+
+/// The metrics of a case with their references and tolerances; failing rows in red, the worst
+/// metric marked.
+fn metrics_table(metrics: &[MetricResult], worst: Option<&MetricResult>) -> String {
+    if metrics.is_empty() {
+        return note("no metrics");
+    }
+    let head = titles(&[
+        "metric",
+        "value",
+        "reference",
+        "error",
+        "tolerance",
+        "error/tol",
+        "kind",
+        "unit",
+        "verdict",
+        "reference source",
+    ]);
+    let rows: Vec<Row> = metrics
+        .iter()
+        .map(|m| metric_row(m, worst.is_some_and(|w| std::ptr::eq(w, m))))
+        .collect();
+    table(&head, &rows)
+}
+
+/// One row of the metrics table.
+fn metric_row(m: &MetricResult, is_worst: bool) -> Row {
+    let name = if is_worst {
+        format!("{} <span class=\"tag\">worst</span>", format::html(&m.name))
+    } else {
+        format::html(&m.name)
+    };
+    let verdict = badge(if m.pass { Status::Pass } else { Status::Fail });
+    Row {
+        class: if m.pass { "" } else { "bad" },
+        cells: vec![
+            Cell::Html(name),
+            number(m.value),
+            number(m.reference),
+            number(m.error),
+            number(m.tolerance),
+            number(tolerance_ratio(m)),
+            text(&m.tolerance_kind),
+            text(&m.unit),
+            Cell::Html(verdict),
+            Cell::Html(element(
+                "span",
+                "source",
+                &format::html(&m.reference_source),
+            )),
+        ],
+    }
+}
+
+/// A refinement sweep: its levels, the observed orders, and the convergence and
+/// work-precision diagrams.
+fn sweep_section(c: &CaseResult, sweep: &SweepResult) -> String {
+    let metrics = diagrams::sweep_metrics(sweep);
+    let mut head = vec![sweep.parameter.clone(), "wall time".into(), "status".into()];
+    head.extend(metrics.iter().map(|m| format!("error: {m}")));
+    let rows: Vec<Row> = sweep
+        .levels
+        .iter()
+        .map(|l| {
+            let mut cells = vec![number(l.parameter), Cell::Num(format::seconds(l.wall_s))];
+            cells.push(text(&l.status));
+            cells.extend(
+                metrics
+                    .iter()
+                    .map(|m| l.errors.get(m).map_or_else(|| text("—"), |&e| number(e))),
+            );
+            Row::new(cells)
+        })
+        .collect();
+    let orders: Vec<Row> = sweep
+        .observed_order
+        .iter()
+        .map(|(m, &o)| Row::new(vec![text(m), number(o)]))
+        .collect();
+    format!(
+        "<h3>Refinement sweep over {}</h3>\n{}<h4>Observed orders</h4>\n{}{}",
+        format::html(&sweep.parameter),
+        table(&head, &rows),
+        if orders.is_empty() {
+            note("no observed order")
+        } else {
+            table(&titles(&["metric", "observed order"]), &orders)
+        },
+        plots(
+            "plots",
+            [
+                render_plot(&diagrams::convergence_plot(c, sweep)),
+                render_plot(&diagrams::work_precision_plot(c, sweep)),
+            ]
+        ),
+    )
+}
+
+/// The trend plots of a case and the runs they cover (x = run index in the table).
+fn trend_section(trend: &Trend<'_>) -> String {
+    let title = element("h3", "", "Trend");
+    if trend.runs.len() < 2 {
+        return title + &note("no trend yet (first run)");
+    }
+    let rows: Vec<Row> = trend
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            Row::new(vec![
+                Cell::Num((i + 1).to_string()),
+                text(&r.run_id),
+                text(&r.commit),
+                text(&r.date),
+                Cell::Html(badge(r.status)),
+                Cell::Num(format::seconds(r.wall_s)),
+            ])
+        })
+        .collect();
+    let runs = table(
+        &titles(&["run", "run id", "commit", "date", "status", "wall time"]),
+        &rows,
+    );
+    let svgs = trend.plots.iter().map(|p| render_plot_sized(p, TREND_SIZE));
+    // Open while short; thirty rows per case would bury the next case.
+    let open = if trend.runs.len() <= 10 { " open" } else { "" };
+    format!(
+        "{title}{}<details{open}><summary>The {} runs shown (run 1 is the oldest)</summary>\n{runs}</details>\n",
+        plots("plots small", svgs),
+        trend.runs.len(),
+    )
+}

@@ -1,0 +1,87 @@
+//! `summary.md`: the summary table and the failures, short enough to paste into a chat.
+
+use super::format;
+use super::summary::{self, status_name, worst_text, CaseSummary};
+use crate::results::{RunResults, Status};
+
+/// How much of a failure message the summary quotes; the page has the rest.
+const MESSAGE_CHARS: usize = 160;
+
+/// The Markdown summary of a run.
+pub fn summary(results: &RunResults) -> String {
+    let summaries = summary::summaries(results);
+    let mut md = format!(
+        "# V&V run {}: {}\n\ncommit `{}` · tier {} · {} · {} · {} threads · {}\n\n",
+        results.run_id,
+        summary::verdict(results).text,
+        results.commit,
+        results.tier,
+        results.date,
+        results.machine,
+        results.threads,
+        format::seconds(results.wall_s),
+    );
+    md.push_str(&table(&summaries));
+    md.push_str(&failures(&summaries));
+    md
+}
+
+/// The summary table, one row per case.
+fn table(summaries: &[CaseSummary<'_>]) -> String {
+    let mut md = String::from(
+        "| case | variant | status | wall time | metrics passed | worst metric |\n|---|---|---|---:|---:|---|\n",
+    );
+    for s in summaries {
+        let status = status_name(s.case.status).to_uppercase();
+        let status = if s.case.status == Status::Pass {
+            status
+        } else {
+            format!("**{status}**")
+        };
+        md.push_str(&format!(
+            "| {} | {} | {status} | {} | {}/{} | {} |\n",
+            format::markdown_cell(&s.case.id),
+            format::markdown_cell(&s.case.variant),
+            format::seconds(s.case.wall_s),
+            s.passed,
+            s.total,
+            s.worst
+                .map_or("—".to_string(), |m| format::markdown_cell(&worst_text(m))),
+        ));
+    }
+    md
+}
+
+/// The cases that failed or errored, each with its worst metric and the first line of its
+/// message; nothing when all passed.
+fn failures(summaries: &[CaseSummary<'_>]) -> String {
+    let bad: Vec<&CaseSummary<'_>> = summaries
+        .iter()
+        .filter(|s| matches!(s.case.status, Status::Fail | Status::Error))
+        .collect();
+    if bad.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from("\n## Failures\n\n");
+    for s in bad {
+        let c = s.case;
+        let mut line = format!("- **{}** ({}) {}", c.id, c.variant, status_name(c.status));
+        if let Some(m) = s.worst {
+            line.push_str(&format!(
+                ": worst metric `{}` = {} vs {} ({:.2}× tolerance)",
+                m.name,
+                format::num(m.value),
+                format::num(m.reference),
+                summary::tolerance_ratio(m)
+            ));
+        }
+        if let Some(msg) = c.message.as_deref().filter(|m| !m.trim().is_empty()) {
+            // A code span, so that chat renderers show `<tags>` in messages instead of eating them.
+            let quoted = format::first_line(msg, MESSAGE_CHARS).replace('`', "'");
+            line.push_str(&format!(": `{quoted}`"));
+        }
+        md.push_str(&line);
+        md.push('\n');
+    }
+    md
+}

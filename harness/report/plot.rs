@@ -1,0 +1,385 @@
+//! Renders a [`PlotData`] as an SVG string with plotters' SVG backend (text stays `<text>`, so
+//! no font files are needed). Bad data never panics: non-finite points, and non-positive ones on
+//! log axes, are dropped; a plot with nothing left becomes a small "no data" SVG.
+
+use std::error::Error;
+
+use plotters::backend::SVGBackend;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::axis::{to_plot, Axis};
+use crate::results::PlotData;
+
+/// Size of a case plot: wide enough for six tick labels, small enough for two side by side on
+/// a 1280 px screen.
+pub const PLOT_SIZE: (u32, u32) = (560, 360);
+/// Size of a trend plot: three of them sit in a row on a 1280 px screen.
+pub const TREND_SIZE: (u32, u32) = (370, 250);
+
+/// Tableau-10: distinguishable on white and for the common colour-vision deficiencies.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+const FONT: &str = "sans-serif";
+/// plotters writes `font-size` as the requested size divided by 1.24: 17 gives about 13.7 px.
+const LABEL_FONT: u32 = 17;
+const DESC_FONT: u32 = 18;
+const TITLE_FONT: u32 = 22;
+const LEGEND_FONT: u32 = 17;
+const LEGEND_ROW: u32 = 22;
+/// Estimated width of one legend character in pixels (there is no font to measure with).
+const LEGEND_CHAR_W: f64 = 7.6;
+const LEGEND_SWATCH: i32 = 28;
+const CHART_MARGIN: u32 = 12;
+/// Left edge of the legend: under the y labels, so that two entries fit on a trend plot's row.
+const LEGEND_LEFT: i32 = 40;
+const Y_LABEL_AREA: u32 = 88;
+const X_LABEL_AREA: u32 = 50;
+/// Curves with more points than this are drawn without markers (markers would blur the line).
+const MAX_MARKERS: usize = 40;
+
+/// Renders `plot` at the default case-plot size.
+pub fn render_plot(plot: &PlotData) -> String {
+    render_plot_sized(plot, PLOT_SIZE)
+}
+
+/// Renders `plot` at `size` (the legend adds rows below); never panics on bad data.
+pub fn render_plot_sized(plot: &PlotData, size: (u32, u32)) -> String {
+    match Scene::prepare(plot) {
+        Some(scene) => draw_scene(&scene, plot, size)
+            .unwrap_or_else(|e| message_svg(&plot.title, &format!("plot failed: {e}"), size.0)),
+        None => message_svg(&plot.title, "no data to plot", size.0),
+    }
+}
+
+/// A curve in plot space.
+struct Curve {
+    name: String,
+    color: RGBColor,
+    points: Vec<(f64, f64)>,
+}
+
+/// A reference line and its acceptance band, in plot space; either may be missing (off a log
+/// axis).
+struct Reference {
+    label: String,
+    color: RGBColor,
+    y: Option<f64>,
+    band: Option<(f64, f64)>,
+}
+
+/// What is left of a [`PlotData`] once undrawable values are dropped, with the axes to draw on.
+struct Scene {
+    x: Axis,
+    y: Axis,
+    curves: Vec<Curve>,
+    references: Vec<Reference>,
+}
+
+impl Scene {
+    /// The drawable part of `plot`, or `None` when no series has a drawable point (reference
+    /// lines alone say nothing).
+    fn prepare(plot: &PlotData) -> Option<Scene> {
+        let log = plot.log_log;
+        let curves = curves(plot, log);
+        let points = || curves.iter().flat_map(|c| c.points.iter());
+        let mut x = Axis::spanning(points().map(|p| p.0), log)?;
+        x.integer = !log && points().all(|p| p.0.fract() == 0.0);
+        let y = Axis::spanning(
+            points()
+                .map(|p| p.1)
+                .chain(reference_plot_values(plot, log)),
+            log,
+        )?;
+        let references = references(plot, &y, curves.len());
+        Some(Scene {
+            x,
+            y,
+            curves,
+            references,
+        })
+    }
+}
+
+/// The series with their drawable points mapped to plot space; empty series are dropped, and
+/// colours follow the series index so that they do not shift when one is dropped.
+fn curves(plot: &PlotData, log: bool) -> Vec<Curve> {
+    plot.series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| Curve {
+            name: s.name.clone(),
+            color: PALETTE[i % PALETTE.len()],
+            points: s
+                .x
+                .iter()
+                .zip(&s.y)
+                .filter_map(|(&x, &y)| Some((to_plot(x, log)?, to_plot(y, log)?)))
+                .collect(),
+        })
+        .filter(|c| !c.points.is_empty())
+        .collect()
+}
+
+/// Plot-space values of the reference lines and bands, so that the y axis covers them.
+fn reference_plot_values(plot: &PlotData, log: bool) -> Vec<f64> {
+    plot.reference_lines
+        .iter()
+        .flat_map(|r| std::iter::once(r.y).chain(r.band.into_iter().flatten()))
+        .filter_map(|v| to_plot(v, log))
+        .collect()
+}
+
+/// The reference lines in plot space. A band reaching below zero on a log axis is cut at the
+/// bottom of the axis; colours continue after the series' so that no line shares a colour.
+fn references(plot: &PlotData, y: &Axis, first_color: usize) -> Vec<Reference> {
+    plot.reference_lines
+        .iter()
+        .enumerate()
+        .map(|(i, r)| Reference {
+            label: r.label.clone(),
+            color: PALETTE[(first_color + i) % PALETTE.len()],
+            y: y.map(r.y),
+            band: r.band.and_then(|b| band(y, b)),
+        })
+        .filter(|r| r.y.is_some() || r.band.is_some())
+        .collect()
+}
+
+/// A band `[a, b]` in plot space, clamped to the axis; `None` if it cannot be drawn.
+fn band(y: &Axis, [a, b]: [f64; 2]) -> Option<(f64, f64)> {
+    if !(a.is_finite() && b.is_finite()) {
+        return None;
+    }
+    let (lo, hi) = (a.min(b), a.max(b));
+    let hi = y.map(hi)?;
+    let lo = y.map(lo).unwrap_or(y.lo);
+    Some((y.clamp(lo), y.clamp(hi)))
+}
+
+/// Draws the chart and its legend strip into one SVG string.
+fn draw_scene(scene: &Scene, plot: &PlotData, size: (u32, u32)) -> Result<String, Box<dyn Error>> {
+    let legend = Legend::layout(scene, size.0);
+    let mut svg = String::new();
+    {
+        let root =
+            SVGBackend::with_string(&mut svg, (size.0, size.1 + legend.height)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (chart_area, legend_area) = root.split_vertically(size.1);
+        draw_chart(&chart_area, scene, plot)?;
+        legend.draw(&legend_area)?;
+        root.present()?;
+    }
+    Ok(svg)
+}
+
+/// Axes, grid, bands, reference lines and curves, in that order so that curves stay on top.
+fn draw_chart(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    scene: &Scene,
+    plot: &PlotData,
+) -> Result<(), Box<dyn Error>> {
+    let (x, y) = (scene.x, scene.y);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&plot.title, (FONT, TITLE_FONT))
+        .margin(CHART_MARGIN)
+        .margin_right(2 * CHART_MARGIN)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(x, y)?;
+    chart
+        .configure_mesh()
+        .x_desc(plot.x_label.as_str())
+        .y_desc(plot.y_label.as_str())
+        .x_label_formatter(&|v| x.label(*v))
+        .y_label_formatter(&|v| y.label(*v))
+        .label_style((FONT, LABEL_FONT))
+        .axis_desc_style((FONT, DESC_FONT))
+        .bold_line_style(BLACK.mix(0.12))
+        .light_line_style(TRANSPARENT)
+        .draw()?;
+    for r in &scene.references {
+        if let Some((lo, hi)) = r.band {
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x.lo, lo), (x.hi, hi)],
+                r.color.mix(0.15).filled(),
+            )))?;
+        }
+        if let Some(v) = r.y {
+            chart.draw_series(DashedLineSeries::new(
+                [(x.lo, v), (x.hi, v)],
+                8,
+                5,
+                r.color.stroke_width(2),
+            ))?;
+        }
+    }
+    for c in &scene.curves {
+        chart.draw_series(LineSeries::new(
+            c.points.iter().copied(),
+            c.color.stroke_width(2),
+        ))?;
+        if c.points.len() <= MAX_MARKERS {
+            chart.draw_series(
+                c.points
+                    .iter()
+                    .map(|&p| Circle::new(p, 3, c.color.filled())),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// How a legend entry's swatch looks.
+#[derive(Clone, Copy)]
+enum Swatch {
+    Line,
+    Dashed,
+    DashedOnBand,
+    Band,
+}
+
+/// One legend entry placed at `(x, row)`.
+struct Entry {
+    swatch: Swatch,
+    color: RGBColor,
+    label: String,
+    x: i32,
+    row: u32,
+}
+
+/// The legend below the chart: drawn by hand in its own strip because plotters' in-chart legend
+/// box hides the curves it labels.
+struct Legend {
+    entries: Vec<Entry>,
+    height: u32,
+}
+
+impl Legend {
+    /// Flows the entries left to right into rows no wider than `width`.
+    fn layout(scene: &Scene, width: u32) -> Legend {
+        let items = scene
+            .curves
+            .iter()
+            .map(|c| (Swatch::Line, c.color, c.name.clone()))
+            .chain(
+                scene
+                    .references
+                    .iter()
+                    .map(|r| (swatch(r), r.color, r.label.clone())),
+            )
+            .filter(|(_, _, label)| !label.is_empty());
+        let left = LEGEND_LEFT;
+        let (mut x, mut row) = (left, 0);
+        let mut entries = Vec::new();
+        for (swatch, color, label) in items {
+            let w = LEGEND_SWATCH + 8 + (label.chars().count() as f64 * LEGEND_CHAR_W) as i32 + 20;
+            if x > left && x + w > width as i32 {
+                x = left;
+                row += 1;
+            }
+            entries.push(Entry {
+                swatch,
+                color,
+                label,
+                x,
+                row,
+            });
+            x += w;
+        }
+        let height = entries.last().map_or(0, |e| (e.row + 1) * LEGEND_ROW + 8);
+        Legend { entries, height }
+    }
+
+    /// Draws the entries into the legend strip.
+    fn draw(&self, area: &DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), Box<dyn Error>> {
+        let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        for e in &self.entries {
+            let cy = (e.row * LEGEND_ROW + LEGEND_ROW / 2) as i32;
+            draw_swatch(area, e.swatch, e.color, (e.x, cy))?;
+            area.draw(&Text::new(
+                e.label.clone(),
+                (e.x + LEGEND_SWATCH + 8, cy),
+                &style,
+            ))?;
+        }
+        Ok(())
+    }
+}
+
+/// The swatch of a reference: dashed line, band, or dashed line on its band.
+fn swatch(r: &Reference) -> Swatch {
+    match (r.y.is_some(), r.band.is_some()) {
+        (true, true) => Swatch::DashedOnBand,
+        (true, false) => Swatch::Dashed,
+        _ => Swatch::Band,
+    }
+}
+
+/// Draws one swatch whose left end is at `(x, cy)`.
+fn draw_swatch(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    swatch: Swatch,
+    color: RGBColor,
+    (x, cy): (i32, i32),
+) -> Result<(), Box<dyn Error>> {
+    let end = x + LEGEND_SWATCH;
+    if matches!(swatch, Swatch::Band | Swatch::DashedOnBand) {
+        area.draw(&Rectangle::new(
+            [(x, cy - 7), (end, cy + 7)],
+            color.mix(0.15).filled(),
+        ))?;
+    }
+    let stroke = color.stroke_width(2);
+    match swatch {
+        Swatch::Line => {
+            area.draw(&PathElement::new(vec![(x, cy), (end, cy)], stroke))?;
+            area.draw(&Circle::new((x + LEGEND_SWATCH / 2, cy), 3, color.filled()))?;
+        }
+        Swatch::Dashed | Swatch::DashedOnBand => {
+            area.draw(&PathElement::new(vec![(x, cy), (x + 10, cy)], stroke))?;
+            area.draw(&PathElement::new(vec![(x + 16, cy), (end, cy)], stroke))?;
+        }
+        Swatch::Band => {}
+    }
+    Ok(())
+}
+
+/// A small SVG standing in for a plot that cannot be drawn, saying why.
+fn message_svg(title: &str, why: &str, width: u32) -> String {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, 90)).into_drawing_area();
+        let grey = BLACK.mix(0.6);
+        let style = TextStyle::from((FONT, LABEL_FONT).into_font())
+            .color(&grey)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        let text = if title.is_empty() {
+            why.to_string()
+        } else {
+            format!("{title}: {why}")
+        };
+        // Drawing into a string cannot fail for lack of space; ignore errors rather than panic.
+        let _ = root.fill(&RGBColor(248, 248, 248));
+        let _ = root.draw(&Rectangle::new(
+            [(0, 0), (width as i32 - 1, 89)],
+            BLACK.mix(0.2).stroke_width(1),
+        ));
+        let _ = root.draw(&Text::new(text, (width as i32 / 2, 45), &style));
+        let _ = root.present();
+    }
+    svg
+}

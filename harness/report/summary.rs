@@ -1,0 +1,159 @@
+//! The facts both the HTML page and the Markdown summary show: per-case counts, the worst
+//! metric, and the run's verdict. Computed once here so that the two outputs cannot disagree.
+
+use crate::results::{CaseResult, MetricResult, RunResults, Status};
+
+/// Statuses in the order the page lists them.
+pub const STATUSES: [Status; 4] = [Status::Pass, Status::Fail, Status::Error, Status::Skipped];
+
+/// The lowercase name of a status, as in `results.json`; also the CSS class of its badge.
+pub fn status_name(status: Status) -> &'static str {
+    match status {
+        Status::Pass => "pass",
+        Status::Fail => "fail",
+        Status::Skipped => "skipped",
+        Status::Error => "error",
+    }
+}
+
+/// How far a metric is from failing: error over tolerance, above 1 when it fails (for a floor,
+/// `at_least`, the bound over the value). A NaN error counts as infinitely bad, so that a
+/// broken metric is never hidden behind a passing one.
+pub fn tolerance_ratio(m: &MetricResult) -> f64 {
+    let ratio = if m.tolerance_kind == "at_least" {
+        m.tolerance.abs() / m.error.abs()
+    } else {
+        m.error.abs() / m.tolerance.abs()
+    };
+    if ratio.is_nan() {
+        if m.error == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        ratio
+    }
+}
+
+/// The metric with the largest error/tolerance ratio: the one to look at first.
+pub fn worst_metric(metrics: &[MetricResult]) -> Option<&MetricResult> {
+    metrics
+        .iter()
+        .max_by(|a, b| tolerance_ratio(a).total_cmp(&tolerance_ratio(b)))
+}
+
+/// The worst metric as one line of plain text, e.g. `peak_force: 3.2× tolerance`.
+pub fn worst_text(m: &MetricResult) -> String {
+    format!("{}: {:.2}× tolerance", m.name, tolerance_ratio(m))
+}
+
+/// The acceptance band of a metric around its reference, where the tolerance kind says how
+/// wide it is in the metric's own units (not for `relative_to_scale`, whose scale is unknown).
+pub fn acceptance_band(m: &MetricResult) -> Option<[f64; 2]> {
+    let half_width = match m.tolerance_kind.as_str() {
+        "absolute" => m.tolerance,
+        "relative" => m.tolerance * m.reference.abs(),
+        _ => return None,
+    };
+    Some([m.reference - half_width, m.reference + half_width])
+}
+
+/// One row of the summary table.
+pub struct CaseSummary<'a> {
+    pub case: &'a CaseResult,
+    /// Fragment id of the case's section, unique within the page.
+    pub anchor: String,
+    pub passed: usize,
+    pub total: usize,
+    pub worst: Option<&'a MetricResult>,
+}
+
+impl<'a> CaseSummary<'a> {
+    /// The summary of the `index`-th case (the index keeps anchors unique across variants).
+    pub fn new(index: usize, case: &'a CaseResult) -> Self {
+        CaseSummary {
+            case,
+            anchor: anchor(index, &case.id, &case.variant),
+            passed: case.metrics.iter().filter(|m| m.pass).count(),
+            total: case.metrics.len(),
+            worst: worst_metric(&case.metrics),
+        }
+    }
+}
+
+/// The summaries of all cases, in run order.
+pub fn summaries(results: &RunResults) -> Vec<CaseSummary<'_>> {
+    results
+        .cases
+        .iter()
+        .enumerate()
+        .map(|(i, c)| CaseSummary::new(i, c))
+        .collect()
+}
+
+/// A fragment id made of the case id and variant, restricted to characters safe in URLs.
+fn anchor(index: usize, id: &str, variant: &str) -> String {
+    let slug: String = format!("{id}-{variant}")
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    format!("case-{index}-{slug}")
+}
+
+/// How many cases ended with `status`.
+pub fn count(results: &RunResults, status: Status) -> usize {
+    results.cases.iter().filter(|c| c.status == status).count()
+}
+
+/// The run's overall verdict: the headline and whether it is good news.
+pub struct Verdict {
+    pub text: String,
+    pub ok: bool,
+}
+
+/// `All N cases passed` when nothing failed or errored, otherwise `N failed, M errors`.
+pub fn verdict(results: &RunResults) -> Verdict {
+    let (failed, errors) = (count(results, Status::Fail), count(results, Status::Error));
+    let skipped = count(results, Status::Skipped);
+    if results.cases.is_empty() {
+        return Verdict {
+            text: "No cases were run".to_string(),
+            ok: false,
+        };
+    }
+    if failed + errors == 0 {
+        let passed = count(results, Status::Pass);
+        let mut text = format!("All {passed} {} passed", plural(passed, "case", "cases"));
+        if skipped > 0 {
+            text.push_str(&format!(" ({skipped} skipped)"));
+        }
+        return Verdict { text, ok: true };
+    }
+    let mut parts = Vec::new();
+    if failed > 0 {
+        parts.push(format!("{failed} failed"));
+    }
+    if errors > 0 {
+        parts.push(format!("{errors} {}", plural(errors, "error", "errors")));
+    }
+    Verdict {
+        text: parts.join(", "),
+        ok: false,
+    }
+}
+
+/// `one` when `n` is 1, else `many`.
+pub fn plural<'s>(n: usize, one: &'s str, many: &'s str) -> &'s str {
+    if n == 1 {
+        one
+    } else {
+        many
+    }
+}

@@ -1,0 +1,287 @@
+//! The `impact-vv` command line end to end: reports, history, exit statuses and messages for
+//! bad input, and a deliberately wrong solver setting caught by its metric.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("impact-vv-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn impact_vv(args: &[&str], envs: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_impact-vv"));
+    cmd.args(args).current_dir(repo());
+    for (k, v) in envs {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("impact-vv runs")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// A catalogue folder holding one case file with `content`.
+fn catalogue_with(name: &str, content: &str) -> (PathBuf, PathBuf) {
+    let dir = temp_dir(name);
+    let cases = dir.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    std::fs::write(cases.join("case.yaml"), content).unwrap();
+    (cases, dir.join("reports"))
+}
+
+fn confined_wave() -> String {
+    std::fs::read_to_string(repo().join("cases/elastic/confined-wave.yaml")).unwrap()
+}
+
+fn run_in(cases: &Path, reports: &Path) -> Output {
+    impact_vv(
+        &[
+            "run",
+            "--tier",
+            "quick",
+            "--catalogue",
+            cases.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ],
+        &[],
+    )
+}
+
+fn only_run_dir(reports: &Path) -> PathBuf {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(reports)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    dirs.pop().expect("a run folder")
+}
+
+fn results(reports: &Path) -> serde_json::Value {
+    serde_json::from_str(
+        &std::fs::read_to_string(only_run_dir(reports).join("results.json")).unwrap(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn quick_tier_run_writes_report_results_and_history_and_a_second_run_adds_trends() {
+    let reports = temp_dir("quick").join("reports");
+    let first = run_in(&repo().join("cases"), &reports);
+    assert_eq!(first.status.code(), Some(0), "{}", text(&first));
+    let run = only_run_dir(&reports);
+    let index = std::fs::read_to_string(run.join("index.html")).unwrap();
+    let json = results(&reports);
+    let cases = json["cases"].as_array().unwrap();
+    assert!(cases.len() >= 10);
+    for key in ["run_id", "commit", "tier"] {
+        assert!(json[key].is_string(), "results.json lacks {key}");
+    }
+    for c in cases {
+        assert_eq!(c["status"], "pass", "{}", c["id"]);
+        assert!(index.contains(c["id"].as_str().unwrap()));
+        for m in c["metrics"].as_array().unwrap() {
+            for key in [
+                "name",
+                "value",
+                "reference",
+                "error",
+                "tolerance",
+                "unit",
+                "pass",
+            ] {
+                assert!(!m[key].is_null(), "metric lacks {key}");
+            }
+        }
+    }
+    assert!(index.contains("<svg"), "the report has plots");
+    assert!(run.join("summary.md").exists());
+    let history = |p: &Path| {
+        std::fs::read_to_string(p.join("history.jsonl"))
+            .unwrap()
+            .lines()
+            .count()
+    };
+    assert_eq!(history(&reports), cases.len());
+    std::thread::sleep(std::time::Duration::from_millis(1100)); // a distinct run id
+    let second = run_in(&repo().join("cases"), &reports);
+    assert_eq!(second.status.code(), Some(0), "{}", text(&second));
+    assert_eq!(
+        history(&reports),
+        2 * cases.len(),
+        "one record per case per run"
+    );
+    let index = std::fs::read_to_string(only_run_dir(&reports).join("index.html")).unwrap();
+    assert!(
+        !index.contains("no trend yet"),
+        "the second run shows trends"
+    );
+}
+
+#[test]
+fn malformed_yaml_is_exit_2_with_file_and_line() {
+    let (cases, reports) = catalogue_with("malformed", "id: broken\ndescription: [unclosed\n");
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(
+        text(&out).contains("case.yaml") && text(&out).contains("line"),
+        "{}",
+        text(&out)
+    );
+    assert!(
+        !reports.exists() || std::fs::read_dir(&reports).unwrap().next().is_none(),
+        "no partial report"
+    );
+}
+
+#[test]
+fn an_unknown_key_is_exit_2_naming_the_key() {
+    let (cases, reports) = catalogue_with(
+        "unknown",
+        &confined_wave().replace("tier: quick", "tier: quick\ntolerence: 3"),
+    );
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(
+        text(&out).contains("unknown field `tolerence`"),
+        "{}",
+        text(&out)
+    );
+}
+
+#[test]
+fn a_missing_mesh_file_fails_the_case_naming_the_file() {
+    let content = confined_wave().replace(
+        "mesh: { box: { origin: [0, 0, 0], size: [1.0, 0.02, 0.02], divisions: [200, 2, 2] } }",
+        "mesh: { gmsh: meshes/missing.msh }",
+    );
+    let content = content.replace(
+        "sweep: { mesh: [[50, 2, 2], [100, 2, 2], [200, 2, 2]] }\n",
+        "",
+    );
+    let (cases, reports) = catalogue_with("mesh", &content);
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let case = &results(&reports)["cases"][0];
+    assert_eq!(case["status"], "error");
+    assert!(
+        case["message"].as_str().unwrap().contains("missing.msh"),
+        "{case}"
+    );
+}
+
+#[test]
+fn a_negative_density_fails_the_case_with_its_message() {
+    let (cases, reports) = catalogue_with(
+        "density",
+        &confined_wave().replace(
+            "material: { linear_elastic: { density: 2300",
+            "material: { linear_elastic: { density: -2300",
+        ),
+    );
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let case = &results(&reports)["cases"][0];
+    assert_eq!(case["status"], "error");
+    assert!(
+        case["message"]
+            .as_str()
+            .unwrap()
+            .contains("density must be positive"),
+        "{case}"
+    );
+}
+
+#[test]
+fn a_missing_reference_is_a_failure_never_a_skip() {
+    let content = confined_wave().replace(
+        "    reference: { analytic: { dilatational_wave_speed: { of: { material: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 } } } } }\n",
+        "",
+    );
+    let (cases, reports) = catalogue_with("reference", &content);
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let case = &results(&reports)["cases"][0];
+    assert_eq!(case["status"], "fail");
+    assert!(
+        case["message"]
+            .as_str()
+            .unwrap()
+            .contains("`front_speed` has no reference"),
+        "{case}"
+    );
+}
+
+#[test]
+fn a_wrong_youngs_modulus_fails_the_case_on_the_right_metric() {
+    // Only the solver input changes; the reference keeps the physical problem's modulus.
+    let content = confined_wave().replace(
+        "material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9",
+        "material: { linear_elastic: { density: 2300, youngs_modulus: 33.0e9",
+    );
+    let (cases, reports) = catalogue_with("wrong-e", &content);
+    let out = run_in(&cases, &reports);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let case = &results(&reports)["cases"][0];
+    assert_eq!(case["status"], "fail");
+    let failed: Vec<&str> = case["metrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["pass"] == false)
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        failed.contains(&"front_speed"),
+        "failed metrics: {failed:?}"
+    );
+    assert!(case["message"].as_str().unwrap().contains("front_speed"));
+}
+
+#[test]
+fn list_shows_the_catalogue() {
+    let out = impact_vv(&["list", "--tier", "quick"], &[]);
+    assert_eq!(out.status.code(), Some(0));
+    let listing = text(&out);
+    assert!(listing.contains("elastic/confined-wave") && listing.contains("patch/static-tension"));
+    assert!(
+        !listing.contains("stability/dt-sweep"),
+        "stress cases are not quick"
+    );
+}
+
+#[test]
+fn scene_output_is_bitwise_identical_on_one_and_two_threads() {
+    let dir = temp_dir("threads");
+    let mut csv = Vec::new();
+    for threads in ["1", "2"] {
+        let out_dir = dir.join(threads);
+        let out = impact_vv(
+            &[
+                "scene",
+                "cases/examples/confined-column.yaml",
+                "--out",
+                out_dir.to_str().unwrap(),
+                "--no-fields",
+            ],
+            &[("RAYON_NUM_THREADS", threads)],
+        );
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out));
+        csv.push(std::fs::read(out_dir.join("confined-column_history.csv")).unwrap());
+    }
+    assert_eq!(csv[0], csv[1]);
+}

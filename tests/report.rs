@@ -1,0 +1,375 @@
+//! The report writer: the page shows every case, escapes what it quotes, draws every plot, and
+//! survives bad plot data; the history file round-trips and tolerates a bad line.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::PathBuf;
+
+use impact_vv::report::{append_history, read_history, render_plot, write_report};
+use impact_vv::results::{
+    CaseResult, HistoryRecord, MetricResult, PlotData, ReferenceLine, RunResults, Series, Status,
+    SweepLevel, SweepResult,
+};
+
+const PASS_ID: &str = "bar-wave-speed";
+const FAIL_ID: &str = "cantilever-mesh-convergence";
+const ERROR_ID: &str = "projectile-penetration";
+const WORST: &str = "tip_deflection_error";
+const NASTY: &str = "solver diverged: <script>alert('x')</script> & energy > 1e9";
+
+/// A fresh, empty scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("impact-vv-report-{name}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn metric(name: &str, value: f64, reference: f64, tolerance: f64, kind: &str) -> MetricResult {
+    let error = match kind {
+        "relative" => (value - reference).abs() / reference.abs(),
+        _ => (value - reference).abs(),
+    };
+    MetricResult {
+        name: name.to_string(),
+        value,
+        reference,
+        error,
+        tolerance,
+        unit: "m/s".to_string(),
+        pass: error <= tolerance,
+        tolerance_kind: kind.to_string(),
+        reference_source: "c = sqrt(E/rho), Graff (1975) eq. 2.1.8".to_string(),
+    }
+}
+
+/// A time history with a reference plateau and its acceptance band.
+fn history_plot() -> PlotData {
+    let t: Vec<f64> = (0..200).map(|i| i as f64 * 1e-6).collect();
+    let v: Vec<f64> = t
+        .iter()
+        .map(|t| 3000.0 * (1.0 - (-t / 2e-5).exp()))
+        .collect();
+    PlotData {
+        title: "Particle velocity at x = 0.5 m".to_string(),
+        x_label: "time [s]".to_string(),
+        y_label: "velocity [m/s]".to_string(),
+        series: vec![Series {
+            name: "solver".to_string(),
+            x: t,
+            y: v,
+        }],
+        reference_lines: vec![ReferenceLine {
+            label: "plateau (analytic)".to_string(),
+            y: 3000.0,
+            band: Some([2940.0, 3060.0]),
+        }],
+        log_log: false,
+    }
+}
+
+fn pass_case() -> CaseResult {
+    CaseResult {
+        id: PASS_ID.to_string(),
+        variant: "explicit-lumped".to_string(),
+        status: Status::Pass,
+        wall_s: 1.234,
+        metrics: vec![
+            metric("wave_speed", 3510.0, 3500.0, 0.02, "relative"),
+            metric("plateau_velocity", 2990.0, 3000.0, 60.0, "absolute"),
+        ],
+        description: "Elastic bar struck at one end: the front travels at c.".to_string(),
+        tier: "smoke".to_string(),
+        tags: vec!["wave".to_string(), "1d".to_string()],
+        message: Some("plan: 200 steps of 1e-6 s, 4000 elements".to_string()),
+        plots: vec![history_plot()],
+        sweep: None,
+    }
+}
+
+fn level(h: f64, wall_s: f64, deflection: f64, frequency: f64) -> SweepLevel {
+    SweepLevel {
+        parameter: h,
+        wall_s,
+        errors: BTreeMap::from([
+            (WORST.to_string(), deflection),
+            ("frequency_error".to_string(), frequency),
+        ]),
+        values: BTreeMap::new(),
+        status: "ok".to_string(),
+    }
+}
+
+fn fail_case() -> CaseResult {
+    let sweep = SweepResult {
+        parameter: "element size [m]".to_string(),
+        levels: vec![
+            level(0.1, 0.05, 4e-2, 1e-2),
+            level(0.05, 0.31, 2.1e-2, 2.6e-3),
+            level(0.025, 2.2, 1.1e-2, 6.4e-4),
+            level(0.0125, 17.0, 5.6e-3, 1.6e-4),
+        ],
+        observed_order: BTreeMap::from([
+            (WORST.to_string(), 0.95),
+            ("frequency_error".to_string(), 2.0),
+        ]),
+    };
+    CaseResult {
+        id: FAIL_ID.to_string(),
+        variant: "explicit-lumped".to_string(),
+        status: Status::Fail,
+        wall_s: 19.6,
+        metrics: vec![
+            metric("frequency", 101.0, 100.0, 0.05, "relative"),
+            metric(WORST, 0.1056, 0.1, 0.001, "absolute"),
+        ],
+        description: "Cantilever under tip load, refined four times.".to_string(),
+        tier: "nightly".to_string(),
+        tags: vec!["convergence".to_string()],
+        message: Some("tip deflection order 0.95 < expected 2".to_string()),
+        plots: vec![],
+        sweep: Some(sweep),
+    }
+}
+
+fn error_case() -> CaseResult {
+    CaseResult {
+        id: ERROR_ID.to_string(),
+        variant: "explicit-lumped".to_string(),
+        status: Status::Error,
+        wall_s: 0.2,
+        metrics: vec![],
+        description: "Steel projectile into a concrete slab.".to_string(),
+        tier: "nightly".to_string(),
+        tags: vec![],
+        message: Some(NASTY.to_string()),
+        plots: vec![],
+        sweep: None,
+    }
+}
+
+fn results(run_id: &str) -> RunResults {
+    RunResults {
+        run_id: run_id.to_string(),
+        commit: "50c344d".to_string(),
+        tier: "nightly".to_string(),
+        cases: vec![pass_case(), fail_case(), error_case()],
+        date: "2025-01-03T10:00:00Z".to_string(),
+        machine: "ci-runner-7 (16 cores)".to_string(),
+        threads: 16,
+        versions: BTreeMap::from([
+            ("impact-solver".to_string(), "0.1.0".to_string()),
+            ("rustc".to_string(), "1.85.0".to_string()),
+        ]),
+        wall_s: 21.0,
+    }
+}
+
+/// Three runs: two earlier ones with drifting values, then the current run.
+fn three_run_history(current: &RunResults) -> Vec<HistoryRecord> {
+    let mut history = Vec::new();
+    for (run, drift) in [("run-1", 0.97), ("run-2", 0.99)] {
+        for mut record in current.history_records() {
+            record.run_id = run.to_string();
+            record.wall_s *= drift;
+            record.metrics.values_mut().for_each(|v| *v *= drift);
+            history.push(record);
+        }
+    }
+    history.extend(current.history_records());
+    history
+}
+
+/// Asserts that two JSON trees are equal, numbers to within a few ulps: serde_json without its
+/// `float_roundtrip` feature may parse a 17-digit number to a neighbouring double.
+fn assert_same_up_to_last_bit(a: &serde_json::Value, b: &serde_json::Value, path: &str) {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!(
+                (x - y).abs() <= 4.0 * f64::EPSILON * x.abs().max(y.abs()),
+                "{path}: {x} != {y}"
+            );
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            assert_eq!(x.len(), y.len(), "{path}: lengths differ");
+            for (i, (x, y)) in x.iter().zip(y).enumerate() {
+                assert_same_up_to_last_bit(x, y, &format!("{path}[{i}]"));
+            }
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            assert_eq!(
+                x.keys().collect::<Vec<_>>(),
+                y.keys().collect::<Vec<_>>(),
+                "{path}: keys differ"
+            );
+            for (k, v) in x {
+                assert_same_up_to_last_bit(v, &y[k], &format!("{path}.{k}"));
+            }
+        }
+        _ => assert_eq!(a, b, "{path}"),
+    }
+}
+
+/// The page, the Markdown summary and results.json of a run with a pass, a failing sweep and an
+/// error.
+#[test]
+fn report_shows_every_case_and_escapes_messages() {
+    let dir = scratch("full");
+    let run = results("run-3");
+    let index = write_report(&dir, &run, &three_run_history(&run)).unwrap();
+    assert_eq!(index, dir.join("index.html"));
+    let page = fs::read_to_string(&index).unwrap();
+    eprintln!("report written to {}", index.display());
+
+    for id in [PASS_ID, FAIL_ID, ERROR_ID] {
+        assert!(page.contains(id), "page lacks case {id}");
+    }
+    let summary_table =
+        &page[page.find("id=\"summary\"").unwrap()..page.find("class=\"case\"").unwrap()];
+    assert!(
+        summary_table.contains(WORST),
+        "summary lacks the worst metric of the failing case"
+    );
+
+    // 1 case plot each for the pass case, convergence + work-precision for the sweep, and the
+    // trends: 2 metrics + wall time for the two cases with metrics, wall time for the error.
+    let expected = [1, 2, 3, 3, 1].iter().sum::<usize>();
+    let svgs = page.matches("<svg").count();
+    assert!(svgs >= expected, "only {svgs} of {expected} plots");
+    assert!(page.contains(&format!("Convergence: {FAIL_ID}")));
+    assert!(page.contains(&format!("Work-precision: {FAIL_ID}")));
+    assert!(page.contains("wave_speed per run"));
+    assert!(!page.contains("no trend yet"));
+
+    assert!(page.contains("&lt;script&gt;"));
+    assert!(
+        !page.contains("<script"),
+        "the page has no scripts and quotes none unescaped"
+    );
+    assert!(page.contains("&amp; energy &gt; 1e9"));
+
+    let md = fs::read_to_string(dir.join("summary.md")).unwrap();
+    let failures = &md[md.find("## Failures").expect("summary.md lists failures")..];
+    assert!(failures.contains(FAIL_ID) && failures.contains(WORST));
+    assert!(failures.contains(ERROR_ID));
+    assert!(!failures.contains(PASS_ID));
+
+    let json = fs::read_to_string(dir.join("results.json")).unwrap();
+    let back: RunResults = serde_json::from_str(&json).unwrap();
+    assert_same_up_to_last_bit(
+        &serde_json::to_value(&back).unwrap(),
+        &serde_json::to_value(&run).unwrap(),
+        "results",
+    );
+    // Set IMPACT_VV_KEEP_REPORT to look at the page in a browser.
+    if std::env::var_os("IMPACT_VV_KEEP_REPORT").is_none() {
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
+
+/// A first run has nothing to trend against, and says so.
+#[test]
+fn first_run_has_no_trend() {
+    let dir = scratch("first");
+    let run = results("run-1");
+    let page =
+        fs::read_to_string(write_report(&dir, &run, &run.history_records()).unwrap()).unwrap();
+    assert_eq!(page.matches("no trend yet (first run)").count(), 3);
+    assert!(page.contains("3 failed") || page.contains("1 failed, 1 error"));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+fn plot(series: Vec<Series>, log_log: bool) -> PlotData {
+    PlotData {
+        title: "robustness".to_string(),
+        x_label: "x".to_string(),
+        y_label: "y".to_string(),
+        series,
+        reference_lines: vec![ReferenceLine {
+            label: "ref".to_string(),
+            y: f64::NAN,
+            band: Some([-1.0, f64::INFINITY]),
+        }],
+        log_log,
+    }
+}
+
+fn series(x: &[f64], y: &[f64]) -> Series {
+    Series {
+        name: "s".to_string(),
+        x: x.to_vec(),
+        y: y.to_vec(),
+    }
+}
+
+/// NaN, infinities, empty series, non-positive values on log axes and constant curves render
+/// without panicking; a plot with nothing drawable says "no data".
+#[test]
+fn render_plot_survives_bad_data() {
+    let nan = f64::NAN;
+    let inf = f64::INFINITY;
+    let cases = [
+        plot(vec![], false),
+        plot(vec![series(&[], &[])], false),
+        plot(vec![series(&[nan, inf], &[1.0, nan])], true),
+        plot(
+            vec![series(&[1.0, 2.0, 3.0], &[nan, 2.0, inf]), series(&[], &[])],
+            false,
+        ),
+        plot(vec![series(&[1.0, 2.0, 3.0], &[5.0, 5.0, 5.0])], false),
+        plot(vec![series(&[1.0, 2.0, 3.0], &[0.0, 0.0, 0.0])], false),
+        plot(
+            vec![series(&[-1.0, 0.0, 1.0, 10.0], &[1.0, -2.0, 1e-3, 0.0])],
+            true,
+        ),
+        plot(vec![series(&[1e-3, 1e-3], &[7.0, 7.0])], true),
+        plot(vec![series(&[1.0, 2.0], &[1e300, -1e300])], false),
+        plot(vec![series(&[1.0, 2.0, 3.0], &[1.0, 2.0])], false),
+    ];
+    for (i, p) in cases.iter().enumerate() {
+        let svg = render_plot(p);
+        assert!(svg.starts_with("<svg"), "case {i}: {svg}");
+        assert!(svg.trim_end().ends_with("</svg>"), "case {i}");
+    }
+    assert!(render_plot(&cases[0]).contains("no data"));
+    assert!(render_plot(&cases[2]).contains("no data"));
+    assert!(!render_plot(&cases[4]).contains("no data"));
+}
+
+/// Appended records read back; a corrupt line is skipped; a missing file is an empty history.
+#[test]
+fn history_round_trips_and_skips_bad_lines() {
+    let dir = scratch("history");
+    let path = dir.join("reports").join("history.jsonl");
+    assert!(read_history(&path).unwrap().is_empty());
+
+    let first = results("run-1").history_records();
+    let second = results("run-2").history_records();
+    append_history(&path, &first).unwrap();
+    fs::OpenOptions::new()
+        .append(true)
+        .open(&path)
+        .and_then(|mut f| std::io::Write::write_all(&mut f, b"{\"run_id\": truncated\n\n"))
+        .unwrap();
+    append_history(&path, &second).unwrap();
+
+    let read = read_history(&path).unwrap();
+    assert_eq!(read, [first, second].concat());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// JSON has no NaN: a NaN metric is left out of the history line instead of losing the line.
+#[test]
+fn non_finite_metrics_do_not_lose_history_lines() {
+    let dir = scratch("nan");
+    let path = dir.join("history.jsonl");
+    let mut records = results("run-1").history_records();
+    records[0].metrics.insert("diverged".to_string(), f64::NAN);
+    append_history(&path, &records).unwrap();
+    let read = read_history(&path).unwrap();
+    assert_eq!(read.len(), records.len());
+    assert!(!read[0].metrics.contains_key("diverged"));
+    let _ = fs::remove_dir_all(&dir);
+}
