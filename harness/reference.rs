@@ -16,6 +16,41 @@ pub enum Reference {
     Value { value: f64, source: String },
     /// A closed-form solution.
     Analytic(Analytic),
+    /// A published or experimental value from a data file in `references/published/`, which
+    /// gives each value with its unit and source.
+    Published { file: String, key: String },
+}
+
+/// One entry of a published-data file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PublishedValue {
+    pub value: f64,
+    #[serde(default)]
+    pub unit: String,
+    pub source: String,
+}
+
+/// Folder of the published-data files: `references/published/` of this repository.
+pub fn published_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("references")
+        .join("published")
+}
+
+fn published(file: &str, key: &str) -> Result<PublishedValue, String> {
+    let path = published_dir().join(file);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let values: std::collections::BTreeMap<String, PublishedValue> =
+        serde_norway::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    values.get(key).cloned().ok_or_else(|| {
+        format!(
+            "{} has no entry `{key}`; it has {:?}",
+            path.display(),
+            values.keys().collect::<Vec<_>>()
+        )
+    })
 }
 
 /// Quantities of the uniaxial Saint-Venant-Kirchhoff solution.
@@ -64,6 +99,35 @@ pub enum Analytic {
         length: f64,
         depth: f64,
     },
+    /// Head-on impact of two identical spheres (Hertz): one quantity.
+    HertzImpact {
+        of: MaterialRef,
+        radius: f64,
+        relative_speed: f64,
+        quantity: HertzQuantity,
+    },
+    /// Mid-span load at which the extreme fibre of a simply supported beam reaches `f_r`.
+    ModulusOfRuptureLoad {
+        f_r: f64,
+        width: f64,
+        depth: f64,
+        span: f64,
+    },
+    /// fib Model Code 2010 dynamic increase factor of strength at a strain rate.
+    Mc2010DynamicIncreaseFactor {
+        rate: f64,
+        tension: bool,
+    },
+}
+
+/// Quantities of the Hertz impact solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HertzQuantity {
+    MaxApproach,
+    MaxForce,
+    ContactRadius,
+    Duration,
 }
 
 /// The elastic constants named by a reference.
@@ -86,6 +150,10 @@ impl Reference {
         use analytic::*;
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
+            Reference::Published { file, key } => {
+                let p = published(file, key)?;
+                (p.value, format!("{} ({file}: {key})", p.source))
+            }
             Reference::Analytic(a) => {
                 match a {
                     Analytic::Zero => (0.0, "exact solution: zero".into()),
@@ -115,13 +183,43 @@ impl Reference {
                         };
                         (v, format!("Saint-Venant-Kirchhoff uniaxial stress at stretch {stretch} (2.123)"))
                     }
-                    Analytic::CantileverFirstFrequency {
-                        of,
-                        length,
-                        depth,
-                    } => (
+                    Analytic::CantileverFirstFrequency { of, length, depth } => (
                         cantilever_first_frequency(&body_constants(scene, of)?, *length, *depth),
                         "Euler-Bernoulli cantilever, beta L = 1.8751".into(),
+                    ),
+                    Analytic::HertzImpact {
+                        of,
+                        radius,
+                        relative_speed,
+                        quantity,
+                    } => {
+                        let c = body_constants(scene, of)?;
+                        let mass = c.density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+                        let h = hertz_impact(&c, *radius, mass, *relative_speed);
+                        let v = match quantity {
+                            HertzQuantity::MaxApproach => h.max_approach,
+                            HertzQuantity::MaxForce => h.max_force,
+                            HertzQuantity::ContactRadius => h.contact_radius,
+                            HertzQuantity::Duration => h.duration,
+                        };
+                        (
+                            v,
+                            "Hertz impact of identical spheres (Hertz 1882; Johnson 1985, 11.4)"
+                                .into(),
+                        )
+                    }
+                    Analytic::ModulusOfRuptureLoad {
+                        f_r,
+                        width,
+                        depth,
+                        span,
+                    } => (
+                        modulus_of_rupture_load(*f_r, *width, *depth, *span),
+                        "P = 2 f_r b h^2 / (3 S) (beam theory)".into(),
+                    ),
+                    Analytic::Mc2010DynamicIncreaseFactor { rate, tension } => (
+                        mc2010_dynamic_increase_factor(*rate, *tension),
+                        "fib Model Code 2010, 5.1.11.1".into(),
                     ),
                 }
             }

@@ -91,6 +91,65 @@ pub fn cantilever_first_frequency(c: &IsotropicElastic, length: f64, depth: f64)
         * (c.youngs_modulus * depth * depth / 12.0 / c.density).sqrt()
 }
 
+/// Head-on impact of two identical elastic spheres (Hertz 1882; Johnson, *Contact Mechanics*
+/// 1985, §11.4): `E* = E / (2 (1 - nu^2))`, `R* = R/2`, `m* = m/2` with `m` one sphere's mass,
+/// approach `delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5)` at relative speed `v`,
+/// `F_max = 4/3 E* sqrt(R*) delta_max^(3/2)`, contact radius `a = sqrt(R* delta_max)` and
+/// duration `2.943 delta_max / v` (2.9432 = 2 * 1.4716, the quasi-static Hertz integral).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzImpact {
+    pub max_approach: f64,
+    pub max_force: f64,
+    pub contact_radius: f64,
+    pub duration: f64,
+}
+
+pub fn hertz_impact(
+    c: &IsotropicElastic,
+    radius: f64,
+    mass: f64,
+    relative_speed: f64,
+) -> HertzImpact {
+    let e_star = c.youngs_modulus / (2.0 * (1.0 - c.poisson_ratio * c.poisson_ratio));
+    let (r_star, m_star, v) = (0.5 * radius, 0.5 * mass, relative_speed);
+    let delta = (15.0 * m_star * v * v / (16.0 * e_star * r_star.sqrt())).powf(0.4);
+    HertzImpact {
+        max_approach: delta,
+        max_force: 4.0 / 3.0 * e_star * r_star.sqrt() * delta.powf(1.5),
+        contact_radius: (r_star * delta).sqrt(),
+        duration: 2.943 * delta / v,
+    }
+}
+
+/// Peak load of a simply supported beam under a mid-span point load when the extreme fibre
+/// reaches the modulus of rupture `f_r`: `P = 2 f_r b h^2 / (3 S)` (Euler-Bernoulli: `M = P S/4`,
+/// `sigma = 6 M / (b h^2)`), for width `b`, depth `h` and span `S`.
+pub fn modulus_of_rupture_load(f_r: f64, width: f64, depth: f64, span: f64) -> f64 {
+    2.0 * f_r * width * depth * depth / (3.0 * span)
+}
+
+/// Dynamic increase factor of concrete strength, fib Model Code 2010 §5.1.11.1 (fib 2013):
+/// tension `(rate / 1e-6)^0.018` up to 10 /s, `0.0062 (rate / 1e-6)^(1/3)` above;
+/// compression `(rate / 30e-6)^0.014` up to 30 /s, `0.012 (rate / 30e-6)^(1/3)` above
+/// (both valid to 300 /s).
+pub fn mc2010_dynamic_increase_factor(rate: f64, tension: bool) -> f64 {
+    if tension {
+        let r = rate / 1e-6;
+        if rate <= 10.0 {
+            r.powf(0.018)
+        } else {
+            0.0062 * r.cbrt()
+        }
+    } else {
+        let r = rate / 30e-6;
+        if rate <= 30.0 {
+            r.powf(0.014)
+        } else {
+            0.012 * r.cbrt()
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,6 +174,51 @@ mod tests {
         };
         let expected = shear_wave_speed(&c) * (2.0 - 2.0 / 3f64.sqrt()).sqrt();
         assert!((rayleigh_wave_speed(&c) - expected).abs() / expected < 1e-14);
+    }
+
+    #[test]
+    fn hertz_peak_holds_the_initial_kinetic_energy() {
+        // Independent check: the Hertz work 8/15 E* sqrt(R*) delta^(5/2) equals 1/2 m* v^2.
+        let c = IsotropicElastic {
+            density: 1200.0,
+            youngs_modulus: 1e9,
+            poisson_ratio: 0.3,
+        };
+        let r: f64 = 0.05;
+        let m = c.density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let h = hertz_impact(&c, r, m, 10.0);
+        let e_star = c.youngs_modulus / (2.0 * (1.0 - 0.09));
+        let work = 8.0 / 15.0 * e_star * (r / 2.0).sqrt() * h.max_approach.powf(2.5);
+        assert!((work - 0.5 * (m / 2.0) * 100.0).abs() < 1e-12 * work);
+        // The catalogue's example: contact radius about 8 mm.
+        assert!(
+            (h.contact_radius - 8.0e-3).abs() < 0.2e-3,
+            "{}",
+            h.contact_radius
+        );
+    }
+
+    #[test]
+    fn mc2010_branches_meet_at_the_switch_rates() {
+        // Tension: 0.0062 (1e7)^(1/3) = 1.3356 against (1e7)^0.018 = 1.3366, continuous to 0.1 %.
+        // Compression: the code's rounded 0.012 leaves a step of 1.1 % at 30 /s
+        // (1.2134 below, 1.2000 above); the formula is the code's, so the step stays.
+        for (tension, switch, gap) in [(true, 10.0, 1e-3), (false, 30.0, 1.2e-2)] {
+            let below = mc2010_dynamic_increase_factor(switch, tension);
+            let above = mc2010_dynamic_increase_factor(switch * (1.0 + 1e-9), tension);
+            assert!(
+                (below - above).abs() < gap * below,
+                "{tension}: {below} vs {above}"
+            );
+        }
+        assert!((mc2010_dynamic_increase_factor(1e-6, true) - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn modulus_of_rupture_load_of_the_thesis_beam() {
+        // CATALOGUE: f_r from 1.0 to 1.3 ft (2.7 MPa) gives about 70 to 90 kN.
+        let p = modulus_of_rupture_load(2.7e6, 0.3, 0.6, 2.8);
+        assert!((p - 69.4e3).abs() < 0.1e3, "{p}");
     }
 
     #[test]
