@@ -9,18 +9,36 @@ use impact_vv::runner::{run_cases, RunOptions};
 
 #[test]
 fn stress_tier_passes() {
-    let cases = load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")).expect("catalogue loads");
-    let stress: Vec<_> = cases.into_iter().filter(|c| c.spec.tier == Tier::Stress).collect();
+    let cases = load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"))
+        .expect("catalogue loads");
+    let stress: Vec<_> = cases
+        .into_iter()
+        .filter(|c| c.spec.tier == Tier::Stress)
+        .collect();
     assert!(!stress.is_empty());
-    let results = run_cases(&stress, &RunOptions { output_dir: None, time_limit_s: 600.0, parallel: true }, &|_| {});
+    let results = run_cases(
+        &stress,
+        &RunOptions {
+            output_dir: None,
+            time_limit_s: 600.0,
+            parallel: true,
+        },
+        &|_| {},
+    );
     for r in &results {
         eprintln!("{} {:?} {:?}", r.id, r.status, r.message);
         for m in &r.metrics {
-            eprintln!("    {:<32} {:>12.6} (bound {})", m.name, m.value, m.tolerance);
+            eprintln!(
+                "    {:<32} {:>12.6} (bound {})",
+                m.name, m.value, m.tolerance
+            );
         }
         if let Some(s) = &r.sweep {
             for l in &s.levels {
-                eprintln!("    level {:>5.2}: {} ({:.3} s)", l.parameter, l.status, l.wall_s);
+                eprintln!(
+                    "    level {:>5.2}: {} ({:.3} s)",
+                    l.parameter, l.status, l.wall_s
+                );
             }
         }
         assert_eq!(r.status, Status::Pass, "{}: {:?}", r.id, r.message);
