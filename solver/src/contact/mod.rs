@@ -1,3 +1,4 @@
 //! Contact (thesis chapters 6 and 7).
 
 pub mod ccd;
+pub mod gauss_seidel;

@@ -1,0 +1,282 @@
+//! The per-step contact problem solved by Gauss-Seidel with Coulomb friction (thesis 6.5, 6.6;
+//! Carpenter, Taylor & Katona 1991; FORMULATION section 4).
+
+use nalgebra::Vector3;
+
+/// One node-to-face constraint: slave node `s` against the point `sum_c N_c x_c` of the master
+/// face `(a, b, c)` (thesis 6.4.1.1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactConstraint {
+    pub slave: u32,
+    pub face: [u32; 3],
+    /// Barycentric weights `N_c` of the contact point on the face.
+    pub weights: [f64; 3],
+    /// Outward unit normal of the master face: a compressive force has `r . n >= 0`.
+    pub normal: Vector3<f64>,
+    /// Coulomb coefficient `mu`; `f64::INFINITY` is stick, `0` frictionless.
+    pub friction: f64,
+}
+
+impl ContactConstraint {
+    /// Gap vector `g = sum_c N_c x_c - x_s`, from the slave node to its target point.
+    #[inline]
+    pub fn gap(&self, x: &[Vector3<f64>]) -> Vector3<f64> {
+        let [a, b, c] = self.face.map(|n| x[n as usize]);
+        a * self.weights[0] + b * self.weights[1] + c * self.weights[2] - x[self.slave as usize]
+    }
+
+    /// Diagonal Delassus block `w_ii = beta dt^2 (1/m_s + sum_c N_c^2 / m_c)`: a multiple of the
+    /// identity because the mass is lumped (thesis (6.71b)).
+    #[inline]
+    pub fn delassus_diagonal(&self, inverse_mass: &[f64], beta_dt2: f64) -> f64 {
+        let face: f64 = (0..3)
+            .map(|k| self.weights[k].powi(2) * inverse_mass[self.face[k] as usize])
+            .sum();
+        beta_dt2 * (inverse_mass[self.slave as usize] + face)
+    }
+
+    /// Moves the slave and face nodes as the force change `dr` demands:
+    /// `dx_s = beta dt^2 dr / m_s`, `dx_c = -beta dt^2 N_c dr / m_c` (thesis (6.71d)).
+    #[inline]
+    pub fn apply(
+        &self,
+        dr: &Vector3<f64>,
+        inverse_mass: &[f64],
+        beta_dt2: f64,
+        x: &mut [Vector3<f64>],
+    ) {
+        let s = self.slave as usize;
+        x[s] += dr * (beta_dt2 * inverse_mass[s]);
+        for k in 0..3 {
+            let c = self.face[k] as usize;
+            x[c] -= dr * (beta_dt2 * self.weights[k] * inverse_mass[c]);
+        }
+    }
+
+    /// The admissible force nearest `r`: released when tensile (6.74), returned radially onto the
+    /// Coulomb cone `|r_t| <= mu r_n` when it slides (6.77).
+    #[inline]
+    pub fn project(&self, r: Vector3<f64>) -> Vector3<f64> {
+        let rn = r.dot(&self.normal);
+        if rn <= 0.0 {
+            return Vector3::zeros();
+        }
+        if self.friction.is_infinite() {
+            return r;
+        }
+        let normal = self.normal * rn;
+        let tangential = r - normal;
+        let limit = self.friction * rn;
+        let t = tangential.norm();
+        if t <= limit {
+            r
+        } else {
+            normal + tangential * (limit / t)
+        }
+    }
+}
+
+/// Stopping rule of the iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaussSeidelSettings {
+    /// Converged when `||dr|| <= tolerance ||r||` over a sweep (6.72).
+    pub tolerance: f64,
+    pub max_iterations: usize,
+}
+
+impl Default for GaussSeidelSettings {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            max_iterations: 500,
+        }
+    }
+}
+
+/// Forces found and how the iteration ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSolution {
+    /// Force `r_i` on each slave node (and `-N_c r_i` on its face nodes).
+    pub forces: Vec<Vector3<f64>>,
+    pub iterations: usize,
+    pub converged: bool,
+    /// `||dr|| / ||r||` of the last sweep.
+    pub residual: f64,
+}
+
+/// Gauss-Seidel over the constraints in their given order (thesis Box 6.1): each one recomputes
+/// its gap from the positions corrected so far, takes the force change that closes it,
+/// projects the total force onto the admissible set, and applies only the change. Positions `x`
+/// are corrected in place; `beta_dt2 = (beta_0 + 1/2) dt^2` (6.4.2.4).
+pub fn gauss_seidel(
+    constraints: &[ContactConstraint],
+    inverse_mass: &[f64],
+    beta_dt2: f64,
+    x: &mut [Vector3<f64>],
+    settings: &GaussSeidelSettings,
+) -> ContactSolution {
+    let w: Vec<f64> = constraints
+        .iter()
+        .map(|c| c.delassus_diagonal(inverse_mass, beta_dt2))
+        .collect();
+    let mut forces = vec![Vector3::zeros(); constraints.len()];
+    let mut residual = 0.0;
+    for iteration in 1..=settings.max_iterations {
+        let (mut change, mut total) = (0.0, 0.0);
+        for (i, c) in constraints.iter().enumerate() {
+            let trial = forces[i] + c.gap(x) / w[i];
+            let r = c.project(trial);
+            let dr = r - forces[i];
+            if dr != Vector3::zeros() {
+                c.apply(&dr, inverse_mass, beta_dt2, x);
+            }
+            forces[i] = r;
+            change += dr.norm_squared();
+            total += r.norm_squared();
+        }
+        residual = if total > 0.0 {
+            (change / total).sqrt()
+        } else {
+            change.sqrt()
+        };
+        if residual <= settings.tolerance || (total == 0.0 && change == 0.0) {
+            return ContactSolution {
+                forces,
+                iterations: iteration,
+                converged: true,
+                residual,
+            };
+        }
+    }
+    ContactSolution {
+        forces,
+        iterations: settings.max_iterations,
+        converged: false,
+        residual,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slave node 1 mm inside a face of three nodes, all of unit mass.
+    fn single(
+        friction: f64,
+        slave_offset: Vector3<f64>,
+    ) -> (Vec<ContactConstraint>, Vec<Vector3<f64>>) {
+        let x = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.25, 0.25, 0.0) + slave_offset,
+        ];
+        let c = ContactConstraint {
+            slave: 3,
+            face: [0, 1, 2],
+            weights: [0.5, 0.25, 0.25],
+            normal: Vector3::z(),
+            friction,
+        };
+        (vec![c], x)
+    }
+
+    #[test]
+    fn a_penetration_is_closed_in_one_step_with_momentum_kept() {
+        let (c, mut x) = single(0.0, Vector3::new(0.0, 0.0, -1e-3));
+        let inv = vec![1.0; 4];
+        let before: Vector3<f64> = x.iter().sum();
+        let s = gauss_seidel(&c, &inv, 0.5, &mut x, &GaussSeidelSettings::default());
+        assert!(s.converged);
+        assert!(c[0].gap(&x).norm() < 1e-15);
+        assert!(s.forces[0].z > 0.0, "compressive");
+        // Equal masses: the corrections sum to zero, so the centre of mass does not move.
+        let after: Vector3<f64> = x.iter().sum();
+        assert!((after - before).norm() < 1e-15);
+    }
+
+    #[test]
+    fn a_separating_node_is_released() {
+        let (c, mut x) = single(0.0, Vector3::new(0.0, 0.0, 1e-3));
+        let s = gauss_seidel(&c, &[1.0; 4], 0.5, &mut x, &GaussSeidelSettings::default());
+        assert_eq!(s.forces[0], Vector3::zeros());
+    }
+
+    #[test]
+    fn friction_is_returned_onto_the_coulomb_cone() {
+        let (c, _) = single(0.3, Vector3::zeros());
+        let r = c[0].project(Vector3::new(4.0, 3.0, 10.0));
+        assert!((Vector3::new(r.x, r.y, 0.0).norm() - 3.0).abs() < 1e-12);
+        assert!((r.z - 10.0).abs() < 1e-15);
+        // Inside the cone: untouched; stick: untouched.
+        assert_eq!(
+            c[0].project(Vector3::new(1.0, 1.0, 10.0)),
+            Vector3::new(1.0, 1.0, 10.0)
+        );
+        let (stick, _) = single(f64::INFINITY, Vector3::zeros());
+        assert_eq!(
+            stick[0].project(Vector3::new(40.0, 30.0, 1.0)),
+            Vector3::new(40.0, 30.0, 1.0)
+        );
+    }
+
+    #[test]
+    fn coupled_contacts_converge_to_the_exact_solution_of_w_r_equals_g() {
+        // Two slaves pressing on one shared face: the off-diagonal Delassus blocks couple them.
+        let mut x = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.2, 0.2, -2e-3),
+            Vector3::new(0.5, 0.3, -1e-3),
+        ];
+        let inv = vec![1.0, 0.5, 2.0, 1.0, 3.0];
+        let make = |slave: u32, w: [f64; 3]| ContactConstraint {
+            slave,
+            face: [0, 1, 2],
+            weights: w,
+            normal: Vector3::z(),
+            friction: 0.0,
+        };
+        let c = vec![make(3, [0.6, 0.2, 0.2]), make(4, [0.2, 0.5, 0.3])];
+        let beta_dt2 = 1e-2;
+        // Frictionless and both active: the normal forces solve the 2x2 system W r = g exactly,
+        // with W_ij = beta dt^2 sum_k c_ik c_jk / m_k (FORMULATION 4).
+        let coeff = |con: &ContactConstraint| {
+            let mut v = [0.0; 5];
+            v[con.slave as usize] = -1.0;
+            for k in 0..3 {
+                v[con.face[k] as usize] += con.weights[k];
+            }
+            v
+        };
+        let (c0, c1) = (coeff(&c[0]), coeff(&c[1]));
+        let dot = |a: &[f64; 5], b: &[f64; 5]| {
+            (0..5).map(|k| a[k] * b[k] * inv[k]).sum::<f64>() * beta_dt2
+        };
+        let (w00, w01, w11) = (dot(&c0, &c0), dot(&c0, &c1), dot(&c1, &c1));
+        let (g0, g1) = (c[0].gap(&x).z, c[1].gap(&x).z);
+        let det = w00 * w11 - w01 * w01;
+        let exact = [(w11 * g0 - w01 * g1) / det, (w00 * g1 - w01 * g0) / det];
+        let s = gauss_seidel(
+            &c,
+            &inv,
+            beta_dt2,
+            &mut x,
+            &GaussSeidelSettings {
+                tolerance: 1e-14,
+                max_iterations: 1000,
+            },
+        );
+        assert!(s.converged && s.iterations > 1, "{s:?}");
+        for i in 0..2 {
+            assert!(
+                (s.forces[i].z - exact[i]).abs() < 1e-10 * exact[i].abs(),
+                "{i}: {} vs {}",
+                s.forces[i].z,
+                exact[i]
+            );
+            assert!(c[i].gap(&x).norm() < 1e-14);
+        }
+    }
+}
