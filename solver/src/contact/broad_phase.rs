@@ -1,0 +1,197 @@
+//! Broad phase: a uniform grid over axis-aligned boxes, built by counting sort in linear time
+//! (the bucket sort of explicit codes, e.g. OpenRadioss TYPE7 or Benson & Hallquist 1990), so
+//! that a query visits only the boxes near it instead of all of them.
+
+use nalgebra::Vector3;
+
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: Vector3<f64>,
+    pub max: Vector3<f64>,
+}
+
+impl Aabb {
+    /// The smallest box holding `points`.
+    pub fn of_points<'a>(points: impl IntoIterator<Item = &'a Vector3<f64>>) -> Self {
+        let mut b = Aabb {
+            min: Vector3::repeat(f64::INFINITY),
+            max: Vector3::repeat(f64::NEG_INFINITY),
+        };
+        for p in points {
+            b.min = b.min.inf(p);
+            b.max = b.max.sup(p);
+        }
+        b
+    }
+
+    /// The box grown by `margin` on every side (for example the largest distance a node moves
+    /// in a step).
+    pub fn grown(&self, margin: f64) -> Self {
+        Aabb {
+            min: self.min.add_scalar(-margin),
+            max: self.max.add_scalar(margin),
+        }
+    }
+
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        (0..3).all(|a| self.min[a] <= other.max[a] && other.min[a] <= self.max[a])
+    }
+
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.inf(&other.min),
+            max: self.max.sup(&other.max),
+        }
+    }
+}
+
+/// Boxes binned into the cells of a uniform grid they overlap.
+#[derive(Debug, Clone)]
+pub struct UniformGrid {
+    origin: Vector3<f64>,
+    inverse_cell: f64,
+    dims: [usize; 3],
+    /// Items of cell `k` are `items[cell_start[k]..cell_start[k + 1]]`, in ascending box id.
+    cell_start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl UniformGrid {
+    /// Bins `boxes` into cells of edge `cell` (a size near the typical box size keeps both the
+    /// cells per box and the boxes per cell small). The number of cells is capped so a few huge
+    /// boxes cannot make the grid explode.
+    pub fn build(boxes: &[Aabb], cell: f64) -> Self {
+        let bounds = boxes.iter().fold(
+            Aabb {
+                min: Vector3::repeat(f64::INFINITY),
+                max: Vector3::repeat(f64::NEG_INFINITY),
+            },
+            |acc, b| acc.union(b),
+        );
+        if boxes.is_empty() {
+            return Self {
+                origin: Vector3::zeros(),
+                inverse_cell: 1.0,
+                dims: [1; 3],
+                cell_start: vec![0, 0],
+                items: Vec::new(),
+            };
+        }
+        let extent = bounds.max - bounds.min;
+        let max_cells = (8 * boxes.len()).max(1) as f64;
+        let mut cell = cell.max(1e-300);
+        while (0..3)
+            .map(|a| (extent[a] / cell).floor() + 1.0)
+            .product::<f64>()
+            > max_cells
+        {
+            cell *= 1.5;
+        }
+        let dims = [0, 1, 2].map(|a| (extent[a] / cell).floor() as usize + 1);
+        let mut grid = Self {
+            origin: bounds.min,
+            inverse_cell: 1.0 / cell,
+            dims,
+            cell_start: Vec::new(),
+            items: Vec::new(),
+        };
+        let cells = dims[0] * dims[1] * dims[2];
+        let mut count = vec![0u32; cells + 1];
+        for b in boxes {
+            grid.for_cells(b, |k| count[k + 1] += 1);
+        }
+        for k in 0..cells {
+            count[k + 1] += count[k];
+        }
+        let mut next = count.clone();
+        let mut items = vec![0u32; count[cells] as usize];
+        for (i, b) in boxes.iter().enumerate() {
+            grid.for_cells(b, |k| {
+                items[next[k] as usize] = i as u32;
+                next[k] += 1;
+            });
+        }
+        grid.cell_start = count;
+        grid.items = items;
+        grid
+    }
+
+    fn cell_range(&self, b: &Aabb) -> Option<[std::ops::RangeInclusive<usize>; 3]> {
+        let mut r = [0..=0, 0..=0, 0..=0];
+        for a in 0..3 {
+            let lo = ((b.min[a] - self.origin[a]) * self.inverse_cell).floor();
+            let hi = ((b.max[a] - self.origin[a]) * self.inverse_cell).floor();
+            let last = (self.dims[a] - 1) as f64;
+            if hi < 0.0 || lo > last || lo.is_nan() || hi.is_nan() {
+                return None;
+            }
+            r[a] = lo.max(0.0) as usize..=hi.min(last) as usize;
+        }
+        Some(r)
+    }
+
+    fn for_cells(&self, b: &Aabb, mut f: impl FnMut(usize)) {
+        if let Some([rx, ry, rz]) = self.cell_range(b) {
+            for k in rz {
+                for j in ry.clone() {
+                    for i in rx.clone() {
+                        f(i + self.dims[0] * (j + self.dims[1] * k));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Ids of the boxes sharing a cell with `query`, sorted and without repeats (a superset of
+    /// the boxes that overlap it). `out` is cleared first.
+    pub fn query(&self, query: &Aabb, out: &mut Vec<u32>) {
+        out.clear();
+        self.for_cells(query, |k| {
+            out.extend_from_slice(
+                &self.items[self.cell_start[k] as usize..self.cell_start[k + 1] as usize],
+            );
+        });
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::SplitMix64;
+
+    #[test]
+    fn grid_queries_find_every_overlapping_box() {
+        let mut rng = SplitMix64::new(4);
+        let mut random_box = |size: f64| {
+            let c = Vector3::new(
+                rng.uniform(0.0, 10.0),
+                rng.uniform(0.0, 5.0),
+                rng.uniform(0.0, 2.0),
+            );
+            let h = Vector3::new(
+                rng.uniform(0.0, size),
+                rng.uniform(0.0, size),
+                rng.uniform(0.0, size),
+            );
+            Aabb {
+                min: c - h,
+                max: c + h,
+            }
+        };
+        let boxes: Vec<Aabb> = (0..2000).map(|_| random_box(0.3)).collect();
+        let grid = UniformGrid::build(&boxes, 0.4);
+        let mut found = Vec::new();
+        for _ in 0..500 {
+            let q = random_box(0.5);
+            grid.query(&q, &mut found);
+            for (i, b) in boxes.iter().enumerate() {
+                if b.overlaps(&q) {
+                    assert!(found.binary_search(&(i as u32)).is_ok(), "box {i} missed");
+                }
+            }
+        }
+    }
+}
