@@ -2,4 +2,5 @@
 
 pub mod broad_phase;
 pub mod ccd;
+pub mod detection;
 pub mod gauss_seidel;

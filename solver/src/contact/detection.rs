@@ -1,0 +1,412 @@
+//! Global and local contact detection (thesis 7.3 and 7.4; FORMULATION section 4).
+//!
+//! Global detection finds the slave boundary nodes whose predicted position lies inside a
+//! master element of the boundary layer (signed volumes, Box 7.2), with a uniform grid so each
+//! node is tested only against nearby elements (7.3.3). Local detection then picks the master
+//! boundary face the node went through and the contact point on it: continuous collision
+//! detection first (7.4.4), then the intersection of the node's trajectory with the predicted
+//! face (7.4.3), then the closest point (7.4.2); a node none of them resolves is counted.
+
+use nalgebra::Vector3;
+
+use super::broad_phase::{Aabb, UniformGrid};
+use super::ccd::{vertex_face_ccd, Trajectory};
+use super::gauss_seidel::ContactConstraint;
+use crate::mesh::TET_FACES;
+use crate::model::Model;
+
+/// The contact surface of one body: its boundary faces (outward), boundary nodes and the
+/// elements of its boundary layer (those with a node on the boundary).
+#[derive(Debug, Clone)]
+pub struct ContactSurface {
+    pub body: usize,
+    pub faces: Vec<[u32; 3]>,
+    pub nodes: Vec<u32>,
+    pub layer: Vec<u32>,
+}
+
+impl ContactSurface {
+    pub fn new(model: &Model, body: usize) -> Self {
+        let range = model.bodies[body].elements.clone();
+        let mut count = std::collections::HashMap::new();
+        let key = |f: [u32; 3]| {
+            let mut k = f;
+            k.sort_unstable();
+            k
+        };
+        for e in range.clone() {
+            for face in TET_FACES {
+                *count
+                    .entry(key(face.map(|i| model.tets[e][i])))
+                    .or_insert(0u8) += 1;
+            }
+        }
+        let mut faces = Vec::new();
+        for e in range.clone() {
+            for face in TET_FACES {
+                let f = face.map(|i| model.tets[e][i]);
+                if count[&key(f)] == 1 {
+                    faces.push(f);
+                }
+            }
+        }
+        let mut nodes: Vec<u32> = faces.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let layer = range
+            .filter(|&e| model.tets[e].iter().any(|n| nodes.binary_search(n).is_ok()))
+            .map(|e| e as u32)
+            .collect();
+        Self {
+            body,
+            faces,
+            nodes,
+            layer,
+        }
+    }
+}
+
+/// Barycentric coordinates of `p` in the tetrahedron `x` from signed sub-volumes (3.46):
+/// `xi_k = V(x with node k replaced by p) / V(x)`.
+pub fn tetrahedron_barycentric(p: &Vector3<f64>, x: &[Vector3<f64>; 4]) -> [f64; 4] {
+    let vol = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>, d: &Vector3<f64>| {
+        (b - a).cross(&(c - a)).dot(&(d - a))
+    };
+    let v = vol(&x[0], &x[1], &x[2], &x[3]);
+    [
+        vol(p, &x[1], &x[2], &x[3]) / v,
+        vol(&x[0], p, &x[2], &x[3]) / v,
+        vol(&x[0], &x[1], p, &x[3]) / v,
+        vol(&x[0], &x[1], &x[2], p) / v,
+    ]
+}
+
+/// How each detected contact was resolved in one pass.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DetectionStats {
+    /// Slave nodes found inside a master element.
+    pub penetrating: usize,
+    pub by_ccd: usize,
+    pub by_trajectory: usize,
+    pub by_closest_point: usize,
+    /// Penetrations no local strategy could assign to a face: reported, never dropped silently.
+    pub unresolved: usize,
+}
+
+/// Settings of detection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DetectionSettings {
+    /// Tolerance on barycentric coordinates (inside when all are `>= -tolerance`).
+    pub tolerance: f64,
+    /// Coulomb coefficient given to the constraints.
+    pub friction: f64,
+}
+
+/// Constraints of the slave surface's nodes against the master surface for one pass, from the
+/// positions at the start of the step `x0` and the predicted positions `x1`.
+pub fn detect(
+    model: &Model,
+    slave: &ContactSurface,
+    master: &ContactSurface,
+    x0: &[Vector3<f64>],
+    x1: &[Vector3<f64>],
+    settings: &DetectionSettings,
+) -> (Vec<ContactConstraint>, DetectionStats) {
+    let mut stats = DetectionStats::default();
+    let mut constraints = Vec::new();
+    // Skip the pass when the slave nodes cannot reach the master's boundary layer.
+    let slave_box = Aabb::of_points(slave.nodes.iter().map(|&n| &x1[n as usize]));
+    let element_boxes: Vec<Aabb> = master
+        .layer
+        .iter()
+        .map(|&e| Aabb::of_points(model.tets[e as usize].iter().map(|&n| &x1[n as usize])))
+        .collect();
+    let master_box = element_boxes
+        .iter()
+        .fold(slave_box.grown(f64::NEG_INFINITY), |a, b| a.union(b));
+    if element_boxes.is_empty() || !slave_box.overlaps(&master_box) {
+        return (constraints, stats);
+    }
+    let typical = element_boxes
+        .iter()
+        .map(|b| (b.max - b.min).max())
+        .sum::<f64>()
+        / element_boxes.len() as f64;
+    let element_grid = UniformGrid::build(&element_boxes, typical);
+    let swept_faces: Vec<Aabb> = master
+        .faces
+        .iter()
+        .map(|f| Aabb::of_points(f.iter().flat_map(|&n| [&x0[n as usize], &x1[n as usize]])))
+        .collect();
+    let face_grid = UniformGrid::build(&swept_faces, typical);
+    let (mut elements, mut faces) = (Vec::new(), Vec::new());
+    for &s in &slave.nodes {
+        let p = x1[s as usize];
+        if !master_box.overlaps(&Aabb { min: p, max: p }) {
+            continue;
+        }
+        element_grid.query(&Aabb { min: p, max: p }, &mut elements);
+        let inside = elements.iter().any(|&i| {
+            let tet = model.tets[master.layer[i as usize] as usize].map(|n| x1[n as usize]);
+            tetrahedron_barycentric(&p, &tet)
+                .iter()
+                .all(|&xi| xi >= -settings.tolerance)
+        });
+        if !inside {
+            continue;
+        }
+        stats.penetrating += 1;
+        let node = Trajectory {
+            start: x0[s as usize],
+            end: p,
+        };
+        let swept = Aabb::of_points([&node.start, &node.end]).grown(typical);
+        face_grid.query(&swept, &mut faces);
+        let resolved = earliest_ccd(master, &faces, &node, x0, x1, settings.tolerance)
+            .map(|(f, w)| (f, w, &mut stats.by_ccd))
+            .or_else(|| {
+                trajectory_intersection(master, &faces, &node, x1, settings.tolerance)
+                    .map(|(f, w)| (f, w, &mut stats.by_trajectory))
+            })
+            .or_else(|| {
+                closest_point(master, &faces, &p, x1)
+                    .map(|(f, w)| (f, w, &mut stats.by_closest_point))
+            });
+        match resolved {
+            Some((face, weights, counter)) => {
+                *counter += 1;
+                let [a, b, c] = face.map(|n| x1[n as usize]);
+                let normal = (b - a).cross(&(c - a)).normalize();
+                constraints.push(ContactConstraint {
+                    slave: s,
+                    face,
+                    weights,
+                    normal,
+                    friction: settings.friction,
+                });
+            }
+            None => stats.unresolved += 1,
+        }
+    }
+    (constraints, stats)
+}
+
+/// The face (among `candidates`) the node crosses first during the step (7.4.4).
+fn earliest_ccd(
+    master: &ContactSurface,
+    candidates: &[u32],
+    node: &Trajectory,
+    x0: &[Vector3<f64>],
+    x1: &[Vector3<f64>],
+    tolerance: f64,
+) -> Option<([u32; 3], [f64; 3])> {
+    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+    for &i in candidates {
+        let face = master.faces[i as usize];
+        let traj = face.map(|n| Trajectory {
+            start: x0[n as usize],
+            end: x1[n as usize],
+        });
+        if let Some(hit) =
+            vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance.max(1e-12))
+        {
+            if best.is_none_or(|(t, _, _)| hit.t < t) {
+                best = Some((hit.t, face, hit.weights));
+            }
+        }
+    }
+    best.map(|(_, f, w)| (f, w))
+}
+
+/// Barycentric weights of the point of the triangle `(a, b, c)`'s plane nearest `p`.
+fn triangle_weights(
+    p: &Vector3<f64>,
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    c: &Vector3<f64>,
+) -> [f64; 3] {
+    let n = (b - a).cross(&(c - a));
+    let area2 = n.norm_squared();
+    let wa = (b - p).cross(&(c - p)).dot(&n) / area2;
+    let wb = (c - p).cross(&(a - p)).dot(&n) / area2;
+    [wa, wb, 1.0 - wa - wb]
+}
+
+/// The predicted face that the segment from the node's start to its predicted position passes
+/// through (7.4.3), the crossing nearest the start.
+fn trajectory_intersection(
+    master: &ContactSurface,
+    candidates: &[u32],
+    node: &Trajectory,
+    x1: &[Vector3<f64>],
+    tolerance: f64,
+) -> Option<([u32; 3], [f64; 3])> {
+    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+    let d = node.end - node.start;
+    for &i in candidates {
+        let face = master.faces[i as usize];
+        let [a, b, c] = face.map(|n| x1[n as usize]);
+        let n = (b - a).cross(&(c - a));
+        let denom = n.dot(&d);
+        if denom.abs() <= f64::EPSILON * n.norm() * d.norm() {
+            continue;
+        }
+        let s = n.dot(&(a - node.start)) / denom;
+        if !(-tolerance..=1.0 + tolerance).contains(&s) {
+            continue;
+        }
+        let w = triangle_weights(&(node.start + d * s), &a, &b, &c);
+        if w.iter().all(|&x| x >= -tolerance) && best.is_none_or(|(t, _, _)| s < t) {
+            best = Some((s, face, w));
+        }
+    }
+    best.map(|(_, f, w)| (f, w))
+}
+
+/// The candidate face whose nearest point to `p` is closest (7.4.2), with the weights of that
+/// point clamped into the triangle.
+fn closest_point(
+    master: &ContactSurface,
+    candidates: &[u32],
+    p: &Vector3<f64>,
+    x1: &[Vector3<f64>],
+) -> Option<([u32; 3], [f64; 3])> {
+    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+    for &i in candidates {
+        let face = master.faces[i as usize];
+        let [a, b, c] = face.map(|n| x1[n as usize]);
+        let mut w = triangle_weights(p, &a, &b, &c).map(|x| x.max(0.0));
+        let sum: f64 = w.iter().sum();
+        w.iter_mut().for_each(|x| *x /= sum);
+        let q = a * w[0] + b * w[1] + c * w[2];
+        let d = (q - p).norm();
+        if best.is_none_or(|(bd, _, _)| d < bd) {
+            best = Some((d, face, w));
+        }
+    }
+    best.map(|(_, f, w)| (f, w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{IsotropicElastic, MaterialModel};
+    use crate::mesh::{box_mesh, BoxSpec};
+
+    fn two_blocks(gap: f64) -> Model {
+        let m = MaterialModel::LinearElastic(IsotropicElastic {
+            density: 1000.0,
+            youngs_modulus: 1e9,
+            poisson_ratio: 0.3,
+        });
+        let lower = box_mesh(&BoxSpec {
+            origin: [0.0; 3],
+            size: [1.0, 1.0, 0.5],
+            divisions: [4, 4, 2],
+        });
+        let upper = box_mesh(&BoxSpec {
+            origin: [0.1, 0.15, 0.5 + gap],
+            size: [0.7, 0.6, 0.5],
+            divisions: [3, 3, 2],
+        });
+        Model::new(vec![("lower".into(), lower, m), ("upper".into(), upper, m)]).unwrap()
+    }
+
+    #[test]
+    fn barycentric_coordinates_sum_to_one_and_locate_points() {
+        let x = [Vector3::zeros(), Vector3::x(), Vector3::y(), Vector3::z()];
+        let xi = tetrahedron_barycentric(&Vector3::new(0.1, 0.2, 0.3), &x);
+        assert!((xi.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        assert!(
+            (xi[1] - 0.1).abs() < 1e-15
+                && (xi[2] - 0.2).abs() < 1e-15
+                && (xi[3] - 0.3).abs() < 1e-15
+        );
+        assert!(tetrahedron_barycentric(&Vector3::new(0.6, 0.6, 0.1), &x)[0] < 0.0);
+    }
+
+    #[test]
+    fn nodes_pushed_into_the_lower_block_are_found_on_the_top_face() {
+        let model = two_blocks(1e-3);
+        let lower = ContactSurface::new(&model, 0);
+        let upper = ContactSurface::new(&model, 1);
+        let x0: Vec<Vector3<f64>> = model.reference.clone();
+        // The upper block moves down by 3 mm: its bottom nodes end 2 mm inside the lower block.
+        let mut x1 = x0.clone();
+        for n in model.bodies[1].nodes.clone() {
+            x1[n].z -= 3e-3;
+        }
+        let settings = DetectionSettings {
+            tolerance: 1e-9,
+            friction: 0.0,
+        };
+        let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
+        let bottom = model.bodies[1]
+            .nodes
+            .clone()
+            .filter(|&n| (model.reference[n].z - 0.501).abs() < 1e-12)
+            .count();
+        assert_eq!(stats.penetrating, bottom, "{stats:?}");
+        assert_eq!(stats.by_ccd, bottom);
+        assert_eq!(stats.unresolved, 0);
+        for c in &constraints {
+            assert!(
+                (c.normal - Vector3::z()).norm() < 1e-12,
+                "the top face's outward normal is +z"
+            );
+            let g = c.gap(&x1);
+            assert!(
+                (g - Vector3::new(0.0, 0.0, 2e-3)).norm() < 1e-12,
+                "gap {g:?}"
+            );
+            assert!(c.weights.iter().all(|&w| w >= -1e-9));
+        }
+        // The other pass (roles swapped, 7.2): the lower block's top nodes under the upper
+        // block's footprint are now 2 mm inside it and go back through its bottom face (-z).
+        let (reverse, stats) = detect(&model, &lower, &upper, &x0, &x1, &settings);
+        let under = model.bodies[0]
+            .nodes
+            .clone()
+            .filter(|&n| {
+                let x = model.reference[n];
+                (x.z - 0.5).abs() < 1e-12
+                    && (0.1..=0.8).contains(&x.x)
+                    && (0.15..=0.75).contains(&x.y)
+            })
+            .count();
+        assert!(under > 0);
+        assert_eq!(reverse.len(), under, "{stats:?}");
+        // Nodes strictly inside the footprint cross the bottom face; those on its rim may be
+        // assigned to a side face, which is as close.
+        for c in &reverse {
+            let x = model.reference[c.slave as usize];
+            if x.y < 0.75 - 1e-9 {
+                assert!((c.normal + Vector3::z()).norm() < 1e-12, "node {x:?}");
+                assert!((c.gap(&x1) - Vector3::new(0.0, 0.0, -2e-3)).norm() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn separated_bodies_skip_detection() {
+        let model = two_blocks(0.1);
+        let (lower, upper) = (
+            ContactSurface::new(&model, 0),
+            ContactSurface::new(&model, 1),
+        );
+        let x = model.reference.clone();
+        let (c, stats) = detect(
+            &model,
+            &upper,
+            &lower,
+            &x,
+            &x,
+            &DetectionSettings {
+                tolerance: 1e-9,
+                friction: 0.0,
+            },
+        );
+        assert!(c.is_empty());
+        assert_eq!(stats, DetectionStats::default());
+    }
+}
