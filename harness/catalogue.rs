@@ -52,6 +52,10 @@ pub struct CaseSpec {
     pub scene: Scene,
     #[serde(default)]
     pub sweep: Option<Sweep>,
+    /// Solver configurations to compare on the same scene; each runs and is judged on its own.
+    /// Empty: the scene's own analysis, reported as variant `default`.
+    #[serde(default)]
+    pub variants: Vec<Variant>,
     pub metrics: Vec<MetricSpec>,
     #[serde(default)]
     pub plots: Vec<PlotSpec>,
@@ -71,8 +75,17 @@ pub enum Sweep {
     TimeStepFactor(Vec<f64>),
 }
 
+/// A named solver configuration: the analysis (integrator and its settings) that replaces the
+/// scene's for this variant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Variant {
+    pub name: String,
+    pub analysis: impact_solver::scene::Analysis,
+}
+
 /// How far a value may lie from its reference.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Tolerance {
     /// `|value - reference| <= tolerance`.
@@ -83,6 +96,9 @@ pub enum Tolerance {
     AtMost(f64),
     /// `value >= tolerance` (a quantity that must reach a floor; reference the bound).
     AtLeast(f64),
+    /// `|value - reference| <= fraction * max |column|` over the run's history: relative to a
+    /// scale such as the peak force or the largest energy, for quantities that pass through zero.
+    RelativeToPeak { fraction: f64, column: String },
 }
 
 /// One measurement of a case.
@@ -150,6 +166,11 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
         return Err(fail(
             "the case has no metrics: every case measures something against a reference".into(),
         ));
+    }
+    for v in &spec.variants {
+        if spec.variants.iter().filter(|w| w.name == v.name).count() > 1 {
+            return Err(fail(format!("variant `{}` appears twice", v.name)));
+        }
     }
     for m in &spec.metrics {
         if spec.metrics.iter().filter(|n| n.name == m.name).count() > 1 {

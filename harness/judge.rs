@@ -3,19 +3,32 @@
 use crate::catalogue::{MetricSpec, Tolerance};
 use crate::results::MetricResult;
 
-/// Judges `value` for `spec` against the evaluated `reference` (value and source).
-pub fn judge(spec: &MetricSpec, value: f64, reference: f64, source: &str) -> MetricResult {
-    let (error, tolerance, pass, kind) = match spec.tolerance {
+/// Judges `value` for `spec` against the evaluated `reference` (value and source). `peak` gives
+/// `max |column|` of the run's history for `relative_to_peak` tolerances.
+pub fn judge(
+    spec: &MetricSpec,
+    value: f64,
+    reference: f64,
+    source: &str,
+    peak: &dyn Fn(&str) -> Option<f64>,
+) -> MetricResult {
+    let (error, tolerance, pass, kind) = match &spec.tolerance {
         Tolerance::Absolute(t) => {
             let e = (value - reference).abs();
-            (e, t, e <= t, "absolute")
+            (e, *t, e <= *t, "absolute")
         }
         Tolerance::Relative(t) => {
             let e = (value - reference).abs() / reference.abs();
-            (e, t, e <= t, "relative")
+            (e, *t, e <= *t, "relative")
         }
-        Tolerance::AtMost(t) => (value, t, value <= t, "at_most"),
-        Tolerance::AtLeast(t) => (value, t, value >= t, "at_least"),
+        Tolerance::AtMost(t) => (value, *t, value <= *t, "at_most"),
+        Tolerance::AtLeast(t) => (value, *t, value >= *t, "at_least"),
+        Tolerance::RelativeToPeak { fraction, column } => {
+            // A missing column leaves the scale NaN, and a NaN never passes.
+            let scale = peak(column).unwrap_or(f64::NAN);
+            let e = (value - reference).abs() / scale;
+            (e, *fraction, e <= *fraction, "relative_to_peak")
+        }
     };
     MetricResult {
         name: spec.name.clone(),
@@ -35,7 +48,9 @@ pub fn judge(spec: &MetricSpec, value: f64, reference: f64, source: &str) -> Met
 /// orders and work-precision diagrams: relative when the tolerance is relative, else absolute.
 pub fn error_for_sweep(spec: &MetricSpec, value: f64, reference: f64) -> f64 {
     match spec.tolerance {
-        Tolerance::Relative(_) => (value - reference).abs() / reference.abs(),
+        Tolerance::Relative(_) | Tolerance::RelativeToPeak { .. } => {
+            (value - reference).abs() / reference.abs()
+        }
         Tolerance::AtMost(_) | Tolerance::AtLeast(_) => value.abs(),
         Tolerance::Absolute(_) => (value - reference).abs(),
     }
@@ -65,6 +80,22 @@ pub fn observed_order(points: &[(f64, f64)]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn relative_to_peak_scales_by_the_largest_history_value() {
+        let spec: MetricSpec = serde_json::from_value(serde_json::json!({
+            "name": "reaction_at_end",
+            "measure": { "history_final": { "column": "force" } },
+            "tolerance": { "relative_to_peak": { "fraction": 0.01, "column": "force" } }
+        }))
+        .unwrap();
+        let peak = |c: &str| (c == "force").then_some(200.0);
+        // A value near zero, judged against 1 % of the 200 N peak: 1.5 N off passes, 2.5 N fails.
+        assert!(judge(&spec, 1.5, 0.0, "", &peak).pass);
+        assert!(!judge(&spec, 2.5, 0.0, "", &peak).pass);
+        // Without the column the scale is unknown and the metric never passes.
+        assert!(!judge(&spec, 0.0, 0.0, "", &|_| None).pass);
+    }
 
     #[test]
     fn observed_order_of_an_exact_power_law() {

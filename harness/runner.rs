@@ -9,7 +9,7 @@ use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::SolverError;
 use rayon::prelude::*;
 
-use crate::catalogue::{LoadedCase, Sweep};
+use crate::catalogue::{LoadedCase, Sweep, Variant};
 use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::{error_for_sweep, judge, observed_order};
 use crate::measure::Measure;
@@ -35,15 +35,26 @@ pub fn run_cases(
     options: &RunOptions,
     on_done: &(dyn Fn(&CaseResult) + Sync),
 ) -> Vec<CaseResult> {
-    let run_one = |case: &LoadedCase| {
-        let result = run_case(case, options);
+    // One job per case and variant, in catalogue order.
+    let jobs: Vec<(&LoadedCase, Option<&Variant>)> = cases
+        .iter()
+        .flat_map(|c| {
+            if c.spec.variants.is_empty() {
+                vec![(c, None)]
+            } else {
+                c.spec.variants.iter().map(|v| (c, Some(v))).collect()
+            }
+        })
+        .collect();
+    let run_one = |(case, variant): &(&LoadedCase, Option<&Variant>)| {
+        let result = run_case(case, *variant, options);
         on_done(&result);
         result
     };
     if options.parallel {
-        cases.par_iter().map(run_one).collect()
+        jobs.par_iter().map(run_one).collect()
     } else {
-        cases.iter().map(run_one).collect()
+        jobs.iter().map(run_one).collect()
     }
 }
 
@@ -54,13 +65,18 @@ struct LevelRun {
     outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
 }
 
-/// Runs one case: every level of its sweep (or the scene once), then judges its metrics.
-pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
+/// Runs one case under one variant (or the scene's own analysis): every level of its sweep (or
+/// the scene once), then judges its metrics.
+pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
+    let mut scene = spec.scene.clone();
+    if let Some(v) = variant {
+        scene.analysis = v.analysis.clone();
+    }
     let mut result = CaseResult {
         id: spec.id.clone(),
-        variant: "default".into(),
+        variant: variant.map_or("default".into(), |v| v.name.clone()),
         status: Status::Error,
         wall_s: 0.0,
         metrics: Vec::new(),
@@ -71,7 +87,7 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
         plots: Vec::new(),
         sweep: None,
     };
-    let levels = match level_scenes(&spec.scene, spec.sweep.as_ref()) {
+    let levels = match level_scenes(&scene, spec.sweep.as_ref()) {
         Ok(l) => l,
         Err(message) => {
             result.message = Some(message);
@@ -181,8 +197,14 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
             }
             m.measure.evaluate(problem, run)
         };
+        let peak = |column: &str| {
+            run.history
+                .as_ref()?
+                .column(column)
+                .map(|y| y.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+        };
         match value {
-            Ok(v) => result.metrics.push(judge(m, v, ref_value, &source)),
+            Ok(v) => result.metrics.push(judge(m, v, ref_value, &source, &peak)),
             Err(e) => failures.push(format!("metric `{}`: {e}", m.name)),
         }
     }

@@ -93,6 +93,10 @@ fn quick_tier_passes_and_matches_snapshots() {
             .iter()
             .map(|m| (m.name.clone(), snapshot_value(m)))
             .collect();
-        insta::assert_yaml_snapshot!(r.id.replace('/', "__"), rounded);
+        let name = match r.variant.as_str() {
+            "default" => r.id.replace('/', "__"),
+            v => format!("{}__{v}", r.id.replace('/', "__")),
+        };
+        insta::assert_yaml_snapshot!(name, rounded);
     }
 }
