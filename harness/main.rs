@@ -27,8 +27,8 @@ enum Command {
     List {
         /// Case ids, globs (`patch/*`), tags (`tag:wave`) or case files.
         patterns: Vec<String>,
-        #[arg(long)]
-        tier: Option<String>,
+        #[arg(long, value_parser = parse_tier)]
+        tier: Option<Tier>,
         #[arg(long, default_value = "cases")]
         catalogue: PathBuf,
     },
@@ -37,8 +37,8 @@ enum Command {
         /// Case ids, globs (`patch/*`), tags (`tag:wave`) or case files; empty: the whole tier.
         patterns: Vec<String>,
         /// quick, nightly (quick + nightly) or stress.
-        #[arg(long, default_value = "quick")]
-        tier: String,
+        #[arg(long, default_value = "quick", value_parser = parse_tier)]
+        tier: Tier,
         /// Rerun the cases that failed in the last run.
         #[arg(long)]
         failed: bool,
@@ -115,13 +115,6 @@ fn main() -> ExitCode {
             tier,
             catalogue: dir,
         } => {
-            let tier = match tier.as_deref().map(parse_tier).transpose() {
-                Ok(t) => t,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return ExitCode::from(2);
-                }
-            };
             let cases = match catalogue(&dir) {
                 Ok(c) => c,
                 Err(code) => return code,
@@ -146,13 +139,6 @@ fn main() -> ExitCode {
             time_limit,
             serial,
         } => {
-            let tier = match parse_tier(&tier) {
-                Ok(t) => t,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return ExitCode::from(2);
-                }
-            };
             let cases = match catalogue(&dir) {
                 Ok(c) => c,
                 Err(code) => return code,
