@@ -131,6 +131,9 @@ pub struct ExplicitSolver<'p> {
     v_next: Vec<Vector3<f64>>,
     /// Reaction forces at prescribed components, `M a + a M v - f_ext + f_int` (N).
     pub reaction: Vec<Vector3<f64>>,
+    contact: Option<ContactScratch>,
+    /// What the contact phase did in the last step, per pair.
+    pub contact_steps: Vec<crate::contact::ContactStep>,
     pub energies: EnergyLedger,
     pending: EnergyLedger,
     pub step: usize,
@@ -201,6 +204,8 @@ impl<'p> ExplicitSolver<'p> {
             f_ext: vec![Vector3::zeros(); n],
             du_prev: vec![Vector3::zeros(); n],
             v_next: vec![Vector3::zeros(); n],
+            contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
+            contact_steps: Vec::new(),
             reaction: vec![Vector3::zeros(); n],
             energies: EnergyLedger::default(),
             pending: EnergyLedger::default(),
@@ -251,7 +256,7 @@ impl<'p> ExplicitSolver<'p> {
         format!(
             "explicit dynamics: {} bodies, {} nodes, {} elements; dt = {:.4e} s ({:.3} of the \
              stable estimate {:.4e} s set by element {}); {} steps to t = {:.4e} s; {} constraints, \
-             {} loads, gravity {}; damping a = {}; contact: none",
+             {} loads, gravity {}; damping a = {}; contact: {}",
             model.bodies.len(),
             model.node_count(),
             model.element_count(),
@@ -265,6 +270,16 @@ impl<'p> ExplicitSolver<'p> {
             self.problem.loads.len(),
             if self.problem.gravity.is_some() { "on" } else { "off" },
             self.settings.damping,
+            if self.problem.contact.is_empty() {
+                "none".to_string()
+            } else {
+                self.problem
+                    .contact
+                    .iter()
+                    .map(|p| format!("{} (mu {}, beta_0 {}, {} pass)", p.name, p.friction, p.beta_0, if p.two_pass { "two-" } else { "one-" }))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
         )
     }
 
@@ -421,6 +436,9 @@ impl<'p> ExplicitSolver<'p> {
                 }
             }
         }
+        if let Some(scratch) = self.contact.as_mut() {
+            self.contact_steps = scratch.correct(model, dt, &self.u, &mut self.v_next);
+        }
         // Full-step velocity, reactions, and the energy pieces of this step.
         let mut moved_too_far = false;
         let mut kinetic = 0.0;
@@ -446,7 +464,13 @@ impl<'p> ExplicitSolver<'p> {
                     }
                 }
             }
-            let du = dt * v_new;
+            // Contact moves a node by dx = beta dt^2 r / m but changes its velocity by
+            // gamma dt r / m (beta-2 scheme): with beta_0 > 0 the position keeps the surplus.
+            let (f_contact, dx_extra) = match &self.contact {
+                Some(c) => (c.force[i], c.position_surplus[i]),
+                None => (Vector3::zeros(), Vector3::zeros()),
+            };
+            let du = dt * v_new + dx_extra;
             moved_too_far |= du.norm() > eta * self.node_length[i];
             let du_old = self.du_prev[i];
             let (f_int, f_out) = (self.f_int[i], self.f_ext[i] + r);
@@ -463,10 +487,12 @@ impl<'p> ExplicitSolver<'p> {
             closing.internal_work += 0.5 * f_int.dot(&du_old);
             closing.external_work += 0.5 * f_out.dot(&du_old);
             closing.damping_work += 0.5 * damping.dot(&du_old);
+            closing.contact_work -= 0.5 * f_contact.dot(&du_old);
+            pending.contact_work -= 0.5 * f_contact.dot(&du);
             pending.internal_work += 0.5 * f_int.dot(&du);
             pending.external_work += 0.5 * f_out.dot(&du);
             pending.damping_work += 0.5 * damping.dot(&du);
-            self.du_prev[i] = dt * v_new;
+            self.du_prev[i] = dt * v_new + dx_extra;
             self.v_full[i] = v_full;
             self.reaction[i] = r;
         }
@@ -481,6 +507,7 @@ impl<'p> ExplicitSolver<'p> {
         self.energies.internal_work += self.pending.internal_work + closing.internal_work;
         self.energies.external_work += self.pending.external_work + closing.external_work;
         self.energies.damping_work += self.pending.damping_work + closing.damping_work;
+        self.energies.contact_work += self.pending.contact_work + closing.contact_work;
         self.pending = pending;
         std::mem::swap(&mut self.v_half, &mut self.v_next);
         Ok(moved_too_far)
@@ -503,6 +530,7 @@ impl<'p> ExplicitSolver<'p> {
             "stored_energy",
             "external_work",
             "damping_work",
+            "contact_work",
             "energy_error",
             "energy_error_relative",
         ]
@@ -513,6 +541,19 @@ impl<'p> ExplicitSolver<'p> {
         }
         for k in &self.problem.constraints {
             c.extend(["x", "y", "z"].map(|a| format!("{}_reaction_{a}", k.name)));
+        }
+        for p in &self.problem.contact {
+            c.extend(
+                [
+                    "force_x",
+                    "force_y",
+                    "force_z",
+                    "active",
+                    "iterations",
+                    "unresolved",
+                ]
+                .map(|q| format!("{}_{q}", p.name)),
+            );
         }
         c
     }
@@ -527,6 +568,7 @@ impl<'p> ExplicitSolver<'p> {
             model.stored_energy(&self.u),
             e.external_work,
             e.damping_work,
+            e.contact_work,
             e.balance_error(),
             e.relative_error(),
         ];
@@ -553,6 +595,20 @@ impl<'p> ExplicitSolver<'p> {
                 }
             }
             row.extend(sum.iter());
+        }
+        for (i, pair) in self.problem.contact.iter().enumerate() {
+            let s = self.contact_steps.get(i).copied().unwrap_or_default();
+            // The force the first body exerts on the second: the rate of the momentum that
+            // contact gave the second body's nodes (both passes together, counted once).
+            let force = match &self.contact {
+                Some(c) => model.bodies[pair.bodies[1]]
+                    .nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |acc, n| acc + c.force[n]),
+                None => Vector3::zeros(),
+            };
+            row.extend(force.iter());
+            row.extend([s.active as f64, s.iterations as f64, s.unresolved as f64]);
         }
         row
     }
@@ -637,6 +693,77 @@ impl<'p> ExplicitSolver<'p> {
         }
         self.step += 1;
         self.time = self.step as f64 * self.dt;
+    }
+}
+
+/// Buffers of the contact phase, allocated once per run.
+struct ContactScratch {
+    phase: crate::contact::ContactPhase,
+    /// Inverse lumped mass; zero at nodes with a prescribed component, which contact cannot move.
+    inverse_mass: Vec<f64>,
+    beta_0: f64,
+    x0: Vec<Vector3<f64>>,
+    x1: Vec<Vector3<f64>>,
+    predicted: Vec<Vector3<f64>>,
+    /// Contact force on each node over the step, `m dv / dt` (N).
+    force: Vec<Vector3<f64>>,
+    /// `dx - dt dv` of the beta-2 corrections (zero for `beta_0 = 0`).
+    position_surplus: Vec<Vector3<f64>>,
+}
+
+impl ContactScratch {
+    fn new(problem: &Problem) -> Self {
+        let model = &problem.model;
+        let n = model.node_count();
+        let prescribed = problem.constraint_map();
+        let inverse_mass = (0..n)
+            .map(|i| {
+                if prescribed[i].iter().any(Option::is_some) {
+                    0.0
+                } else {
+                    1.0 / model.mass[i]
+                }
+            })
+            .collect();
+        Self {
+            phase: crate::contact::ContactPhase::new(model, problem.contact.clone()),
+            inverse_mass,
+            beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
+            x0: vec![Vector3::zeros(); n],
+            x1: vec![Vector3::zeros(); n],
+            predicted: vec![Vector3::zeros(); n],
+            force: vec![Vector3::zeros(); n],
+            position_surplus: vec![Vector3::zeros(); n],
+        }
+    }
+
+    /// Corrects the predicted velocities `v_next` (and records forces) so that the positions
+    /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
+    fn correct(
+        &mut self,
+        model: &crate::model::Model,
+        dt: f64,
+        u: &[Vector3<f64>],
+        v_next: &mut [Vector3<f64>],
+    ) -> Vec<crate::contact::ContactStep> {
+        for i in 0..u.len() {
+            self.x0[i] = model.reference[i] + u[i];
+            self.x1[i] = self.x0[i] + v_next[i] * dt;
+        }
+        self.predicted.copy_from_slice(&self.x1);
+        let steps = self
+            .phase
+            .resolve(model, &self.inverse_mass, dt, &self.x0, &mut self.x1);
+        // gamma / beta with gamma = 1/2 (FORMULATION 4): 1 for beta_0 = 0.
+        let velocity_share = 0.5 / (self.beta_0 + 0.5);
+        for i in 0..u.len() {
+            let dx = self.x1[i] - self.predicted[i];
+            let dv = dx * (velocity_share / dt);
+            v_next[i] += dv;
+            self.force[i] = dv * (model.mass[i] / dt);
+            self.position_surplus[i] = dx - dv * dt;
+        }
+        steps
     }
 }
 

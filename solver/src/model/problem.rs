@@ -33,6 +33,8 @@ pub struct Problem {
     /// Initial velocity of every node (m/s).
     pub initial_velocity: Vec<Vector3<f64>>,
     pub probes: Vec<Probe>,
+    /// Pairs of bodies that may touch.
+    pub contact: Vec<crate::contact::ContactPair>,
 }
 
 impl Problem {
@@ -46,6 +48,7 @@ impl Problem {
             gravity: None,
             initial_velocity: vec![Vector3::zeros(); n],
             probes: Vec::new(),
+            contact: Vec::new(),
         }
     }
 

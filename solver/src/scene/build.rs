@@ -223,6 +223,39 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             quantity: p.quantity,
         });
     }
+    let mut contact = Vec::new();
+    for c in &scene.contact {
+        let entity = format!("contact `{}`", c.name);
+        let index = |name: &str| {
+            problem
+                .model
+                .body_index(name)
+                .ok_or_else(|| invalid(&entity, format!("no body named `{name}`")))
+        };
+        let bodies = [index(&c.bodies[0])?, index(&c.bodies[1])?];
+        if bodies[0] == bodies[1] {
+            return Err(invalid(
+                &entity,
+                "a pair needs two different bodies (self-contact is not supported)",
+            ));
+        }
+        if !(c.friction >= 0.0) || !(c.beta_0 >= 0.0) {
+            return Err(invalid(&entity, "friction and beta_0 must not be negative"));
+        }
+        contact.push(crate::contact::ContactPair {
+            name: c.name.clone(),
+            bodies,
+            friction: c.friction,
+            beta_0: c.beta_0,
+            solver: crate::contact::gauss_seidel::GaussSeidelSettings {
+                tolerance: c.tolerance,
+                max_iterations: c.max_iterations,
+            },
+            detection_tolerance: 1e-9,
+            two_pass: c.two_pass,
+        });
+    }
+    problem.contact = contact;
     problem.constraints = constraints;
     problem.loads = loads;
     problem.probes = probes;

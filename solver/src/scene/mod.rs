@@ -35,7 +35,40 @@ pub struct Scene {
     pub gravity: Option<[f64; 3]>,
     #[serde(default)]
     pub probes: Vec<ProbeSpec>,
+    /// Pairs of bodies that may touch (thesis chapters 6 and 7).
+    #[serde(default)]
+    pub contact: Vec<ContactSpec>,
     pub analysis: Analysis,
+}
+
+/// A contact pair as written in a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub name: String,
+    pub bodies: [String; 2],
+    /// Coulomb coefficient; `.inf` sticks.
+    #[serde(default)]
+    pub friction: f64,
+    /// High-frequency damping of the beta-2 corrections (the thesis uses 0.45).
+    #[serde(default)]
+    pub beta_0: f64,
+    #[serde(default = "default_gs_tolerance")]
+    pub tolerance: f64,
+    #[serde(default = "default_gs_iterations")]
+    pub max_iterations: usize,
+    #[serde(default = "default_true")]
+    pub two_pass: bool,
+}
+
+fn default_gs_tolerance() -> f64 {
+    1e-10
+}
+fn default_gs_iterations() -> usize {
+    500
+}
+fn default_true() -> bool {
+    true
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
