@@ -68,6 +68,12 @@ pub enum Measure {
     EnergyBalanceError,
     /// Largest |K - K_0| / K_0 over the history: the drift of the kinetic energy.
     KineticEnergyDrift,
+    /// Largest |column(t) - column(0)| over the history, divided by `scale` (for example the
+    /// drift of the total momentum over one body's initial momentum).
+    MaxChange { column: String, scale: f64 },
+    /// (kinetic + stored energy) at the end over the initial kinetic energy: the energy left in
+    /// the bodies after an impact, elastic vibration included.
+    FinalEnergyRatio,
     /// Largest |field - exact| over the nodes, over the largest |exact|, for the exact field
     /// `scale (translation + gradient (X - center))`, where `scale` is the final time for an
     /// explicit displacement (constant velocity field) and 1 otherwise.
@@ -222,6 +228,14 @@ impl Measure {
                     return Err("the initial kinetic energy is zero".into());
                 }
                 k.iter().map(|x| (x - k0).abs() / k0).fold(0.0, f64::max)
+            }
+            Measure::MaxChange { column: c, scale } => {
+                let y = column(c)?;
+                y.iter().map(|x| (x - y[0]).abs()).fold(0.0, f64::max) / scale
+            }
+            Measure::FinalEnergyRatio => {
+                let (k, w) = (column("kinetic")?, column("stored_energy")?);
+                (k[k.len() - 1] + w[w.len() - 1]) / k[0]
             }
             Measure::AffineFieldError {
                 quantity,

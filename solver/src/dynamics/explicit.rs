@@ -533,6 +533,9 @@ impl<'p> ExplicitSolver<'p> {
             "contact_work",
             "energy_error",
             "energy_error_relative",
+            "momentum_x",
+            "momentum_y",
+            "momentum_z",
         ]
         .map(String::from)
         .to_vec();
@@ -572,6 +575,12 @@ impl<'p> ExplicitSolver<'p> {
             e.balance_error(),
             e.relative_error(),
         ];
+        let momentum = self
+            .v_full
+            .iter()
+            .zip(&model.mass)
+            .fold(Vector3::zeros(), |acc, (v, m)| acc + v * *m);
+        row.extend(momentum.iter());
         for p in &self.problem.probes {
             let field = match p.quantity {
                 ProbeQuantity::Displacement => &self.u,

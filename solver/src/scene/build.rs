@@ -60,6 +60,25 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             }
             MeshSource::Gmsh(path) => read_msh(path)?,
         };
+        let mut mesh = mesh;
+        if let Some(t) = &body.transform {
+            let rotation = match t.rotation_axis {
+                Some(axis) => {
+                    let axis = Unit::try_new(Vector3::from(axis), 1e-300).ok_or_else(|| {
+                        invalid(
+                            format!("body `{}` transform", body.name),
+                            "rotation axis must not be zero",
+                        )
+                    })?;
+                    nalgebra::Rotation3::from_axis_angle(&axis, t.rotation_angle)
+                }
+                None => nalgebra::Rotation3::identity(),
+            };
+            let shift = Vector3::from(t.translation);
+            for x in &mut mesh.nodes {
+                *x = rotation * *x + shift;
+            }
+        }
         bodies.push((body.name.clone(), mesh, body.material));
     }
     let meshes: Vec<Mesh> = bodies.iter().map(|(_, m, _)| m.clone()).collect();

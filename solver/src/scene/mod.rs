@@ -79,6 +79,23 @@ pub struct BodySpec {
     pub material: MaterialModel,
     #[serde(default)]
     pub initial_velocity: Option<InitialVelocity>,
+    /// Rigid placement of the mesh: rotated about an axis through the origin, then translated.
+    #[serde(default)]
+    pub transform: Option<Transform>,
+}
+
+/// A rigid transform of a mesh (a rotation keeps every element's orientation; a mirror would
+/// turn them inside out, so there is none).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    #[serde(default)]
+    pub rotation_axis: Option<[f64; 3]>,
+    /// Radians.
+    #[serde(default)]
+    pub rotation_angle: f64,
+    #[serde(default)]
+    pub translation: [f64; 3],
 }
 
 /// Where a body's mesh comes from.
