@@ -1,11 +1,8 @@
 //! Two identical elastic bars meeting head-on: by one-dimensional wave theory they stay in
 //! contact for `2 L / c` and separate with their velocities exchanged (e.g. Graff, *Wave
-//! Motion in Elastic Solids*, 1975, 2.5). A first whole-run check of contact detection and the
+//! Motion in Elastic Solids*, 1975, 2.5). A whole-run check of contact detection and the
 //! Gauss-Seidel correction inside the explicit step.
 
-mod common;
-
-use common::*;
 use impact_solver::contact::gauss_seidel::GaussSeidelSettings;
 use impact_solver::contact::ContactPair;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
@@ -14,29 +11,34 @@ use impact_solver::mesh::{box_mesh, BoxSpec};
 use impact_solver::model::{Model, Problem};
 use nalgebra::Vector3;
 
-#[test]
-fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
-    let soft = IsotropicElastic {
-        density: 1000.0,
-        youngs_modulus: 1e9,
-        poisson_ratio: 0.0,
-    };
-    let (length, width, gap, v) = (0.5, 0.04, 2e-4, 1.0);
+/// With nu = 0 a bar of any section carries the one-dimensional wave at sqrt(E/rho).
+const SOFT: IsotropicElastic = IsotropicElastic {
+    density: 1000.0,
+    youngs_modulus: 1e9,
+    poisson_ratio: 0.0,
+};
+const LENGTH: f64 = 0.5;
+const WIDTH: f64 = 0.04;
+const GAP: f64 = 2e-4;
+const SPEED: f64 = 1.0;
+
+/// Two bars along x, `GAP` apart, moving towards each other at `SPEED`.
+fn bars() -> Problem {
     let bar = |x0: f64| {
         box_mesh(&BoxSpec {
             origin: [x0, 0.0, 0.0],
-            size: [length, width, width],
+            size: [LENGTH, WIDTH, WIDTH],
             divisions: [40, 2, 2],
         })
     };
-    let m = MaterialModel::LinearElastic(soft);
+    let m = MaterialModel::LinearElastic(SOFT);
     let model = Model::new(vec![
         ("left".into(), bar(0.0), m),
-        ("right".into(), bar(length + gap), m),
+        ("right".into(), bar(LENGTH + GAP), m),
     ])
     .unwrap();
     let mut p = Problem::new(model);
-    for (b, velocity) in [(0, v), (1, -v)] {
+    for (b, velocity) in [(0, SPEED), (1, -SPEED)] {
         for n in p.model.bodies[b].nodes.clone() {
             p.initial_velocity[n] = Vector3::new(velocity, 0.0, 0.0);
         }
@@ -50,14 +52,23 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
         detection_tolerance: 1e-9,
         two_pass: true,
     });
-    // With nu = 0 a bar of any section carries the one-dimensional wave at sqrt(E/rho).
-    let c = (soft.youngs_modulus / soft.density).sqrt();
-    let contact_time = 2.0 * length / c;
-    let end = gap / (2.0 * v) + 1.5 * contact_time;
-    let mut settings = ExplicitSettings::new(end);
-    settings.safety = 0.6;
-    settings.history_interval = Some(0.0);
-    let mut solver = ExplicitSolver::new(&p, settings, OutputSettings::default()).unwrap();
+    p
+}
+
+fn settings(end: f64) -> ExplicitSettings {
+    let mut s = ExplicitSettings::new(end);
+    s.safety = 0.6;
+    s.history_interval = Some(0.0);
+    s
+}
+
+#[test]
+fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
+    let p = bars();
+    let c = (SOFT.youngs_modulus / SOFT.density).sqrt();
+    let contact_time = 2.0 * LENGTH / c;
+    let end = GAP / (2.0 * SPEED) + 1.5 * contact_time;
+    let mut solver = ExplicitSolver::new(&p, settings(end), OutputSettings::default()).unwrap();
     let summary = solver.run(&mut |_| {}).unwrap();
     let h = &summary.history;
     let (t, force, unresolved) = (
@@ -72,7 +83,7 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
         .filter(|&i| force[i] > 0.5 * peak)
         .map(|i| t[i] - t[i - 1])
         .sum();
-    let expected_force = soft.density * c * v * width * width;
+    let expected_force = SOFT.density * c * SPEED * WIDTH * WIDTH;
     eprintln!("contact force plateau {peak:.1} N (rho c v A = {expected_force:.1} N); duration {duration:.4e} s against 2L/c = {contact_time:.4e} s");
     assert!(
         (duration - contact_time).abs() < 0.03 * contact_time,
@@ -87,8 +98,8 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
         0.0,
         "every penetration was assigned a face"
     );
-    // Momentum: zero in total at every step, to round-off.
-    let mass: Vec<f64> = p.model.mass.clone();
+    // Momentum: zero in total, to round-off.
+    let mass = &p.model.mass;
     let body_momentum = |b: usize| {
         p.model.bodies[b]
             .nodes
@@ -105,7 +116,7 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
     };
     let (pl, pr) = (body_momentum(0), body_momentum(1));
     assert!(
-        (pl + pr).abs() < 1e-10 * body_mass(0) * v,
+        (pl + pr).abs() < 1e-10 * body_mass(0) * SPEED,
         "total momentum {:e}",
         pl + pr
     );
@@ -113,19 +124,20 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
     let (vl, vr) = (pl / body_mass(0), pr / body_mass(1));
     eprintln!("mean velocities after contact: left {vl:.4}, right {vr:.4} m/s");
     assert!(
-        (vl + v).abs() < 0.05 * v && (vr - v).abs() < 0.05 * v,
+        (vl + SPEED).abs() < 0.05 * SPEED && (vr - SPEED).abs() < 0.05 * SPEED,
         "left {vl}, right {vr}"
     );
     // No interpenetration at the end, and the energy is kept.
+    let x = |n: usize| p.model.reference[n].x + solver.u[n].x;
     let right_min = p.model.bodies[1]
         .nodes
         .clone()
-        .map(|n| p.model.reference[n].x + solver.u[n].x)
+        .map(x)
         .fold(f64::INFINITY, f64::min);
     let left_max = p.model.bodies[0]
         .nodes
         .clone()
-        .map(|n| p.model.reference[n].x + solver.u[n].x)
+        .map(x)
         .fold(f64::NEG_INFINITY, f64::max);
     assert!(
         right_min >= left_max - 1e-9,
@@ -143,4 +155,28 @@ fn bars_exchange_velocities_after_contact_of_duration_2l_over_c() {
         "energy balance error {:e}",
         summary.max_relative_energy_error
     );
+}
+
+#[test]
+fn contact_runs_are_bitwise_identical_on_one_and_two_threads() {
+    let p = bars();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut solver =
+                ExplicitSolver::new(&p, settings(1e-3), OutputSettings::default()).unwrap();
+            let summary = solver.run(&mut |_| {}).unwrap();
+            let mut bits: Vec<u64> = solver
+                .u
+                .iter()
+                .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                .collect();
+            bits.extend(summary.history.rows().iter().flatten().map(|x| x.to_bits()));
+            bits
+        })
+    };
+    assert_eq!(run(1), run(2));
 }
