@@ -74,6 +74,14 @@ pub enum Measure {
     /// (kinetic + stored energy) at the end over the initial kinetic energy: the energy left in
     /// the bodies after an impact, elastic vibration included.
     FinalEnergyRatio,
+    /// |omega| of a body at the end, from its angular momentum about its centre of mass and its
+    /// inertia tensor in the current configuration (`omega = I^-1 L`), times `scale` (for
+    /// example `R / v` to make it dimensionless).
+    BodySpin {
+        body: String,
+        #[serde(default = "one")]
+        scale: f64,
+    },
     /// Largest |field - exact| over the nodes, over the largest |exact|, for the exact field
     /// `scale (translation + gradient (X - center))`, where `scale` is the final time for an
     /// explicit displacement (constant velocity field) and 1 otherwise.
@@ -236,6 +244,38 @@ impl Measure {
             Measure::FinalEnergyRatio => {
                 let (k, w) = (column("kinetic")?, column("stored_energy")?);
                 (k[k.len() - 1] + w[w.len() - 1]) / k[0]
+            }
+            Measure::BodySpin { body, scale } => {
+                let b = problem
+                    .model
+                    .body_index(body)
+                    .ok_or_else(|| format!("no body named `{body}`"))?;
+                let v = run.v.as_ref().ok_or("needs an explicit run")?;
+                let nodes = problem.model.bodies[b].nodes.clone();
+                let (mass, x) = (&problem.model.mass, |n: usize| {
+                    problem.model.reference[n] + run.u[n]
+                });
+                let total: f64 = nodes.clone().map(|n| mass[n]).sum();
+                let center = nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |a, n| a + x(n) * mass[n])
+                    / total;
+                let v_center = nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |a, n| a + v[n] * mass[n])
+                    / total;
+                let (mut l, mut inertia) = (Vector3::zeros(), Matrix3::zeros());
+                for n in nodes {
+                    let r = x(n) - center;
+                    l += r.cross(&(v[n] - v_center)) * mass[n];
+                    inertia +=
+                        (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * mass[n];
+                }
+                let omega = inertia
+                    .try_inverse()
+                    .ok_or("the body's inertia tensor is singular")?
+                    * l;
+                omega.norm() * scale
             }
             Measure::AffineFieldError {
                 quantity,
