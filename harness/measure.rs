@@ -440,12 +440,8 @@ fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
 
 fn boundary_node_flags(problem: &Problem) -> Vec<bool> {
     let mut flags = vec![false; problem.model.node_count()];
-    let mesh_like = impact_solver::mesh::Mesh {
-        nodes: problem.model.reference.clone(),
-        tets: problem.model.tets.clone(),
-        ..Default::default()
-    };
-    for f in impact_solver::mesh::boundary_faces(&mesh_like) {
+    // Bodies share no nodes, so the faces of all elements at once are the bodies' boundaries.
+    for f in impact_solver::mesh::boundary_faces_of(&problem.model.tets) {
         for n in f.nodes {
             flags[n as usize] = true;
         }

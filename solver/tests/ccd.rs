@@ -408,6 +408,14 @@ fn weights(rng: &mut SplitMix64) -> [f64; 3] {
 }
 
 /// Trajectories through given positions at time `tc`, with velocities `vel`.
+/// Face points `x[0..3]` and node `x[3]`, each moving by `d` over the step.
+fn displaced(x: [Vector3<f64>; 4], d: [Vector3<f64>; 4]) -> Query {
+    Query {
+        node: traj(x[3], x[3] + d[3]),
+        face: [0, 1, 2].map(|k| traj(x[k], x[k] + d[k])),
+    }
+}
+
 fn through(x: [Vector3<f64>; 4], vel: [Vector3<f64>; 4], tc: f64) -> Query {
     let t = |x: Vector3<f64>, d: Vector3<f64>| traj(x - tc * d, x + (1.0 - tc) * d);
     Query {
@@ -441,14 +449,7 @@ fn random_query(rng: &mut SplitMix64, kind: usize) -> Query {
         0 => {
             let x = [0, 1, 2, 3].map(|_| uniform_vec(rng, 1.0));
             let d = [0, 1, 2, 3].map(|_| uniform_vec(rng, 1.0));
-            Query {
-                node: traj(x[3], x[3] + d[3]),
-                face: [
-                    traj(x[0], x[0] + d[0]),
-                    traj(x[1], x[1] + d[1]),
-                    traj(x[2], x[2] + d[2]),
-                ],
-            }
+            displaced(x, d)
         }
         // Coplanar at a chosen time, at chosen weights (often near an edge or vertex), with
         // independent random velocities of all four points.
@@ -526,14 +527,7 @@ fn random_query(rng: &mut SplitMix64, kind: usize) -> Query {
                 |rng: &mut SplitMix64| rng.uniform(-1.0, 1.0) * e1 + rng.uniform(-1.0, 1.0) * e2;
             let x = [0, 1, 2, 3].map(|_| origin + in_plane(rng));
             let d = [0, 1, 2, 3].map(|_| in_plane(rng));
-            Query {
-                node: traj(x[3], x[3] + d[3]),
-                face: [
-                    traj(x[0], x[0] + d[0]),
-                    traj(x[1], x[1] + d[1]),
-                    traj(x[2], x[2] + d[2]),
-                ],
-            }
+            displaced(x, d)
         }
         // Far from the origin (1e3 x the face size), coplanar at a chosen time.
         6 => {

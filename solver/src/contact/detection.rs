@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use super::broad_phase::{Aabb, UniformGrid};
 use super::ccd::{vertex_face_ccd, Trajectory};
 use super::gauss_seidel::ContactConstraint;
-use crate::mesh::TET_FACES;
+use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
 
 /// The contact surface of one body: its boundary faces (outward), boundary nodes and the
@@ -28,31 +28,9 @@ pub struct ContactSurface {
 impl ContactSurface {
     pub fn new(model: &Model, body: usize) -> Self {
         let range = model.bodies[body].elements.clone();
-        let mut count = std::collections::HashMap::new();
-        let key = |f: [u32; 3]| {
-            let mut k = f;
-            k.sort_unstable();
-            k
-        };
-        for e in range.clone() {
-            for face in TET_FACES {
-                *count
-                    .entry(key(face.map(|i| model.tets[e][i])))
-                    .or_insert(0u8) += 1;
-            }
-        }
-        let mut faces = Vec::new();
-        for e in range.clone() {
-            for face in TET_FACES {
-                let f = face.map(|i| model.tets[e][i]);
-                if count[&key(f)] == 1 {
-                    faces.push(f);
-                }
-            }
-        }
-        let mut nodes: Vec<u32> = faces.iter().flatten().copied().collect();
-        nodes.sort_unstable();
-        nodes.dedup();
+        let boundary = boundary_faces_of(&model.tets[range.clone()]);
+        let nodes = boundary_nodes(&boundary);
+        let faces = boundary.into_iter().map(|f| f.nodes).collect();
         let layer = range
             .filter(|&e| model.tets[e].iter().any(|n| nodes.binary_search(n).is_ok()))
             .map(|e| e as u32)

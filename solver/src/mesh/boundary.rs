@@ -18,19 +18,25 @@ pub struct BoundaryFace {
 
 /// Faces that belong to exactly one element, in element order (deterministic).
 pub fn boundary_faces(mesh: &Mesh) -> Vec<BoundaryFace> {
-    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.tets.len() * 2);
+    boundary_faces_of(&mesh.tets)
+}
+
+/// Boundary faces of the elements `tets` (a whole mesh, or one body's range of a model);
+/// `BoundaryFace::element` indexes `tets`.
+pub fn boundary_faces_of(tets: &[[u32; 4]]) -> Vec<BoundaryFace> {
+    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(tets.len() * 2);
     let key = |f: [u32; 3]| {
         let mut k = f;
         k.sort_unstable();
         k
     };
-    for tet in &mesh.tets {
+    for tet in tets {
         for face in TET_FACES {
             *count.entry(key(face.map(|i| tet[i]))).or_insert(0) += 1;
         }
     }
     let mut faces = Vec::new();
-    for (e, tet) in mesh.tets.iter().enumerate() {
+    for (e, tet) in tets.iter().enumerate() {
         for (k, face) in TET_FACES.iter().enumerate() {
             let nodes = face.map(|i| tet[i]);
             if count[&key(nodes)] == 1 {
