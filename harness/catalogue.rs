@@ -73,6 +73,20 @@ pub enum Sweep {
     Mesh(Vec<[usize; 3]>),
     /// Time step as a fraction of the stable estimate (runs above 1 are allowed on purpose).
     TimeStepFactor(Vec<f64>),
+    /// Gmsh files, coarse to fine, that replace the mesh of every body read from a Gmsh file;
+    /// the parameter is the element size each level states.
+    MeshFiles(Vec<MeshLevel>),
+}
+
+/// One level of a `mesh_files` sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshLevel {
+    /// Relative to the case file.
+    pub file: PathBuf,
+    /// The element size that characterises the level (m), for example the size where the
+    /// solution is resolved (the contact zone).
+    pub size: f64,
 }
 
 /// A named solver configuration: the analysis (integrator and its settings) that replaces the
@@ -155,12 +169,18 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
     let mut spec: CaseSpec = serde_norway::with::singleton_map_recursive::deserialize(de)
         .map_err(|e| fail(e.to_string()))?;
     let base = path.parent().unwrap_or(Path::new("."));
+    let resolve = |p: &mut PathBuf| {
+        if p.is_relative() {
+            *p = base.join(&*p);
+        }
+    };
     for body in &mut spec.scene.bodies {
         if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
-            if p.is_relative() {
-                *p = base.join(&*p);
-            }
+            resolve(p);
         }
+    }
+    if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {
+        levels.iter_mut().for_each(|l| resolve(&mut l.file));
     }
     if spec.metrics.is_empty() {
         return Err(fail(

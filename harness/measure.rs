@@ -71,6 +71,9 @@ pub enum Measure {
     /// Largest |column(t) - column(0)| over the history, divided by `scale` (for example the
     /// drift of the total momentum over one body's initial momentum).
     MaxChange { column: String, scale: f64 },
+    /// Largest |v(t) - v(0)| / |v(0)| of the vector whose components are `columns` (for
+    /// example the total angular momentum).
+    RelativeDrift { columns: [String; 3] },
     /// (kinetic + stored energy) at the end over the initial kinetic energy: the energy left in
     /// the bodies after an impact, elastic vibration included.
     FinalEnergyRatio,
@@ -240,6 +243,22 @@ impl Measure {
             Measure::MaxChange { column: c, scale } => {
                 let y = column(c)?;
                 y.iter().map(|x| (x - y[0]).abs()).fold(0.0, f64::max) / scale
+            }
+            Measure::RelativeDrift { columns } => {
+                let c = [
+                    column(&columns[0])?,
+                    column(&columns[1])?,
+                    column(&columns[2])?,
+                ];
+                let at = |i: usize| Vector3::new(c[0][i], c[1][i], c[2][i]);
+                let initial = at(0).norm();
+                if initial == 0.0 {
+                    return Err("the vector is zero at the start: no relative drift".into());
+                }
+                (0..c[0].len())
+                    .map(|i| (at(i) - at(0)).norm())
+                    .fold(0.0, f64::max)
+                    / initial
             }
             Measure::FinalEnergyRatio => {
                 let (k, w) = (column("kinetic")?, column("stored_energy")?);

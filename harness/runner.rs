@@ -137,7 +137,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
         result.message = Some(format!("the solver run failed: {e}"));
         return result;
     };
-    if matches!(spec.sweep, Some(Sweep::Mesh(_))) {
+    if matches!(spec.sweep, Some(Sweep::Mesh(_) | Sweep::MeshFiles(_))) {
         if let Some((i, e)) = runs
             .iter()
             .enumerate()
@@ -223,7 +223,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
             .collect();
         result.sweep = Some(SweepResult {
             parameter: match spec.sweep {
-                Some(Sweep::Mesh(_)) => "element size (m)".into(),
+                Some(Sweep::Mesh(_) | Sweep::MeshFiles(_)) => "element size (m)".into(),
                 _ => "time step / stable estimate".into(),
             },
             levels: sweep_levels,
@@ -266,6 +266,23 @@ fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)
                 };
                 b.divisions = *d;
                 Ok((b.size[0] / d[0] as f64, s))
+            })
+            .collect(),
+        Some(Sweep::MeshFiles(levels)) => levels
+            .iter()
+            .map(|level| {
+                let mut s = scene.clone();
+                let mut replaced = 0;
+                for body in &mut s.bodies {
+                    if let MeshSource::Gmsh(p) = &mut body.mesh {
+                        p.clone_from(&level.file);
+                        replaced += 1;
+                    }
+                }
+                if replaced == 0 {
+                    return Err("a mesh_files sweep needs a body meshed from a Gmsh file".into());
+                }
+                Ok((level.size, s))
             })
             .collect(),
         Some(Sweep::TimeStepFactor(factors)) => {

@@ -51,6 +51,7 @@ fn bars() -> Problem {
         solver: GaussSeidelSettings::default(),
         detection_tolerance: 1e-9,
         two_pass: true,
+        normals: Default::default(),
     });
     p
 }

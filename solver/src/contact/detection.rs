@@ -12,6 +12,7 @@ use nalgebra::Vector3;
 use super::broad_phase::{Aabb, UniformGrid};
 use super::ccd::{vertex_face_ccd, Trajectory};
 use super::gauss_seidel::ContactConstraint;
+use super::normals::{contact_normal, facet_normals, NormalSettings};
 use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
 
@@ -21,8 +22,15 @@ use crate::model::Model;
 pub struct ContactSurface {
     pub body: usize,
     pub faces: Vec<[u32; 3]>,
+    /// Sorted boundary nodes.
     pub nodes: Vec<u32>,
     pub layer: Vec<u32>,
+    /// Each face's corners as indices into `nodes`.
+    corners: Vec<[u32; 3]>,
+    /// The faces around each boundary node: `node_faces[offsets[l]..offsets[l + 1]]` for
+    /// `nodes[l]`.
+    offsets: Vec<u32>,
+    node_faces: Vec<u32>,
 }
 
 impl ContactSurface {
@@ -30,17 +38,45 @@ impl ContactSurface {
         let range = model.bodies[body].elements.clone();
         let boundary = boundary_faces_of(&model.tets[range.clone()]);
         let nodes = boundary_nodes(&boundary);
-        let faces = boundary.into_iter().map(|f| f.nodes).collect();
+        let faces: Vec<[u32; 3]> = boundary.into_iter().map(|f| f.nodes).collect();
         let layer = range
             .filter(|&e| model.tets[e].iter().any(|n| nodes.binary_search(n).is_ok()))
             .map(|e| e as u32)
             .collect();
+        let corners: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|f: &[u32; 3]| f.map(|n| nodes.binary_search(&n).unwrap() as u32))
+            .collect();
+        let mut offsets = vec![0u32; nodes.len() + 1];
+        for c in corners.iter().flatten() {
+            offsets[*c as usize + 1] += 1;
+        }
+        for l in 0..nodes.len() {
+            offsets[l + 1] += offsets[l];
+        }
+        let mut fill = offsets.clone();
+        let mut node_faces = vec![0u32; offsets[nodes.len()] as usize];
+        for (f, c) in corners.iter().enumerate() {
+            for &l in c {
+                node_faces[fill[l as usize] as usize] = f as u32;
+                fill[l as usize] += 1;
+            }
+        }
         Self {
             body,
             faces,
             nodes,
             layer,
+            corners,
+            offsets,
+            node_faces,
         }
+    }
+
+    /// The faces that share corner `k` of face `face` (including `face`), in ascending order.
+    pub fn faces_at_corner(&self, face: usize, k: usize) -> &[u32] {
+        let l = self.corners[face][k] as usize;
+        &self.node_faces[self.offsets[l] as usize..self.offsets[l + 1] as usize]
     }
 }
 
@@ -78,6 +114,7 @@ pub struct DetectionSettings {
     pub tolerance: f64,
     /// Coulomb coefficient given to the constraints.
     pub friction: f64,
+    pub normals: NormalSettings,
 }
 
 /// Constraints of the slave surface's nodes against the master surface for one pass, from the
@@ -118,6 +155,7 @@ pub fn detect(
         .collect();
     let face_grid = UniformGrid::build(&swept_faces, typical);
     let (mut elements, mut faces) = (Vec::new(), Vec::new());
+    let mut facet: Option<Vec<Vector3<f64>>> = None;
     for &s in &slave.nodes {
         let p = x1[s as usize];
         if !master_box.overlaps(&Aabb { min: p, max: p }) {
@@ -153,11 +191,12 @@ pub fn detect(
         match resolved {
             Some((face, weights, counter)) => {
                 *counter += 1;
-                let [a, b, c] = face.map(|n| x1[n as usize]);
-                let normal = (b - a).cross(&(c - a)).normalize();
+                let facet = facet.get_or_insert_with(|| facet_normals(master, x1));
+                let normal =
+                    contact_normal(master, facet, face as usize, &weights, &settings.normals);
                 constraints.push(ContactConstraint {
                     slave: s,
-                    face,
+                    face: master.faces[face as usize],
                     weights,
                     normal,
                     friction: settings.friction,
@@ -177,8 +216,8 @@ fn earliest_ccd(
     x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     tolerance: f64,
-) -> Option<([u32; 3], [f64; 3])> {
-    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+) -> Option<(u32, [f64; 3])> {
+    let mut best: Option<(f64, u32, [f64; 3])> = None;
     for &i in candidates {
         let face = master.faces[i as usize];
         let traj = face.map(|n| Trajectory {
@@ -189,7 +228,7 @@ fn earliest_ccd(
             vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance.max(1e-12))
         {
             if best.is_none_or(|(t, _, _)| hit.t < t) {
-                best = Some((hit.t, face, hit.weights));
+                best = Some((hit.t, i, hit.weights));
             }
         }
     }
@@ -218,8 +257,8 @@ fn trajectory_intersection(
     node: &Trajectory,
     x1: &[Vector3<f64>],
     tolerance: f64,
-) -> Option<([u32; 3], [f64; 3])> {
-    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+) -> Option<(u32, [f64; 3])> {
+    let mut best: Option<(f64, u32, [f64; 3])> = None;
     let d = node.end - node.start;
     for &i in candidates {
         let face = master.faces[i as usize];
@@ -235,7 +274,7 @@ fn trajectory_intersection(
         }
         let w = triangle_weights(&(node.start + d * s), &a, &b, &c);
         if w.iter().all(|&x| x >= -tolerance) && best.is_none_or(|(t, _, _)| s < t) {
-            best = Some((s, face, w));
+            best = Some((s, i, w));
         }
     }
     best.map(|(_, f, w)| (f, w))
@@ -248,8 +287,8 @@ fn closest_point(
     candidates: &[u32],
     p: &Vector3<f64>,
     x1: &[Vector3<f64>],
-) -> Option<([u32; 3], [f64; 3])> {
-    let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+) -> Option<(u32, [f64; 3])> {
+    let mut best: Option<(f64, u32, [f64; 3])> = None;
     for &i in candidates {
         let face = master.faces[i as usize];
         let [a, b, c] = face.map(|n| x1[n as usize]);
@@ -259,7 +298,7 @@ fn closest_point(
         let q = a * w[0] + b * w[1] + c * w[2];
         let d = (q - p).norm();
         if best.is_none_or(|(bd, _, _)| d < bd) {
-            best = Some((d, face, w));
+            best = Some((d, i, w));
         }
     }
     best.map(|(_, f, w)| (f, w))
@@ -317,6 +356,7 @@ mod tests {
         let settings = DetectionSettings {
             tolerance: 1e-9,
             friction: 0.0,
+            normals: NormalSettings::default(),
         };
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         let bottom = model.bodies[1]
@@ -382,6 +422,7 @@ mod tests {
             &DetectionSettings {
                 tolerance: 1e-9,
                 friction: 0.0,
+                normals: NormalSettings::default(),
             },
         );
         assert!(c.is_empty());

@@ -4,12 +4,14 @@ pub mod broad_phase;
 pub mod ccd;
 pub mod detection;
 pub mod gauss_seidel;
+pub mod normals;
 
 use nalgebra::Vector3;
 
 use crate::model::Model;
 use detection::{detect, ContactSurface, DetectionSettings, DetectionStats};
 use gauss_seidel::{gauss_seidel, GaussSeidelSettings};
+use normals::NormalSettings;
 
 /// Two bodies that may touch, and how their contact is solved (FORMULATION section 4).
 #[derive(Debug, Clone, PartialEq)]
@@ -25,6 +27,7 @@ pub struct ContactPair {
     pub detection_tolerance: f64,
     /// Repeat detection and resolution with the slave and master roles swapped (7.2).
     pub two_pass: bool,
+    pub normals: NormalSettings,
 }
 
 /// What the contact phase did in one step, per pair.
@@ -38,6 +41,8 @@ pub struct ContactStep {
     pub normal_force: f64,
     /// Sum of the magnitudes of the tangential components (N).
     pub tangential_force: f64,
+    /// Contacts whose force lies on the Coulomb cone (sliding).
+    pub sliding: usize,
 }
 
 /// The contact phase of a run: the pairs with their surfaces, computed once.
@@ -58,6 +63,12 @@ impl ContactPhase {
 
     /// Detects and removes penetrations of the predicted positions `x1` (corrected in place)
     /// given the positions `x0` at the start of the step, pair by pair and pass by pass.
+    ///
+    /// `tangential` receives the part of the corrections made by the tangential (friction)
+    /// components of the contact forces, so friction work can be told from normal work; the
+    /// corrections are linear in the forces, so it is the correction of the final tangential
+    /// forces. Forces in the returned records are the physical ones, `gamma r` with
+    /// `gamma = 1/2`: the momentum a multiplier `r` gives per step is `gamma dt r`.
     pub fn resolve(
         &self,
         model: &Model,
@@ -65,7 +76,9 @@ impl ContactPhase {
         dt: f64,
         x0: &[Vector3<f64>],
         x1: &mut [Vector3<f64>],
+        tangential: &mut [Vector3<f64>],
     ) -> Vec<ContactStep> {
+        const GAMMA: f64 = 0.5;
         self.pairs
             .iter()
             .zip(&self.surfaces)
@@ -77,6 +90,7 @@ impl ContactPhase {
                 let settings = DetectionSettings {
                     tolerance: pair.detection_tolerance,
                     friction: pair.friction,
+                    normals: pair.normals,
                 };
                 let passes: &[(&ContactSurface, &ContactSurface)] = if pair.two_pass {
                     &[(a, b), (b, a)]
@@ -99,8 +113,15 @@ impl ContactPhase {
                         if *r != Vector3::zeros() {
                             step.active += 1;
                             let rn = r.dot(&c.normal);
-                            step.normal_force += rn;
-                            step.tangential_force += (r - c.normal * rn).norm();
+                            let rt = r - c.normal * rn;
+                            step.normal_force += GAMMA * rn;
+                            step.tangential_force += GAMMA * rt.norm();
+                            step.sliding += usize::from(
+                                c.friction.is_finite()
+                                    && rt.norm() >= c.friction * rn * (1.0 - 1e-12)
+                                    && c.friction > 0.0,
+                            );
+                            c.apply(&rt, inverse_mass, beta_dt2, tangential);
                         }
                     }
                 }

@@ -18,16 +18,23 @@ pub struct EnergyLedger {
     pub external_work: f64,
     /// Work dissipated by mass-proportional damping.
     pub damping_work: f64,
-    /// Energy taken out of the bodies by contact forces (minus their work on the nodes):
-    /// near zero for exactly enforced frictionless contact, positive with friction or with the
+    /// Energy taken out of the bodies by the normal components of the contact forces (minus
+    /// their work on the nodes): near zero for exactly enforced contact, positive with the
     /// high-frequency damping of `beta_0 > 0`.
     pub contact_work: f64,
+    /// Energy taken out by the tangential (friction) components: never negative for Coulomb
+    /// friction, which opposes slip (FORMULATION section 3).
+    pub friction_work: f64,
 }
 
 impl EnergyLedger {
-    /// `K + W_int + W_damp + W_contact - W_ext - K_0`: zero for an exact balance.
+    /// `K + W_int + W_damp + W_contact + W_friction - W_ext - K_0`: zero for an exact balance.
     pub fn balance_error(&self) -> f64 {
-        self.kinetic + self.internal_work + self.damping_work + self.contact_work
+        self.kinetic
+            + self.internal_work
+            + self.damping_work
+            + self.contact_work
+            + self.friction_work
             - self.external_work
             - self.initial_kinetic
     }

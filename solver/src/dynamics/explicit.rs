@@ -466,10 +466,11 @@ impl<'p> ExplicitSolver<'p> {
             }
             // Contact moves a node by dx = beta dt^2 r / m but changes its velocity by
             // gamma dt r / m (beta-2 scheme): with beta_0 > 0 the position keeps the surplus.
-            let (f_contact, dx_extra) = match &self.contact {
-                Some(c) => (c.force[i], c.position_surplus[i]),
-                None => (Vector3::zeros(), Vector3::zeros()),
+            let (f_contact, f_friction, dx_extra) = match &self.contact {
+                Some(c) => (c.force[i], c.friction_force[i], c.position_surplus[i]),
+                None => (Vector3::zeros(), Vector3::zeros(), Vector3::zeros()),
             };
+            let f_normal = f_contact - f_friction;
             let du = dt * v_new + dx_extra;
             moved_too_far |= du.norm() > eta * self.node_length[i];
             let du_old = self.du_prev[i];
@@ -487,8 +488,10 @@ impl<'p> ExplicitSolver<'p> {
             closing.internal_work += 0.5 * f_int.dot(&du_old);
             closing.external_work += 0.5 * f_out.dot(&du_old);
             closing.damping_work += 0.5 * damping.dot(&du_old);
-            closing.contact_work -= 0.5 * f_contact.dot(&du_old);
-            pending.contact_work -= 0.5 * f_contact.dot(&du);
+            closing.contact_work -= 0.5 * f_normal.dot(&du_old);
+            pending.contact_work -= 0.5 * f_normal.dot(&du);
+            closing.friction_work -= 0.5 * f_friction.dot(&du_old);
+            pending.friction_work -= 0.5 * f_friction.dot(&du);
             pending.internal_work += 0.5 * f_int.dot(&du);
             pending.external_work += 0.5 * f_out.dot(&du);
             pending.damping_work += 0.5 * damping.dot(&du);
@@ -508,6 +511,7 @@ impl<'p> ExplicitSolver<'p> {
         self.energies.external_work += self.pending.external_work + closing.external_work;
         self.energies.damping_work += self.pending.damping_work + closing.damping_work;
         self.energies.contact_work += self.pending.contact_work + closing.contact_work;
+        self.energies.friction_work += self.pending.friction_work + closing.friction_work;
         self.pending = pending;
         std::mem::swap(&mut self.v_half, &mut self.v_next);
         Ok(moved_too_far)
@@ -531,11 +535,15 @@ impl<'p> ExplicitSolver<'p> {
             "external_work",
             "damping_work",
             "contact_work",
+            "friction_work",
             "energy_error",
             "energy_error_relative",
             "momentum_x",
             "momentum_y",
             "momentum_z",
+            "angular_momentum_x",
+            "angular_momentum_y",
+            "angular_momentum_z",
         ]
         .map(String::from)
         .to_vec();
@@ -551,7 +559,10 @@ impl<'p> ExplicitSolver<'p> {
                     "force_x",
                     "force_y",
                     "force_z",
+                    "normal",
+                    "tangential",
                     "active",
+                    "sliding",
                     "iterations",
                     "unresolved",
                 ]
@@ -572,6 +583,7 @@ impl<'p> ExplicitSolver<'p> {
             e.external_work,
             e.damping_work,
             e.contact_work,
+            e.friction_work,
             e.balance_error(),
             e.relative_error(),
         ];
@@ -581,6 +593,12 @@ impl<'p> ExplicitSolver<'p> {
             .zip(&model.mass)
             .fold(Vector3::zeros(), |acc, (v, m)| acc + v * *m);
         row.extend(momentum.iter());
+        // About the origin, with the full-step velocity: the average of two values leapfrog
+        // keeps exactly for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
+        let angular = fixed_order_sum3(model.node_count(), |i| {
+            (model.reference[i] + self.u[i]).cross(&self.v_full[i]) * model.mass[i]
+        });
+        row.extend(angular.iter());
         for p in &self.problem.probes {
             let field = match p.quantity {
                 ProbeQuantity::Displacement => &self.u,
@@ -617,7 +635,14 @@ impl<'p> ExplicitSolver<'p> {
                 None => Vector3::zeros(),
             };
             row.extend(force.iter());
-            row.extend([s.active as f64, s.iterations as f64, s.unresolved as f64]);
+            row.extend([
+                s.normal_force,
+                s.tangential_force,
+                s.active as f64,
+                s.sliding as f64,
+                s.iterations as f64,
+                s.unresolved as f64,
+            ]);
         }
         row
     }
@@ -716,6 +741,10 @@ struct ContactScratch {
     predicted: Vec<Vector3<f64>>,
     /// Contact force on each node over the step, `m dv / dt` (N).
     force: Vec<Vector3<f64>>,
+    /// Position corrections made by the tangential parts of the contact forces.
+    tangential_dx: Vec<Vector3<f64>>,
+    /// The friction part of `force` (N).
+    friction_force: Vec<Vector3<f64>>,
     /// `dx - dt dv` of the beta-2 corrections (zero for `beta_0 = 0`).
     position_surplus: Vec<Vector3<f64>>,
 }
@@ -742,6 +771,8 @@ impl ContactScratch {
             x1: vec![Vector3::zeros(); n],
             predicted: vec![Vector3::zeros(); n],
             force: vec![Vector3::zeros(); n],
+            tangential_dx: vec![Vector3::zeros(); n],
+            friction_force: vec![Vector3::zeros(); n],
             position_surplus: vec![Vector3::zeros(); n],
         }
     }
@@ -760,9 +791,15 @@ impl ContactScratch {
             self.x1[i] = self.x0[i] + v_next[i] * dt;
         }
         self.predicted.copy_from_slice(&self.x1);
-        let steps = self
-            .phase
-            .resolve(model, &self.inverse_mass, dt, &self.x0, &mut self.x1);
+        self.tangential_dx.fill(Vector3::zeros());
+        let steps = self.phase.resolve(
+            model,
+            &self.inverse_mass,
+            dt,
+            &self.x0,
+            &mut self.x1,
+            &mut self.tangential_dx,
+        );
         // gamma / beta with gamma = 1/2 (FORMULATION 4): 1 for beta_0 = 0.
         let velocity_share = 0.5 / (self.beta_0 + 0.5);
         for i in 0..u.len() {
@@ -770,6 +807,8 @@ impl ContactScratch {
             let dv = dx * (velocity_share / dt);
             v_next[i] += dv;
             self.force[i] = dv * (model.mass[i] / dt);
+            self.friction_force[i] =
+                self.tangential_dx[i] * (velocity_share / dt * model.mass[i] / dt);
             self.position_surplus[i] = dx - dv * dt;
         }
         steps
@@ -779,4 +818,9 @@ impl ContactScratch {
 /// Sum of `term(i)` for `i < n` in index order, so the result does not depend on threads.
 pub(crate) fn fixed_order_sum(n: usize, term: impl Fn(usize) -> f64) -> f64 {
     (0..n).map(term).sum()
+}
+
+/// [`fixed_order_sum`] of vectors.
+fn fixed_order_sum3(n: usize, term: impl Fn(usize) -> Vector3<f64>) -> Vector3<f64> {
+    (0..n).map(term).fold(Vector3::zeros(), |a, b| a + b)
 }

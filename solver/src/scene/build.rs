@@ -261,6 +261,15 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
         if !(c.friction >= 0.0) || !(c.beta_0 >= 0.0) {
             return Err(invalid(&entity, "friction and beta_0 must not be negative"));
         }
+        if !(0.0..=180.0).contains(&c.crease_angle) {
+            return Err(invalid(
+                &entity,
+                format!(
+                    "crease_angle {} is not an angle in degrees between 0 and 180",
+                    c.crease_angle
+                ),
+            ));
+        }
         contact.push(crate::contact::ContactPair {
             name: c.name.clone(),
             bodies,
@@ -272,6 +281,10 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             },
             detection_tolerance: 1e-9,
             two_pass: c.two_pass,
+            normals: crate::contact::normals::NormalSettings {
+                kind: c.normals,
+                crease_angle: c.crease_angle.to_radians(),
+            },
         });
     }
     problem.contact = contact;

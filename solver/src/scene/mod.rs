@@ -59,6 +59,16 @@ pub struct ContactSpec {
     pub max_iterations: usize,
     #[serde(default = "default_true")]
     pub two_pass: bool,
+    /// `smooth` (default): corner normals averaged over the facets within `crease_angle`
+    /// degrees, interpolated at the contact point; `facet`: the master facet's normal (thesis).
+    #[serde(default)]
+    pub normals: crate::contact::normals::NormalKind,
+    #[serde(default = "default_crease_angle")]
+    pub crease_angle: f64,
+}
+
+fn default_crease_angle() -> f64 {
+    30.0
 }
 
 fn default_gs_tolerance() -> f64 {
