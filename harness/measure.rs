@@ -48,7 +48,13 @@ pub enum Measure {
     /// Smallest value of a history column.
     HistoryMin { column: String },
     /// Last recorded value of a history column.
-    HistoryFinal { column: String },
+    /// Last recorded value of a history column, times `scale` (for example `-1 / area` to turn
+    /// a contact force into a compressive stress).
+    HistoryFinal {
+        column: String,
+        #[serde(default = "one")]
+        scale: f64,
+    },
     /// Time of the largest absolute value of a column.
     PeakTime { column: String },
     /// Total time during which the column exceeds `threshold`.
@@ -105,6 +111,13 @@ pub enum Measure {
     MaxStressOverModulus,
     /// Mean Cauchy stress component over the elements whose centroid lies in `[min, max]`.
     ElementStressMean {
+        component: TensorComponent,
+        min: [f64; 3],
+        max: [f64; 3],
+    },
+    /// `(max - min) / |mean|` of a Cauchy stress component over the elements whose centroid
+    /// lies in `[min, max]`: the scatter of a stress that should be uniform.
+    ElementStressScatter {
         component: TensorComponent,
         min: [f64; 3],
         max: [f64; 3],
@@ -182,7 +195,9 @@ impl Measure {
             Measure::HistoryMin { column: c } => {
                 column(c)?.into_iter().fold(f64::INFINITY, f64::min)
             }
-            Measure::HistoryFinal { column: c } => *column(c)?.last().ok_or("empty history")?,
+            Measure::HistoryFinal { column: c, scale } => {
+                column(c)?.last().ok_or("empty history")? * scale
+            }
             Measure::PeakTime { column: c } => {
                 let (t, y) = (time()?, column(c)?);
                 let i = (0..y.len())
@@ -371,24 +386,22 @@ impl Measure {
                 min,
                 max,
             } => {
-                let fields = problem.model.element_fields(&run.u);
-                let mut values = Vec::new();
-                for (e, tet) in problem.model.tets.iter().enumerate() {
-                    let centroid = tet
-                        .iter()
-                        .map(|&n| problem.model.reference[n as usize])
-                        .sum::<Vector3<f64>>()
-                        / 4.0;
-                    if (0..3).all(|a| centroid[a] >= min[a] && centroid[a] <= max[a]) {
-                        values.push(fields.cauchy[e][*component as usize]);
-                    }
-                }
-                if values.is_empty() {
-                    return Err(format!(
-                        "no element centroid lies in the box {min:?} - {max:?}"
-                    ));
-                }
+                let values = element_stress_in_box(problem, run, *component, min, max)?;
                 values.iter().sum::<f64>() / values.len() as f64
+            }
+            Measure::ElementStressScatter {
+                component,
+                min,
+                max,
+            } => {
+                let values = element_stress_in_box(problem, run, *component, min, max)?;
+                let mean = values.iter().sum::<f64>() / values.len() as f64;
+                let (lo, hi) = values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                        (lo.min(v), hi.max(v))
+                    });
+                (hi - lo) / mean.abs()
             }
             Measure::ElementStrainMean { component } => {
                 let fields = problem.model.element_fields(&run.u);
@@ -474,4 +487,36 @@ fn matrix_from_voigt(v: &[f64; 6]) -> Matrix3<f64> {
 
 fn max_abs(m: &Matrix3<f64>) -> f64 {
     m.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// One Cauchy stress component of every element whose reference centroid lies in `[min, max]`.
+fn element_stress_in_box(
+    problem: &Problem,
+    run: &Execution,
+    component: TensorComponent,
+    min: &[f64; 3],
+    max: &[f64; 3],
+) -> Result<Vec<f64>, String> {
+    let fields = problem.model.element_fields(&run.u);
+    let values: Vec<f64> = problem
+        .model
+        .tets
+        .iter()
+        .enumerate()
+        .filter(|(_, tet)| {
+            let centroid = tet
+                .iter()
+                .map(|&n| problem.model.reference[n as usize])
+                .sum::<Vector3<f64>>()
+                / 4.0;
+            (0..3).all(|a| centroid[a] >= min[a] && centroid[a] <= max[a])
+        })
+        .map(|(e, _)| fields.cauchy[e][component as usize])
+        .collect();
+    if values.is_empty() {
+        return Err(format!(
+            "no element centroid lies in the box {min:?} - {max:?}"
+        ));
+    }
+    Ok(values)
 }

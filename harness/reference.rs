@@ -61,6 +61,8 @@ pub enum SvkQuantity {
     E22,
     S11,
     P11,
+    /// Cauchy stress along the stretch.
+    Sigma11,
 }
 
 /// The material a formula is evaluated for: stated in the reference itself (the physical
@@ -93,6 +95,12 @@ pub enum Analytic {
         of: MaterialRef,
         stretch: f64,
         quantity: SvkQuantity,
+    },
+    /// Cauchy stress along the stretch of Saint-Venant-Kirchhoff in uniaxial strain (laterally
+    /// confined).
+    SvkUniaxialStrainStress {
+        of: MaterialRef,
+        stretch: f64,
     },
     CantileverFirstFrequency {
         of: MaterialRef,
@@ -180,9 +188,16 @@ impl Reference {
                             SvkQuantity::E22 => s.e22,
                             SvkQuantity::S11 => s.s11,
                             SvkQuantity::P11 => s.p11,
+                            SvkQuantity::Sigma11 => s.sigma11,
                         };
                         (v, format!("Saint-Venant-Kirchhoff uniaxial stress at stretch {stretch} (2.123)"))
                     }
+                    Analytic::SvkUniaxialStrainStress { of, stretch } => (
+                        svk_uniaxial_strain_stress(&body_constants(scene, of)?, *stretch),
+                        format!(
+                            "Saint-Venant-Kirchhoff uniaxial strain at stretch {stretch} (2.123)"
+                        ),
+                    ),
                     Analytic::CantileverFirstFrequency { of, length, depth } => (
                         cantilever_first_frequency(&body_constants(scene, of)?, *length, *depth),
                         "Euler-Bernoulli cantilever, beta L = 1.8751".into(),

@@ -43,22 +43,34 @@ pub fn plane_wave_stress(c: &IsotropicElastic, velocity: f64) -> f64 {
 
 /// Saint-Venant-Kirchhoff under uniaxial stress at axial stretch `l` (from (2.123) with
 /// `S22 = S33 = 0`): `E11 = (l^2 - 1)/2`, `E22 = E33 = -nu E11`, `S11 = E E11`,
-/// `P11 = l S11 = E l (l^2 - 1)/2`.
+/// `P11 = l S11 = E l (l^2 - 1)/2`, and the Cauchy stress `sigma11 = P11 l / J = P11 / l_t^2`
+/// with the lateral stretch `l_t = sqrt(1 + 2 E22)`.
 pub struct SvkUniaxial {
     pub e11: f64,
     pub e22: f64,
     pub s11: f64,
     pub p11: f64,
+    pub sigma11: f64,
 }
 
 pub fn svk_uniaxial(c: &IsotropicElastic, stretch: f64) -> SvkUniaxial {
     let e11 = 0.5 * (stretch * stretch - 1.0);
+    let e22 = -c.poisson_ratio * e11;
+    let p11 = c.youngs_modulus * stretch * e11;
     SvkUniaxial {
         e11,
-        e22: -c.poisson_ratio * e11,
+        e22,
         s11: c.youngs_modulus * e11,
-        p11: c.youngs_modulus * stretch * e11,
+        p11,
+        sigma11: p11 / (1.0 + 2.0 * e22),
     }
+}
+
+/// Saint-Venant-Kirchhoff in uniaxial strain `F = diag(1, 1, l)` (laterally confined): from
+/// (2.123), `E33 = (l^2 - 1)/2`, `S33 = (lambda + 2 mu) E33`, and the Cauchy stress
+/// `sigma33 = l^2 S33 / J = l S33`.
+pub fn svk_uniaxial_strain_stress(c: &IsotropicElastic, stretch: f64) -> f64 {
+    stretch * (c.lambda() + 2.0 * c.mu()) * 0.5 * (stretch * stretch - 1.0)
 }
 
 /// Cauchy stress of Saint-Venant-Kirchhoff at a homogeneous deformation gradient `F`:

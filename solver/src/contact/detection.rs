@@ -185,7 +185,7 @@ pub fn detect(
                     .map(|(f, w)| (f, w, &mut stats.by_trajectory))
             })
             .or_else(|| {
-                closest_point(master, &faces, &p, x1)
+                closest_point(master, &faces, &p, x1, typical)
                     .map(|(f, w)| (f, w, &mut stats.by_closest_point))
             });
         match resolved {
@@ -227,12 +227,31 @@ fn earliest_ccd(
         if let Some(hit) =
             vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance.max(1e-12))
         {
+            if !moves_into(node, &traj, &hit) {
+                continue;
+            }
             if best.is_none_or(|(t, _, _)| hit.t < t) {
                 best = Some((hit.t, i, hit.weights));
             }
         }
     }
     best.map(|(_, f, w)| (f, w))
+}
+
+/// Whether the node, at the contact `hit`, moves into the face relative to its contact point,
+/// `n(t) . (d_s - sum_c N_c d_c) < 0`, or does not move relative to it at all (resting). CCD is geometric and also reports a node that slides
+/// within the face's plane (a block's side face, when the node runs down that side) or leaves
+/// the face; neither crosses it, and taking such a face would push along a normal the motion does
+/// not need.
+fn moves_into(node: &Trajectory, face: &[Trajectory; 3], hit: &super::ccd::CcdHit) -> bool {
+    let at = |tr: &Trajectory| tr.start + (tr.end - tr.start) * hit.t;
+    let [a, b, c] = [at(&face[0]), at(&face[1]), at(&face[2])];
+    let normal = (b - a).cross(&(c - a));
+    let relative = (node.end - node.start)
+        - (0..3).fold(Vector3::zeros(), |sum, k| {
+            sum + (face[k].end - face[k].start) * hit.weights[k]
+        });
+    relative == Vector3::zeros() || normal.dot(&relative) < -1e-12 * normal.norm() * relative.norm()
 }
 
 /// Barycentric weights of the point of the triangle `(a, b, c)`'s plane nearest `p`.
@@ -281,14 +300,19 @@ fn trajectory_intersection(
 }
 
 /// The candidate face whose nearest point to `p` is closest (7.4.2), with the weights of that
-/// point clamped into the triangle.
+/// point clamped into the triangle. Faces within `reach` (the depth of the boundary layer,
+/// where global detection found the node) that the node lies behind (`n . (p - q) < 0`) come
+/// first: a node that went in near an edge also lies on the plane of the side face there, at
+/// distance zero, but it went in through the face it is behind.
 fn closest_point(
     master: &ContactSurface,
     candidates: &[u32],
     p: &Vector3<f64>,
     x1: &[Vector3<f64>],
+    reach: f64,
 ) -> Option<(u32, [f64; 3])> {
-    let mut best: Option<(f64, u32, [f64; 3])> = None;
+    // Key: (not behind, distance), compared lexicographically.
+    let mut best: Option<((bool, f64), u32, [f64; 3])> = None;
     for &i in candidates {
         let face = master.faces[i as usize];
         let [a, b, c] = face.map(|n| x1[n as usize]);
@@ -296,9 +320,12 @@ fn closest_point(
         let sum: f64 = w.iter().sum();
         w.iter_mut().for_each(|x| *x /= sum);
         let q = a * w[0] + b * w[1] + c * w[2];
-        let d = (q - p).norm();
-        if best.is_none_or(|(bd, _, _)| d < bd) {
-            best = Some((d, i, w));
+        let normal = (b - a).cross(&(c - a));
+        let behind = normal.dot(&(p - q)) < -1e-12 * normal.norm() * (p - q).norm();
+        let distance = (q - p).norm();
+        let key = (!(behind && distance <= reach), distance);
+        if best.is_none_or(|(k, _, _)| key.0 < k.0 || (key.0 == k.0 && key.1 < k.1)) {
+            best = Some((key, i, w));
         }
     }
     best.map(|(_, f, w)| (f, w))
@@ -402,6 +429,63 @@ mod tests {
                 assert!((c.normal + Vector3::z()).norm() < 1e-12, "node {x:?}");
                 assert!((c.gap(&x1) - Vector3::new(0.0, 0.0, -2e-3)).norm() < 1e-12);
             }
+        }
+    }
+
+    #[test]
+    fn nodes_on_the_rim_of_equal_blocks_go_through_the_top_face_not_the_side() {
+        // Same footprint, non-matching meshes: the upper block's rim nodes run down the lower
+        // block's side planes. CCD sees them coplanar with the side faces all step long; only
+        // the top face is crossed, and the closest point must not take a side face either.
+        let m = MaterialModel::LinearElastic(IsotropicElastic {
+            density: 1000.0,
+            youngs_modulus: 1e9,
+            poisson_ratio: 0.3,
+        });
+        let block = |z: f64, n: usize| {
+            box_mesh(&BoxSpec {
+                origin: [0.0, 0.0, z],
+                size: [1.0, 1.0, 0.5],
+                divisions: [n, n, 2],
+            })
+        };
+        let model = Model::new(vec![
+            ("lower".into(), block(0.0, 4), m),
+            ("upper".into(), block(0.5, 3), m),
+        ])
+        .unwrap();
+        let (lower, upper) = (
+            ContactSurface::new(&model, 0),
+            ContactSurface::new(&model, 1),
+        );
+        let x0 = model.reference.clone();
+        let mut x1 = x0.clone();
+        for n in model.bodies[1].nodes.clone() {
+            x1[n].z -= 2e-3;
+        }
+        let settings = DetectionSettings {
+            tolerance: 1e-9,
+            friction: 0.0,
+            normals: NormalSettings::default(),
+        };
+        let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
+        assert_eq!(constraints.len(), 16, "all 4 x 4 bottom nodes: {stats:?}");
+        assert_eq!(stats.unresolved, 0);
+        for c in &constraints {
+            assert!((c.normal - Vector3::z()).norm() < 1e-12, "{c:?}");
+        }
+        // Already inside at the start (no crossing in this step): the closest point takes the
+        // face the node is behind, the top face, not the side plane it lies on.
+        let x_inside: Vec<Vector3<f64>> = x1.clone();
+        let mut x2 = x_inside.clone();
+        for n in model.bodies[1].nodes.clone() {
+            x2[n].z -= 1e-4;
+        }
+        let (constraints, stats) = detect(&model, &upper, &lower, &x_inside, &x2, &settings);
+        assert_eq!(constraints.len(), 16, "{stats:?}");
+        assert_eq!(stats.by_closest_point, 16);
+        for c in &constraints {
+            assert!((c.normal - Vector3::z()).norm() < 1e-12, "{c:?}");
         }
     }
 

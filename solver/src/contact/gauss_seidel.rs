@@ -25,32 +25,52 @@ impl ContactConstraint {
         a * self.weights[0] + b * self.weights[1] + c * self.weights[2] - x[self.slave as usize]
     }
 
-    /// Diagonal Delassus block `w_ii = beta dt^2 (1/m_s + sum_c N_c^2 / m_c)`: a multiple of the
-    /// identity because the mass is lumped (thesis (6.71b)).
+    /// Diagonal Delassus block `w_ii = beta dt^2 (M_s^-1 + sum_c N_c^2 M_c^-1)` (thesis (6.71b)),
+    /// as its diagonal in global axes. The mass is lumped, so it is a multiple of the identity
+    /// unless a node has prescribed components: those have a zero inverse mass, because contact
+    /// cannot move them.
     #[inline]
-    pub fn delassus_diagonal(&self, inverse_mass: &[f64], beta_dt2: f64) -> f64 {
-        let face: f64 = (0..3)
-            .map(|k| self.weights[k].powi(2) * inverse_mass[self.face[k] as usize])
-            .sum();
-        beta_dt2 * (inverse_mass[self.slave as usize] + face)
+    pub fn delassus_diagonal(&self, inverse_mass: &[Vector3<f64>], beta_dt2: f64) -> Vector3<f64> {
+        let face = (0..3).fold(Vector3::zeros(), |sum, k| {
+            sum + inverse_mass[self.face[k] as usize] * self.weights[k].powi(2)
+        });
+        (inverse_mass[self.slave as usize] + face) * beta_dt2
     }
 
     /// Moves the slave and face nodes as the force change `dr` demands:
-    /// `dx_s = beta dt^2 dr / m_s`, `dx_c = -beta dt^2 N_c dr / m_c` (thesis (6.71d)).
+    /// `dx_s = beta dt^2 M_s^-1 dr`, `dx_c = -beta dt^2 N_c M_c^-1 dr` (thesis (6.71d)).
     #[inline]
     pub fn apply(
         &self,
         dr: &Vector3<f64>,
-        inverse_mass: &[f64],
+        inverse_mass: &[Vector3<f64>],
         beta_dt2: f64,
         x: &mut [Vector3<f64>],
     ) {
         let s = self.slave as usize;
-        x[s] += dr * (beta_dt2 * inverse_mass[s]);
+        x[s] += dr.component_mul(&inverse_mass[s]) * beta_dt2;
         for k in 0..3 {
             let c = self.face[k] as usize;
-            x[c] -= dr * (beta_dt2 * self.weights[k] * inverse_mass[c]);
+            x[c] -= dr.component_mul(&inverse_mass[c]) * (beta_dt2 * self.weights[k]);
         }
+    }
+
+    /// The force that would close the gap `g` from the force `r` with the diagonal block `w`,
+    /// before projection. Frictionless, only the normal force acts: `r_n + n.g / n.w n`.
+    /// Otherwise every component closes its own gap, `r + w^-1 g` (components nothing can move,
+    /// `w_d = 0`, are left as they are).
+    #[inline]
+    pub fn trial(&self, r: &Vector3<f64>, g: &Vector3<f64>, w: &Vector3<f64>) -> Vector3<f64> {
+        if self.friction == 0.0 {
+            let wn = self.normal.dot(&w.component_mul(&self.normal));
+            let rn = r.dot(&self.normal);
+            return if wn > 0.0 {
+                self.normal * (rn + self.normal.dot(g) / wn)
+            } else {
+                self.normal * rn
+            };
+        }
+        r + Vector3::from_fn(|d, _| if w[d] > 0.0 { g[d] / w[d] } else { 0.0 })
     }
 
     /// The admissible force nearest `r`: released when tensile (6.74), returned radially onto the
@@ -110,12 +130,12 @@ pub struct ContactSolution {
 /// are corrected in place; `beta_dt2 = (beta_0 + 1/2) dt^2` (6.4.2.4).
 pub fn gauss_seidel(
     constraints: &[ContactConstraint],
-    inverse_mass: &[f64],
+    inverse_mass: &[Vector3<f64>],
     beta_dt2: f64,
     x: &mut [Vector3<f64>],
     settings: &GaussSeidelSettings,
 ) -> ContactSolution {
-    let w: Vec<f64> = constraints
+    let w: Vec<Vector3<f64>> = constraints
         .iter()
         .map(|c| c.delassus_diagonal(inverse_mass, beta_dt2))
         .collect();
@@ -124,8 +144,7 @@ pub fn gauss_seidel(
     for iteration in 1..=settings.max_iterations {
         let (mut change, mut total) = (0.0, 0.0);
         for (i, c) in constraints.iter().enumerate() {
-            let trial = forces[i] + c.gap(x) / w[i];
-            let r = c.project(trial);
+            let r = c.project(c.trial(&forces[i], &c.gap(x), &w[i]));
             let dr = r - forces[i];
             if dr != Vector3::zeros() {
                 c.apply(&dr, inverse_mass, beta_dt2, x);
@@ -184,7 +203,7 @@ mod tests {
     #[test]
     fn a_penetration_is_closed_in_one_step_with_momentum_kept() {
         let (c, mut x) = single(0.0, Vector3::new(0.0, 0.0, -1e-3));
-        let inv = vec![1.0; 4];
+        let inv = vec![Vector3::repeat(1.0); 4];
         let before: Vector3<f64> = x.iter().sum();
         let s = gauss_seidel(&c, &inv, 0.5, &mut x, &GaussSeidelSettings::default());
         assert!(s.converged);
@@ -196,9 +215,32 @@ mod tests {
     }
 
     #[test]
+    fn a_slave_held_along_the_normal_leaves_the_face_to_move() {
+        // The slave's z is prescribed (inverse mass 0 in z): the face alone closes the gap, and
+        // the slave keeps its place.
+        let (c, mut x) = single(0.0, Vector3::new(0.0, 0.0, -1e-3));
+        let mut inv = vec![Vector3::repeat(1.0); 4];
+        inv[3].z = 0.0;
+        let slave = x[3];
+        let s = gauss_seidel(&c, &inv, 0.5, &mut x, &GaussSeidelSettings::default());
+        assert!(s.converged);
+        assert!(c[0].gap(&x).z.abs() < 1e-15);
+        assert_eq!(x[3], slave);
+        // Only the face moves: the whole gap goes to it, w = beta dt^2 sum N_c^2 / m_c.
+        let w = 0.5 * (0.5f64.powi(2) + 2.0 * 0.25f64.powi(2));
+        assert!((s.forces[0].z - 1e-3 / w).abs() < 1e-12 * 1e-3 / w);
+    }
+
+    #[test]
     fn a_separating_node_is_released() {
         let (c, mut x) = single(0.0, Vector3::new(0.0, 0.0, 1e-3));
-        let s = gauss_seidel(&c, &[1.0; 4], 0.5, &mut x, &GaussSeidelSettings::default());
+        let s = gauss_seidel(
+            &c,
+            &[Vector3::repeat(1.0); 4],
+            0.5,
+            &mut x,
+            &GaussSeidelSettings::default(),
+        );
         assert_eq!(s.forces[0], Vector3::zeros());
     }
 
@@ -230,7 +272,8 @@ mod tests {
             Vector3::new(0.2, 0.2, -2e-3),
             Vector3::new(0.5, 0.3, -1e-3),
         ];
-        let inv = vec![1.0, 0.5, 2.0, 1.0, 3.0];
+        let inv_scalar = [1.0, 0.5, 2.0, 1.0, 3.0];
+        let inv: Vec<Vector3<f64>> = inv_scalar.iter().map(|&m| Vector3::repeat(m)).collect();
         let make = |slave: u32, w: [f64; 3]| ContactConstraint {
             slave,
             face: [0, 1, 2],
@@ -252,7 +295,7 @@ mod tests {
         };
         let (c0, c1) = (coeff(&c[0]), coeff(&c[1]));
         let dot = |a: &[f64; 5], b: &[f64; 5]| {
-            (0..5).map(|k| a[k] * b[k] * inv[k]).sum::<f64>() * beta_dt2
+            (0..5).map(|k| a[k] * b[k] * inv_scalar[k]).sum::<f64>() * beta_dt2
         };
         let (w00, w01, w11) = (dot(&c0, &c0), dot(&c0, &c1), dot(&c1, &c1));
         let (g0, g1) = (c[0].gap(&x).z, c[1].gap(&x).z);

@@ -72,7 +72,7 @@ impl ContactPhase {
     pub fn resolve(
         &self,
         model: &Model,
-        inverse_mass: &[f64],
+        inverse_mass: &[Vector3<f64>],
         dt: f64,
         x0: &[Vector3<f64>],
         x1: &mut [Vector3<f64>],
@@ -98,9 +98,17 @@ impl ContactPhase {
                     &[(a, b)]
                 };
                 for (slave, master) in passes {
-                    let (constraints, stats): (_, DetectionStats) =
+                    let (mut constraints, stats): (Vec<_>, DetectionStats) =
                         detect(model, slave, master, x0, x1, &settings);
                     step.unresolved += stats.unresolved;
+                    // A contact whose normal no node can move along (all prescribed) cannot be
+                    // enforced: reported with the unresolved ones, not dropped silently.
+                    let before = constraints.len();
+                    constraints.retain(|c| {
+                        let w = c.delassus_diagonal(inverse_mass, 1.0);
+                        c.normal.dot(&w.component_mul(&c.normal)) > 0.0
+                    });
+                    step.unresolved += before - constraints.len();
                     if constraints.is_empty() {
                         continue;
                     }

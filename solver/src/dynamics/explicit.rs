@@ -437,7 +437,11 @@ impl<'p> ExplicitSolver<'p> {
             }
         }
         if let Some(scratch) = self.contact.as_mut() {
-            self.contact_steps = scratch.correct(model, dt, &self.u, &mut self.v_next);
+            // The force that makes a velocity change dv in the damped update
+            // m (v+ - v-) / h + alpha m (v+ + v-) / 2 = f is m dv (1/h + alpha/2).
+            let force_per_dv = 1.0 / h + 0.5 * alpha;
+            self.contact_steps =
+                scratch.correct(model, dt, force_per_dv, &self.u, &mut self.v_next);
         }
         // Full-step velocity, reactions, and the energy pieces of this step.
         let mut moved_too_far = false;
@@ -733,13 +737,15 @@ impl<'p> ExplicitSolver<'p> {
 /// Buffers of the contact phase, allocated once per run.
 struct ContactScratch {
     phase: crate::contact::ContactPhase,
-    /// Inverse lumped mass; zero at nodes with a prescribed component, which contact cannot move.
-    inverse_mass: Vec<f64>,
+    /// Inverse lumped mass per component; zero for prescribed components, which contact cannot
+    /// move.
+    inverse_mass: Vec<Vector3<f64>>,
     beta_0: f64,
     x0: Vec<Vector3<f64>>,
     x1: Vec<Vector3<f64>>,
     predicted: Vec<Vector3<f64>>,
-    /// Contact force on each node over the step, `m dv / dt` (N).
+    /// Contact force on each node over the step, `m dv (1/dt + alpha/2)` with mass-proportional
+    /// damping `alpha` (N).
     force: Vec<Vector3<f64>>,
     /// Position corrections made by the tangential parts of the contact forces.
     tangential_dx: Vec<Vector3<f64>>,
@@ -756,11 +762,10 @@ impl ContactScratch {
         let prescribed = problem.constraint_map();
         let inverse_mass = (0..n)
             .map(|i| {
-                if prescribed[i].iter().any(Option::is_some) {
-                    0.0
-                } else {
-                    1.0 / model.mass[i]
-                }
+                Vector3::from_fn(|d, _| match prescribed[i][d] {
+                    Some(_) => 0.0,
+                    None => 1.0 / model.mass[i],
+                })
             })
             .collect();
         Self {
@@ -783,6 +788,7 @@ impl ContactScratch {
         &mut self,
         model: &crate::model::Model,
         dt: f64,
+        force_per_dv: f64,
         u: &[Vector3<f64>],
         v_next: &mut [Vector3<f64>],
     ) -> Vec<crate::contact::ContactStep> {
@@ -792,7 +798,7 @@ impl ContactScratch {
         }
         self.predicted.copy_from_slice(&self.x1);
         self.tangential_dx.fill(Vector3::zeros());
-        let steps = self.phase.resolve(
+        let mut steps = self.phase.resolve(
             model,
             &self.inverse_mass,
             dt,
@@ -806,10 +812,15 @@ impl ContactScratch {
             let dx = self.x1[i] - self.predicted[i];
             let dv = dx * (velocity_share / dt);
             v_next[i] += dv;
-            self.force[i] = dv * (model.mass[i] / dt);
+            self.force[i] = dv * (model.mass[i] * force_per_dv);
             self.friction_force[i] =
-                self.tangential_dx[i] * (velocity_share / dt * model.mass[i] / dt);
+                self.tangential_dx[i] * (velocity_share / dt * model.mass[i] * force_per_dv);
             self.position_surplus[i] = dx - dv * dt;
+        }
+        // The phase reports gamma r, the force of an undamped full step (m dv / dt).
+        for step in &mut steps {
+            step.normal_force *= dt * force_per_dv;
+            step.tangential_force *= dt * force_per_dv;
         }
         steps
     }
