@@ -90,9 +90,13 @@ pub fn run_scene_file(path: &Path, out: &Path, fields: bool) -> Result<SceneRepo
     let mut lines = vec![run.plan.clone()];
     if let Some(s) = &run.summary {
         lines.push(format!(
-            "done: {} steps in {:.2} s wall; energy balance error at most {:.2e} of the energy scale; \
-             mesh-stability flags {}",
-            s.steps, s.wall_seconds, s.max_relative_energy_error, s.mesh_stability_flags
+            "done: {} steps in {:.2} s wall ({:.0} % in contact); energy balance error at most \
+             {:.2e} of the energy scale; mesh-stability flags {}",
+            s.steps,
+            s.wall_seconds,
+            100.0 * s.contact_seconds / s.wall_seconds.max(f64::MIN_POSITIVE),
+            s.max_relative_energy_error,
+            s.mesh_stability_flags
         ));
     }
     if let Some(s) = &run.static_solution {

@@ -34,8 +34,21 @@ impl Aabb {
         }
     }
 
+    pub fn contains(&self, p: &Vector3<f64>) -> bool {
+        (0..3).all(|a| self.min[a] <= p[a] && p[a] <= self.max[a])
+    }
+
     pub fn overlaps(&self, other: &Aabb) -> bool {
         (0..3).all(|a| self.min[a] <= other.max[a] && other.min[a] <= self.max[a])
+    }
+
+    /// The common part of two boxes (empty, `min > max` on some axis, when they do not
+    /// overlap).
+    pub fn intersection(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.sup(&other.min),
+            max: self.max.inf(&other.max),
+        }
     }
 
     pub fn union(&self, other: &Aabb) -> Aabb {

@@ -142,28 +142,54 @@ pub fn detect(
     if element_boxes.is_empty() || !slave_box.overlaps(&master_box) {
         return (constraints, stats);
     }
-    let typical = element_boxes
+    // Only the master elements and faces where the two bodies' boxes overlap can be reached:
+    // for two spheres, a thin slab around the contact instead of the whole boundary layer.
+    let overlap = slave_box.intersection(&master_box);
+    let near: Vec<u32> = (0..element_boxes.len() as u32)
+        .filter(|&i| element_boxes[i as usize].overlaps(&overlap))
+        .collect();
+    if near.is_empty() {
+        return (constraints, stats);
+    }
+    let near_boxes: Vec<Aabb> = near.iter().map(|&i| element_boxes[i as usize]).collect();
+    let typical = near_boxes
         .iter()
         .map(|b| (b.max - b.min).max())
         .sum::<f64>()
-        / element_boxes.len() as f64;
-    let element_grid = UniformGrid::build(&element_boxes, typical);
-    let swept_faces: Vec<Aabb> = master
-        .faces
+        / near_boxes.len() as f64;
+    let element_grid = UniformGrid::build(&near_boxes, typical);
+    // A node's faces are searched within `typical` of its path, which is shorter than an
+    // element (the step is below the stable one), so faces farther out are never candidates.
+    let face_region = overlap.grown(3.0 * typical);
+    let near_faces: Vec<u32> = (0..master.faces.len() as u32)
+        .filter(|&f| {
+            master.faces[f as usize]
+                .iter()
+                .any(|&n| face_region.contains(&x1[n as usize]))
+        })
+        .collect();
+    let swept_faces: Vec<Aabb> = near_faces
         .iter()
-        .map(|f| Aabb::of_points(f.iter().flat_map(|&n| [&x0[n as usize], &x1[n as usize]])))
+        .map(|&f| {
+            Aabb::of_points(
+                master.faces[f as usize]
+                    .iter()
+                    .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
+            )
+        })
         .collect();
     let face_grid = UniformGrid::build(&swept_faces, typical);
     let (mut elements, mut faces) = (Vec::new(), Vec::new());
     let mut facet: Option<Vec<Vector3<f64>>> = None;
     for &s in &slave.nodes {
         let p = x1[s as usize];
-        if !master_box.overlaps(&Aabb { min: p, max: p }) {
+        if !overlap.contains(&p) {
             continue;
         }
         element_grid.query(&Aabb { min: p, max: p }, &mut elements);
         let inside = elements.iter().any(|&i| {
-            let tet = model.tets[master.layer[i as usize] as usize].map(|n| x1[n as usize]);
+            let e = master.layer[near[i as usize] as usize];
+            let tet = model.tets[e as usize].map(|n| x1[n as usize]);
             tetrahedron_barycentric(&p, &tet)
                 .iter()
                 .all(|&xi| xi >= -settings.tolerance)
@@ -176,8 +202,16 @@ pub fn detect(
             start: x0[s as usize],
             end: p,
         };
-        let swept = Aabb::of_points([&node.start, &node.end]).grown(typical);
-        face_grid.query(&swept, &mut faces);
+        // Faces whose swept box meets `region`, as master face ids.
+        let candidates = |region: Aabb, out: &mut Vec<u32>| {
+            face_grid.query(&region, out);
+            out.retain(|&f| swept_faces[f as usize].overlaps(&region));
+            out.iter_mut().for_each(|f| *f = near_faces[*f as usize]);
+        };
+        // A face the node crosses holds the crossing point, which lies on the node's path: the
+        // path's box (grown by the detection tolerance) finds every such face.
+        let path = Aabb::of_points([&node.start, &node.end]);
+        candidates(path.grown(settings.tolerance * typical), &mut faces);
         let resolved = earliest_ccd(master, &faces, &node, x0, x1, settings.tolerance)
             .map(|(f, w)| (f, w, &mut stats.by_ccd))
             .or_else(|| {
@@ -185,6 +219,7 @@ pub fn detect(
                     .map(|(f, w)| (f, w, &mut stats.by_trajectory))
             })
             .or_else(|| {
+                candidates(path.grown(typical), &mut faces);
                 closest_point(master, &faces, &p, x1, typical)
                     .map(|(f, w)| (f, w, &mut stats.by_closest_point))
             });

@@ -96,6 +96,8 @@ pub struct RunSummary {
     pub critical_time_step: f64,
     pub critical_element: usize,
     pub wall_seconds: f64,
+    /// Wall time spent in the contact phase (detection and resolution), within `wall_seconds`.
+    pub contact_seconds: f64,
     pub energies: EnergyLedger,
     /// Largest |balance error| over the run divided by the largest energy scale of the run.
     pub max_relative_energy_error: f64,
@@ -134,6 +136,7 @@ pub struct ExplicitSolver<'p> {
     contact: Option<ContactScratch>,
     /// What the contact phase did in the last step, per pair.
     pub contact_steps: Vec<crate::contact::ContactStep>,
+    contact_seconds: f64,
     pub energies: EnergyLedger,
     pending: EnergyLedger,
     pub step: usize,
@@ -206,6 +209,7 @@ impl<'p> ExplicitSolver<'p> {
             v_next: vec![Vector3::zeros(); n],
             contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
             contact_steps: Vec::new(),
+            contact_seconds: 0.0,
             reaction: vec![Vector3::zeros(); n],
             energies: EnergyLedger::default(),
             pending: EnergyLedger::default(),
@@ -388,6 +392,7 @@ impl<'p> ExplicitSolver<'p> {
             critical_time_step: self.dt_critical,
             critical_element: self.critical_element,
             wall_seconds: started.elapsed().as_secs_f64(),
+            contact_seconds: self.contact_seconds,
             energies: self.energies,
             max_relative_energy_error: if max_scale > 0.0 {
                 max_abs_error / max_scale
@@ -440,8 +445,10 @@ impl<'p> ExplicitSolver<'p> {
             // The force that makes a velocity change dv in the damped update
             // m (v+ - v-) / h + alpha m (v+ + v-) / 2 = f is m dv (1/h + alpha/2).
             let force_per_dv = 1.0 / h + 0.5 * alpha;
+            let started = std::time::Instant::now();
             self.contact_steps =
                 scratch.correct(model, dt, force_per_dv, &self.u, &mut self.v_next);
+            self.contact_seconds += started.elapsed().as_secs_f64();
         }
         // Full-step velocity, reactions, and the energy pieces of this step.
         let mut moved_too_far = false;
