@@ -274,10 +274,10 @@ fn earliest_ccd(
 }
 
 /// Whether the node, at the contact `hit`, moves into the face relative to its contact point,
-/// `n(t) . (d_s - sum_c N_c d_c) < 0`, or does not move relative to it at all (resting). CCD is geometric and also reports a node that slides
-/// within the face's plane (a block's side face, when the node runs down that side) or leaves
-/// the face; neither crosses it, and taking such a face would push along a normal the motion does
-/// not need.
+/// `n(t) . (d_s - sum_c N_c d_c) < 0`, or does not move relative to it at all (resting). CCD
+/// is geometric and also reports a node that slides within the face's plane (a block's side
+/// face, when the node runs down that side) or leaves the face; neither crosses it, and taking
+/// such a face would push along a normal the motion does not need.
 fn moves_into(node: &Trajectory, face: &[Trajectory; 3], hit: &super::ccd::CcdHit) -> bool {
     let at = |tr: &Trajectory| tr.start + (tr.end - tr.start) * hit.t;
     let [a, b, c] = [at(&face[0]), at(&face[1]), at(&face[2])];
@@ -286,7 +286,12 @@ fn moves_into(node: &Trajectory, face: &[Trajectory; 3], hit: &super::ccd::CcdHi
         - (0..3).fold(Vector3::zeros(), |sum, k| {
             sum + (face[k].end - face[k].start) * hit.weights[k]
         });
-    relative == Vector3::zeros() || normal.dot(&relative) < -1e-12 * normal.norm() * relative.norm()
+    relative == Vector3::zeros() || against(&normal, &relative)
+}
+
+/// Whether `v` points against the (unnormalised) normal `n`, beyond rounding.
+fn against(n: &Vector3<f64>, v: &Vector3<f64>) -> bool {
+    n.dot(v) < -1e-12 * n.norm() * v.norm()
 }
 
 /// Barycentric weights of the point of the triangle `(a, b, c)`'s plane nearest `p`.
@@ -355,11 +360,10 @@ fn closest_point(
         let sum: f64 = w.iter().sum();
         w.iter_mut().for_each(|x| *x /= sum);
         let q = a * w[0] + b * w[1] + c * w[2];
-        let normal = (b - a).cross(&(c - a));
-        let behind = normal.dot(&(p - q)) < -1e-12 * normal.norm() * (p - q).norm();
+        let behind = against(&(b - a).cross(&(c - a)), &(p - q));
         let distance = (q - p).norm();
         let key = (!(behind && distance <= reach), distance);
-        if best.is_none_or(|(k, _, _)| key.0 < k.0 || (key.0 == k.0 && key.1 < k.1)) {
+        if best.is_none_or(|(k, _, _)| key < k) {
             best = Some((key, i, w));
         }
     }
@@ -369,26 +373,22 @@ fn closest_point(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{IsotropicElastic, MaterialModel};
-    use crate::mesh::{box_mesh, BoxSpec};
+    use crate::contact::test_blocks::elastic_boxes;
+    use crate::mesh::BoxSpec;
 
     fn two_blocks(gap: f64) -> Model {
-        let m = MaterialModel::LinearElastic(IsotropicElastic {
-            density: 1000.0,
-            youngs_modulus: 1e9,
-            poisson_ratio: 0.3,
-        });
-        let lower = box_mesh(&BoxSpec {
-            origin: [0.0; 3],
-            size: [1.0, 1.0, 0.5],
-            divisions: [4, 4, 2],
-        });
-        let upper = box_mesh(&BoxSpec {
-            origin: [0.1, 0.15, 0.5 + gap],
-            size: [0.7, 0.6, 0.5],
-            divisions: [3, 3, 2],
-        });
-        Model::new(vec![("lower".into(), lower, m), ("upper".into(), upper, m)]).unwrap()
+        elastic_boxes(&[
+            BoxSpec {
+                origin: [0.0; 3],
+                size: [1.0, 1.0, 0.5],
+                divisions: [4, 4, 2],
+            },
+            BoxSpec {
+                origin: [0.1, 0.15, 0.5 + gap],
+                size: [0.7, 0.6, 0.5],
+                divisions: [3, 3, 2],
+            },
+        ])
     }
 
     #[test]
@@ -472,23 +472,12 @@ mod tests {
         // Same footprint, non-matching meshes: the upper block's rim nodes run down the lower
         // block's side planes. CCD sees them coplanar with the side faces all step long; only
         // the top face is crossed, and the closest point must not take a side face either.
-        let m = MaterialModel::LinearElastic(IsotropicElastic {
-            density: 1000.0,
-            youngs_modulus: 1e9,
-            poisson_ratio: 0.3,
-        });
-        let block = |z: f64, n: usize| {
-            box_mesh(&BoxSpec {
-                origin: [0.0, 0.0, z],
-                size: [1.0, 1.0, 0.5],
-                divisions: [n, n, 2],
-            })
+        let block = |z: f64, n: usize| BoxSpec {
+            origin: [0.0, 0.0, z],
+            size: [1.0, 1.0, 0.5],
+            divisions: [n, n, 2],
         };
-        let model = Model::new(vec![
-            ("lower".into(), block(0.0, 4), m),
-            ("upper".into(), block(0.5, 3), m),
-        ])
-        .unwrap();
+        let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
         let (lower, upper) = (
             ContactSurface::new(&model, 0),
             ContactSurface::new(&model, 1),

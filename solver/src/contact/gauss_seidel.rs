@@ -73,6 +73,17 @@ impl ContactConstraint {
         r + Vector3::from_fn(|d, _| if w[d] > 0.0 { g[d] / w[d] } else { 0.0 })
     }
 
+    /// Whether the admissible force `r` lies on the Coulomb cone (the contact slides); never for
+    /// frictionless or sticking contacts.
+    #[inline]
+    pub fn slides(&self, r: &Vector3<f64>) -> bool {
+        if self.friction == 0.0 || self.friction.is_infinite() {
+            return false;
+        }
+        let rn = r.dot(&self.normal);
+        (r - self.normal * rn).norm() >= self.friction * rn * (1.0 - 1e-12)
+    }
+
     /// The admissible force nearest `r`: released when tensile (6.74), returned radially onto the
     /// Coulomb cone `|r_t| <= mu r_n` when it slides (6.77).
     #[inline]

@@ -5,6 +5,8 @@ pub mod ccd;
 pub mod detection;
 pub mod gauss_seidel;
 pub mod normals;
+#[cfg(test)]
+mod test_blocks;
 
 use nalgebra::Vector3;
 
@@ -37,9 +39,10 @@ pub struct ContactStep {
     pub iterations: usize,
     pub converged: bool,
     pub unresolved: usize,
-    /// Sum of the normal components of the contact forces (N).
+    /// Sum of the normal components of the contact multipliers `r`; the time stepper turns
+    /// multipliers into forces (N).
     pub normal_force: f64,
-    /// Sum of the magnitudes of the tangential components (N).
+    /// Sum of the magnitudes of the tangential components, as `normal_force`.
     pub tangential_force: f64,
     /// Contacts whose force lies on the Coulomb cone (sliding).
     pub sliding: usize,
@@ -67,8 +70,7 @@ impl ContactPhase {
     /// `tangential` receives the part of the corrections made by the tangential (friction)
     /// components of the contact forces, so friction work can be told from normal work; the
     /// corrections are linear in the forces, so it is the correction of the final tangential
-    /// forces. Forces in the returned records are the physical ones, `gamma r` with
-    /// `gamma = 1/2`: the momentum a multiplier `r` gives per step is `gamma dt r`.
+    /// forces.
     pub fn resolve(
         &self,
         model: &Model,
@@ -78,7 +80,6 @@ impl ContactPhase {
         x1: &mut [Vector3<f64>],
         tangential: &mut [Vector3<f64>],
     ) -> Vec<ContactStep> {
-        const GAMMA: f64 = 0.5;
         self.pairs
             .iter()
             .zip(&self.surfaces)
@@ -122,13 +123,9 @@ impl ContactPhase {
                             step.active += 1;
                             let rn = r.dot(&c.normal);
                             let rt = r - c.normal * rn;
-                            step.normal_force += GAMMA * rn;
-                            step.tangential_force += GAMMA * rt.norm();
-                            step.sliding += usize::from(
-                                c.friction.is_finite()
-                                    && rt.norm() >= c.friction * rn * (1.0 - 1e-12)
-                                    && c.friction > 0.0,
-                            );
+                            step.normal_force += rn;
+                            step.tangential_force += rt.norm();
+                            step.sliding += usize::from(c.slides(r));
                             c.apply(&rt, inverse_mass, beta_dt2, tangential);
                         }
                     }

@@ -96,22 +96,16 @@ pub fn contact_normal(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{IsotropicElastic, MaterialModel};
-    use crate::mesh::{box_mesh, BoxSpec};
+    use crate::contact::test_blocks::elastic_boxes;
+    use crate::mesh::BoxSpec;
     use crate::model::Model;
 
     fn cube() -> (Model, ContactSurface) {
-        let m = MaterialModel::LinearElastic(IsotropicElastic {
-            density: 1000.0,
-            youngs_modulus: 1e9,
-            poisson_ratio: 0.3,
-        });
-        let mesh = box_mesh(&BoxSpec {
+        let model = elastic_boxes(&[BoxSpec {
             origin: [0.0; 3],
             size: [1.0, 1.0, 1.0],
             divisions: [3, 3, 3],
-        });
-        let model = Model::new(vec![("cube".into(), mesh, m)]).unwrap();
+        }]);
         let surface = ContactSurface::new(&model, 0);
         (model, surface)
     }

@@ -598,11 +598,7 @@ impl<'p> ExplicitSolver<'p> {
             e.balance_error(),
             e.relative_error(),
         ];
-        let momentum = self
-            .v_full
-            .iter()
-            .zip(&model.mass)
-            .fold(Vector3::zeros(), |acc, (v, m)| acc + v * *m);
+        let momentum = fixed_order_sum3(model.node_count(), |i| self.v_full[i] * model.mass[i]);
         row.extend(momentum.iter());
         // About the origin, with the full-step velocity: the average of two values leapfrog
         // keeps exactly for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
@@ -751,8 +747,8 @@ struct ContactScratch {
     x0: Vec<Vector3<f64>>,
     x1: Vec<Vector3<f64>>,
     predicted: Vec<Vector3<f64>>,
-    /// Contact force on each node over the step, `m dv (1/dt + alpha/2)` with mass-proportional
-    /// damping `alpha` (N).
+    /// Contact force on each node over the step, `m dv (1/h + alpha/2)` with `h` the velocity
+    /// update's step and `alpha` the mass-proportional damping (N).
     force: Vec<Vector3<f64>>,
     /// Position corrections made by the tangential parts of the contact forces.
     tangential_dx: Vec<Vector3<f64>>,
@@ -813,21 +809,23 @@ impl ContactScratch {
             &mut self.x1,
             &mut self.tangential_dx,
         );
-        // gamma / beta with gamma = 1/2 (FORMULATION 4): 1 for beta_0 = 0.
-        let velocity_share = 0.5 / (self.beta_0 + 0.5);
+        // A multiplier r moves a node by beta dt^2 r / m and changes its velocity by
+        // gamma dt r / m, gamma = 1/2 (FORMULATION 4): the velocity takes gamma / beta of the
+        // correction (all of it for beta_0 = 0) and the force is gamma dt r times force_per_dv.
+        const GAMMA: f64 = 0.5;
+        let velocity_share = GAMMA / (self.beta_0 + 0.5);
+        let force_per_dx = velocity_share / dt * force_per_dv;
         for i in 0..u.len() {
             let dx = self.x1[i] - self.predicted[i];
             let dv = dx * (velocity_share / dt);
             v_next[i] += dv;
-            self.force[i] = dv * (model.mass[i] * force_per_dv);
-            self.friction_force[i] =
-                self.tangential_dx[i] * (velocity_share / dt * model.mass[i] * force_per_dv);
+            self.force[i] = dx * (model.mass[i] * force_per_dx);
+            self.friction_force[i] = self.tangential_dx[i] * (model.mass[i] * force_per_dx);
             self.position_surplus[i] = dx - dv * dt;
         }
-        // The phase reports gamma r, the force of an undamped full step (m dv / dt).
         for step in &mut steps {
-            step.normal_force *= dt * force_per_dv;
-            step.tangential_force *= dt * force_per_dv;
+            step.normal_force *= GAMMA * dt * force_per_dv;
+            step.tangential_force *= GAMMA * dt * force_per_dv;
         }
         steps
     }
