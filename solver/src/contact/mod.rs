@@ -2,9 +2,15 @@
 
 pub mod broad_phase;
 pub mod ccd;
+pub mod conic;
 pub mod detection;
 pub mod gauss_seidel;
+pub mod local;
+pub mod nsgs;
 pub mod normals;
+pub mod problem;
+pub mod problem_file;
+pub mod solver;
 #[cfg(test)]
 mod test_blocks;
 

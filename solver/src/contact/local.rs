@@ -1,0 +1,1 @@
+//! One-contact solvers: the local step of nonlinear Gauss-Seidel.
