@@ -137,6 +137,29 @@ pub struct CaseResult {
     pub plots: Vec<PlotData>,
     #[serde(default)]
     pub sweep: Option<SweepResult>,
+    /// How the contact solver fared over the judged run, for scenes with contact.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSolverStats>,
+}
+
+/// Contact-solver statistics of one scene run (summed over pairs and passes).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct ContactSolverStats {
+    /// `gauss-seidel`, `conic/relaxed`, `conic/coulomb`, ...
+    pub solver: String,
+    /// Time steps in which at least one contact problem was solved.
+    pub steps_with_contact: usize,
+    /// Contact problems solved (steps x pairs x passes with contacts).
+    pub solves: usize,
+    /// Solves that did not converge (cap reached, time limit, or solver failure).
+    pub not_converged: usize,
+    /// Penetrations detection could not resolve, summed over the run.
+    pub unresolved: usize,
+    /// Iterations (sweeps or interior-point iterations) summed over the run.
+    pub iterations: usize,
+    /// Wall time in the contact phase (detection and solution) over the run (s).
+    #[serde(deserialize_with = "lenient::f64")]
+    pub contact_seconds: f64,
 }
 
 /// Everything one `impact-vv run` produced: written as `results.json`.

@@ -86,6 +86,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
         message: None,
         plots: Vec::new(),
         sweep: None,
+        contact: None,
     };
     let levels = match level_scenes(&scene, spec.sweep.as_ref()) {
         Ok(l) => l,

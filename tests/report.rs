@@ -84,6 +84,7 @@ fn pass_case() -> CaseResult {
         message: Some("plan: 200 steps of 1e-6 s, 4000 elements".to_string()),
         plots: vec![history_plot()],
         sweep: None,
+        contact: None,
     }
 }
 
@@ -129,6 +130,7 @@ fn fail_case() -> CaseResult {
         message: Some("tip deflection order 0.95 < expected 2".to_string()),
         plots: vec![],
         sweep: Some(sweep),
+        contact: None,
     }
 }
 
@@ -145,6 +147,7 @@ fn error_case() -> CaseResult {
         message: Some(NASTY.to_string()),
         plots: vec![],
         sweep: None,
+        contact: None,
     }
 }
 
