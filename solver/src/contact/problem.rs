@@ -273,8 +273,11 @@ pub fn local_frame(n: &Vector3<f64>) -> Matrix3<f64> {
 /// `||F||_2 / ||q||_2` (the normalisation of that paper and of Siconos 2016-2020); when `q = 0`
 /// it is `||F||_2`.
 ///
-/// Stick (`mu = inf`) uses the limit cone, the half-space `r_N >= 0`, with `u_T = 0` required:
-/// `F_N = r_N - max(0, r_N - u_N)`, `F_T = u_T`.
+/// Stick (`mu = inf`) is the limit of Coulomb's law without adhesion: a contact that carries a
+/// normal force does not slip (`u_T = 0`), one that is released carries no tangential force
+/// either (`r_T = 0`, as Gauss-Seidel's release does). Its natural map is
+/// `F_N = r_N - max(0, r_N - u_N)` and `F_T = u_T` where `r_N - u_N > 0` (active), `F_T = r_T`
+/// elsewhere.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NaturalMapError {
     pub absolute: f64,
@@ -300,7 +303,12 @@ pub fn natural_map_error(problem: &ContactProblem, r: &[f64]) -> NaturalMapError
 /// One contact's natural map `r - P_K(r - u_hat)` (local components).
 pub fn contact_natural_map(r: &Vector3<f64>, u: &Vector3<f64>, mu: f64) -> Vector3<f64> {
     if mu.is_infinite() {
-        return Vector3::new(r.x - (r.x - u.x).max(0.0), u.y, u.z);
+        let normal = r.x - (r.x - u.x).max(0.0);
+        return if r.x - u.x > 0.0 {
+            Vector3::new(normal, u.y, u.z)
+        } else {
+            Vector3::new(normal, r.y, r.z)
+        };
     }
     let ut = (u.y * u.y + u.z * u.z).sqrt();
     let z = r - Vector3::new(u.x + mu * ut, u.y, u.z);
@@ -362,9 +370,12 @@ mod tests {
         // Sliding the wrong way, and a tensile multiplier, are not solutions.
         assert!(contact_natural_map(&r, &Vector3::new(0.0, 2.0, 0.0), 0.3).norm() > 0.1);
         assert!(contact_natural_map(&Vector3::new(-1.0, 0.0, 0.0), &zero, 0.3).norm() > 0.1);
-        // Stick as the half-space limit: u_T must vanish.
-        assert_eq!(contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &zero, f64::INFINITY), zero);
-        assert!(contact_natural_map(&zero, &Vector3::new(0.0, 1.0, 0.0), f64::INFINITY).norm() > 0.5);
+        // Stick: an active contact must not slip; a released one is free to, with r_T = 0.
+        let stick = f64::INFINITY;
+        assert_eq!(contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &zero, stick), zero);
+        assert!(contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &Vector3::y(), stick).norm() > 0.5);
+        assert_eq!(contact_natural_map(&zero, &Vector3::new(1.0, 3.0, 0.0), stick), zero);
+        assert!(contact_natural_map(&Vector3::y(), &Vector3::new(1.0, 3.0, 0.0), stick).norm() > 0.5);
     }
 
     #[test]
