@@ -1,0 +1,62 @@
+//! Gauss-Seidel on the seven frictional contact problems of `shared/data/contact-problems`
+//! (Siconos test data, Apache-2.0), read from that path and never copied into the repository.
+//! Issue 5: the exact local solver must reach a natural-map error below 1e-8 on the five small
+//! ones; the two larger ones (rank-deficient `W`, rigid bodies) are reported.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use impact_solver::contact::nsgs::{LocalSolver, NonsmoothGaussSeidel};
+use impact_solver::contact::problem::natural_map_error;
+use impact_solver::contact::problem_file::read_problem;
+use impact_solver::contact::solver::{ContactSolver, SolveLimits};
+
+const SMALL: [&str; 5] = [
+    "frictioncontact3d_1c",
+    "fc3d_example1",
+    "confeti-ex13-4contact-fc3d-sbm",
+    "rover1039",
+    "oneobject-i1028-138",
+];
+
+fn folder() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "skipped: the external contact problems are expected at {}",
+            dir.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn gauss_seidel_with_the_exact_local_solver_reaches_1e_8_on_the_small_problems() {
+    let Some(dir) = folder() else { return };
+    let limits = SolveLimits {
+        tolerance: 1e-10,
+        max_iterations: 200_000,
+        time_limit: Some(Duration::from_secs(20)),
+    };
+    for name in SMALL {
+        let (problem, _) = read_problem(&dir.join(format!("{name}.json"))).unwrap();
+        for local in [LocalSolver::Exact, LocalSolver::Thesis] {
+            let mut solver = NonsmoothGaussSeidel::new(local);
+            let report = solver.solve(&problem, &limits).unwrap();
+            let error = natural_map_error(&problem, &report.r).relative;
+            println!(
+                "{name:34} {:20} {:>14} sweeps {:>7} {:>9.2e} s error {error:.2e} {:?}",
+                solver.name(),
+                report.status.label(),
+                report.iterations,
+                report.seconds,
+                report.notes
+            );
+            if local == LocalSolver::Exact {
+                assert!(error < 1e-8, "{name}: natural-map error {error:.3e}");
+            }
+        }
+    }
+}
