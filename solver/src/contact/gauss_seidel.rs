@@ -3,6 +3,8 @@
 
 use nalgebra::Vector3;
 
+use super::problem::{contact_natural_map, local_frame};
+
 /// One node-to-face constraint: slave node `s` against the point `sum_c N_c x_c` of the master
 /// face `(a, b, c)` (thesis 6.4.1.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,14 +76,15 @@ impl ContactConstraint {
     }
 
     /// Whether the admissible force `r` lies on the Coulomb cone (the contact slides); never for
-    /// frictionless or sticking contacts.
+    /// frictionless or sticking contacts. Within 1e-6 of the cone counts as on it: an
+    /// interior-point solution approaches the cone from inside.
     #[inline]
     pub fn slides(&self, r: &Vector3<f64>) -> bool {
         if self.friction == 0.0 || self.friction.is_infinite() {
             return false;
         }
         let rn = r.dot(&self.normal);
-        (r - self.normal * rn).norm() >= self.friction * rn * (1.0 - 1e-12)
+        (r - self.normal * rn).norm() >= self.friction * rn * (1.0 - 1e-6)
     }
 
     /// The admissible force nearest `r`: released when tensile (6.74), returned radially onto the
@@ -110,7 +113,10 @@ impl ContactConstraint {
 /// Stopping rule of the iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussSeidelSettings {
-    /// Converged when `||dr|| <= tolerance ||r||` over a sweep (6.72).
+    /// Converged when `||dr|| <= tolerance ||r||` over a sweep (6.72) and the natural-map
+    /// residual of the contact problem (`problem::natural_map_error`, in the problem's scaled
+    /// units) is at most `tolerance` too: the change of a sweep alone can be small long before
+    /// the law holds, on stiffly coupled contacts.
     pub tolerance: f64,
     pub max_iterations: usize,
 }
@@ -152,6 +158,7 @@ pub fn gauss_seidel(
         .collect();
     let mut forces = vec![Vector3::zeros(); constraints.len()];
     let mut residual = 0.0;
+    let law = LawCheck::new(constraints, &w, x);
     for iteration in 1..=settings.max_iterations {
         let (mut change, mut total) = (0.0, 0.0);
         for (i, c) in constraints.iter().enumerate() {
@@ -169,7 +176,10 @@ pub fn gauss_seidel(
         } else {
             change.sqrt()
         };
-        if residual <= settings.tolerance || (total == 0.0 && change == 0.0) {
+        if (residual <= settings.tolerance
+            && law.error(constraints, &forces, x) <= settings.tolerance)
+            || (total == 0.0 && change == 0.0)
+        {
             return ContactSolution {
                 forces,
                 iterations: iteration,
@@ -183,6 +193,55 @@ pub fn gauss_seidel(
         iterations: settings.max_iterations,
         converged: false,
         residual,
+    }
+}
+
+/// The natural-map residual of the problem Gauss-Seidel is solving, read from the positions:
+/// the same number as `problem::natural_map_error` on the assembled problem (local frames, the
+/// multipliers scaled by the mean Delassus diagonal, `u = -d` the corrected gap).
+struct LawCheck {
+    frames: Vec<nalgebra::Matrix3<f64>>,
+    compliance: f64,
+    /// `||q||`: the gaps before any correction.
+    q_norm: f64,
+}
+
+impl LawCheck {
+    fn new(constraints: &[ContactConstraint], w: &[Vector3<f64>], x: &[Vector3<f64>]) -> Self {
+        let trace: f64 = w.iter().map(|d| d.sum()).sum();
+        let n = 3 * constraints.len();
+        Self {
+            frames: constraints.iter().map(|c| local_frame(&c.normal)).collect(),
+            compliance: if trace > 0.0 { trace / n as f64 } else { 1.0 },
+            q_norm: constraints
+                .iter()
+                .map(|c| c.gap(x).norm_squared())
+                .sum::<f64>()
+                .sqrt(),
+        }
+    }
+
+    fn error(
+        &self,
+        constraints: &[ContactConstraint],
+        forces: &[Vector3<f64>],
+        x: &[Vector3<f64>],
+    ) -> f64 {
+        let sum: f64 = constraints
+            .iter()
+            .zip(forces)
+            .zip(&self.frames)
+            .map(|((c, r), frame)| {
+                let r = frame * r * self.compliance;
+                let u = -(frame * c.gap(x));
+                contact_natural_map(&r, &u, c.friction).norm_squared()
+            })
+            .sum();
+        if self.q_norm > 0.0 {
+            sum.sqrt() / self.q_norm
+        } else {
+            sum.sqrt()
+        }
     }
 }
 

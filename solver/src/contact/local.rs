@@ -84,7 +84,10 @@ pub fn exact_step(
     }
     if mu == 0.0 {
         return if a[(0, 0)] > 0.0 {
-            (Vector3::new(-b.x / a[(0, 0)], 0.0, 0.0), LocalCase::Frictionless)
+            (
+                Vector3::new(-b.x / a[(0, 0)], 0.0, 0.0),
+                LocalCase::Frictionless,
+            )
         } else {
             fallback(a, b, mu, hint)
         };
@@ -123,7 +126,11 @@ fn stick_half_space(a: &Matrix3<f64>, b: &Vector3<f64>) -> Option<(Vector3<f64>,
     let bt = Vector2::new(b.y, b.z);
     let s = a[(0, 0)] - ant.dot(&(inv * atn));
     let e = b.x - ant.dot(&(inv * bt));
-    let rn = if s > 0.0 { (-e / s).max(0.0) } else { return None };
+    let rn = if s > 0.0 {
+        (-e / s).max(0.0)
+    } else {
+        return None;
+    };
     let rt = -(inv * (bt + atn * rn));
     Some((Vector3::new(rn, rt.x, rt.y), LocalCase::Stick))
 }
@@ -195,16 +202,19 @@ mod tests {
     fn on_a_multiple_of_the_identity_both_steps_agree() {
         let a = Matrix3::identity() * 2.0;
         for (b, mu) in [
-            (Vector3::new(-1.0, 0.1, 0.0), 0.3),   // stick
-            (Vector3::new(-1.0, 2.0, -1.0), 0.3),  // slide
-            (Vector3::new(0.5, 2.0, -1.0), 0.3),   // separate
-            (Vector3::new(-1.0, 2.0, -1.0), 0.0),  // frictionless
+            (Vector3::new(-1.0, 0.1, 0.0), 0.3),  // stick
+            (Vector3::new(-1.0, 2.0, -1.0), 0.3), // slide
+            (Vector3::new(0.5, 2.0, -1.0), 0.3),  // separate
+            (Vector3::new(-1.0, 2.0, -1.0), 0.0), // frictionless
             (Vector3::new(-1.0, 2.0, -1.0), f64::INFINITY),
         ] {
             let zero = Vector3::zeros();
             let thesis = thesis_step(&a, &zero, &b, mu);
             let (exact, _) = exact_step(&a, &b, mu, &zero);
-            assert!((thesis - exact).norm() < 1e-12 * (1.0 + thesis.norm()), "{b} {mu}");
+            assert!(
+                (thesis - exact).norm() < 1e-12 * (1.0 + thesis.norm()),
+                "{b} {mu}"
+            );
             assert!(residual(&a, &b, mu, &exact) < 1e-12, "{b} {mu}");
         }
     }
@@ -243,7 +253,10 @@ mod tests {
                 continue;
             }
             let scale = 1.0 + b.norm() + r.norm();
-            assert!(residual(&a, &b, mu, &r) < 1e-10 * scale, "{case:?} {a} {b} {mu} {r}");
+            assert!(
+                residual(&a, &b, mu, &r) < 1e-10 * scale,
+                "{case:?} {a} {b} {mu} {r}"
+            );
         }
         println!("fallbacks {fallbacks} of 2000");
         assert_eq!(fallbacks, 0);

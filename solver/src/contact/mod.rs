@@ -6,8 +6,8 @@ pub mod conic;
 pub mod detection;
 pub mod gauss_seidel;
 pub mod local;
-pub mod nsgs;
 pub mod normals;
+pub mod nsgs;
 pub mod problem;
 pub mod problem_file;
 pub mod solver;
@@ -17,9 +17,51 @@ mod test_blocks;
 use nalgebra::Vector3;
 
 use crate::model::Model;
+use conic::{ConicMode, ConicSolver};
 use detection::{detect, ContactSurface, DetectionSettings, DetectionStats};
-use gauss_seidel::{gauss_seidel, GaussSeidelSettings};
+use gauss_seidel::{gauss_seidel, ContactConstraint, GaussSeidelSettings};
 use normals::NormalSettings;
+use problem::ContactProblem;
+use solver::{ContactSolver, SolveLimits};
+
+/// Which algorithm solves a pair's contact problem in the time stepper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactAlgorithm {
+    /// The thesis's matrix-free Gauss-Seidel (Box 6.1), stopped by `ContactPair::solver`.
+    GaussSeidel,
+    /// The problem assembled as FC(W, q, mu) and solved by Clarabel (FORMULATION 4).
+    Conic {
+        mode: ConicMode,
+        /// Clarabel's gap and feasibility tolerances (and the fixed point's, `coulomb`).
+        tolerance: f64,
+        /// Interior-point iterations per solve.
+        max_iterations: usize,
+    },
+}
+
+impl ContactAlgorithm {
+    pub fn name(&self) -> String {
+        match self {
+            ContactAlgorithm::GaussSeidel => "gauss-seidel".into(),
+            ContactAlgorithm::Conic { mode, .. } => ConicSolver::new(*mode).name(),
+        }
+    }
+}
+
+/// A contact problem recorded during a run, with the multipliers the run's solver returned.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedProblem {
+    pub step: usize,
+    pub pair: String,
+    /// 0: the first body's nodes as slaves; 1: the roles swapped (7.2).
+    pub pass: usize,
+    pub problem: ContactProblem,
+    pub solver: String,
+    /// Local multipliers `[r_N, r_T1, r_T2]` per contact.
+    pub r: Vec<f64>,
+    /// Whether the run's solver met its stopping test on this problem.
+    pub converged: bool,
+}
 
 /// Two bodies that may touch, and how their contact is solved (FORMULATION section 4).
 #[derive(Debug, Clone, PartialEq)]
@@ -31,6 +73,9 @@ pub struct ContactPair {
     /// `beta = beta_0 + 1/2` of the beta-2 corrections; 0 is exactly central differences.
     pub beta_0: f64,
     pub solver: GaussSeidelSettings,
+    pub algorithm: ContactAlgorithm,
+    /// Record the contact problems of every `n`-th step (`None`: none).
+    pub record_every: Option<usize>,
     /// Tolerance on barycentric coordinates in detection.
     pub detection_tolerance: f64,
     /// Repeat detection and resolution with the slave and master roles swapped (7.2).
@@ -52,6 +97,10 @@ pub struct ContactStep {
     pub tangential_force: f64,
     /// Contacts whose force lies on the Coulomb cone (sliding).
     pub sliding: usize,
+    /// Contact problems solved (passes with at least one contact).
+    pub solves: usize,
+    /// Of those, the ones whose solver did not converge.
+    pub not_converged: usize,
 }
 
 /// The contact phase of a run: the pairs with their surfaces, computed once.
@@ -59,6 +108,8 @@ pub struct ContactStep {
 pub struct ContactPhase {
     pub pairs: Vec<ContactPair>,
     surfaces: Vec<[ContactSurface; 2]>,
+    /// Problems recorded so far (pairs with `record_every`).
+    pub recorded: Vec<RecordedProblem>,
 }
 
 impl ContactPhase {
@@ -67,7 +118,11 @@ impl ContactPhase {
             .iter()
             .map(|p| p.bodies.map(|b| ContactSurface::new(model, b)))
             .collect();
-        Self { pairs, surfaces }
+        Self {
+            pairs,
+            surfaces,
+            recorded: Vec::new(),
+        }
     }
 
     /// Detects and removes penetrations of the predicted positions `x1` (corrected in place)
@@ -77,8 +132,10 @@ impl ContactPhase {
     /// components of the contact forces, so friction work can be told from normal work; the
     /// corrections are linear in the forces, so it is the correction of the final tangential
     /// forces.
+    #[allow(clippy::too_many_arguments)]
     pub fn resolve(
-        &self,
+        &mut self,
+        step_index: usize,
         model: &Model,
         inverse_mass: &[Vector3<f64>],
         dt: f64,
@@ -86,6 +143,7 @@ impl ContactPhase {
         x1: &mut [Vector3<f64>],
         tangential: &mut [Vector3<f64>],
     ) -> Vec<ContactStep> {
+        let recorded = &mut self.recorded;
         self.pairs
             .iter()
             .zip(&self.surfaces)
@@ -104,7 +162,10 @@ impl ContactPhase {
                 } else {
                     &[(a, b)]
                 };
-                for (slave, master) in passes {
+                let record = pair
+                    .record_every
+                    .is_some_and(|every| every > 0 && step_index % every == 0);
+                for (pass, (slave, master)) in passes.iter().enumerate() {
                     let (mut constraints, stats): (Vec<_>, DetectionStats) =
                         detect(model, slave, master, x0, x1, &settings);
                     step.unresolved += stats.unresolved;
@@ -120,24 +181,122 @@ impl ContactPhase {
                         continue;
                     }
                     let beta_dt2 = (pair.beta_0 + 0.5) * dt * dt;
-                    let solution =
-                        gauss_seidel(&constraints, inverse_mass, beta_dt2, x1, &pair.solver);
-                    step.iterations += solution.iterations;
-                    step.converged &= solution.converged;
-                    for (c, r) in constraints.iter().zip(&solution.forces) {
-                        if *r != Vector3::zeros() {
-                            step.active += 1;
-                            let rn = r.dot(&c.normal);
-                            let rt = r - c.normal * rn;
-                            step.normal_force += rn;
-                            step.tangential_force += rt.norm();
-                            step.sliding += usize::from(c.slides(r));
-                            c.apply(&rt, inverse_mass, beta_dt2, tangential);
+                    let assembled = (record || pair.algorithm != ContactAlgorithm::GaussSeidel)
+                        .then(|| {
+                            let source =
+                                format!("pair `{}` step {step_index} pass {pass}", pair.name);
+                            ContactProblem::from_constraints(
+                                &constraints,
+                                inverse_mass,
+                                beta_dt2,
+                                x1,
+                                source,
+                            )
+                        });
+                    let (forces, iterations, converged) = match (&pair.algorithm, &assembled) {
+                        (
+                            ContactAlgorithm::Conic {
+                                mode,
+                                tolerance,
+                                max_iterations,
+                            },
+                            Some(p),
+                        ) => conic_forces(p, *mode, *tolerance, *max_iterations),
+                        _ => {
+                            let s = gauss_seidel(
+                                &constraints,
+                                inverse_mass,
+                                beta_dt2,
+                                x1,
+                                &pair.solver,
+                            );
+                            (s.forces, s.iterations, s.converged)
+                        }
+                    };
+                    if pair.algorithm != ContactAlgorithm::GaussSeidel {
+                        for (c, r) in constraints.iter().zip(&forces) {
+                            c.apply(r, inverse_mass, beta_dt2, x1);
                         }
                     }
+                    step.solves += 1;
+                    step.iterations += iterations;
+                    step.converged &= converged;
+                    step.not_converged += usize::from(!converged);
+                    if let (true, Some(problem)) = (record, assembled) {
+                        let r = problem.to_local(&forces).expect("our problems have frames");
+                        recorded.push(RecordedProblem {
+                            step: step_index,
+                            pair: pair.name.clone(),
+                            pass,
+                            problem,
+                            solver: pair.algorithm.name(),
+                            r,
+                            converged,
+                        });
+                    }
+                    tally(
+                        &mut step,
+                        &constraints,
+                        &forces,
+                        inverse_mass,
+                        beta_dt2,
+                        tangential,
+                    );
                 }
                 step
             })
             .collect()
+    }
+}
+
+/// Adds the forces of one solved pass to the step's totals, and their tangential parts'
+/// corrections to `tangential`.
+fn tally(
+    step: &mut ContactStep,
+    constraints: &[ContactConstraint],
+    forces: &[Vector3<f64>],
+    inverse_mass: &[Vector3<f64>],
+    beta_dt2: f64,
+    tangential: &mut [Vector3<f64>],
+) {
+    // Interior-point multipliers of released contacts are tiny rather than zero.
+    let floor = 1e-9 * forces.iter().fold(0.0f64, |m, r| m.max(r.norm()));
+    for (c, r) in constraints.iter().zip(forces) {
+        if r.norm() > floor {
+            step.active += 1;
+            let rn = r.dot(&c.normal);
+            let rt = r - c.normal * rn;
+            step.normal_force += rn;
+            step.tangential_force += rt.norm();
+            step.sliding += usize::from(c.slides(r));
+            c.apply(&rt, inverse_mass, beta_dt2, tangential);
+        }
+    }
+}
+
+/// Solves an assembled problem with Clarabel and returns the global forces, the interior-point
+/// iterations and whether it converged. A solver that fails or cannot be set up leaves the
+/// contacts without force: the step reports it as not converged, and the penetration stays
+/// visible in the history instead of stopping the run.
+fn conic_forces(
+    problem: &ContactProblem,
+    mode: ConicMode,
+    tolerance: f64,
+    max_iterations: usize,
+) -> (Vec<Vector3<f64>>, usize, bool) {
+    let limits = SolveLimits {
+        tolerance,
+        max_iterations,
+        time_limit: None,
+    };
+    match ConicSolver::new(mode).solve(problem, &limits) {
+        Ok(report) => (
+            problem
+                .to_global(&report.r)
+                .expect("our problems have frames"),
+            report.iterations,
+            report.status.converged(),
+        ),
+        Err(_) => (vec![Vector3::zeros(); problem.contacts()], 0, false),
     }
 }

@@ -75,7 +75,9 @@ impl ContactSolver for NonsmoothGaussSeidel {
             let (mut change, mut total) = (0.0, 0.0);
             for (a, block) in blocks.iter().enumerate() {
                 let ra = Vector3::new(r[3 * a], r[3 * a + 1], r[3 * a + 2]);
-                let u = Vector3::from_fn(|k, _| problem.w.row_dot(3 * a + k, &r) + problem.q[3 * a + k]);
+                let u = Vector3::from_fn(|k, _| {
+                    problem.w.row_dot(3 * a + k, &r) + problem.q[3 * a + k]
+                });
                 let next = match self.local {
                     LocalSolver::Thesis => thesis_step(block, &ra, &u, problem.mu[a]),
                     LocalSolver::Exact => {
@@ -188,7 +190,10 @@ mod tests {
             let expected = problem.to_local(&stepper.forces).unwrap();
             let scale = expected.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for (got, want) in nsgs.r.iter().zip(&expected) {
-                assert!((got - want).abs() < 1e-10 * scale, "{friction}: {got} vs {want}");
+                assert!(
+                    (got - want).abs() < 1e-10 * scale,
+                    "{friction}: {got} vs {want}"
+                );
             }
             assert!(natural_map_error(&problem, &nsgs.r).relative < 1e-12);
         }
@@ -207,6 +212,7 @@ mod tests {
             q: vec![-1.0, 0.8, 0.3],
             mu: vec![0.1],
             frames: None,
+            compliance: 1.0,
             source: "block".into(),
         };
         let limits = SolveLimits {

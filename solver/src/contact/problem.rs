@@ -126,6 +126,11 @@ pub struct ContactProblem {
     pub mu: Vec<f64>,
     /// Rows `n, t1, t2` in global axes, for problems built from our own constraints.
     pub frames: Option<Vec<Matrix3<f64>>>,
+    /// The multipliers' unit: `r = compliance * force`. Our problems are scaled by the mean
+    /// diagonal of their Delassus matrix (m/N), so `W` is dimensionless with unit mean diagonal
+    /// and `r`, `q`, `u` are all lengths (m): the natural-map residual, which adds `r` and `u`,
+    /// is then meaningful. 1 for external problems (forces as given).
+    pub compliance: f64,
     /// Where the problem comes from (file, run, step).
     pub source: String,
 }
@@ -155,7 +160,8 @@ impl ContactProblem {
         x: &[Vector3<f64>],
         source: String,
     ) -> Self {
-        let frames: Vec<Matrix3<f64>> = constraints.iter().map(|c| local_frame(&c.normal)).collect();
+        let frames: Vec<Matrix3<f64>> =
+            constraints.iter().map(|c| local_frame(&c.normal)).collect();
         // Coefficients of each contact on its four nodes.
         let coefficients = |c: &ContactConstraint| {
             [
@@ -207,6 +213,13 @@ impl ContactProblem {
             }
         }
         let n = 3 * constraints.len();
+        let trace: f64 = triplets
+            .iter()
+            .filter(|(i, j, _)| i == j)
+            .map(|t| t.2)
+            .sum();
+        let compliance = if trace > 0.0 { trace / n as f64 } else { 1.0 };
+        triplets.iter_mut().for_each(|t| t.2 /= compliance);
         let q = constraints
             .iter()
             .zip(&frames)
@@ -220,11 +233,13 @@ impl ContactProblem {
             q,
             mu: constraints.iter().map(|c| c.friction).collect(),
             frames: Some(frames),
+            compliance,
             source,
         }
     }
 
-    /// The local multipliers of forces given in global axes (needs the frames).
+    /// The local multipliers of forces given in global axes (needs the frames), in the
+    /// problem's unit (`compliance`).
     pub fn to_local(&self, forces: &[Vector3<f64>]) -> Option<Vec<f64>> {
         let frames = self.frames.as_ref()?;
         Some(
@@ -232,21 +247,24 @@ impl ContactProblem {
                 .iter()
                 .zip(forces)
                 .flat_map(|(f, r)| {
-                    let l = f * r;
+                    let l = f * r * self.compliance;
                     [l.x, l.y, l.z]
                 })
                 .collect(),
         )
     }
 
-    /// The global forces of local multipliers (needs the frames).
+    /// The global forces of local multipliers in the problem's unit (needs the frames).
     pub fn to_global(&self, r: &[f64]) -> Option<Vec<Vector3<f64>>> {
         let frames = self.frames.as_ref()?;
         Some(
             frames
                 .iter()
                 .enumerate()
-                .map(|(a, f)| f.transpose() * Vector3::new(r[3 * a], r[3 * a + 1], r[3 * a + 2]))
+                .map(|(a, f)| {
+                    f.transpose() * Vector3::new(r[3 * a], r[3 * a + 1], r[3 * a + 2])
+                        / self.compliance
+                })
                 .collect(),
         )
     }
@@ -360,9 +378,15 @@ mod tests {
     fn the_natural_map_vanishes_at_solutions_and_not_elsewhere() {
         // Separation: r = 0, u_N > 0.
         let zero = Vector3::zeros();
-        assert_eq!(contact_natural_map(&zero, &Vector3::new(1.0, 5.0, 0.0), 0.3), zero);
+        assert_eq!(
+            contact_natural_map(&zero, &Vector3::new(1.0, 5.0, 0.0), 0.3),
+            zero
+        );
         // Stick inside the cone with u = 0.
-        assert_eq!(contact_natural_map(&Vector3::new(1.0, 0.1, 0.0), &zero, 0.3), zero);
+        assert_eq!(
+            contact_natural_map(&Vector3::new(1.0, 0.1, 0.0), &zero, 0.3),
+            zero
+        );
         // Slide: r on the cone, u_N = 0, u_T opposite r_T.
         let r = Vector3::new(1.0, 0.3, 0.0);
         let slide = contact_natural_map(&r, &Vector3::new(0.0, -2.0, 0.0), 0.3);
@@ -372,10 +396,20 @@ mod tests {
         assert!(contact_natural_map(&Vector3::new(-1.0, 0.0, 0.0), &zero, 0.3).norm() > 0.1);
         // Stick: an active contact must not slip; a released one is free to, with r_T = 0.
         let stick = f64::INFINITY;
-        assert_eq!(contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &zero, stick), zero);
-        assert!(contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &Vector3::y(), stick).norm() > 0.5);
-        assert_eq!(contact_natural_map(&zero, &Vector3::new(1.0, 3.0, 0.0), stick), zero);
-        assert!(contact_natural_map(&Vector3::y(), &Vector3::new(1.0, 3.0, 0.0), stick).norm() > 0.5);
+        assert_eq!(
+            contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &zero, stick),
+            zero
+        );
+        assert!(
+            contact_natural_map(&Vector3::new(1.0, 7.0, 0.0), &Vector3::y(), stick).norm() > 0.5
+        );
+        assert_eq!(
+            contact_natural_map(&zero, &Vector3::new(1.0, 3.0, 0.0), stick),
+            zero
+        );
+        assert!(
+            contact_natural_map(&Vector3::y(), &Vector3::new(1.0, 3.0, 0.0), stick).norm() > 0.5
+        );
     }
 
     #[test]
@@ -388,8 +422,10 @@ mod tests {
             Vector3::new(0.2, 0.2, -2e-3),
             Vector3::new(0.5, 0.3, -1e-3),
         ];
-        let mut inverse_mass: Vec<Vector3<f64>> =
-            [1.0, 0.5, 2.0, 1.0, 3.0].iter().map(|&m| Vector3::repeat(m)).collect();
+        let mut inverse_mass: Vec<Vector3<f64>> = [1.0, 0.5, 2.0, 1.0, 3.0]
+            .iter()
+            .map(|&m| Vector3::repeat(m))
+            .collect();
         inverse_mass[1].y = 0.0;
         let normal = Vector3::new(0.1, -0.2, 1.0).normalize();
         let make = |slave: u32, weights: [f64; 3], friction| ContactConstraint {

@@ -4,7 +4,9 @@
 //! Our extensions, all optional, are ignored by a reader that does not know them:
 //! - `mu` entries may be `null`: infinite friction (stick, `r_T` free);
 //! - `frames`: per contact the rows `n, t1, t2` of its local frame in global axes (9 numbers);
-//! - `solutions`: the multipliers solvers returned, `[{ "solver": name, "r": [3 nc] }]`.
+//! - `solutions`: the multipliers solvers returned, `[{ "solver": name, "r": [3 nc] }]`;
+//! - `compliance`: the multipliers' unit, `r = compliance * force` (our problems are scaled to a
+//!   unit mean diagonal of `W`, so `r`, `q` and `u` are lengths); absent means 1.
 
 use std::path::Path;
 
@@ -50,6 +52,9 @@ pub struct ProblemFile {
     pub frames: Option<Vec<[f64; 9]>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub solutions: Vec<StoredSolution>,
+    /// `r = compliance * force` (m/N for our scaled problems); absent: 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compliance: Option<f64>,
 }
 
 impl ProblemFile {
@@ -79,16 +84,14 @@ impl ProblemFile {
                     .collect()
             }),
             solutions,
+            compliance: (problem.compliance != 1.0).then_some(problem.compliance),
         }
     }
 
     /// The problem, checked: sizes agree, values are finite, `mu >= 0`.
     pub fn to_problem(&self, name: &str) -> Result<ContactProblem, String> {
         if self.format != FORMAT {
-            return Err(format!(
-                "format is `{}`, expected `{FORMAT}`",
-                self.format
-            ));
+            return Err(format!("format is `{}`, expected `{FORMAT}`", self.format));
         }
         if self.dimension != 3 {
             return Err(format!(
@@ -128,19 +131,18 @@ impl ProblemFile {
                     .map(|v| Matrix3::from_row_slice(v))
                     .collect::<Vec<_>>(),
             ),
-            Some(f) => {
-                return Err(format!(
-                    "{} frames for {} contacts",
-                    f.len(),
-                    self.contacts
-                ))
-            }
+            Some(f) => return Err(format!("{} frames for {} contacts", f.len(), self.contacts)),
         };
         Ok(ContactProblem {
             w: SparseMatrix::from_triplets(n, &self.w.triplets)?,
             q: self.q.clone(),
             mu,
             frames,
+            compliance: match self.compliance {
+                None => 1.0,
+                Some(c) if c > 0.0 && c.is_finite() => c,
+                Some(c) => return Err(format!("compliance {c} must be positive and finite")),
+            },
             source: if self.source.is_empty() {
                 name.to_string()
             } else {
@@ -188,7 +190,14 @@ mod tests {
     fn a_problem_survives_writing_and_reading_bit_for_bit() {
         let w = SparseMatrix::from_triplets(
             6,
-            &[(0, 0, 1.0 / 3.0), (1, 1, 2.0), (2, 2, 2.0), (3, 3, 0.1), (0, 3, 1e-17), (3, 0, 1e-17)],
+            &[
+                (0, 0, 1.0 / 3.0),
+                (1, 1, 2.0),
+                (2, 2, 2.0),
+                (3, 3, 0.1),
+                (0, 3, 1e-17),
+                (3, 0, 1e-17),
+            ],
         )
         .unwrap();
         let problem = ContactProblem {
@@ -196,6 +205,7 @@ mod tests {
             q: vec![-1.0, 0.5, 0.0, -0.1, 0.0, std::f64::consts::PI],
             mu: vec![f64::INFINITY, 0.3],
             frames: Some(vec![Matrix3::identity(), Matrix3::identity()]),
+            compliance: 2.5e-9,
             source: "unit".into(),
         };
         let file = ProblemFile::from_problem(
@@ -214,6 +224,7 @@ mod tests {
         assert_eq!(back.q, problem.q);
         assert_eq!(back.mu, problem.mu);
         assert_eq!(back.frames, problem.frames);
+        assert_eq!(back.compliance, problem.compliance);
         assert_eq!(solutions[0].r, vec![0.1; 6]);
         std::fs::remove_dir_all(dir).ok();
     }
@@ -226,12 +237,16 @@ mod tests {
                 q: vec![-1.0, 0.0, 0.0],
                 mu: vec![0.2],
                 frames: None,
+                compliance: 1.0,
                 source: String::new(),
             },
             vec![],
         );
         file.mu = vec![Some(-0.1)];
-        assert!(file.to_problem("p").unwrap_err().contains("mu of contact 0"));
+        assert!(file
+            .to_problem("p")
+            .unwrap_err()
+            .contains("mu of contact 0"));
         file.mu = vec![Some(0.1)];
         file.q.push(0.0);
         assert!(file.to_problem("p").unwrap_err().contains("3 q values"));

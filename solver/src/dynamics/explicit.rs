@@ -87,6 +87,18 @@ pub struct OutputSettings {
     pub fields: bool,
 }
 
+/// The contact solver's record over a run, all pairs and passes together.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactTotals {
+    /// Steps in which at least one contact problem was solved.
+    pub steps_with_contact: usize,
+    pub solves: usize,
+    pub not_converged: usize,
+    pub unresolved: usize,
+    /// Gauss-Seidel sweeps or interior-point iterations.
+    pub iterations: usize,
+}
+
 /// What a completed run reports.
 #[derive(Debug, Clone)]
 pub struct RunSummary {
@@ -98,6 +110,8 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     /// Wall time spent in the contact phase (detection and resolution), within `wall_seconds`.
     pub contact_seconds: f64,
+    /// How the contact solver fared, summed over the run.
+    pub contact_totals: ContactTotals,
     pub energies: EnergyLedger,
     /// Largest |balance error| over the run divided by the largest energy scale of the run.
     pub max_relative_energy_error: f64,
@@ -137,6 +151,7 @@ pub struct ExplicitSolver<'p> {
     /// What the contact phase did in the last step, per pair.
     pub contact_steps: Vec<crate::contact::ContactStep>,
     contact_seconds: f64,
+    contact_totals: ContactTotals,
     pub energies: EnergyLedger,
     pending: EnergyLedger,
     pub step: usize,
@@ -210,6 +225,7 @@ impl<'p> ExplicitSolver<'p> {
             contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
             contact_steps: Vec::new(),
             contact_seconds: 0.0,
+            contact_totals: ContactTotals::default(),
             reaction: vec![Vector3::zeros(); n],
             energies: EnergyLedger::default(),
             pending: EnergyLedger::default(),
@@ -231,6 +247,14 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Stops the run with [`SolverError::TimeLimit`] once `seconds` of wall time have passed,
     /// after writing the output computed so far.
+    /// The contact problems recorded so far (pairs with `record_every`), taken out of the solver.
+    pub fn take_recorded_problems(&mut self) -> Vec<crate::contact::RecordedProblem> {
+        self.contact
+            .as_mut()
+            .map(|c| std::mem::take(&mut c.phase.recorded))
+            .unwrap_or_default()
+    }
+
     pub fn set_time_limit(&mut self, seconds: f64) {
         self.deadline = Some((
             Instant::now() + std::time::Duration::from_secs_f64(seconds),
@@ -393,6 +417,7 @@ impl<'p> ExplicitSolver<'p> {
             critical_element: self.critical_element,
             wall_seconds: started.elapsed().as_secs_f64(),
             contact_seconds: self.contact_seconds,
+            contact_totals: self.contact_totals,
             energies: self.energies,
             max_relative_energy_error: if max_scale > 0.0 {
                 max_abs_error / max_scale
@@ -446,9 +471,24 @@ impl<'p> ExplicitSolver<'p> {
             // m (v+ - v-) / h + alpha m (v+ + v-) / 2 = f is m dv (1/h + alpha/2).
             let force_per_dv = 1.0 / h + 0.5 * alpha;
             let started = std::time::Instant::now();
-            self.contact_steps =
-                scratch.correct(model, dt, force_per_dv, &self.u, &mut self.v_next);
+            self.contact_steps = scratch.correct(
+                self.step,
+                model,
+                dt,
+                force_per_dv,
+                &self.u,
+                &mut self.v_next,
+            );
             self.contact_seconds += started.elapsed().as_secs_f64();
+            let totals = &mut self.contact_totals;
+            for s in &self.contact_steps {
+                totals.solves += s.solves;
+                totals.not_converged += s.not_converged;
+                totals.unresolved += s.unresolved;
+                totals.iterations += s.iterations;
+            }
+            totals.steps_with_contact +=
+                usize::from(self.contact_steps.iter().any(|s| s.solves > 0));
         }
         // Full-step velocity, reactions, and the energy pieces of this step.
         let mut moved_too_far = false;
@@ -789,6 +829,7 @@ impl ContactScratch {
     /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
     fn correct(
         &mut self,
+        step: usize,
         model: &crate::model::Model,
         dt: f64,
         force_per_dv: f64,
@@ -802,6 +843,7 @@ impl ContactScratch {
         self.predicted.copy_from_slice(&self.x1);
         self.tangential_dx.fill(Vector3::zeros());
         let mut steps = self.phase.resolve(
+            step,
             model,
             &self.inverse_mass,
             dt,

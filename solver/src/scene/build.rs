@@ -270,6 +270,25 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 ),
             ));
         }
+        if c.record_problems_every == Some(0) {
+            return Err(invalid(
+                &entity,
+                "record_problems_every is 0; give the step interval (1 records every step) or \
+                 leave it out"
+                    .to_string(),
+            ));
+        }
+        if let super::ContactSolverSpec::Conic(spec) = &c.solver {
+            if !(spec.tolerance > 0.0 && spec.tolerance < 1.0) || spec.max_iterations == 0 {
+                return Err(invalid(
+                    &entity,
+                    format!(
+                        "conic tolerance {} must lie in (0, 1) and max_iterations {} be positive",
+                        spec.tolerance, spec.max_iterations
+                    ),
+                ));
+            }
+        }
         contact.push(crate::contact::ContactPair {
             name: c.name.clone(),
             bodies,
@@ -279,6 +298,20 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 tolerance: c.tolerance,
                 max_iterations: c.max_iterations,
             },
+            algorithm: match &c.solver {
+                super::ContactSolverSpec::GaussSeidel => {
+                    crate::contact::ContactAlgorithm::GaussSeidel
+                }
+                super::ContactSolverSpec::Conic(spec) => crate::contact::ContactAlgorithm::Conic {
+                    mode: match spec.mode {
+                        super::ConicModeSpec::Relaxed => crate::contact::conic::ConicMode::Relaxed,
+                        super::ConicModeSpec::Coulomb => crate::contact::conic::ConicMode::Coulomb,
+                    },
+                    tolerance: spec.tolerance,
+                    max_iterations: spec.max_iterations,
+                },
+            },
+            record_every: c.record_problems_every,
             detection_tolerance: 1e-9,
             two_pass: c.two_pass,
             normals: crate::contact::normals::NormalSettings {

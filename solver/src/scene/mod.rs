@@ -65,6 +65,55 @@ pub struct ContactSpec {
     pub normals: crate::contact::normals::NormalKind,
     #[serde(default = "default_crease_angle")]
     pub crease_angle: f64,
+    /// `gauss_seidel` (the thesis, default) or `{ conic: { mode: relaxed | coulomb } }`.
+    #[serde(default)]
+    pub solver: ContactSolverSpec,
+    /// Record the contact problems of every n-th step as `contact-problem/1` JSON files in the
+    /// run's output folder (`<stem>-contact-problems/`).
+    #[serde(default)]
+    pub record_problems_every: Option<usize>,
+}
+
+/// Which algorithm solves a contact pair's problem each step.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactSolverSpec {
+    /// The thesis's Gauss-Seidel with clamp and radial return (`tolerance`, `max_iterations`).
+    #[default]
+    GaussSeidel,
+    /// The problem as a conic program solved by Clarabel (FORMULATION 4).
+    Conic(ConicSpec),
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConicSpec {
+    /// `relaxed`: one SOCP, associated friction (sliding contacts open); `coulomb`: a fixed point
+    /// of Tresca problems that converges to Coulomb's law. Frictionless and sticking pairs solve
+    /// the same program in both modes.
+    #[serde(default)]
+    pub mode: ConicModeSpec,
+    /// Clarabel's gap and feasibility tolerances.
+    #[serde(default = "default_conic_tolerance")]
+    pub tolerance: f64,
+    /// Interior-point iterations per solve.
+    #[serde(default = "default_conic_iterations")]
+    pub max_iterations: usize,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConicModeSpec {
+    Relaxed,
+    #[default]
+    Coulomb,
+}
+
+fn default_conic_tolerance() -> f64 {
+    1e-10
+}
+fn default_conic_iterations() -> usize {
+    200
 }
 
 fn default_crease_angle() -> f64 {
