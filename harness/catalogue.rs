@@ -49,7 +49,13 @@ pub struct CaseSpec {
     pub tier: Tier,
     #[serde(default)]
     pub tags: Vec<String>,
-    pub scene: Scene,
+    /// The scene the case runs. Exactly one of `scene` and `contact_problems` is given.
+    #[serde(default)]
+    pub scene: Option<Scene>,
+    /// Instead of a scene: a comparison of the contact solvers on stored contact problems
+    /// (`crate::contact_compare`); its metrics measure that comparison.
+    #[serde(default)]
+    pub contact_problems: Option<crate::contact_compare::ContactProblemsSpec>,
     #[serde(default)]
     pub sweep: Option<Sweep>,
     /// Solver configurations to compare on the same scene; each runs and is judged on its own.
@@ -89,13 +95,32 @@ pub struct MeshLevel {
     pub size: f64,
 }
 
-/// A named solver configuration: the analysis (integrator and its settings) that replaces the
-/// scene's for this variant.
+/// A named solver configuration: what replaces the scene's for this variant, the analysis
+/// (integrator and its settings), the contact solver of every pair, or both.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Variant {
     pub name: String,
-    pub analysis: impact_solver::scene::Analysis,
+    #[serde(default)]
+    pub analysis: Option<impact_solver::scene::Analysis>,
+    /// `gauss_seidel` or `{ conic: { mode: coulomb } }`: the same contact problems, another
+    /// algorithm (issue 5).
+    #[serde(default)]
+    pub contact_solver: Option<impact_solver::scene::ContactSolverSpec>,
+}
+
+impl Variant {
+    /// The case's scene as this variant runs it.
+    pub fn apply(&self, scene: &mut Scene) {
+        if let Some(analysis) = &self.analysis {
+            scene.analysis = analysis.clone();
+        }
+        if let Some(solver) = &self.contact_solver {
+            for pair in &mut scene.contact {
+                pair.solver = solver.clone();
+            }
+        }
+    }
 }
 
 /// How far a value may lie from its reference.
@@ -174,11 +199,15 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
             *p = base.join(&*p);
         }
     };
-    for body in &mut spec.scene.bodies {
+    for body in spec.scene.iter_mut().flat_map(|s| s.bodies.iter_mut()) {
         if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
             resolve(p);
         }
     }
+    if let Some(problems) = &mut spec.contact_problems {
+        resolve(&mut problems.folder);
+    }
+    crate::contact_compare::case::validate(&spec).map_err(fail)?;
     if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {
         levels.iter_mut().for_each(|l| resolve(&mut l.file));
     }

@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use impact_solver::contact::problem_file::{ProblemFile, StoredSolution};
+use impact_solver::contact::RecordedProblem;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary};
 use impact_solver::model::{field_frame, Problem};
 use impact_solver::output::{HistoryTable, PvdWriter};
@@ -21,6 +23,8 @@ pub struct Execution {
     pub summary: Option<RunSummary>,
     pub static_solution: Option<StaticSolution>,
     pub written: Vec<std::path::PathBuf>,
+    /// Contact problems recorded during the run (pairs with `record_problems_every`).
+    pub contact_problems: Vec<RecordedProblem>,
 }
 
 /// Options of one execution.
@@ -78,7 +82,17 @@ fn explicit(
         solver.set_time_limit(limit);
     }
     let plan = solver.plan();
-    let summary = solver.run(progress)?;
+    let outcome = solver.run(progress);
+    // Recorded problems are written whether or not the run completed: they are results too.
+    let contact_problems = solver.take_recorded_problems();
+    let mut written_problems = match options.out {
+        Some(dir) if !contact_problems.is_empty() => {
+            write_contact_problems(dir, options.stem, &contact_problems)?
+        }
+        _ => Vec::new(),
+    };
+    let mut summary = outcome?;
+    summary.written.append(&mut written_problems);
     Ok(Execution {
         plan,
         u: solver.u.clone(),
@@ -87,6 +101,7 @@ fn explicit(
         written: summary.written.clone(),
         summary: Some(summary),
         static_solution: None,
+        contact_problems,
     })
 }
 
@@ -128,5 +143,43 @@ fn statics(
         summary: None,
         static_solution: Some(solution),
         written,
+        contact_problems: Vec::new(),
     })
+}
+
+/// Writes each recorded contact problem as `contact-problem/1` JSON, with the multipliers the
+/// run's solver returned, into `<dir>/<stem>-contact-problems/`.
+fn write_contact_problems(
+    dir: &Path,
+    stem: &str,
+    problems: &[RecordedProblem],
+) -> Result<Vec<std::path::PathBuf>, SolverError> {
+    let folder = dir.join(format!("{stem}-contact-problems"));
+    std::fs::create_dir_all(&folder).map_err(|source| SolverError::Write {
+        path: folder.clone(),
+        source,
+    })?;
+    problems
+        .iter()
+        .map(|p| {
+            let path = folder.join(format!(
+                "step{:07}-{}-pass{}.json",
+                p.step,
+                p.pair
+                    .replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_"),
+                p.pass
+            ));
+            let solution = StoredSolution {
+                solver: p.solver.clone(),
+                r: p.r.clone(),
+            };
+            ProblemFile::from_problem(&p.problem, vec![solution])
+                .write(&path)
+                .map_err(|message| SolverError::Write {
+                    path: path.clone(),
+                    source: std::io::Error::other(message),
+                })?;
+            Ok(path)
+        })
+        .collect()
 }

@@ -4,12 +4,14 @@
 //! Pipeline: `catalogue -> runner (execute, measure) -> judge -> results -> report`.
 
 pub mod catalogue;
+pub mod contact_compare;
 pub mod execute;
 pub mod judge;
 pub mod measure;
 pub mod metadata;
 pub mod progress;
 pub mod reference;
+pub mod replay;
 pub mod report;
 pub mod results;
 pub mod runner;

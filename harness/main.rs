@@ -60,6 +60,25 @@ enum Command {
         #[arg(long, default_value = "reports")]
         reports: PathBuf,
     },
+    /// Compare the contact solvers on contact-problem files (contact-problem/1 JSON): error
+    /// reached, iterations and median time per problem, solver and tolerance; performance
+    /// profiles and a work-precision diagram. Writes results.json, results.csv, README.md, SVGs.
+    ContactCompare {
+        /// Problem files, or folders whose *.json files are all read (sorted by name).
+        inputs: Vec<PathBuf>,
+        #[arg(long, default_value = "reports/contact-compare")]
+        out: PathBuf,
+        /// Tolerances on the natural-map error ||F||/||q||, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "1e-4,1e-6,1e-8")]
+        tolerances: Vec<f64>,
+        /// Time limit of one solve (s).
+        #[arg(long, default_value_t = impact_vv::contact_compare::DEFAULT_TIME_LIMIT_S)]
+        time_limit: f64,
+        /// Solvers, comma-separated (default: all of gauss-seidel/thesis, gauss-seidel/exact,
+        /// conic/relaxed, conic/coulomb).
+        #[arg(long, value_delimiter = ',')]
+        solvers: Vec<String>,
+    },
     /// Run one scene file and write its history (CSV) and fields (VTU + PVD for ParaView).
     Scene {
         path: PathBuf,
@@ -197,6 +216,21 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Command::ContactCompare {
+            inputs,
+            out,
+            tolerances,
+            time_limit,
+            solvers,
+        } => ExitCode::from(impact_vv::contact_compare::command::run(
+            &impact_vv::contact_compare::command::CompareArgs {
+                inputs,
+                out,
+                tolerances,
+                time_limit_s: time_limit,
+                solvers,
+            },
+        )),
         Command::Scene {
             path,
             out,

@@ -143,6 +143,63 @@ pub enum Measure {
     MeasuredStabilityLimit,
     /// 1 if every unstable level stopped with an instability report (no NaN, no other error).
     UnstableRunsReported,
+    /// The contact problems the run recorded, replayed through `solver` at `tolerance` (or
+    /// `recorded`: the run's own multipliers); `quantity` is the worst over the problems (see
+    /// `crate::replay`).
+    ContactReplay {
+        solver: String,
+        quantity: crate::replay::ReplayQuantity,
+        #[serde(default = "replay_tolerance")]
+        tolerance: f64,
+        /// Only the problems the run's solver converged on.
+        #[serde(default)]
+        only_converged: bool,
+    },
+    /// The natural-map error (Acary, Bremond & Huber 2018, `||F(r)|| / ||q||`, computed by the
+    /// harness) that contact solver `solver` reached at `tolerance` on the named problems of a
+    /// `contact_problems` case (all of them when `problems` is empty), reduced by `statistic`.
+    /// A failed solve counts as an infinite error. See `crate::contact_compare::case`.
+    ContactProblemError {
+        solver: String,
+        #[serde(default)]
+        problems: Vec<String>,
+        tolerance: f64,
+        #[serde(default)]
+        statistic: Statistic,
+    },
+}
+
+fn replay_tolerance() -> f64 {
+    1e-10
+}
+
+/// How several values reduce to one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Statistic {
+    /// The largest (the worst error).
+    #[default]
+    Max,
+    Min,
+    /// The arithmetic mean.
+    Mean,
+}
+
+impl Statistic {
+    /// The statistic of `values`; NaN when there are none, and NaN (or infinity) propagates.
+    pub fn of(self, values: &[f64]) -> f64 {
+        if values.is_empty() {
+            return f64::NAN;
+        }
+        if values.iter().any(|v| v.is_nan()) {
+            return f64::NAN;
+        }
+        match self {
+            Statistic::Max => values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            Statistic::Min => values.iter().copied().fold(f64::INFINITY, f64::min),
+            Statistic::Mean => values.iter().sum::<f64>() / values.len() as f64,
+        }
+    }
 }
 
 /// A displacement axis.
@@ -442,6 +499,25 @@ impl Measure {
                     return Err(format!("`{c}` crosses its mean fewer than twice"));
                 }
                 (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0])
+            }
+            Measure::ContactReplay {
+                solver,
+                quantity,
+                tolerance,
+                only_converged,
+            } => crate::replay::evaluate(
+                &run.contact_problems,
+                solver,
+                *quantity,
+                *tolerance,
+                *only_converged,
+            )?,
+            Measure::ContactProblemError { .. } => {
+                return Err(
+                    "contact_problem_error measures a contact-solver comparison: the case \
+                            needs `contact_problems` instead of a scene"
+                        .into(),
+                )
             }
             sweep => {
                 return Err(format!(

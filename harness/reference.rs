@@ -152,9 +152,26 @@ pub fn body_constants(scene: &Scene, of: &MaterialRef) -> Result<IsotropicElasti
         .ok_or_else(|| format!("the reference names body `{body}`, which the scene does not have"))
 }
 
+/// The constants of `of` when there may be no scene (cases that run none, such as a contact-problem
+/// comparison): a reference naming a body then is an error saying so.
+fn constants_of(scene: Option<&Scene>, of: &MaterialRef) -> Result<IsotropicElastic, String> {
+    match (scene, of) {
+        (_, MaterialRef::Material(c)) => Ok(*c),
+        (Some(scene), of) => body_constants(scene, of),
+        (None, MaterialRef::Body(b)) => Err(format!(
+            "the reference names body `{b}`, but the case has no scene: state the material instead"
+        )),
+    }
+}
+
 impl Reference {
     /// The reference value and a line saying where it comes from.
     pub fn evaluate(&self, scene: &Scene) -> Result<(f64, String), String> {
+        self.evaluate_for(Some(scene))
+    }
+
+    /// As [`Reference::evaluate`], for a case that may have no scene.
+    pub fn evaluate_for(&self, scene: Option<&Scene>) -> Result<(f64, String), String> {
         use analytic::*;
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
@@ -166,15 +183,15 @@ impl Reference {
                 match a {
                     Analytic::Zero => (0.0, "exact solution: zero".into()),
                     Analytic::DilatationalWaveSpeed { of } => (
-                        dilatational_wave_speed(&body_constants(scene, of)?),
+                        dilatational_wave_speed(&constants_of(scene, of)?),
                         "c_d = sqrt((lambda + 2 mu)/rho)".into(),
                     ),
                     Analytic::RayleighWaveSpeed { of } => (
-                        rayleigh_wave_speed(&body_constants(scene, of)?),
+                        rayleigh_wave_speed(&constants_of(scene, of)?),
                         "root of Rayleigh's equation (Rayleigh 1885)".into(),
                     ),
                     Analytic::PlaneWaveStress { of, velocity } => (
-                        plane_wave_stress(&body_constants(scene, of)?, *velocity),
+                        plane_wave_stress(&constants_of(scene, of)?, *velocity),
                         "sigma = -rho c_d v0 (1-D wave theory)".into(),
                     ),
                     Analytic::SvkUniaxial {
@@ -182,7 +199,7 @@ impl Reference {
                         stretch,
                         quantity,
                     } => {
-                        let s = svk_uniaxial(&body_constants(scene, of)?, *stretch);
+                        let s = svk_uniaxial(&constants_of(scene, of)?, *stretch);
                         let v = match quantity {
                             SvkQuantity::E11 => s.e11,
                             SvkQuantity::E22 => s.e22,
@@ -193,13 +210,13 @@ impl Reference {
                         (v, format!("Saint-Venant-Kirchhoff uniaxial stress at stretch {stretch} (2.123)"))
                     }
                     Analytic::SvkUniaxialStrainStress { of, stretch } => (
-                        svk_uniaxial_strain_stress(&body_constants(scene, of)?, *stretch),
+                        svk_uniaxial_strain_stress(&constants_of(scene, of)?, *stretch),
                         format!(
                             "Saint-Venant-Kirchhoff uniaxial strain at stretch {stretch} (2.123)"
                         ),
                     ),
                     Analytic::CantileverFirstFrequency { of, length, depth } => (
-                        cantilever_first_frequency(&body_constants(scene, of)?, *length, *depth),
+                        cantilever_first_frequency(&constants_of(scene, of)?, *length, *depth),
                         "Euler-Bernoulli cantilever, beta L = 1.8751".into(),
                     ),
                     Analytic::HertzImpact {
@@ -208,7 +225,7 @@ impl Reference {
                         relative_speed,
                         quantity,
                     } => {
-                        let c = body_constants(scene, of)?;
+                        let c = constants_of(scene, of)?;
                         let mass = c.density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
                         let h = hertz_impact(&c, *radius, mass, *relative_speed);
                         let v = match quantity {

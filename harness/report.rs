@@ -6,8 +6,9 @@
 //! it opens from a CI artifact or a mail attachment without network access or fonts.
 
 mod axis;
+mod contact;
 mod diagrams;
-mod format;
+pub(crate) mod format;
 mod history;
 mod html;
 mod markdown;

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 /// JSON has no NaN or infinity: serde_json writes them as `null`. These read `null` back as
 /// NaN so that a run with a non-finite value can still be reloaded by `impact-vv report`.
-mod lenient {
+pub(crate) mod lenient {
     use serde::{Deserialize, Deserializer};
 
     pub fn f64<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -140,6 +140,10 @@ pub struct CaseResult {
     /// How the contact solver fared over the judged run, for scenes with contact.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSolverStats>,
+    /// The contact-solver comparison of a `contact_problems` case (no scene): problems, their
+    /// descriptors and one row per problem, solver and tolerance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_comparison: Option<crate::contact_compare::Comparison>,
 }
 
 /// Contact-solver statistics of one scene run (summed over pairs and passes).

@@ -69,25 +69,16 @@ struct LevelRun {
 /// the scene once), then judges its metrics.
 pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
-    let started = Instant::now();
-    let mut scene = spec.scene.clone();
-    if let Some(v) = variant {
-        scene.analysis = v.analysis.clone();
-    }
-    let mut result = CaseResult {
-        id: spec.id.clone(),
-        variant: variant.map_or("default".into(), |v| v.name.clone()),
-        status: Status::Error,
-        wall_s: 0.0,
-        metrics: Vec::new(),
-        description: spec.description.clone(),
-        tier: spec.tier.name().into(),
-        tags: spec.tags.clone(),
-        message: None,
-        plots: Vec::new(),
-        sweep: None,
-        contact: None,
+    let Some(scene) = &spec.scene else {
+        // A case without a scene compares contact solvers on stored problems.
+        return crate::contact_compare::case::run_case(case, options);
     };
+    let started = Instant::now();
+    let mut scene = scene.clone();
+    if let Some(v) = variant {
+        v.apply(&mut scene);
+    }
+    let mut result = unfinished_result(spec, variant.map_or("default", |v| v.name.as_str()));
     let levels = match level_scenes(&scene, spec.sweep.as_ref()) {
         Ok(l) => l,
         Err(message) => {
@@ -153,6 +144,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
         .as_ref()
         .expect("judged level completed");
     result.message = Some(run.plan.clone());
+    result.contact = contact_stats(problem, run);
     let mut failures = Vec::new();
     let mut sweep_levels: Vec<SweepLevel> = runs
         .iter()
@@ -176,7 +168,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
             ));
             continue;
         };
-        let (ref_value, source) = match reference.evaluate(&spec.scene) {
+        let (ref_value, source) = match reference.evaluate(&scene) {
             Ok(r) => r,
             Err(e) => {
                 failures.push(format!("metric `{}`: reference: {e}", m.name));
@@ -403,4 +395,42 @@ fn band(m: &MetricResult) -> Option<[f64; 2]> {
 /// Path helpers for a run folder.
 pub fn run_dir(reports: &Path, run_id: &str) -> PathBuf {
     reports.join(run_id)
+}
+
+/// The contact solver's record over a run of a scene with contact.
+fn contact_stats(
+    problem: &impact_solver::model::Problem,
+    run: &Execution,
+) -> Option<crate::results::ContactSolverStats> {
+    let pair = problem.contact.first()?;
+    let summary = run.summary.as_ref()?;
+    let t = summary.contact_totals;
+    Some(crate::results::ContactSolverStats {
+        solver: pair.algorithm.name(),
+        steps_with_contact: t.steps_with_contact,
+        solves: t.solves,
+        not_converged: t.not_converged,
+        unresolved: t.unresolved,
+        iterations: t.iterations,
+        contact_seconds: summary.contact_seconds,
+    })
+}
+
+/// The result of a case before it has run: an error until something better is known.
+pub(crate) fn unfinished_result(spec: &crate::catalogue::CaseSpec, variant: &str) -> CaseResult {
+    CaseResult {
+        id: spec.id.clone(),
+        variant: variant.into(),
+        status: Status::Error,
+        wall_s: 0.0,
+        metrics: Vec::new(),
+        description: spec.description.clone(),
+        tier: spec.tier.name().into(),
+        tags: spec.tags.clone(),
+        message: None,
+        plots: Vec::new(),
+        sweep: None,
+        contact: None,
+        contact_comparison: None,
+    }
 }

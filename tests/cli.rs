@@ -285,3 +285,177 @@ fn scene_output_is_bitwise_identical_on_one_and_two_threads() {
     }
     assert_eq!(csv[0], csv[1]);
 }
+
+/// The shared contact problems (`../shared/data/contact-problems` beside the repository), or
+/// `None` with a message when this checkout has no such folder.
+fn contact_problems() -> Option<PathBuf> {
+    let dir = repo().join("../shared/data/contact-problems");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "skipped: no contact problems at {} (shared data beside the repository)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// The four smallest stored problems: quick enough for every test run.
+const SMALL_PROBLEMS: [&str; 4] = [
+    "frictioncontact3d_1c",
+    "fc3d_example1",
+    "confeti-ex13-4contact-fc3d-sbm",
+    "rover1039",
+];
+
+#[test]
+fn contact_compare_writes_tables_profiles_and_measures_every_solve() {
+    let Some(data) = contact_problems() else {
+        return;
+    };
+    let out = temp_dir("contact-compare");
+    let files: Vec<String> = SMALL_PROBLEMS
+        .iter()
+        .map(|p| data.join(format!("{p}.json")).display().to_string())
+        .collect();
+    let mut args = vec!["contact-compare"];
+    args.extend(files.iter().map(|s| s.as_str()));
+    args.extend(["--out", out.to_str().unwrap(), "--time-limit", "1"]);
+    let o = impact_vv(&args, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    for f in [
+        "results.json",
+        "results.csv",
+        "README.md",
+        "profile-1e-4.svg",
+        "profile-1e-6.svg",
+        "profile-1e-8.svg",
+        "work-precision.svg",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    // 4 problems x 4 solvers x 3 tolerances, in that nesting.
+    assert_eq!(rows.len(), 48);
+    assert_eq!(json["problems"][0]["name"], "frictioncontact3d_1c");
+    assert_eq!(json["problems"][0]["contacts"], 1);
+    assert_eq!(json["problems"][0]["unknowns"], 3);
+    for r in rows {
+        let seconds = r["seconds"].as_f64().unwrap();
+        assert!(seconds > 0.0 && seconds < 1.5, "{r}");
+        let (error, tol) = (r["error"].as_f64(), r["tolerance"].as_f64().unwrap());
+        // Solved in the sense of the profiles exactly when the harness's error meets the
+        // tolerance (within the time limit, which these small problems stay under).
+        assert_eq!(r["solved"], error.is_some_and(|e| e <= tol), "{r}");
+    }
+    // Issue 5: nonlinear Gauss-Seidel with the exact local solver reaches 1e-8 on these.
+    for p in SMALL_PROBLEMS {
+        let row = rows
+            .iter()
+            .find(|r| {
+                r["problem"] == p && r["solver"] == "gauss-seidel/exact" && r["tolerance"] == 1e-8
+            })
+            .unwrap();
+        assert_eq!(row["solved"], true, "{row}");
+    }
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 49, "a header and one line per solve");
+    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    for s in [
+        "## Problems",
+        "## Tolerance 1e-8",
+        "rover1039",
+        "conic/coulomb",
+        "profile-1e-8.svg",
+    ] {
+        assert!(readme.contains(s), "README.md lacks {s}");
+    }
+    let profile = std::fs::read_to_string(out.join("profile-1e-8.svg")).unwrap();
+    assert!(profile.contains("Performance profile") && profile.contains("gauss-seidel/exact"));
+}
+
+#[test]
+fn contact_compare_names_what_is_wrong_with_its_input() {
+    let dir = temp_dir("contact-compare-bad");
+    let out = dir.join("out");
+    let out_arg = out.to_str().unwrap();
+
+    let o = impact_vv(&["contact-compare", "--out", out_arg], &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("no contact-problem files"),
+        "{}",
+        text(&o)
+    );
+
+    let missing = dir.join("missing.json");
+    let o = impact_vv(
+        &[
+            "contact-compare",
+            missing.to_str().unwrap(),
+            "--out",
+            out_arg,
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("missing.json"), "{}", text(&o));
+
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{ \"format\": \"contact-problem/1\", ").unwrap();
+    let o = impact_vv(
+        &[
+            "contact-compare",
+            broken.to_str().unwrap(),
+            "--out",
+            out_arg,
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("broken.json"), "{}", text(&o));
+
+    let o = impact_vv(
+        &[
+            "contact-compare",
+            broken.to_str().unwrap(),
+            "--solvers",
+            "conic/fast",
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("conic/fast") && text(&o).contains("gauss-seidel/exact"));
+
+    // One unreadable file among readable ones: the others are compared, the status is 1.
+    let Some(data) = contact_problems() else {
+        return;
+    };
+    let good = data.join("frictioncontact3d_1c.json");
+    let o = impact_vv(
+        &[
+            "contact-compare",
+            good.to_str().unwrap(),
+            broken.to_str().unwrap(),
+            "--out",
+            out_arg,
+            "--tolerances",
+            "1e-6",
+            "--solvers",
+            "gauss-seidel/exact,conic/relaxed",
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("broken.json"), "{}", text(&o));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().unwrap().len(), 2);
+    assert!(json["unreadable"][0]["file"]
+        .as_str()
+        .unwrap()
+        .contains("broken.json"));
+}

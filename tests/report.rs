@@ -85,6 +85,7 @@ fn pass_case() -> CaseResult {
         plots: vec![history_plot()],
         sweep: None,
         contact: None,
+        contact_comparison: None,
     }
 }
 
@@ -131,6 +132,7 @@ fn fail_case() -> CaseResult {
         plots: vec![],
         sweep: Some(sweep),
         contact: None,
+        contact_comparison: None,
     }
 }
 
@@ -148,6 +150,7 @@ fn error_case() -> CaseResult {
         plots: vec![],
         sweep: None,
         contact: None,
+        contact_comparison: None,
     }
 }
 
@@ -374,5 +377,216 @@ fn non_finite_metrics_do_not_lose_history_lines() {
     let read = read_history(&path).unwrap();
     assert_eq!(read.len(), records.len());
     assert!(!read[0].metrics.contains_key("diverged"));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+// ---- Contact algorithms -------------------------------------------------------------------
+
+use impact_solver::contact::problem_file::ProblemFile;
+use impact_vv::contact_compare::{describe, Comparison, ComparisonRow, NORMALISATION};
+use impact_vv::results::ContactSolverStats;
+
+const COMPARISON_ID: &str = "contact/external-problems";
+const SOLVER_CASE_ID: &str = "contact/spheres-headon";
+
+fn compare_row(
+    problem: &str,
+    solver: &str,
+    tolerance: f64,
+    error: f64,
+    seconds: f64,
+) -> ComparisonRow {
+    ComparisonRow {
+        problem: problem.into(),
+        solver: solver.into(),
+        tolerance,
+        error,
+        absolute_error: error,
+        iterations: 12,
+        outer_iterations: 1,
+        seconds,
+        repeats: 3,
+        status: if error <= tolerance {
+            "converged"
+        } else {
+            "max-iterations"
+        }
+        .into(),
+        solved: error <= tolerance,
+        notes: vec![],
+    }
+}
+
+/// Two problems, two solvers, two tolerances; conic/coulomb misses 1e-8 on `p2`.
+fn comparison_case() -> CaseResult {
+    let problem = serde_json::from_str::<ProblemFile>(
+        r#"{ "format": "contact-problem/1", "dimension": 3, "contacts": 1, "mu": [0.3],
+             "q": [-1, 0, 0], "W": { "rows": 3, "cols": 3,
+             "triplets": [[0, 0, 2.0], [1, 1, 1.0], [2, 2, 1.0]] } }"#,
+    )
+    .unwrap()
+    .to_problem("p")
+    .unwrap();
+    let mut rows = Vec::new();
+    for p in ["p1", "p2"] {
+        for (tol, gs, conic) in [
+            (1e-4, 5e-5, 2e-5),
+            (1e-8, 3.5e-9, if p == "p2" { 4e-6 } else { 1e-9 }),
+        ] {
+            rows.push(compare_row(p, "gauss-seidel/exact", tol, gs, 0.002));
+            rows.push(compare_row(p, "conic/coulomb", tol, conic, 0.001));
+        }
+    }
+    let mut case = error_case();
+    case.id = COMPARISON_ID.into();
+    case.variant = "default".into();
+    case.status = Status::Pass;
+    case.message = None;
+    case.contact_comparison = Some(Comparison {
+        normalisation: NORMALISATION.into(),
+        tolerances: vec![1e-4, 1e-8],
+        time_limit_s: 10.0,
+        solvers: vec!["gauss-seidel/exact".into(), "conic/coulomb".into()],
+        problems: vec![
+            describe(&problem, "p1", "p1.json"),
+            describe(&problem, "p2", "p2.json"),
+        ],
+        unreadable: vec![],
+        rows,
+    });
+    case
+}
+
+/// One variant of a contact case with a sweep: `contact_seconds` over 100 steps with contact.
+fn solver_variant(variant: &str, solver: &str, status: Status, contact_seconds: f64) -> CaseResult {
+    let mut case = fail_case();
+    case.id = SOLVER_CASE_ID.into();
+    case.variant = variant.into();
+    case.status = status;
+    case.contact = Some(ContactSolverStats {
+        solver: solver.into(),
+        steps_with_contact: 100,
+        solves: 200,
+        not_converged: 10,
+        unresolved: 3,
+        iterations: 5000,
+        contact_seconds,
+    });
+    case
+}
+
+fn contact_results() -> RunResults {
+    let mut run = results("run-contact");
+    run.cases = vec![
+        comparison_case(),
+        solver_variant("gauss-seidel", "gauss-seidel", Status::Pass, 2.0),
+        solver_variant("conic", "conic/coulomb", Status::Pass, 1.0),
+        // Cheaper still, but failing: not the fastest among the passing.
+        solver_variant("conic-relaxed", "conic/relaxed", Status::Fail, 0.1),
+        pass_case(),
+    ];
+    run
+}
+
+/// The cells of the table row whose first cell is `first`, within `html`.
+fn row_cells<'a>(html: &'a str, first: &str) -> &'a str {
+    let start = html
+        .find(&format!("<tr><td>{first}</td>"))
+        .unwrap_or_else(|| panic!("no row starting with {first}"));
+    &html[start..start + html[start..].find("</tr>").unwrap()]
+}
+
+#[test]
+fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
+    let dir = scratch("contact");
+    let run = contact_results();
+    let page =
+        fs::read_to_string(write_report(&dir, &run, &run.history_records()).unwrap()).unwrap();
+    let start = page
+        .find("<section id=\"contact-algorithms\">")
+        .expect("the section");
+    let section = &page[start..start + page[start..].find("</section>").unwrap()];
+    assert!(section.contains("<h2>Contact algorithms</h2>"));
+
+    // (a) The comparison: problems, per-tolerance errors, profiles and work-precision.
+    assert!(section.contains(&format!("{COMPARISON_ID}: 2 problems, 2 solvers")));
+    assert!(section.contains("Tolerance 1e-8"));
+    let p2 = row_cells(&section[section.find("Tolerance 1e-8").unwrap()..], "p2");
+    assert!(
+        p2.contains("3.5e-9 ✓") && p2.contains("4e-6 ✗ max-iterations"),
+        "{p2}"
+    );
+    // At 1e-8 conic/coulomb solves p1 only, in half gauss-seidel's time: 1/2 fastest each.
+    let summary = row_cells(section, "conic/coulomb");
+    assert!(summary.contains("<td>1e-4</td><td>2/2</td>"), "{summary}");
+    assert!(section.contains("<td>conic/coulomb</td><td>1e-8</td><td>1/2</td>"));
+    for title in [
+        "Performance profile, tolerance 1e-4",
+        "Performance profile, tolerance 1e-8",
+        "Work-precision (all problems)",
+    ] {
+        assert!(section.contains(title), "no plot {title}");
+    }
+
+    // (b) The catalogue case under three contact solvers.
+    assert!(section.contains(&format!("{SOLVER_CASE_ID}: contact solvers")));
+    let conic = row_cells(section, "conic");
+    assert!(conic.contains("fastest"), "{conic}");
+    assert!(
+        conic.contains("<td>10 (5%)</td>"),
+        "not converged count and share: {conic}"
+    );
+    assert!(
+        conic.contains("<td>25</td>"),
+        "mean iterations per solve: {conic}"
+    );
+    assert!(
+        conic.contains("<td>0.01 s</td>"),
+        "contact time per step: {conic}"
+    );
+    assert!(!row_cells(section, "gauss-seidel").contains("fastest"));
+    assert!(!row_cells(section, "conic-relaxed").contains("fastest"));
+    assert!(section.contains("Fastest among the passing variants: conic, 0.01 s"));
+
+    // (c) One work-precision diagram per swept metric, one curve per solver variant.
+    assert!(section.contains(&format!(
+        "Work-precision by solver: {SOLVER_CASE_ID}, {WORST}"
+    )));
+    assert!(section.contains(&format!(
+        "Work-precision by solver: {SOLVER_CASE_ID}, frequency_error"
+    )));
+
+    let md = fs::read_to_string(dir.join("summary.md")).unwrap();
+    let md_section = &md[md
+        .find("## Contact algorithms")
+        .expect("summary.md has the section")..];
+    assert!(md_section.contains(COMPARISON_ID) && md_section.contains("| p2 |"));
+    assert!(md_section.contains("Fastest among the passing variants: conic"));
+
+    // results.json keeps the comparison.
+    let back: RunResults =
+        serde_json::from_str(&fs::read_to_string(dir.join("results.json")).unwrap()).unwrap();
+    assert_eq!(
+        back.cases[0].contact_comparison,
+        run.cases[0].contact_comparison
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_run_without_contact_solvers_has_no_contact_section_and_old_results_load() {
+    let dir = scratch("no-contact");
+    let run = results("run-1");
+    let page = fs::read_to_string(write_report(&dir, &run, &[]).unwrap()).unwrap();
+    assert!(!page.contains("contact-algorithms"));
+    assert!(!fs::read_to_string(dir.join("summary.md"))
+        .unwrap()
+        .contains("Contact algorithms"));
+    // A results.json from before `contact` and `contact_comparison` existed.
+    let old = r#"{"run_id": "old", "commit": "abc", "tier": "quick", "cases": [
+        {"id": "a", "variant": "default", "status": "pass", "wall_s": 1.0, "metrics": []}]}"#;
+    let old: RunResults = serde_json::from_str(old).unwrap();
+    assert!(old.cases[0].contact.is_none() && old.cases[0].contact_comparison.is_none());
+    assert!(write_report(&dir, &old, &[]).is_ok());
     let _ = fs::remove_dir_all(&dir);
 }

@@ -2,6 +2,8 @@
 //! text from the results goes through [`format::html`]; the helpers below take either escaped
 //! fragments (`Cell::Html`, `inner`) or plain text, and say which.
 
+mod contact;
+
 use super::diagrams::{self, Trend};
 use super::format;
 use super::plot::{render_plot, render_plot_sized, TREND_SIZE};
@@ -16,6 +18,7 @@ pub fn page(results: &RunResults, history: &[HistoryRecord]) -> String {
     let summaries = summary::summaries(results);
     let mut body = header(results);
     body.push_str(&summary_section(&summaries));
+    body.push_str(&contact::section(results));
     for s in &summaries {
         body.push_str(&case_section(s, history));
     }
