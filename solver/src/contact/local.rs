@@ -82,6 +82,19 @@ pub fn exact_step(
     if b.x >= 0.0 {
         return (Vector3::zeros(), LocalCase::Separated);
     }
+    if is_isotropic(a) {
+        // A multiple of the identity: the thesis step from zero is the exact solution, in
+        // closed form (the scan below would find the same slip direction, 300 times slower).
+        let r = thesis_step(a, &Vector3::zeros(), b, mu);
+        let case = match (mu, r) {
+            (0.0, _) => LocalCase::Frictionless,
+            (m, r) if m.is_finite() && r.y.hypot(r.z) >= m * r.x * (1.0 - 1e-12) => {
+                LocalCase::Slide
+            }
+            _ => LocalCase::Stick,
+        };
+        return (r, case);
+    }
     if mu == 0.0 {
         return if a[(0, 0)] > 0.0 {
             (
@@ -104,6 +117,17 @@ pub fn exact_step(
         Some(r) => (r, LocalCase::Slide),
         None => fallback(a, b, mu, hint),
     }
+}
+
+/// Whether the block is a positive multiple of the identity (our lumped-mass blocks, rotated
+/// into the local frame: equal to round-off, 1e-13 of the diagonal).
+fn is_isotropic(a: &Matrix3<f64>) -> bool {
+    let d = a[(0, 0)];
+    let close = |v: f64, w: f64| (v - w).abs() <= 1e-13 * d;
+    d > 0.0
+        && close(a[(1, 1)], d)
+        && close(a[(2, 2)], d)
+        && (0..3).all(|i| (0..3).all(|j| i == j || close(a[(i, j)], 0.0)))
 }
 
 fn fallback(
