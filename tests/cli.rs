@@ -286,10 +286,13 @@ fn scene_output_is_bitwise_identical_on_one_and_two_threads() {
     assert_eq!(csv[0], csv[1]);
 }
 
-/// The shared contact problems (`../shared/data/contact-problems` beside the repository), or
-/// `None` with a message when this checkout has no such folder.
+/// The shared contact problems (`../shared/data/contact-problems` beside the repository, or
+/// under `$IMPACT_SHARED_DIR`), or `None` with a message when there is no such folder.
 fn contact_problems() -> Option<PathBuf> {
-    let dir = repo().join("../shared/data/contact-problems");
+    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
+        Some(root) => PathBuf::from(root).join("data/contact-problems"),
+        None => repo().join("../shared/data/contact-problems"),
+    };
     if dir.is_dir() {
         Some(dir)
     } else {

@@ -155,6 +155,21 @@ pub fn measure_value(measure: &Measure, c: &Comparison) -> Result<f64, String> {
     Ok(statistic.of(&errors))
 }
 
+/// The folder as the case names it; or, when that does not exist and the path goes through a
+/// `shared` folder, the same path below `$IMPACT_SHARED_DIR` (a checkout that does not sit beside
+/// the shared data, such as CI's clone).
+fn shared_folder(folder: &std::path::Path) -> Option<std::path::PathBuf> {
+    if folder.is_dir() {
+        return Some(folder.to_path_buf());
+    }
+    let root = std::env::var_os("IMPACT_SHARED_DIR")?;
+    let components: Vec<_> = folder.components().collect();
+    let at = components.iter().rposition(|c| c.as_os_str() == "shared")?;
+    let mut path = std::path::PathBuf::from(root);
+    components[at + 1..].iter().for_each(|c| path.push(c));
+    path.is_dir().then_some(path)
+}
+
 /// Runs a `contact_problems` case: the comparison, its files under
 /// `<output>/cases/<id>/contact-compare/`, and its metrics.
 pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
@@ -165,17 +180,17 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
         result.message = Some("the case has neither a scene nor contact_problems".into());
         return result;
     };
-    if !cp.folder.is_dir() {
+    let Some(folder) = shared_folder(&cp.folder) else {
         result.status = Status::Skipped;
         result.message = Some(format!(
             "the contact problems are expected in `{}` (shared data: `shared/data/contact-problems` \
-             beside the repository, see its README); that folder does not exist, so the \
-             comparison did not run",
+             beside the repository, see its README, or under `$IMPACT_SHARED_DIR`); that folder \
+             does not exist, so the comparison did not run",
             cp.folder.display()
         ));
         return result;
-    }
-    let prepared = collect_problem_files(std::slice::from_ref(&cp.folder))
+    };
+    let prepared = collect_problem_files(std::slice::from_ref(&folder))
         .and_then(|files| Ok((files, solver_entries(&cp.solvers)?)));
     let (files, solvers) = match prepared {
         Ok(p) => p,

@@ -72,7 +72,12 @@ fn problems() -> Vec<(String, ContactProblem)> {
         ("strip-frictionless".to_string(), strip(64, 0.0)),
         ("strip-mu0.3".to_string(), strip(64, 0.3)),
     ];
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems");
+    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
+        Some(root) => PathBuf::from(root).join("data/contact-problems"),
+        None => {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems")
+        }
+    };
     for name in ["rover1039", "oneobject-i1028-138"] {
         match read_problem(&dir.join(format!("{name}.json"))) {
             Ok((p, _)) => list.push((name.to_string(), p)),

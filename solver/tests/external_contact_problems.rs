@@ -20,7 +20,13 @@ const SMALL: [&str; 5] = [
 ];
 
 fn folder() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems");
+    // Beside the checkout, or under $IMPACT_SHARED_DIR for a clone elsewhere (CI).
+    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
+        Some(root) => PathBuf::from(root).join("data/contact-problems"),
+        None => {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems")
+        }
+    };
     if dir.is_dir() {
         Some(dir)
     } else {
