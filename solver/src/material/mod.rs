@@ -5,6 +5,7 @@
 //! `f_a = V P grad_X N_a`. Elastic models have no state and need no per-step storage.
 
 mod linear_elastic;
+pub mod microplane;
 mod saint_venant_kirchhoff;
 
 use nalgebra::Matrix3;

@@ -1,0 +1,390 @@
+//! The rate-sensitive microplane model for concrete with relaxed kinematic constraint (thesis
+//! chapter 5, Ožbolt, Li & Kožar 2001), made precise by `shared/design/MICROPLANE.md`.
+//!
+//! One update takes the Green-Lagrange strain `E` of an element (5.4), its equivalent rate
+//! `gamma_dot` (5.111) and the element's crack band, and returns the back-rotated Cauchy stress
+//! `s` (5.47); the element turns it into Cauchy stress with `sigma = R s R^T`.
+//!
+//! - [`directions`]: the microplanes and the quadrature on the sphere (5.2, Bažant & Oh 1986);
+//! - [`laws`]: the virgin laws (5.19-5.23) and the crack-band scaling of their softening;
+//! - [`cyclic`]: loading, unloading and reloading of one component (5.100-5.104);
+//! - [`discontinuity`]: the relaxation functions `psi` (5.91, 5.96, 5.97, 5.99);
+//! - [`state`]: the history an element carries from step to step;
+//! - [`driver`]: a material-point driver for strain- and stress-controlled paths.
+
+pub mod cyclic;
+pub mod directions;
+pub mod discontinuity;
+pub mod driver;
+pub mod laws;
+pub mod parameters;
+pub mod state;
+
+pub use directions::{contract, Microplane, SphereRule, Sym};
+pub use parameters::{MicroplaneParameters, RateEffect};
+pub use state::MicroplaneState;
+
+use cyclic::{Branch, UnloadingRule};
+use laws::{volumetric_compression, ExponentialLaw};
+
+/// The model with everything that does not change during a run precomputed.
+#[derive(Debug, Clone)]
+pub struct MicroplaneConcrete {
+    pub parameters: MicroplaneParameters,
+    planes: Vec<Microplane>,
+    /// `E_V0 = E / (1 - 2 nu)`, `E_D0 = E_M0 = E_K0 = E / (1 + nu)` (MICROPLANE "Elastic split").
+    e_v0: f64,
+    e_d0: f64,
+    e_t0: f64,
+    /// Volumetric and deviatoric tension (exponent `m`), deviatoric compression (`n`), shear (`k`).
+    tension: ExponentialLaw,
+    compression: ExponentialLaw,
+    shear: ExponentialLaw,
+    rule: UnloadingRule,
+}
+
+/// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrackBand {
+    /// Element size `h = (6 V)^(1/3)` (m).
+    pub size: f64,
+    pub tension: f64,
+    pub shear: f64,
+}
+
+/// What one update gives besides the stress: enough for output and for checks.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct UpdateInfo {
+    /// Rate factor `F` used.
+    pub rate_factor: f64,
+    /// Deviatoric and shear relaxation `psi` used for planes in deviatoric compression.
+    pub psi: f64,
+}
+
+impl MicroplaneConcrete {
+    pub fn new(parameters: MicroplaneParameters) -> Result<Self, String> {
+        parameters.validate()?;
+        let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
+        Ok(Self {
+            planes: directions::microplanes(parameters.rule),
+            e_v0: e / (1.0 - 2.0 * nu),
+            e_d0: e / (1.0 + nu),
+            e_t0: e / (1.0 + nu),
+            tension: ExponentialLaw::new(parameters.m),
+            compression: ExponentialLaw::new(parameters.n),
+            shear: ExponentialLaw::new(parameters.k),
+            rule: UnloadingRule {
+                alpha: parameters.alpha,
+                beta: parameters.beta,
+            },
+            parameters,
+        })
+    }
+
+    pub fn planes(&self) -> &[Microplane] {
+        &self.planes
+    }
+
+    /// Number of `f32` values of history per element.
+    pub fn state_len(&self) -> usize {
+        state::HEADER + state::PER_PLANE * self.planes.len()
+    }
+
+    /// A virgin state.
+    pub fn initial_state(&self) -> MicroplaneState {
+        MicroplaneState::new(self.state_len())
+    }
+
+    /// Element size of the crack band, `h = (6 V)^(1/3)` (the edge of a cube cut into six
+    /// tetrahedra).
+    pub fn element_size(volume: f64) -> f64 {
+        (6.0 * volume).cbrt()
+    }
+
+    /// The crack band of an element of size `h`, or why the element is too large: its softening
+    /// laws would have to snap back to dissipate the calibrated energy per unit crack area.
+    pub fn crack_band(&self, h: f64) -> Result<CrackBand, String> {
+        let h_ref = self.parameters.h_ref;
+        let tension = self.tension.band_factor(h, h_ref);
+        let shear = self.shear.band_factor(h, h_ref);
+        match (tension, shear) {
+            (Some(tension), Some(shear)) => Ok(CrackBand {
+                size: h,
+                tension,
+                shear,
+            }),
+            _ => Err(format!(
+                "element size h = (6 V)^(1/3) = {:.1} mm exceeds the {:.1} mm above which the \
+                 softening of the microplane laws (calibrated at h_ref = {:.1} mm) would snap \
+                 back; refine the mesh there",
+                h * 1e3,
+                self.largest_element() * 1e3,
+                h_ref * 1e3
+            )),
+        }
+    }
+
+    /// Largest element size the crack band admits.
+    pub fn largest_element(&self) -> f64 {
+        let h_ref = self.parameters.h_ref;
+        self.tension
+            .largest_element(h_ref)
+            .min(self.shear.largest_element(h_ref))
+    }
+
+    /// The rate factor `F(gamma_dot)` (1 with the rate effect off).
+    #[inline(always)]
+    pub fn rate_factor(&self, gamma_dot: f64) -> f64 {
+        match self.parameters.rate_effect {
+            Some(rate) => rate.factor(gamma_dot),
+            None => 1.0,
+        }
+    }
+
+    /// Peak of the volumetric-deviatoric tension law at rate factor `f`: `(strain, stress)` per
+    /// unit modulus.
+    pub fn tension_law(&self) -> &ExponentialLaw {
+        &self.tension
+    }
+
+    /// The update: back-rotated Cauchy stress `s` for the Green-Lagrange strain `strain` at the
+    /// equivalent rate `gamma_dot`, advancing `state`.
+    ///
+    /// Steps: rate factor (5.110); volumetric law (5.22) with its own history; relaxation `psi`
+    /// from the volumetric law and the largest principal stress of the previous update (5.91,
+    /// 5.96-5.99); on every plane the deviatoric and shear strains (5.85, 5.86), their laws (5.23)
+    /// with loading-unloading rules (5.100-5.104); homogenisation (5.36); `s_I` stored for the next
+    /// update.
+    pub fn update(
+        &self,
+        state: &mut [f32],
+        strain: &Sym,
+        gamma_dot: f64,
+        band: &CrackBand,
+    ) -> (Sym, UpdateInfo) {
+        debug_assert_eq!(state.len(), self.state_len());
+        let p = &self.parameters;
+        let f = self.rate_factor(gamma_dot);
+        let (header, planes) = state.split_at_mut(state::HEADER);
+        let e_v = (strain[0] + strain[1] + strain[2]) / 3.0;
+
+        // Volumetric stress: tension softens (with the crack band), compression does not damage
+        // and unloads with the larger of E_V0 and the secant (Fig. 5.11a).
+        let e1 = f * p.e1;
+        let s_v = if e_v >= 0.0 {
+            let law = &self.tension;
+            let (tension, c0, band_t) = (law, self.e_v0, band.tension);
+            let peak = law.peak(e1, c0);
+            let mut branch = Branch::load(&header[state::V_TENSION..state::V_TENSION + 2]);
+            let s = branch.stress(e_v, c0, peak, &self.rule, |x| {
+                tension.stress(x, e1, c0, band_t)
+            });
+            branch.store(&mut header[state::V_TENSION..state::V_TENSION + 2]);
+            s
+        } else {
+            let x = -e_v;
+            let reached = header[state::V_COMPRESSION] as f64;
+            let envelope = |x: f64| -volumetric_compression(-x, self.e_v0, p.a, p.b, p.p, p.q);
+            if x >= reached {
+                header[state::V_COMPRESSION] = x as f32;
+                -envelope(x)
+            } else {
+                let s_reached = envelope(reached);
+                let unloading = self.e_v0.max(s_reached / reached);
+                -(s_reached - unloading * (reached - x)).max(0.0)
+            }
+        };
+
+        // Relaxation: psi follows the volumetric tension law at f(s_I) <e_V> (5.91), so that the
+        // deviatoric secant stays proportional to the volumetric one (5.84).
+        let s_i = header[state::PRINCIPAL_STRESS] as f64;
+        let relaxation = discontinuity::relaxation(
+            discontinuity::closure(s_i, p.s_i_min) * e_v.max(0.0),
+            e1,
+            &self.tension,
+            band.tension,
+        );
+        let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
+        let e2 = f * p.e2;
+        let compression_peak = self.compression.peak(e2, self.e_d0);
+        let tension_peak = self.tension.peak(e1, self.e_d0);
+        let shear_peak = self.shear.peak(e5, self.e_t0);
+        let shear_energy = self.e_t0
+            * e5
+            * e5
+            * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear);
+
+        let mut sum_d = 0.0;
+        let mut sigma = [0.0; 6];
+        for (plane, history) in self
+            .planes
+            .iter()
+            .zip(planes.chunks_exact_mut(state::PER_PLANE))
+        {
+            let e_d_total = contract(&plane.nn, strain) - e_v;
+            let (e_d, psi_t) = (
+                if e_d_total < 0.0 {
+                    e_d_total * relaxation
+                } else {
+                    e_d_total
+                },
+                relaxation,
+            );
+            let s_d = if e_d >= 0.0 {
+                let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
+                let s = b.stress(e_d, self.e_d0, tension_peak, &self.rule, |x| {
+                    self.tension.stress(x, e1, self.e_d0, band.tension)
+                });
+                b.store(&mut history[state::D_POSITIVE..state::D_POSITIVE + 2]);
+                s
+            } else {
+                let mut b = Branch::load(&history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
+                let s = b.stress(-e_d, self.e_d0, compression_peak, &self.rule, |x| {
+                    self.compression.stress(x, e2, self.e_d0, 1.0)
+                });
+                b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
+                -s
+            };
+            let e_m = contract(&plane.mn, strain) * psi_t;
+            let e_k = contract(&plane.kn, strain) * psi_t;
+            let s_m = self.shear_stress(
+                e_m,
+                &mut history[state::M..state::M + 5],
+                e5,
+                shear_peak,
+                band.shear,
+                shear_energy,
+            );
+            let s_k = self.shear_stress(
+                e_k,
+                &mut history[state::K..state::K + 5],
+                e5,
+                shear_peak,
+                band.shear,
+                shear_energy,
+            );
+            let w = 6.0 * plane.weight;
+            sum_d += w * s_d;
+            for i in 0..6 {
+                sigma[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
+            }
+        }
+        let volumetric = if p.deviatoric_trace_term {
+            s_v - sum_d / 3.0
+        } else {
+            s_v
+        };
+        for s in &mut sigma[..3] {
+            *s += volumetric;
+        }
+        header[state::RATE_FACTOR] = f as f32;
+        header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
+        (
+            sigma,
+            UpdateInfo {
+                rate_factor: f,
+                psi: relaxation,
+            },
+        )
+    }
+
+    /// One shear component (5.20, 5.23) with its two branches and the cyclic damage (5.104):
+    /// `history` holds `[e+, s+, e-, s-, Lambda]`.
+    #[inline(always)]
+    fn shear_stress(
+        &self,
+        e: f64,
+        history: &mut [f32],
+        e5: f64,
+        peak: (f64, f64),
+        band: f64,
+        monotonic_energy: f64,
+    ) -> f64 {
+        let (own, other) = if e >= 0.0 { (0, 2) } else { (2, 0) };
+        let mut branch = Branch::load(&history[own..own + 2]);
+        let before = branch;
+        let law = &self.shear;
+        let c0 = self.e_t0;
+        let s = branch.stress(e.abs(), c0, peak, &self.rule, |x| {
+            law.stress(x, e5, c0, band)
+        });
+        branch.store(&mut history[own..own + 2]);
+        let mut damage = 1.0;
+        if self.parameters.shear_cyclic_damage {
+            // Energy dissipated while loading in the direction opposite to earlier damage
+            // (Eligehausen, Popov & Bertero 1983): it weakens both directions.
+            let opposite = Branch::load(&history[other..other + 2]);
+            if opposite.damaged(c0) && branch.reached > before.reached {
+                let dissipated = branch.dissipated_since(&before, c0, peak, &self.rule);
+                history[4] += dissipated.max(0.0) as f32;
+            }
+            let lambda = history[4] as f64;
+            if lambda > 0.0 {
+                damage = (-1.2 * (lambda / monotonic_energy).powf(1.1)).exp();
+            }
+        }
+        s.copysign(e) * damage
+    }
+
+    /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
+    /// shears: `sigma = C : E` homogenised from the elastic split (5.37 with undamaged moduli).
+    pub fn elastic_stiffness(&self) -> [[f64; 6]; 6] {
+        let mut c = [[0.0; 6]; 6];
+        let unit: [Sym; 6] = std::array::from_fn(|j| {
+            let mut e = [0.0; 6];
+            e[j] = if j < 3 { 1.0 } else { 0.5 };
+            e
+        });
+        for (j, e) in unit.iter().enumerate() {
+            let e_v = (e[0] + e[1] + e[2]) / 3.0;
+            let mut s = [0.0; 6];
+            for plane in &self.planes {
+                let w = 6.0 * plane.weight;
+                let s_d = self.e_d0 * (contract(&plane.nn, e) - e_v);
+                let s_m = self.e_t0 * contract(&plane.mn, e);
+                let s_k = self.e_t0 * contract(&plane.kn, e);
+                for i in 0..6 {
+                    s[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
+                }
+            }
+            for v in &mut s[..3] {
+                *v += self.e_v0 * e_v;
+            }
+            for i in 0..6 {
+                c[i][j] = s[i];
+            }
+        }
+        c
+    }
+}
+
+/// Largest eigenvalue of a symmetric tensor (trigonometric closed form; Smith 1961).
+pub fn largest_principal(s: &Sym) -> f64 {
+    let mean = (s[0] + s[1] + s[2]) / 3.0;
+    let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
+    let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
+    let p2 = a * a + b * b + c * c + 2.0 * p1;
+    if p2 <= 1e-300 {
+        return mean;
+    }
+    let p = (p2 / 6.0).sqrt();
+    // det((s - mean I) / p) / 2
+    let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
+    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    let r = (det / 2.0).clamp(-1.0, 1.0);
+    mean + 2.0 * p * (r.acos() / 3.0).cos()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn largest_principal_matches_eigen_decomposition() {
+        let s = [3.0, -1.0, 2.0, 0.4, -0.7, 1.1];
+        let m = nalgebra::Matrix3::new(s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2]);
+        let max = m.symmetric_eigenvalues().max();
+        assert!((largest_principal(&s) - max).abs() < 1e-12);
+        assert_eq!(largest_principal(&[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]), 2.0);
+    }
+}

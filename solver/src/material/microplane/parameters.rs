@@ -1,0 +1,158 @@
+//! Parameters of the microplane concrete model (MICROPLANE.md "Parameters and calibration").
+
+use serde::{Deserialize, Serialize};
+
+use super::directions::SphereRule;
+use crate::material::IsotropicElastic;
+
+/// Everything that defines the model. Strains are dimensionless, stresses in Pa, lengths in m.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MicroplaneParameters {
+    /// Mass density `rho` (kg/m^3).
+    pub density: f64,
+    /// Young's modulus `E` (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio `nu`.
+    pub poisson_ratio: f64,
+    /// Strain scale of volumetric and deviatoric tension, and of the discontinuity functions
+    /// (5.19, 5.91).
+    pub e1: f64,
+    /// Strain scale of deviatoric compression (5.19).
+    pub e2: f64,
+    /// Strain scale of shear without volumetric compression (5.20).
+    pub e3: f64,
+    /// Growth of the shear strain scale with volumetric compression, `e5 = e3 - e4 e_V` (5.20).
+    pub e4: f64,
+    /// Exponent of volumetric and deviatoric tension (5.19).
+    pub m: f64,
+    /// Exponent of deviatoric compression (5.19).
+    pub n: f64,
+    /// Exponent of shear (5.20).
+    pub k: f64,
+    /// Volumetric compression (5.21): compaction scale `a`, stiffening scale `b`, exponents
+    /// `p`, `q`.
+    pub a: f64,
+    pub b: f64,
+    pub p: f64,
+    pub q: f64,
+    /// Small negative limit of the largest principal stress below which cracks count as closed
+    /// (5.96, 5.97), in Pa.
+    pub s_i_min: f64,
+    /// Unloading modulus weight (5.102): 1 unloads with the initial modulus, 0 with the secant.
+    pub alpha: f64,
+    /// Growth of the residual strain with post-peak strain (5.103).
+    pub beta: f64,
+    /// Element size the softening laws were calibrated at (m), for the crack band.
+    pub h_ref: f64,
+    /// Rate effect (5.110, MICROPLANE "Rate effect"); `~` (null) switches it off.
+    #[serde(default = "default_rate_effect")]
+    pub rate_effect: Option<RateEffect>,
+    /// Quadrature on the sphere.
+    #[serde(default)]
+    pub rule: SphereRule,
+    /// Homogenise the deviatoric stress with `n n - delta/3` (Carol & Bažant 1997) instead of the
+    /// thesis' `n n` (5.36).
+    #[serde(default)]
+    pub deviatoric_trace_term: bool,
+    /// The cyclic shear damage of Eligehausen, Popov & Bertero (5.104).
+    #[serde(default = "yes")]
+    pub shear_cyclic_damage: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn default_rate_effect() -> Option<RateEffect> {
+    Some(RateEffect::default())
+}
+
+/// `F = 1 + c2 asinh(gamma_dot / c1)` (Bažant et al. 2000; the thesis' `1 + c2 ln(2 gamma_dot/c1)`
+/// (5.110) for large rates, but 1 at rest instead of minus infinity).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RateEffect {
+    /// Reference rate (1/s).
+    pub c1: f64,
+    /// Strength gain per unit of `asinh`.
+    pub c2: f64,
+}
+
+impl Default for RateEffect {
+    /// The public M7 code's constants (research notes section 2), within about 1 % of the fib
+    /// MC2010 tensile dynamic increase factor from 1e-5 to 10 /s.
+    fn default() -> Self {
+        Self {
+            c1: 4e-6,
+            c2: 0.022,
+        }
+    }
+}
+
+impl RateEffect {
+    /// The factor on the strain scales for the equivalent rate `gamma_dot` (5.111).
+    #[inline(always)]
+    pub fn factor(&self, gamma_dot: f64) -> f64 {
+        1.0 + self.c2 * (gamma_dot / self.c1).asinh()
+    }
+}
+
+impl MicroplaneParameters {
+    pub fn elastic(&self) -> IsotropicElastic {
+        IsotropicElastic {
+            density: self.density,
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+        }
+    }
+
+    /// Checks every parameter, naming the offending one and its admissible range.
+    pub fn validate(&self) -> Result<(), String> {
+        self.elastic().validate()?;
+        let positive = [
+            ("e1", self.e1),
+            ("e2", self.e2),
+            ("e3", self.e3),
+            ("m", self.m),
+            ("n", self.n),
+            ("k", self.k),
+            ("a", self.a),
+            ("b", self.b),
+            ("q", self.q),
+            ("h_ref", self.h_ref),
+        ];
+        for (name, value) in positive {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(format!("{name} must be positive and finite, got {value}"));
+            }
+        }
+        if !(self.e4 >= 0.0 && self.e4.is_finite()) {
+            return Err(format!("e4 must be >= 0, got {}", self.e4));
+        }
+        if !(self.p >= 0.0 && self.p.is_finite()) {
+            return Err(format!("p must be >= 0, got {}", self.p));
+        }
+        if !(self.s_i_min < 0.0 && self.s_i_min.is_finite()) {
+            return Err(format!(
+                "s_i_min must be a small negative stress (Pa), got {}",
+                self.s_i_min
+            ));
+        }
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(format!("alpha must lie in (0, 1], got {}", self.alpha));
+        }
+        if !(self.beta > 0.0 && self.beta <= 1.0) {
+            return Err(format!("beta must lie in (0, 1], got {}", self.beta));
+        }
+        if let Some(rate) = self.rate_effect {
+            if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
+                return Err(format!(
+                    "rate_effect needs c1 > 0 and c2 >= 0, got c1 = {}, c2 = {}",
+                    rate.c1, rate.c2
+                ));
+            }
+        }
+        Ok(())
+    }
+}
