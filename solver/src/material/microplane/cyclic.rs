@@ -104,15 +104,21 @@ impl Branch {
         peak: (f64, f64),
         rule: &UnloadingRule,
     ) -> f64 {
-        let work = 0.5 * (self.stress_reached + before.stress_reached) * (self.reached - before.reached);
-        let recoverable = |b: &Branch| {
-            b.stress_reached * b.stress_reached / (2.0 * rule.modulus(b, c0, peak))
-        };
+        let work =
+            0.5 * (self.stress_reached + before.stress_reached) * (self.reached - before.reached);
+        let recoverable =
+            |b: &Branch| b.stress_reached * b.stress_reached / (2.0 * rule.modulus(b, c0, peak));
         work - (recoverable(self) - recoverable(before))
     }
 
     /// Energy the branch gives back when unloading from strain `x` to zero stress.
-    pub fn recoverable_energy(&self, x: f64, c0: f64, peak: (f64, f64), rule: &UnloadingRule) -> f64 {
+    pub fn recoverable_energy(
+        &self,
+        x: f64,
+        c0: f64,
+        peak: (f64, f64),
+        rule: &UnloadingRule,
+    ) -> f64 {
         let c = rule.modulus(self, c0, peak);
         let s = if x >= self.reached {
             self.stress_reached
@@ -133,7 +139,10 @@ mod tests {
     fn unloading_follows_the_rule_and_cycles_dissipate() {
         let law = |x: f64| x * (-x).exp();
         let peak = (1.0, (-1.0f64).exp());
-        let rule = UnloadingRule { alpha: 0.5, beta: 0.5 };
+        let rule = UnloadingRule {
+            alpha: 0.5,
+            beta: 0.5,
+        };
         let mut b = Branch::default();
         let mut x_prev = 0.0;
         let mut s_prev = 0.0;
@@ -152,7 +161,10 @@ mod tests {
         }
         assert!(work > 0.0);
         // The unloading modulus at e = 3: residual e* = (1 - 1/e) + 0.5 (3 - 1).
-        let turning = Branch { reached: 3.0, stress_reached: law(3.0) };
+        let turning = Branch {
+            reached: 3.0,
+            stress_reached: law(3.0),
+        };
         let residual = (1.0 - (-1.0f64).exp()) + 1.0;
         let expected = 0.5 + 0.5 * law(3.0) / (3.0 - residual);
         assert!((rule.modulus(&turning, 1.0, peak) - expected).abs() < 1e-15);

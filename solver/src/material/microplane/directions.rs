@@ -229,7 +229,8 @@ mod tests {
         for rule in [SphereRule::BazantOh21, SphereRule::Bazant37] {
             let p = rule.points();
             assert_eq!(p.len(), rule.len());
-            let avg = |g: &dyn Fn(&[f64; 3]) -> f64| 2.0 * p.iter().map(|(n, w)| w * g(n)).sum::<f64>();
+            let avg =
+                |g: &dyn Fn(&[f64; 3]) -> f64| 2.0 * p.iter().map(|(n, w)| w * g(n)).sum::<f64>();
             assert!((avg(&|_| 1.0) - 1.0).abs() < 1e-10, "{rule:?}");
             assert!((avg(&|n| n[0] * n[0]) - 1.0 / 3.0).abs() < 1e-10);
             assert!((avg(&|n| n[0].powi(4)) - 0.2).abs() < 1e-10);

@@ -172,7 +172,11 @@ mod tests {
             let ratio = h * energy(band) / (h_ref * energy(1.0));
             assert!((ratio - 1.0).abs() < 1e-4, "h = {h}: ratio {ratio}");
         }
-        assert!(law.band_factor(1.1 * law.largest_element(h_ref), h_ref).is_none());
-        assert!(law.band_factor(0.9 * law.largest_element(h_ref), h_ref).is_some());
+        assert!(law
+            .band_factor(1.1 * law.largest_element(h_ref), h_ref)
+            .is_none());
+        assert!(law
+            .band_factor(0.9 * law.largest_element(h_ref), h_ref)
+            .is_some());
     }
 }

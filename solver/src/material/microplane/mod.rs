@@ -16,6 +16,7 @@ pub mod cyclic;
 pub mod directions;
 pub mod discontinuity;
 pub mod driver;
+pub mod experiments;
 pub mod laws;
 pub mod parameters;
 pub mod state;

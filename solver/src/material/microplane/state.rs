@@ -49,7 +49,11 @@ impl MicroplaneState {
     pub fn secants(&self) -> Vec<f64> {
         let mut out = Vec::new();
         let mut push = |e: f32, s: f32| {
-            out.push(if e > 0.0 { s as f64 / e as f64 } else { f64::INFINITY })
+            out.push(if e > 0.0 {
+                s as f64 / e as f64
+            } else {
+                f64::INFINITY
+            })
         };
         push(self.values[V_TENSION], self.values[V_TENSION + 1]);
         for plane in self.values[HEADER..].chunks_exact(PER_PLANE) {

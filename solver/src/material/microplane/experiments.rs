@@ -1,0 +1,373 @@
+//! Virtual experiments on one material point: the single-element tests of the calibration and of
+//! the catalogue's material cases (CATALOGUE "Concrete material"), each returning its curve and the
+//! numbers the targets of MICROPLANE.md are stated in.
+
+use super::driver::{
+    equivalent_rate, uniaxial_controls, Control, DriverError, MaterialPoint, PathPoint,
+};
+use super::{MicroplaneConcrete, MicroplaneState, Sym};
+
+/// Strain rate of the quasi-static tests (1/s): the rate factor is 1.0003 here, so "static" tests
+/// are static to well within every band.
+pub const QUASI_STATIC_RATE: f64 = 1e-8;
+
+/// A path and, if it stopped early, why.
+#[derive(Debug, Clone)]
+pub struct Curve {
+    pub points: Vec<PathPoint>,
+    pub error: Option<DriverError>,
+}
+
+impl Curve {
+    pub fn axial_strain(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.strain[0]).collect()
+    }
+
+    pub fn axial_stress(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.stress[0]).collect()
+    }
+
+    /// Work per unit volume `int sigma : dE` along the path (trapezoidal).
+    pub fn work(&self) -> f64 {
+        self.points
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (&w[0], &w[1]);
+                (0..6)
+                    .map(|i| {
+                        let factor = if i < 3 { 1.0 } else { 2.0 };
+                        factor * 0.5 * (a.stress[i] + b.stress[i]) * (b.strain[i] - a.strain[i])
+                    })
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
+    /// The point of largest `|sigma_11|`.
+    pub fn peak(&self) -> &PathPoint {
+        self.points
+            .iter()
+            .max_by(|a, b| a.stress[0].abs().total_cmp(&b.stress[0].abs()))
+            .expect("a curve has its starting point")
+    }
+}
+
+/// Uniaxial tension: the numbers of the targets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TensionResult {
+    pub peak_stress: f64,
+    pub peak_strain: f64,
+    /// `sigma / eps` at the first increment.
+    pub initial_slope: f64,
+    /// `h int sigma d eps` to the end of the path (J/m^2 = N/m).
+    pub fracture_energy: f64,
+    /// `sigma / peak` at the end of the path: what the tail beyond it leaves out.
+    pub final_stress_ratio: f64,
+}
+
+/// Uniaxial tension at strain rate `rate` on an element of size `h`, driven until the stress has
+/// fallen below `1e-3` of its peak (or a strain of 5 %): increments of 2e-6 up to 4e-4, then 0.5 %
+/// of the current strain.
+pub fn uniaxial_tension(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+) -> Result<(Curve, TensionResult), DriverError> {
+    let mut point = MaterialPoint::new(model, h)?;
+    let mut points = vec![PathPoint {
+        time: 0.0,
+        strain: [0.0; 6],
+        stress: [0.0; 6],
+        rate_factor: 1.0,
+    }];
+    let mut error = None;
+    let mut e = 0.0;
+    let mut peak: f64 = 0.0;
+    while e < 0.05 {
+        // A first increment of 1e-8 measures the initial slope inside the elastic range.
+        let de = if e == 0.0 {
+            1e-8
+        } else if e < 4e-4 {
+            2e-6
+        } else {
+            e / 200.0
+        };
+        e += de;
+        match point.mixed_step_subdivided(&uniaxial_controls(e), de / rate) {
+            Ok(p) => {
+                peak = peak.max(p.stress[0]);
+                points.push(p);
+                if e > 4e-4 && p.stress[0] < 1e-3 * peak {
+                    break;
+                }
+            }
+            Err(err) => {
+                error = Some(err);
+                break;
+            }
+        }
+    }
+    let curve = Curve { points, error };
+    let top = *curve.peak();
+    let last = curve.points.last().expect("starting point");
+    let result = TensionResult {
+        peak_stress: top.stress[0],
+        peak_strain: top.strain[0],
+        initial_slope: curve
+            .points
+            .get(1)
+            .map_or(0.0, |p| p.stress[0] / p.strain[0]),
+        fracture_energy: h * curve.work(),
+        final_stress_ratio: last.stress[0] / top.stress[0].max(f64::MIN_POSITIVE),
+    };
+    Ok((curve, result))
+}
+
+/// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompressionResult {
+    pub peak_stress: f64,
+    pub peak_strain: f64,
+    /// Apparent Poisson ratio `-eps_lateral / eps_axial` at the first increment, at the peak, and
+    /// its largest value after the peak.
+    pub initial_poisson: f64,
+    pub poisson_at_peak: f64,
+    pub largest_poisson_after_peak: f64,
+    /// Axial strain magnitude where the volumetric strain is most compressive (onset of
+    /// dilatancy), if it turns before the end of the path.
+    pub dilatancy_onset: Option<f64>,
+}
+
+/// Uniaxial compression to an axial strain of `-end` in increments of `end / steps`.
+pub fn uniaxial_compression(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+    end: f64,
+    steps: usize,
+) -> Result<(Curve, CompressionResult), DriverError> {
+    let mut point = MaterialPoint::new(model, h)?;
+    let de = end / steps as f64;
+    let (points, error) =
+        point.run((1..=steps).map(|i| (uniaxial_controls(-de * i as f64), de / rate)));
+    let curve = Curve { points, error };
+    let poisson = |p: &PathPoint| -p.strain[1] / p.strain[0];
+    let (peak_index, top) = curve
+        .points
+        .iter()
+        .enumerate()
+        .max_by(|a, b| (-a.1.stress[0]).total_cmp(&-b.1.stress[0]))
+        .expect("starting point");
+    let volumetric: Vec<f64> = curve
+        .points
+        .iter()
+        .map(|p| p.strain[0] + p.strain[1] + p.strain[2])
+        .collect();
+    let most_compressed = volumetric
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i)
+        .unwrap_or(0);
+    let result = CompressionResult {
+        peak_stress: -top.stress[0],
+        peak_strain: -top.strain[0],
+        initial_poisson: curve.points.get(1).map_or(0.0, poisson),
+        poisson_at_peak: poisson(top),
+        largest_poisson_after_peak: curve.points[peak_index..]
+            .iter()
+            .skip(1)
+            .map(poisson)
+            .fold(f64::NAN, f64::max),
+        dilatancy_onset: (most_compressed + 1 < curve.points.len())
+            .then(|| -curve.points[most_compressed].strain[0]),
+    };
+    Ok((curve, result))
+}
+
+/// Equal biaxial compression (`E_11 = E_22` prescribed, `sigma_33 = 0`): the peak of `-sigma_11`.
+pub fn equal_biaxial_compression(
+    model: &MicroplaneConcrete,
+    h: f64,
+    end: f64,
+    steps: usize,
+) -> Result<(Curve, f64), DriverError> {
+    let mut point = MaterialPoint::new(model, h)?;
+    let de = end / steps as f64;
+    let (points, error) = point.run((1..=steps).map(|i| {
+        let e = -de * i as f64;
+        (
+            [
+                Control::Strain(e),
+                Control::Strain(e),
+                Control::Stress(0.0),
+                Control::Strain(0.0),
+                Control::Strain(0.0),
+                Control::Strain(0.0),
+            ],
+            de / QUASI_STATIC_RATE,
+        )
+    }));
+    let curve = Curve { points, error };
+    let peak = -curve.peak().stress[0];
+    Ok((curve, peak))
+}
+
+/// Hydrostatic compression to a volumetric strain `-end` (all normal strains `-end`), then back
+/// to zero: the pressure-volume curve, and whether any microplane branch lost stiffness.
+pub fn hydrostatic_compression(
+    model: &MicroplaneConcrete,
+    h: f64,
+    end: f64,
+    steps: usize,
+) -> Result<(Curve, bool), DriverError> {
+    let mut point = MaterialPoint::new(model, h)?;
+    let de = end / steps as f64;
+    let strains = (1..=steps).chain((0..steps).rev()).map(|i| -de * i as f64);
+    let (points, error) = point.run(strains.map(|e| {
+        (
+            [
+                Control::Strain(e),
+                Control::Strain(e),
+                Control::Strain(e),
+                Control::Strain(0.0),
+                Control::Strain(0.0),
+                Control::Strain(0.0),
+            ],
+            de / QUASI_STATIC_RATE,
+        )
+    }));
+    let damaged = point.state.secants().iter().any(|&s| {
+        s.is_finite()
+            && s < 0.999 * model.parameters.youngs_modulus / (1.0 + model.parameters.poisson_ratio)
+    });
+    Ok((Curve { points, error }, damaged))
+}
+
+/// The largest relative difference, over `samples` strain states of random direction and a
+/// magnitude of 1e-15 (far inside the elastic range), between the model's stress and Hooke's law
+/// with its `E` and `nu`, relative to the norm of Hooke's stress.
+pub fn isotropy_error(model: &MicroplaneConcrete, samples: usize) -> f64 {
+    let c = model.parameters.elastic();
+    let (lambda, mu) = (c.lambda(), c.mu());
+    let band = model
+        .crack_band(model.parameters.h_ref)
+        .expect("the calibration size is admissible");
+    let mut rng = crate::rng::SplitMix64::new(20_091_121);
+    let mut worst: f64 = 0.0;
+    for _ in 0..samples {
+        let raw: Sym = std::array::from_fn(|_| 2.0 * rng.next_f64() - 1.0);
+        let norm = raw.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let strain: Sym = std::array::from_fn(|i| 1e-15 * raw[i] / norm);
+        let mut state = model.initial_state();
+        let (stress, _) = model.update(&mut state.values, &strain, 0.0, &band);
+        let trace = strain[0] + strain[1] + strain[2];
+        let hooke: Sym = std::array::from_fn(|i| {
+            2.0 * mu * strain[i] + if i < 3 { lambda * trace } else { 0.0 }
+        });
+        let diff = (0..6)
+            .map(|i| (stress[i] - hooke[i]).powi(2) * if i < 3 { 1.0 } else { 2.0 })
+            .sum::<f64>()
+            .sqrt();
+        let size = (0..6)
+            .map(|i| hooke[i].powi(2) * if i < 3 { 1.0 } else { 2.0 })
+            .sum::<f64>()
+            .sqrt();
+        worst = worst.max(diff / size);
+    }
+    worst
+}
+
+/// A strain-controlled path through `corners` and back to the first one, each leg cut into
+/// `steps` increments: the work per unit volume over the closed cycle (the dissipation) and
+/// whether any branch's secant rose (damage healed) along the way.
+pub fn closed_strain_cycle(
+    model: &MicroplaneConcrete,
+    h: f64,
+    corners: &[Sym],
+    steps: usize,
+) -> Result<(Curve, f64, bool), DriverError> {
+    let mut point = MaterialPoint::new(model, h)?;
+    let mut points = vec![point.strain_step(corners[0], 1.0)];
+    let start_work_index = points.len() - 1;
+    let mut previous = point.state.secants();
+    let mut healed = false;
+    let legs = corners.iter().zip(corners.iter().cycle().skip(1));
+    for (from, to) in legs {
+        for i in 1..=steps {
+            let t = i as f64 / steps as f64;
+            let strain: Sym = std::array::from_fn(|j| from[j] + t * (to[j] - from[j]));
+            let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
+            points.push(point.strain_step(strain, dt));
+            let now = point.state.secants();
+            healed |= now
+                .iter()
+                .zip(&previous)
+                .any(|(a, b)| a.is_finite() && b.is_finite() && *a > *b * (1.0 + 1e-6));
+            previous = now;
+        }
+    }
+    let curve = Curve {
+        points: points[start_work_index..].to_vec(),
+        error: None,
+    };
+    let dissipation = curve.work();
+    Ok((curve, dissipation, healed))
+}
+
+/// Peak uniaxial tensile stress at each strain rate, with the rate factor at the peak.
+pub fn tension_rate_sweep(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rates: &[f64],
+) -> Result<Vec<(f64, TensionResult, f64)>, DriverError> {
+    rates
+        .iter()
+        .map(|&rate| {
+            let (curve, result) = uniaxial_tension(model, h, rate)?;
+            Ok((rate, result, curve.peak().rate_factor))
+        })
+        .collect()
+}
+
+/// A fresh history, for callers that drive the model themselves.
+pub fn virgin(model: &MicroplaneConcrete) -> MicroplaneState {
+    model.initial_state()
+}
+
+/// The unit check of the rate law: uniaxial strain in tension (`E_11` rising at `rate`, all other
+/// strains zero, so the equivalent rate `rate / sqrt 2` and the factor `F` are constant), against
+/// the same path at the quasi-static rate on a strain grid scaled by `F_rate / F_static`. The
+/// virgin laws scale their strains by `F`, so the stresses must scale by the same ratio at every
+/// point; returns `(F_rate / F_static, peak stress ratio, largest relative misfit along the path)`.
+/// The misfit is limited by the `f32` history (about 1e-7).
+pub fn rate_scaling(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+    end: f64,
+    steps: usize,
+) -> Result<(f64, f64, f64), DriverError> {
+    let run = |rate: f64, scale: f64| -> Result<Vec<PathPoint>, DriverError> {
+        let mut point = MaterialPoint::new(model, h)?;
+        let de = scale * end / steps as f64;
+        let mut out = Vec::with_capacity(steps);
+        for i in 1..=steps {
+            let strain = [de * i as f64, 0.0, 0.0, 0.0, 0.0, 0.0];
+            out.push(point.strain_step(strain, de / rate));
+        }
+        Ok(out)
+    };
+    let gamma = |rate: f64| rate / std::f64::consts::SQRT_2;
+    let ratio = model.rate_factor(gamma(rate)) / model.rate_factor(gamma(QUASI_STATIC_RATE));
+    let slow = run(QUASI_STATIC_RATE, 1.0)?;
+    let fast = run(rate, ratio)?;
+    let peak = |p: &[PathPoint]| p.iter().map(|q| q.stress[0]).fold(f64::MIN, f64::max);
+    let (peak_slow, peak_fast) = (peak(&slow), peak(&fast));
+    let misfit = slow
+        .iter()
+        .zip(&fast)
+        .map(|(a, b)| (b.stress[0] - ratio * a.stress[0]).abs() / (ratio * peak_slow))
+        .fold(0.0, f64::max);
+    Ok((ratio, peak_fast / peak_slow, misfit))
+}
