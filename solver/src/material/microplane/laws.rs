@@ -117,15 +117,14 @@ impl ExponentialLaw {
         if !(denominator > 0.0) {
             return None;
         }
-        let band = post / denominator;
-        (band * self.steepest_softening < 1.0).then_some(band)
+        Some(post / denominator)
     }
 
-    /// The largest element size for which [`ExponentialLaw::band_factor`] exists.
+    /// The largest element size for which [`ExponentialLaw::band_factor`] exists:
+    /// `h_ref (A_pre + A_post) / A_pre`.
     pub fn largest_element(&self, h_ref: f64) -> f64 {
-        // band * steepest = 1  <=>  h = h_ref (pre + post) / (pre + post * steepest)
         let (pre, post) = (self.area_before_peak, self.area_after_peak);
-        h_ref * (pre + post) / (pre + post * self.steepest_softening)
+        h_ref * (pre + post) / pre
     }
 }
 

@@ -12,6 +12,7 @@
 //! - [`state`]: the history an element carries from step to step;
 //! - [`driver`]: a material-point driver for strain- and stress-controlled paths.
 
+pub mod calibration;
 pub mod cyclic;
 pub mod directions;
 pub mod discontinuity;
@@ -116,8 +117,8 @@ impl MicroplaneConcrete {
             }),
             _ => Err(format!(
                 "element size h = (6 V)^(1/3) = {:.1} mm exceeds the {:.1} mm above which the \
-                 softening of the microplane laws (calibrated at h_ref = {:.1} mm) would snap \
-                 back; refine the mesh there",
+                 microplane laws (calibrated at h_ref = {:.1} mm) would have to snap back to \
+                 dissipate no more than the fracture energy; refine the mesh there",
                 h * 1e3,
                 self.largest_element() * 1e3,
                 h_ref * 1e3
