@@ -79,6 +79,16 @@ enum Command {
         #[arg(long, value_delimiter = ',')]
         solvers: Vec<String>,
     },
+    /// Calibrate the microplane parameters of the thesis concrete against the targets of
+    /// MICROPLANE.md (single-element tests driven by a Nelder-Mead optimiser) and write them, with
+    /// the value every target reaches, to a material file. Exit status 1 if a target is missed.
+    Calibrate {
+        #[arg(long, default_value = "cases/materials/thesis-concrete.yaml")]
+        out: PathBuf,
+        /// Optimiser evaluations per stage.
+        #[arg(long, default_value_t = 120)]
+        evaluations: usize,
+    },
     /// Run one scene file and write its history (CSV) and fields (VTU + PVD for ParaView).
     Scene {
         path: PathBuf,
@@ -185,6 +195,22 @@ fn main() -> ExitCode {
                 return ExitCode::from(2);
             }
             run(selected, tier, &reports, time_limit, !serial)
+        }
+        Command::Calibrate { out, evaluations } => {
+            match impact_vv::calibrate::run(&out, evaluations) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => {
+                    eprintln!(
+                        "some targets are missed: see the table above and {}",
+                        out.display()
+                    );
+                    ExitCode::from(1)
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
         }
         Command::Report { run, reports } => {
             let text = match std::fs::read_to_string(run.join("results.json")) {
