@@ -7,6 +7,8 @@ use serde::{Deserialize, Serialize};
 
 #[path = "../references/analytic.rs"]
 pub mod analytic;
+#[path = "../references/concrete.rs"]
+pub mod concrete;
 
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -124,6 +126,13 @@ pub enum Analytic {
     /// fib Model Code 2010 dynamic increase factor of strength at a strain rate.
     Mc2010DynamicIncreaseFactor {
         rate: f64,
+        tension: bool,
+    },
+    /// The ratio of the fib Model Code 2010 dynamic increase factors at `rate` and at
+    /// `relative_to` (`concrete::mc2010_dif_ratio`).
+    Mc2010DifRatio {
+        rate: f64,
+        relative_to: f64,
         tension: bool,
     },
 }
@@ -252,6 +261,18 @@ impl Reference {
                     Analytic::Mc2010DynamicIncreaseFactor { rate, tension } => (
                         mc2010_dynamic_increase_factor(*rate, *tension),
                         "fib Model Code 2010, 5.1.11.1".into(),
+                    ),
+                    Analytic::Mc2010DifRatio {
+                        rate,
+                        relative_to,
+                        tension,
+                    } => (
+                        concrete::mc2010_dif_ratio(*rate, *relative_to, *tension),
+                        format!(
+                            "fib Model Code 2010, 5.1.11.1: {} DIF at {rate:e} /s over that at \
+                             {relative_to:e} /s",
+                            if *tension { "tensile" } else { "compressive" }
+                        ),
                     ),
                 }
             }
