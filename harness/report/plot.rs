@@ -56,7 +56,29 @@ pub fn render_plot(plot: &PlotData) -> String {
 
 /// Renders `plot` at `size` (the legend adds rows below); never panics on bad data.
 pub fn render_plot_sized(plot: &PlotData, size: (u32, u32)) -> String {
-    match Scene::prepare(plot) {
+    render_plot_with(plot, &PlotExtras::default(), size)
+}
+
+/// A target window `[x_lo, x_hi] x [y_lo, y_hi]` in data units with its legend label.
+pub type TargetWindow<'a> = ([f64; 2], [f64; 2], &'a str);
+
+/// What a plot may show beyond [`PlotData`]: a logarithmic x axis alone, target windows, and
+/// reference curves drawn dashed.
+#[derive(Debug, Clone, Default)]
+pub struct PlotExtras<'a> {
+    /// Logarithmic x axis alone (`PlotData::log_log` makes both logarithmic).
+    pub log_x: bool,
+    /// Logarithmic y axis alone.
+    pub log_y: bool,
+    /// Target windows, drawn shaded behind the curves.
+    pub boxes: Vec<TargetWindow<'a>>,
+    /// Names of the series drawn dashed (reference curves rather than results).
+    pub dashed: Vec<&'a str>,
+}
+
+/// Renders `plot` with `extras` at `size`; never panics on bad data.
+pub fn render_plot_with(plot: &PlotData, extras: &PlotExtras<'_>, size: (u32, u32)) -> String {
+    match Scene::prepare(plot, extras) {
         Some(scene) => draw_scene(&scene, plot, size)
             .unwrap_or_else(|e| message_svg(&plot.title, &format!("plot failed: {e}"), size.0)),
         None => message_svg(&plot.title, "no data to plot", size.0),
@@ -68,6 +90,15 @@ struct Curve {
     name: String,
     color: RGBColor,
     points: Vec<(f64, f64)>,
+    dashed: bool,
+}
+
+/// A target window in plot space, clamped to the axes.
+struct TargetBox {
+    label: String,
+    color: RGBColor,
+    x: (f64, f64),
+    y: (f64, f64),
 }
 
 /// A reference line and its acceptance band, in plot space; either may be missing (off a log
@@ -85,36 +116,65 @@ struct Scene {
     y: Axis,
     curves: Vec<Curve>,
     references: Vec<Reference>,
+    boxes: Vec<TargetBox>,
 }
 
 impl Scene {
     /// The drawable part of `plot`, or `None` when no series has a drawable point (reference
     /// lines alone say nothing).
-    fn prepare(plot: &PlotData) -> Option<Scene> {
-        let log = plot.log_log;
-        let curves = curves(plot, log);
+    fn prepare(plot: &PlotData, extras: &PlotExtras<'_>) -> Option<Scene> {
+        let log_y = plot.log_log || extras.log_y;
+        let log_x = plot.log_log || extras.log_x;
+        let curves = curves(plot, extras, log_x, log_y);
         let points = || curves.iter().flat_map(|c| c.points.iter());
-        let mut x = Axis::spanning(points().map(|p| p.0), log)?;
-        x.integer = !log && points().all(|p| p.0.fract() == 0.0);
+        let box_values = |log: bool, pick: fn(&TargetWindow<'_>) -> [f64; 2]| {
+            extras
+                .boxes
+                .iter()
+                .flat_map(pick)
+                .filter_map(move |v| to_plot(v, log))
+                .collect::<Vec<f64>>()
+        };
+        let mut x = Axis::spanning(
+            points().map(|p| p.0).chain(box_values(log_x, |b| b.0)),
+            log_x,
+        )?;
+        x.integer = !log_x && points().all(|p| p.0.fract() == 0.0);
         let y = Axis::spanning(
             points()
                 .map(|p| p.1)
-                .chain(reference_plot_values(plot, log)),
-            log,
+                .chain(reference_plot_values(plot, log_y))
+                .chain(box_values(log_y, |b| b.1)),
+            log_y,
         )?;
         let references = references(plot, &y, curves.len());
+        let first_box_color = plot.series.len() + plot.reference_lines.len();
+        let boxes = extras
+            .boxes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (bx, by, label))| {
+                Some(TargetBox {
+                    label: label.to_string(),
+                    color: PALETTE[(first_box_color + i) % PALETTE.len()],
+                    x: band(&x, *bx)?,
+                    y: band(&y, *by)?,
+                })
+            })
+            .collect();
         Some(Scene {
             x,
             y,
             curves,
             references,
+            boxes,
         })
     }
 }
 
 /// The series with their drawable points mapped to plot space; empty series are dropped, and
 /// colours follow the series index so that they do not shift when one is dropped.
-fn curves(plot: &PlotData, log: bool) -> Vec<Curve> {
+fn curves(plot: &PlotData, extras: &PlotExtras<'_>, log_x: bool, log_y: bool) -> Vec<Curve> {
     plot.series
         .iter()
         .enumerate()
@@ -125,8 +185,9 @@ fn curves(plot: &PlotData, log: bool) -> Vec<Curve> {
                 .x
                 .iter()
                 .zip(&s.y)
-                .filter_map(|(&x, &y)| Some((to_plot(x, log)?, to_plot(y, log)?)))
+                .filter_map(|(&x, &y)| Some((to_plot(x, log_x)?, to_plot(y, log_y)?)))
                 .collect(),
+            dashed: extras.dashed.contains(&s.name.as_str()),
         })
         .filter(|c| !c.points.is_empty())
         .collect()
@@ -225,7 +286,26 @@ fn draw_chart(
             ))?;
         }
     }
+    for b in &scene.boxes {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(b.x.0, b.y.0), (b.x.1, b.y.1)],
+            b.color.mix(0.18).filled(),
+        )))?;
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(b.x.0, b.y.0), (b.x.1, b.y.1)],
+            b.color.stroke_width(1),
+        )))?;
+    }
     for c in &scene.curves {
+        if c.dashed {
+            chart.draw_series(DashedLineSeries::new(
+                c.points.iter().copied(),
+                8,
+                5,
+                c.color.stroke_width(2),
+            ))?;
+            continue;
+        }
         chart.draw_series(LineSeries::new(
             c.points.iter().copied(),
             c.color.stroke_width(2),
@@ -272,12 +352,25 @@ impl Legend {
         let items = scene
             .curves
             .iter()
-            .map(|c| (Swatch::Line, c.color, c.name.clone()))
+            .map(|c| {
+                let swatch = if c.dashed {
+                    Swatch::Dashed
+                } else {
+                    Swatch::Line
+                };
+                (swatch, c.color, c.name.clone())
+            })
             .chain(
                 scene
                     .references
                     .iter()
                     .map(|r| (swatch(r), r.color, r.label.clone())),
+            )
+            .chain(
+                scene
+                    .boxes
+                    .iter()
+                    .map(|b| (Swatch::Band, b.color, b.label.clone())),
             )
             .filter(|(_, _, label)| !label.is_empty());
         let left = LEGEND_LEFT;
