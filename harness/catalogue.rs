@@ -49,13 +49,18 @@ pub struct CaseSpec {
     pub tier: Tier,
     #[serde(default)]
     pub tags: Vec<String>,
-    /// The scene the case runs. Exactly one of `scene` and `contact_problems` is given.
+    /// The scene the case runs. Exactly one of `scene`, `contact_problems` and
+    /// `material_point` is given.
     #[serde(default)]
     pub scene: Option<Scene>,
     /// Instead of a scene: a comparison of the contact solvers on stored contact problems
     /// (`crate::contact_compare`); its metrics measure that comparison.
     #[serde(default)]
     pub contact_problems: Option<crate::contact_compare::ContactProblemsSpec>,
+    /// Instead of a scene: a virtual experiment on one material point of the microplane
+    /// concrete model (`crate::material_point`); its metrics measure that experiment.
+    #[serde(default)]
+    pub material_point: Option<crate::material_point::MaterialPointSpec>,
     #[serde(default)]
     pub sweep: Option<Sweep>,
     /// Solver configurations to compare on the same scene; each runs and is judged on its own.
@@ -207,7 +212,13 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
     if let Some(problems) = &mut spec.contact_problems {
         resolve(&mut problems.folder);
     }
-    crate::contact_compare::case::validate(&spec).map_err(fail)?;
+    if let Some(mp) = &mut spec.material_point {
+        resolve(&mut mp.material);
+    }
+    crate::material_point::validate(&spec).map_err(fail)?;
+    if spec.material_point.is_none() {
+        crate::contact_compare::case::validate(&spec).map_err(fail)?;
+    }
     if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {
         levels.iter_mut().for_each(|l| resolve(&mut l.file));
     }

@@ -8,6 +8,7 @@ pub mod catalogue;
 pub mod contact_compare;
 pub mod execute;
 pub mod judge;
+pub mod material_point;
 pub mod measure;
 pub mod metadata;
 pub mod progress;

@@ -167,6 +167,9 @@ pub enum Measure {
         #[serde(default)]
         statistic: Statistic,
     },
+    /// A quantity of the virtual experiment of a `material_point` case (see
+    /// `crate::material_point`).
+    MaterialPoint(crate::material_point::MaterialMeasure),
 }
 
 fn replay_tolerance() -> f64 {
@@ -512,6 +515,13 @@ impl Measure {
                 *tolerance,
                 *only_converged,
             )?,
+            Measure::MaterialPoint(_) => {
+                return Err(
+                    "material_point measures a material-point experiment: the case needs \
+                     `material_point` instead of a scene"
+                        .into(),
+                )
+            }
             Measure::ContactProblemError { .. } => {
                 return Err(
                     "contact_problem_error measures a contact-solver comparison: the case \

@@ -144,6 +144,10 @@ pub struct CaseResult {
     /// descriptors and one row per problem, solver and tolerance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_comparison: Option<crate::contact_compare::Comparison>,
+    /// What the experiment of a `material_point` case measured and drew (values, tables,
+    /// plots with targets), for the report's "Concrete material" section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<crate::material_point::MaterialRecord>,
 }
 
 /// Contact-solver statistics of one scene run (summed over pairs and passes).

@@ -69,6 +69,9 @@ struct LevelRun {
 /// the scene once), then judges its metrics.
 pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
+    if spec.material_point.is_some() {
+        return crate::material_point::run_case(case);
+    }
     let Some(scene) = &spec.scene else {
         // A case without a scene compares contact solvers on stored problems.
         return crate::contact_compare::case::run_case(case, options);
@@ -432,5 +435,6 @@ pub(crate) fn unfinished_result(spec: &crate::catalogue::CaseSpec, variant: &str
         sweep: None,
         contact: None,
         contact_comparison: None,
+        material: None,
     }
 }

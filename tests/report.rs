@@ -86,6 +86,7 @@ fn pass_case() -> CaseResult {
         sweep: None,
         contact: None,
         contact_comparison: None,
+        material: None,
     }
 }
 
@@ -133,6 +134,7 @@ fn fail_case() -> CaseResult {
         sweep: Some(sweep),
         contact: None,
         contact_comparison: None,
+        material: None,
     }
 }
 
@@ -151,6 +153,7 @@ fn error_case() -> CaseResult {
         sweep: None,
         contact: None,
         contact_comparison: None,
+        material: None,
     }
 }
 
