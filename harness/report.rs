@@ -12,6 +12,7 @@ pub(crate) mod format;
 mod history;
 mod html;
 mod markdown;
+mod material;
 mod plot;
 mod summary;
 

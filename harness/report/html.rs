@@ -3,6 +3,7 @@
 //! fragments (`Cell::Html`, `inner`) or plain text, and say which.
 
 mod contact;
+mod material;
 
 use super::diagrams::{self, Trend};
 use super::format;
@@ -19,6 +20,7 @@ pub fn page(results: &RunResults, history: &[HistoryRecord]) -> String {
     let mut body = header(results);
     body.push_str(&summary_section(&summaries));
     body.push_str(&contact::section(results));
+    body.push_str(&material::section(results, &summaries));
     for s in &summaries {
         body.push_str(&case_section(s, history));
     }
@@ -244,6 +246,7 @@ fn case_section(s: &CaseSummary<'_>, history: &[HistoryRecord]) -> String {
     if let Some(sweep) = &c.sweep {
         html.push_str(&sweep_section(c, sweep));
     }
+    html.push_str(&material::case_link(s));
     html.push_str(&trend_section(&diagrams::trend(c, history)));
     html.push_str("</section>\n");
     html

@@ -24,6 +24,7 @@ pub fn summary(results: &RunResults) -> String {
     md.push_str(&table(&summaries));
     md.push_str(&failures(&summaries));
     md.push_str(&super::contact::markdown(results));
+    md.push_str(&super::material::markdown(results));
     md
 }
 
