@@ -90,6 +90,45 @@ pub fn polar_decomposition(f: &Matrix3<f64>) -> Option<(Matrix3<f64>, Matrix3<f6
     Some((f * u_inv, u))
 }
 
+/// The rotation `R` of the polar decomposition `F = R U`, by Newton's iteration
+/// `X <- (g X + X^-T / g) / 2` from `X = F` (Higham 1986), with the scaling
+/// `g = (|X^-1| / |X|)^(1/2)` (Frobenius norms) while far from convergence.
+///
+/// The iteration converges quadratically to the orthogonal polar factor for every `F` with
+/// `det F > 0`; it stops once an iterate moves by less than 1e-9 (its error is then the square of
+/// that, far below round-off), which takes three or four iterations at the strains of concrete
+/// and a handful at large stretches: about a tenth of the cost of [`polar_decomposition`]'s
+/// eigen-decomposition. Returns `None` for `det F <= 0`, and falls back to
+/// [`polar_decomposition`] if the iteration has not converged after 30 steps.
+pub fn polar_rotation(f: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let det = f.determinant();
+    if !(det > 0.0 && det.is_finite()) {
+        return None;
+    }
+    let mut x = *f;
+    let mut det = det;
+    for _ in 0..30 {
+        // X^-T = cof X / det X.
+        let inverse_transpose = cofactor(&x) / det;
+        let change = inverse_transpose - x;
+        // Scaling speeds up the first steps at large stretch; near convergence it is 1 to
+        // round-off and is left out, so that the last steps are the plain quadratic ones.
+        let next = if change.norm_squared() > 1e-4 {
+            let g = (inverse_transpose.norm() / x.norm()).sqrt();
+            0.5 * (g * x + inverse_transpose / g)
+        } else {
+            0.5 * (x + inverse_transpose)
+        };
+        let moved = (next - x).norm_squared();
+        x = next;
+        if moved < 1e-18 {
+            return Some(x);
+        }
+        det = x.determinant();
+    }
+    polar_decomposition(f).map(|(r, _)| r)
+}
+
 /// Principal values of a symmetric tensor, in ascending order.
 pub fn principal_values(a: &Matrix3<f64>) -> Vector3<f64> {
     let mut v = SymmetricEigen::new(*a).eigenvalues;

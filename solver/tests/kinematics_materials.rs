@@ -3,7 +3,9 @@
 mod common;
 
 use common::*;
-use impact_solver::kinematics::{cofactor, polar_decomposition, shape_gradients, signed_volume};
+use impact_solver::kinematics::{
+    cofactor, polar_decomposition, polar_rotation, shape_gradients, signed_volume,
+};
 use impact_solver::material::{LinearElastic, Material, SaintVenantKirchhoff};
 use impact_solver::mesh::{boundary_faces, boundary_nodes, box_mesh, element_quality};
 use nalgebra::{Matrix3, Vector3};
@@ -79,6 +81,16 @@ fn box_mesh_volume_and_boundary_are_exact() {
     );
 }
 
+#[test]
+fn polar_rotation_of_a_rotation_is_itself_and_of_an_inversion_none() {
+    let q = nalgebra::Rotation3::from_euler_angles(0.3, -1.2, 2.9);
+    let r = polar_rotation(q.matrix()).unwrap();
+    assert!((r - q.matrix()).norm() < 1e-15);
+    assert!(polar_rotation(&-Matrix3::identity()).is_none());
+    assert!(polar_rotation(&Matrix3::zeros()).is_none());
+    assert!(polar_rotation(&Matrix3::repeat(f64::NAN)).is_none());
+}
+
 fn small_matrix() -> impl Strategy<Value = Matrix3<f64>> {
     prop::array::uniform9(-0.3f64..0.3).prop_map(|a| Matrix3::from_row_slice(&a))
 }
@@ -94,6 +106,34 @@ proptest! {
         prop_assert!((r.determinant() - 1.0).abs() < 1e-13);
         prop_assert!((u - u.transpose()).norm() < 1e-13);
         prop_assert!(u.symmetric_eigenvalues().min() > 0.0);
+    }
+
+    /// Newton's iteration gives the rotation of the SVD to round-off (times the condition of F),
+    /// for small strains, large distortions and any rotation.
+    #[test]
+    fn polar_rotation_matches_the_svd(
+        h in small_matrix(),
+        scale in prop::sample::select(vec![1e-6, 1e-3, 1.0, 5.0]),
+        axis in prop::array::uniform3(-1.0f64..1.0),
+        angle in -3.2f64..3.2,
+    ) {
+        let stretch = Matrix3::identity() + h * scale;
+        prop_assume!(stretch.determinant() > 0.05);
+        let axis = Vector3::from(axis);
+        prop_assume!(axis.norm() > 1e-3);
+        let q = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle);
+        let f = q.matrix() * stretch;
+        // Reference from the SVD F = W S V^T, R = W V^T (accurate for ill-conditioned F, where
+        // the eigen-decomposition of C = F^T F squares the condition number).
+        let svd = f.svd(true, true);
+        let expected = svd.u.unwrap() * svd.v_t.unwrap();
+        let condition = svd.singular_values.max() / svd.singular_values.min();
+        let r = polar_rotation(&f).unwrap();
+        prop_assert!(
+            (r - expected).norm() < 1e-14 * condition,
+            "error {:e}, condition {condition:e}", (r - expected).norm()
+        );
+        prop_assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-14);
     }
 
     #[test]
