@@ -1,6 +1,8 @@
 //! The cases beyond the quick tier (nightly-only and stress): each passes against its
 //! reference. The stress tier's time-step sweep finds the estimate conservative and every
 //! unstable run stops with its report; the nightly contact cases meet their Hertz bands.
+//! The material-point cases are left out: they judge a parameter set still being calibrated
+//! (`tests/material_cases.rs` runs them).
 
 use std::path::Path;
 
@@ -14,7 +16,7 @@ fn nightly_and_stress_cases_pass() {
         .expect("catalogue loads");
     let stress: Vec<_> = cases
         .into_iter()
-        .filter(|c| c.spec.tier != Tier::Quick)
+        .filter(|c| c.spec.tier != Tier::Quick && c.spec.material_point.is_none())
         .collect();
     assert!(!stress.is_empty());
     let results = run_cases(
