@@ -423,6 +423,11 @@ impl Measure {
                     let exact = match problem.model.material_of(e) {
                         MaterialModel::SaintVenantKirchhoff(c) => svk_cauchy(c, &f),
                         MaterialModel::LinearElastic(c) => corotated_cauchy(c, &f),
+                        MaterialModel::Microplane(_) => {
+                            return Err("uniform_stress_error has no closed form for microplane \
+                                        concrete"
+                                .into())
+                        }
                     };
                     let diff = matrix_from_voigt(s) - exact;
                     worst = worst.max(max_abs(&diff) / max_abs(&exact));

@@ -157,8 +157,11 @@ pub fn body_constants(scene: &Scene, of: &MaterialRef) -> Result<IsotropicElasti
         .bodies
         .iter()
         .find(|b| &b.name == body)
-        .map(|b| *b.material.constants())
         .ok_or_else(|| format!("the reference names body `{body}`, which the scene does not have"))
+        .and_then(|b| {
+            let model = b.material.model(&b.name).map_err(|e| e.to_string())?;
+            Ok(model.constants())
+        })
 }
 
 /// The constants of `of` when there may be no scene (cases that run none, such as a contact-problem

@@ -58,7 +58,7 @@ fn patch(
         assert!(err < 1e-10, "node {n}: displacement error {err:e} relative");
     }
     let f = Matrix3::identity() + gradient;
-    let sigma = reference(material.constants(), &f);
+    let sigma = reference(&material.constants(), &f);
     let fields = p.model.element_fields(&solution.u);
     for (e, s) in fields.cauchy.iter().enumerate() {
         let err = max_abs(&(voigt_to_matrix(s) - sigma)) / max_abs(&sigma);

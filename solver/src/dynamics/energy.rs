@@ -25,6 +25,11 @@ pub struct EnergyLedger {
     /// Energy taken out by the tangential (friction) components: never negative for Coulomb
     /// friction, which opposes slip (FORMULATION section 3).
     pub friction_work: f64,
+    /// The part of `internal_work` done on the nodes of bodies with history (microplane
+    /// concrete): what they store plus what they dissipate. Their material defines no stored
+    /// energy, so once their stress has dropped to zero (an open crack) all of it was
+    /// dissipated. Not a separate term of the balance.
+    pub history_work: f64,
 }
 
 impl EnergyLedger {

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::{EnergyLedger, InstabilityReport};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
-use crate::model::{field_frame, Motion, ProbeQuantity, Problem};
+use crate::model::{field_frame_with_history, MaterialHistory, Motion, ProbeQuantity, Problem};
 use crate::output::history::HistoryTable;
 use crate::output::vtu::PvdWriter;
 
@@ -148,6 +148,12 @@ pub struct ExplicitSolver<'p> {
     /// Reaction forces at prescribed components, `M a + a M v - f_ext + f_int` (N).
     pub reaction: Vec<Vector3<f64>>,
     contact: Option<ContactScratch>,
+    /// History of the bodies whose material has one (microplane concrete), advanced once per
+    /// step by the force computation of [`Self::advance`].
+    history: MaterialHistory,
+    /// Whether each node belongs to a body with history, whose internal work is also counted
+    /// apart (empty when there is none).
+    history_node: Vec<bool>,
     /// What the contact phase did in the last step, per pair.
     pub contact_steps: Vec<crate::contact::ContactStep>,
     contact_seconds: f64,
@@ -223,6 +229,16 @@ impl<'p> ExplicitSolver<'p> {
             du_prev: vec![Vector3::zeros(); n],
             v_next: vec![Vector3::zeros(); n],
             contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
+            history: model.initial_history(),
+            history_node: if model.has_history() {
+                let mut flags = vec![false; n];
+                for body in model.bodies.iter().filter(|b| b.material.has_history()) {
+                    flags[body.nodes.clone()].fill(true);
+                }
+                flags
+            } else {
+                Vec::new()
+            },
             contact_steps: Vec::new(),
             contact_seconds: 0.0,
             contact_totals: ContactTotals::default(),
@@ -240,9 +256,16 @@ impl<'p> ExplicitSolver<'p> {
     }
 
     /// Starts the run from displacement `u0` (for example a static solution) instead of the
-    /// reference configuration. Work is counted from this state on.
+    /// reference configuration. Work is counted from this state on. Histories stay virgin: the
+    /// first step of a microplane body loads it from zero to the strain of `u0` at once.
     pub fn set_initial_displacement(&mut self, u0: &[Vector3<f64>]) {
         self.u.copy_from_slice(u0);
+    }
+
+    /// The history of the bodies whose material has one, as of the last step's force
+    /// computation (at the current displacement `u`).
+    pub fn history(&self) -> &MaterialHistory {
+        &self.history
     }
 
     /// Stops the run with [`SolverError::TimeLimit`] once `seconds` of wall time have passed,
@@ -308,7 +331,37 @@ impl<'p> ExplicitSolver<'p> {
                     .collect::<Vec<_>>()
                     .join(", ")
             },
-        )
+        ) + &self.history_plan()
+    }
+
+    /// The bodies with history, their element sizes and the memory the history takes (empty
+    /// without such bodies).
+    fn history_plan(&self) -> String {
+        let model = &self.problem.model;
+        let mut parts = Vec::new();
+        for (body, history) in model.bodies.iter().zip(&self.history.bodies) {
+            if let (Some(m), Some(h)) = (&body.microplane, history) {
+                let (lo, hi) = m.bands.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+                    (lo.min(b.size), hi.max(b.size))
+                });
+                parts.push(format!(
+                    "`{}` microplane ({} directions, element sizes {:.1}-{:.1} mm, limit {:.1} \
+                     mm; history {} B per element, {:.1} MB)",
+                    body.name,
+                    m.model.planes().len(),
+                    lo * 1e3,
+                    hi * 1e3,
+                    m.model.largest_element() * 1e3,
+                    h.bytes_per_element(),
+                    (h.bytes_per_element() * body.elements.len()) as f64 / 1e6
+                ));
+            }
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("; materials with history: {}", parts.join(", "))
+        }
     }
 
     fn kinetic_energy(&self, v: &[Vector3<f64>]) -> f64 {
@@ -437,7 +490,15 @@ impl<'p> ExplicitSolver<'p> {
         let problem = self.problem;
         let model = &problem.model;
         let (dt, t, alpha) = (self.dt, self.time, self.settings.damping);
-        if let Some(e) = model.internal_forces(&self.u, &mut self.f_int) {
+        // The only force computation of the step: it advances the material histories, with the
+        // strain rate from v_{n-1/2} (v_0 at the first step).
+        if let Some(e) = model.advance_internal_forces(
+            &self.u,
+            &self.v_half,
+            dt,
+            &mut self.history,
+            &mut self.f_int,
+        ) {
             let det = model.deformation_gradient(e, &self.u).determinant();
             return Err((format!("element inverted (det F = {det:.3e})"), Some(e)));
         }
@@ -546,6 +607,10 @@ impl<'p> ExplicitSolver<'p> {
             pending.internal_work += 0.5 * f_int.dot(&du);
             pending.external_work += 0.5 * f_out.dot(&du);
             pending.damping_work += 0.5 * damping.dot(&du);
+            if self.history_node.get(i) == Some(&true) {
+                closing.history_work += 0.5 * f_int.dot(&du_old);
+                pending.history_work += 0.5 * f_int.dot(&du);
+            }
             self.du_prev[i] = dt * v_new + dx_extra;
             self.v_full[i] = v_full;
             self.reaction[i] = r;
@@ -563,6 +628,7 @@ impl<'p> ExplicitSolver<'p> {
         self.energies.damping_work += self.pending.damping_work + closing.damping_work;
         self.energies.contact_work += self.pending.contact_work + closing.contact_work;
         self.energies.friction_work += self.pending.friction_work + closing.friction_work;
+        self.energies.history_work += self.pending.history_work + closing.history_work;
         self.pending = pending;
         std::mem::swap(&mut self.v_half, &mut self.v_next);
         Ok(moved_too_far)
@@ -575,7 +641,9 @@ impl<'p> ExplicitSolver<'p> {
             .map(|d| d.join(format!("{}_history.csv", self.output.stem)))
     }
 
-    /// Columns: time and step, the energies, then `<probe>_x/y/z` and `<constraint>_reaction_x/y/z`.
+    /// Columns: time and step, the energies (`stored_energy` counts elastic bodies only; with
+    /// microplane bodies, `microplane_internal_work`, their part of `internal_work`), then
+    /// `<probe>_x/y/z` and `<constraint>_reaction_x/y/z`.
     fn history_columns(&self) -> Vec<String> {
         let mut c: Vec<String> = [
             "time",
@@ -598,6 +666,9 @@ impl<'p> ExplicitSolver<'p> {
         ]
         .map(String::from)
         .to_vec();
+        if !self.history_node.is_empty() {
+            c.push("microplane_internal_work".into());
+        }
         for p in &self.problem.probes {
             c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
         }
@@ -646,6 +717,9 @@ impl<'p> ExplicitSolver<'p> {
             (model.reference[i] + self.u[i]).cross(&self.v_full[i]) * model.mass[i]
         });
         row.extend(angular.iter());
+        if !self.history_node.is_empty() {
+            row.push(e.history_work);
+        }
         for p in &self.problem.probes {
             let field = match p.quantity {
                 ProbeQuantity::Displacement => &self.u,
@@ -702,8 +776,9 @@ impl<'p> ExplicitSolver<'p> {
             .zip(&self.u)
             .map(|(x, u)| x + u)
             .collect();
-        writer.write_frame(&field_frame(
+        writer.write_frame(&field_frame_with_history(
             model,
+            Some(&self.history),
             &points,
             &self.u,
             Some(&self.v_full),

@@ -2,16 +2,20 @@
 //!
 //! A model maps the deformation gradient of an element (and its own history, when it has one)
 //! to the first Piola-Kirchhoff stress `P`, from which the element forces follow as
-//! `f_a = V P grad_X N_a`. Elastic models have no state and need no per-step storage.
+//! `f_a = V P grad_X N_a`. Elastic models have no state and need no per-step storage; the
+//! microplane concrete model keeps a history per element, which the analysis owns
+//! (`model::MaterialHistory`) and advances once per step.
 
 mod linear_elastic;
 pub mod microplane;
+mod parameter_file;
 mod saint_venant_kirchhoff;
 
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
 pub use linear_elastic::LinearElastic;
+pub use parameter_file::{read_microplane_file, MicroplaneFile};
 pub use saint_venant_kirchhoff::SaintVenantKirchhoff;
 
 /// Isotropic elastic constants, with the Lamé parameters of (2.121).
@@ -97,18 +101,24 @@ pub trait Material: Sync + Send {
     fn dilatational_wave_speed(&self) -> f64;
 }
 
-/// The models a scene can name (the `material:` key of a body).
+/// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which
+/// may point to a parameter file instead.)
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialModel {
     LinearElastic(IsotropicElastic),
     SaintVenantKirchhoff(IsotropicElastic),
+    /// The microplane concrete model (thesis chapter 5): it carries a history per element.
+    Microplane(microplane::MicroplaneParameters),
 }
 
 impl MaterialModel {
-    pub fn constants(&self) -> &IsotropicElastic {
+    /// The elastic constants: those of the model, or the initial (undamaged) ones of microplane
+    /// concrete, which set its wave speed and so the stable time step.
+    pub fn constants(&self) -> IsotropicElastic {
         match self {
-            MaterialModel::LinearElastic(c) | MaterialModel::SaintVenantKirchhoff(c) => c,
+            MaterialModel::LinearElastic(c) | MaterialModel::SaintVenantKirchhoff(c) => *c,
+            MaterialModel::Microplane(p) => p.elastic(),
         }
     }
 
@@ -116,7 +126,14 @@ impl MaterialModel {
         match self {
             MaterialModel::LinearElastic(_) => "linear_elastic",
             MaterialModel::SaintVenantKirchhoff(_) => "saint_venant_kirchhoff",
+            MaterialModel::Microplane(_) => "microplane",
         }
+    }
+
+    /// Whether the model keeps a history per element (its forces then advance that history, so
+    /// they are computed once per step by the analysis that owns it).
+    pub fn has_history(&self) -> bool {
+        matches!(self, MaterialModel::Microplane(_))
     }
 
     pub fn density(&self) -> f64 {
@@ -128,11 +145,13 @@ impl MaterialModel {
     }
 }
 
-/// Calls `$body` with `$m` bound to the concrete model behind a [`MaterialModel`], so generic
-/// element loops are instantiated once per model (static dispatch in the hot path).
+/// Calls `$body` with `$m` bound to the stateless (elastic) model behind a [`MaterialModel`], so
+/// generic element loops are instantiated once per model (static dispatch in the hot path).
+/// Models with a history are no [`Material`]: every caller says what it does for them, with `$p`
+/// bound to their parameters.
 #[macro_export]
 macro_rules! with_material {
-    ($model:expr, |$m:ident| $body:expr) => {
+    ($model:expr, |$m:ident| $body:expr, microplane($p:pat) => $stateful:expr) => {
         match $model {
             $crate::material::MaterialModel::LinearElastic(c) => {
                 let $m = $crate::material::LinearElastic::new(*c);
@@ -142,6 +161,7 @@ macro_rules! with_material {
                 let $m = $crate::material::SaintVenantKirchhoff::new(*c);
                 $body
             }
+            $crate::material::MaterialModel::Microplane($p) => $stateful,
         }
     };
 }

@@ -20,6 +20,12 @@
 //! 480 000-tetrahedron box through the buffer. Hence only [`CHUNKS_PER_THREAD`] chunks per thread, and one
 //! chunk per body on one thread, which is a plain serial scatter without slots. The layout is
 //! rebuilt, in O(elements), when the thread count changes.
+//!
+//! Chunks of a body whose material has a history (microplane concrete) run a loop of their own
+//! that also reads the nodal velocities and commits each element's update to the history. The
+//! history of element `e` is written only by the chunk that holds `e`, and the update of an
+//! element depends on nothing but its own nodes and history, so this too is race-free and
+//! bitwise independent of the chunking. Elastic chunks run the stateless loop as before.
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -28,6 +34,7 @@ use std::sync::Mutex;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
+use super::history::{microplane_element_forces, MaterialHistory};
 use super::{element_internal_forces, Model};
 use crate::with_material;
 
@@ -77,11 +84,75 @@ struct Layout {
 }
 
 /// A raw pointer that may cross threads: every index written through it is written by exactly one
-/// chunk (a node by its owner chunk, a slot by its element), so the writes never race.
+/// chunk (a node by its owner chunk, a slot by its element, an element's history by the chunk
+/// that holds the element), so the writes never race.
+struct DisjointWrites<T>(*mut T);
+impl<T> Clone for DisjointWrites<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for DisjointWrites<T> {}
+unsafe impl<T> Send for DisjointWrites<T> {}
+unsafe impl<T> Sync for DisjointWrites<T> {}
+
+/// What the assembly needs for materials with history: the nodal velocities of the half step
+/// before, the time step and the history it advances.
+pub(super) struct Stateful<'a> {
+    pub v: &'a [Vector3<f64>],
+    pub dt: f64,
+    pub history: &'a mut MaterialHistory,
+}
+
+/// Where the chunks of one body write its history: the values of its elements one after the
+/// other, `len` each, and their Cauchy stresses.
 #[derive(Clone, Copy)]
-struct DisjointWrites(*mut Vector3<f64>);
-unsafe impl Send for DisjointWrites {}
-unsafe impl Sync for DisjointWrites {}
+struct HistoryWrites {
+    values: DisjointWrites<f32>,
+    len: usize,
+    cauchy: DisjointWrites<[f64; 6]>,
+}
+
+/// Adds the force `fa` of element `e` (in the chunk over `elements`) on node `n`: directly when
+/// the chunk owns the node, else to the chunk's next slot.
+///
+/// # Safety
+/// `n < f.len()` where `nodal` points into `f`, and the slots `next_slot..slots_end` of the
+/// buffer behind `slot_out` belong to this chunk alone; `first_element` is that of the model's
+/// elements, so that exactly one chunk owns each node.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn scatter(
+    elements: &Range<usize>,
+    e: usize,
+    n: u32,
+    first: u32,
+    fa: Vector3<f64>,
+    nodal: DisjointWrites<Vector3<f64>>,
+    slot_out: DisjointWrites<Vector3<f64>>,
+    next_slot: &mut usize,
+    slots_end: usize,
+) {
+    debug_assert!(first as usize <= e, "first elements out of date");
+    if owns(elements, first) {
+        // SAFETY: only the chunk holding `first` writes node `n` (see the caller's contract).
+        unsafe {
+            let node = nodal.0.add(n as usize);
+            // The owner starts the fold at the node's first element.
+            let sum = if first as usize == e {
+                Vector3::zeros()
+            } else {
+                *node
+            };
+            *node = sum + fa;
+        }
+    } else {
+        assert!(*next_slot < slots_end, "slot layout out of date");
+        // SAFETY: the slots of this chunk lie inside the buffer and belong to it alone.
+        unsafe { *slot_out.0.add(*next_slot) = fa };
+        *next_slot += 1;
+    }
+}
 
 /// Whether the chunk over `elements`, visiting an element of a node whose first element is
 /// `first`, owns that node. The visited element is at least `first` and lies in the chunk, so
@@ -140,15 +211,26 @@ impl ForceAssembler {
         &self,
         model: &Model,
         u: &[Vector3<f64>],
+        stateful: Option<Stateful<'_>>,
         f: &mut [Vector3<f64>],
     ) -> Option<usize> {
+        if stateful.is_none() {
+            if let Some(body) = model.bodies.iter().find(|b| b.material.has_history()) {
+                panic!(
+                    "body `{}` is of {} concrete, whose forces advance its history: compute them \
+                     with Model::advance_internal_forces, once per step",
+                    body.name,
+                    body.material.name()
+                );
+            }
+        }
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         let threads = rayon::current_num_threads();
         if layout.threads != threads {
             let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
             *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads);
         }
-        self.assemble_with(&mut layout, model, u, f)
+        self.assemble_with(&mut layout, model, u, stateful, f)
     }
 
     fn assemble_with(
@@ -156,6 +238,7 @@ impl ForceAssembler {
         layout: &mut Layout,
         model: &Model,
         u: &[Vector3<f64>],
+        stateful: Option<Stateful<'_>>,
         f: &mut [Vector3<f64>],
     ) -> Option<usize> {
         assert_eq!(u.len(), f.len());
@@ -167,13 +250,38 @@ impl ForceAssembler {
         let nodal = DisjointWrites(f.as_mut_ptr());
         let slot_out = DisjointWrites(layout.buffer.as_mut_ptr());
         let first_element = &self.first_element[..];
+        let (velocity, dt, histories): (&[Vector3<f64>], f64, Vec<Option<HistoryWrites>>) =
+            match stateful {
+                Some(s) => {
+                    let writes = s
+                        .history
+                        .bodies
+                        .iter_mut()
+                        .zip(&model.bodies)
+                        .map(|(h, body)| {
+                            h.as_mut().map(|h| {
+                                assert_eq!(h.values.len(), h.state_len * body.elements.len());
+                                assert_eq!(h.cauchy.len(), body.elements.len());
+                                HistoryWrites {
+                                    values: DisjointWrites(h.values.as_mut_ptr()),
+                                    len: h.state_len,
+                                    cauchy: DisjointWrites(h.cauchy.as_mut_ptr()),
+                                }
+                            })
+                        })
+                        .collect();
+                    (s.v, s.dt, writes)
+                }
+                None => (&[], 0.0, Vec::new()),
+            };
         layout.chunks.par_iter().for_each(|chunk| {
             // Capture the wrappers whole, not their raw-pointer fields, so the closure is `Send`.
             let (nodal, slot_out) = (nodal, slot_out);
             let range = chunk.elements.clone();
             let mut next_slot = chunk.slots.start;
             let mut first_inverted = usize::MAX;
-            with_material!(&model.bodies[chunk.body].material, |m| {
+            let body = &model.bodies[chunk.body];
+            with_material!(&body.material, |m| {
                 let elements = model.tets[range.clone()]
                     .iter()
                     .zip(&model.grad_n[range.clone()])
@@ -185,31 +293,73 @@ impl ForceAssembler {
                         first_inverted = first_inverted.min(e);
                     }
                     for (&n, fa) in tet.iter().zip(fe) {
-                        let first = first_element[n as usize];
-                        debug_assert!(first as usize <= e, "first elements out of date");
-                        if owns(&range, first) {
-                            // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() ==
-                            // f.len()`). `first_element` was computed from the same `model.tets`
-                            // (the model never changes its elements), so `first <= e` and only
-                            // the chunk holding `first` writes node `n`: no other thread touches
-                            // it during this loop. `f` outlives the loop.
-                            unsafe {
-                                let node = nodal.0.add(n as usize);
-                                // The owner starts the fold at the node's first element.
-                                let sum = if first as usize == e {
-                                    Vector3::zeros()
-                                } else {
-                                    *node
-                                };
-                                *node = sum + fa;
-                            }
-                        } else {
-                            assert!(next_slot < chunk.slots.end, "slot layout out of date");
-                            // SAFETY: the slots of this chunk lie inside the buffer and belong to
-                            // it alone; the buffer outlives the loop.
-                            unsafe { *slot_out.0.add(next_slot) = fa };
-                            next_slot += 1;
-                        }
+                        // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() ==
+                        // f.len()`). `first_element` was computed from the same `model.tets`
+                        // (the model never changes its elements), so `first <= e` and only
+                        // the chunk holding `first` writes node `n`: no other thread touches
+                        // it during this loop. The chunk's slots are its own. `f` and the
+                        // buffer outlive the loop.
+                        unsafe {
+                            scatter(
+                                &range,
+                                e,
+                                n,
+                                first_element[n as usize],
+                                fa,
+                                nodal,
+                                slot_out,
+                                &mut next_slot,
+                                chunk.slots.end,
+                            )
+                        };
+                    }
+                }
+            }, microplane(_) => {
+                let microplane = body.microplane.as_ref().expect("microplane bodies are prepared");
+                let writes = histories[chunk.body].expect("a history for every microplane body");
+                let len = writes.len;
+                for e in range.clone() {
+                    let tet = &model.tets[e];
+                    let ue = tet.map(|n| u[n as usize]);
+                    let ve = tet.map(|n| velocity[n as usize]);
+                    let local = e - body.elements.start;
+                    // SAFETY: the body's history holds `len` values and one stress per element
+                    // (asserted above), `local` is an element of the body, and only the chunk
+                    // holding element `e` touches its values; the history outlives the loop.
+                    let state = unsafe {
+                        std::slice::from_raw_parts_mut(writes.values.0.add(local * len), len)
+                    };
+                    let update = microplane_element_forces(
+                        &microplane.model,
+                        &microplane.bands[local],
+                        state,
+                        &model.grad_n[e],
+                        model.volume[e],
+                        &ue,
+                        &ve,
+                        dt,
+                    );
+                    if update.det > 0.0 {
+                        // SAFETY: as for `state`.
+                        unsafe { *writes.cauchy.0.add(local) = update.cauchy };
+                    } else {
+                        first_inverted = first_inverted.min(e);
+                    }
+                    for (&n, fa) in tet.iter().zip(update.forces) {
+                        // SAFETY: as in the elastic loop.
+                        unsafe {
+                            scatter(
+                                &range,
+                                e,
+                                n,
+                                first_element[n as usize],
+                                fa,
+                                nodal,
+                                slot_out,
+                                &mut next_slot,
+                                chunk.slots.end,
+                            )
+                        };
                     }
                 }
             });
@@ -386,7 +536,7 @@ mod tests {
                         f[tet[a] as usize] += fe[a];
                     }
                 }
-            });
+            }, microplane(_) => unreachable!("elastic bodies only"));
         }
         (f, inverted)
     }
@@ -415,8 +565,8 @@ mod tests {
                         .unwrap();
                     // Garbage in `f` must not leak into the result.
                     let mut f = vec![Vector3::repeat(f64::NAN); u.len()];
-                    let found =
-                        pool.install(|| assembler.assemble_with(&mut layout, &model, &u, &mut f));
+                    let found = pool
+                        .install(|| assembler.assemble_with(&mut layout, &model, &u, None, &mut f));
                     assert_eq!(found, inverted, "length {length}, {threads} threads");
                     let same = f
                         .iter()

@@ -1,39 +1,139 @@
 //! Element and nodal fields of a state, packaged as a frame for the VTU writer.
 
 use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
 
-use super::Model;
+use super::{MaterialHistory, Model};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h, principal_values, voigt};
 use crate::material::Material;
 use crate::output::vtu::{FieldData, FieldFrame};
 use crate::with_material;
 
-/// Cauchy stress, Green-Lagrange strain and its largest principal value per element.
+/// The crack indicator `eps_1 / eps_r` of every element (FORMULATION 5, thesis 5.1): an element
+/// counts as cracked when its largest principal Green-Lagrange strain `eps_1` reaches
+/// `eps_r = w_cr / L`. Written in a scene as `crack_indicator: { crack_width: 2.0e-4, length:
+/// 0.05 }`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrackIndicator {
+    /// Critical crack opening `w_cr` (m); 0.2 mm by default.
+    #[serde(default = "default_crack_width")]
+    pub crack_width: f64,
+    /// Characteristic length `L` (m) for all elements (the thesis uses its average element size,
+    /// 50 mm); by default each element's own size `(6 V)^(1/3)`.
+    #[serde(default)]
+    pub length: Option<f64>,
+}
+
+fn default_crack_width() -> f64 {
+    2.0e-4
+}
+
+impl Default for CrackIndicator {
+    fn default() -> Self {
+        Self {
+            crack_width: default_crack_width(),
+            length: None,
+        }
+    }
+}
+
+impl CrackIndicator {
+    /// Checks that the width and the length are positive.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.crack_width > 0.0 && self.crack_width.is_finite()) {
+            return Err(format!(
+                "crack_width must be a positive opening in m (default 2.0e-4), got {}",
+                self.crack_width
+            ));
+        }
+        if let Some(l) = self.length {
+            if !(l > 0.0 && l.is_finite()) {
+                return Err(format!(
+                    "length must be a positive length in m, or left out for each element's own \
+                     size (6 V)^(1/3), got {l}"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `eps_r = w_cr / L` for an element of size `element_size`.
+    pub fn cracking_strain(&self, element_size: f64) -> f64 {
+        self.crack_width / self.length.unwrap_or(element_size)
+    }
+}
+
+/// Cauchy stress, Green-Lagrange strain and its largest principal value per element, with the
+/// crack indicator and the microplane rate factor.
 pub struct ElementFields {
+    /// `[xx, yy, zz, xy, yz, xz]` (Pa). For microplane bodies, the stress of the history's last
+    /// update (NaN when no history is given: it cannot be computed from `u` alone).
     pub cauchy: Vec<[f64; 6]>,
     pub green_lagrange: Vec<[f64; 6]>,
     pub max_principal_strain: Vec<f64>,
+    /// `eps_1 / eps_r` ([`CrackIndicator`]); 1 or more: cracked.
+    pub crack_indicator: Vec<f64>,
+    /// Rate factor `F` of the microplane model's last update (1 before the first, NaN without a
+    /// history); 0 for elements of materials without a rate effect.
+    pub rate_factor: Vec<f64>,
 }
 
 impl Model {
-    /// Stress and strain of every element at displacement `u`.
+    /// Stress and strain of every element at displacement `u` (microplane bodies get NaN stresses
+    /// and rate factors: use [`Self::element_fields_with_history`]).
     pub fn element_fields(&self, u: &[Vector3<f64>]) -> ElementFields {
+        self.element_fields_with_history(u, None)
+    }
+
+    /// Stress and strain of every element at displacement `u`; the stresses of bodies with a
+    /// history are those of its last update, which the explicit stepper makes at `u`.
+    pub fn element_fields_with_history(
+        &self,
+        u: &[Vector3<f64>],
+        history: Option<&MaterialHistory>,
+    ) -> ElementFields {
         let n = self.element_count();
         let mut out = ElementFields {
             cauchy: Vec::with_capacity(n),
             green_lagrange: Vec::with_capacity(n),
             max_principal_strain: Vec::with_capacity(n),
+            crack_indicator: Vec::with_capacity(n),
+            rate_factor: Vec::with_capacity(n),
         };
-        for body in &self.bodies {
+        let strains = |out: &mut ElementFields, e: usize| {
+            let h = displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+            let green = green_lagrange_from_h(&h);
+            let eps_1 = principal_values(&green)[2];
+            out.max_principal_strain.push(eps_1);
+            out.crack_indicator
+                .push(eps_1 / self.crack_indicator.cracking_strain(self.element_size(e)));
+            out.green_lagrange.push(voigt(&green));
+            h
+        };
+        for (b, body) in self.bodies.iter().enumerate() {
             with_material!(&body.material, |m| {
                 for e in body.elements.clone() {
-                    let h =
-                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
-                    let green = green_lagrange_from_h(&h);
+                    let h = strains(&mut out, e);
                     out.cauchy
                         .push(voigt(&m.cauchy(&(Matrix3::identity() + h), &h)));
-                    out.max_principal_strain.push(principal_values(&green)[2]);
-                    out.green_lagrange.push(voigt(&green));
+                    out.rate_factor.push(0.0);
+                }
+            }, microplane(_) => {
+                let body_history = history.and_then(|h| h.bodies.get(b)).and_then(Option::as_ref);
+                for e in body.elements.clone() {
+                    strains(&mut out, e);
+                    let local = e - body.elements.start;
+                    match body_history {
+                        Some(h) => {
+                            out.cauchy.push(h.cauchy[local]);
+                            out.rate_factor.push(h.rate_factor(local));
+                        }
+                        None => {
+                            out.cauchy.push([f64::NAN; 6]);
+                            out.rate_factor.push(f64::NAN);
+                        }
+                    }
                 }
             });
         }
@@ -42,7 +142,8 @@ impl Model {
 }
 
 /// The frame written for ParaView: displacement and velocity at the nodes; Cauchy stress,
-/// Green-Lagrange strain, largest principal strain and body id on the elements.
+/// Green-Lagrange strain, largest principal strain, crack indicator, microplane rate factor and
+/// body id on the elements. For models without history (see [`field_frame_with_history`]).
 pub fn field_frame<'a>(
     model: &'a Model,
     points: &'a [Vector3<f64>],
@@ -50,7 +151,19 @@ pub fn field_frame<'a>(
     v: Option<&[Vector3<f64>]>,
     time: f64,
 ) -> FieldFrame<'a> {
-    let fields = model.element_fields(u);
+    field_frame_with_history(model, None, points, u, v, time)
+}
+
+/// [`field_frame`] with the stresses and rate factors of bodies with history read from `history`.
+pub fn field_frame_with_history<'a>(
+    model: &'a Model,
+    history: Option<&MaterialHistory>,
+    points: &'a [Vector3<f64>],
+    u: &[Vector3<f64>],
+    v: Option<&[Vector3<f64>]>,
+    time: f64,
+) -> FieldFrame<'a> {
+    let fields = model.element_fields_with_history(u, history);
     let as_arrays = |x: &[Vector3<f64>]| x.iter().map(|a| [a.x, a.y, a.z]).collect();
     let mut point_data = vec![("displacement".to_string(), FieldData::Vector(as_arrays(u)))];
     if let Some(v) = v {
@@ -74,6 +187,11 @@ pub fn field_frame<'a>(
                 "max_principal_strain".into(),
                 FieldData::Scalar(fields.max_principal_strain),
             ),
+            (
+                "crack_indicator".into(),
+                FieldData::Scalar(fields.crack_indicator),
+            ),
+            ("rate_factor".into(), FieldData::Scalar(fields.rate_factor)),
             (
                 "body".into(),
                 FieldData::Int(model.element_body.iter().map(|&b| b as i32).collect()),

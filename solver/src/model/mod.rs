@@ -4,6 +4,7 @@
 mod assembly;
 mod conditions;
 mod fields;
+mod history;
 mod problem;
 
 use std::collections::BTreeMap;
@@ -13,7 +14,11 @@ use nalgebra::{Matrix3, Vector3};
 
 pub use assembly::ForceAssembler;
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
-pub use fields::{field_frame, ElementFields};
+pub use fields::{field_frame, field_frame_with_history, CrackIndicator, ElementFields};
+pub use history::{
+    microplane_element_forces, BodyHistory, MaterialHistory, MicroplaneBody,
+    MicroplaneElementUpdate,
+};
 pub use problem::{Probe, ProbeQuantity, Problem};
 
 use crate::error::{Result, SolverError};
@@ -33,6 +38,8 @@ pub struct Body {
     pub elements: Range<usize>,
     /// Named node sets of its mesh, in global ids.
     pub node_sets: BTreeMap<String, Vec<u32>>,
+    /// For a body of microplane concrete: the model and each element's crack band.
+    pub microplane: Option<MicroplaneBody>,
 }
 
 /// The assembled model in its reference configuration.
@@ -53,6 +60,8 @@ pub struct Model {
     pub bodies: Vec<Body>,
     /// Body index of each element.
     pub element_body: Vec<u16>,
+    /// How the crack indicator of the field output is computed (FORMULATION 5).
+    pub crack_indicator: CrackIndicator,
     assembler: ForceAssembler,
 }
 
@@ -89,6 +98,7 @@ impl Model {
                 nodes: offset as usize..reference.len(),
                 elements: first_element..tets.len(),
                 node_sets,
+                microplane: None,
             });
         }
         let mut grad_n = Vec::with_capacity(tets.len());
@@ -106,6 +116,16 @@ impl Model {
                 mass[n as usize] += m;
             }
         }
+        for body in &mut model_bodies {
+            if let MaterialModel::Microplane(parameters) = body.material {
+                body.microplane = Some(MicroplaneBody::new(
+                    &body.name,
+                    parameters,
+                    &volume[body.elements.clone()],
+                    body.elements.start,
+                )?);
+            }
+        }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
         let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
         Ok(Self {
@@ -117,6 +137,7 @@ impl Model {
             mass,
             bodies: model_bodies,
             element_body,
+            crack_indicator: CrackIndicator::default(),
             assembler,
         })
     }
@@ -161,16 +182,50 @@ impl Model {
         deformation_gradient(&self.element_displacements(e, u), &self.grad_n[e])
     }
 
-    /// Internal nodal forces `f_a = V P grad_X N_a` summed per node, written into `f`.
+    /// Internal nodal forces `f_a = V P grad_X N_a` summed per node, written into `f`, for a
+    /// model whose materials have no history.
     ///
     /// The sum at every node runs over its elements in ascending order whatever the number of
     /// threads, so the result is bitwise reproducible. Returns the lowest-numbered element with
     /// `det F <= 0` (or a non-finite `F`) if any: the caller stops the run.
+    ///
+    /// # Panics
+    /// If a body's material has a history (microplane concrete): its forces advance that history
+    /// and come from [`Self::advance_internal_forces`], once per step.
     pub fn internal_forces(&self, u: &[Vector3<f64>], f: &mut [Vector3<f64>]) -> Option<usize> {
-        self.assembler.assemble(self, u, f)
+        self.assembler.assemble(self, u, None, f)
+    }
+
+    /// Internal nodal forces at displacement `u_n` as [`Self::internal_forces`], for any model:
+    /// elements of materials with history compute their stress from it and commit the update,
+    /// with the strain rate from the nodal velocities `v` of the half step before (`v_{n-1/2}`,
+    /// see [`microplane_element_forces`]) and the time step `dt`. Call it exactly once per step:
+    /// every call advances the history. Bitwise reproducible whatever the number of threads: each
+    /// element's history is written only by the assembly chunk that holds the element. An
+    /// inverted element keeps its history.
+    pub fn advance_internal_forces(
+        &self,
+        u: &[Vector3<f64>],
+        v: &[Vector3<f64>],
+        dt: f64,
+        history: &mut MaterialHistory,
+        f: &mut [Vector3<f64>],
+    ) -> Option<usize> {
+        assert_eq!(v.len(), u.len());
+        assert_eq!(
+            history.bodies.len(),
+            self.bodies.len(),
+            "history of another model"
+        );
+        self.assembler
+            .assemble(self, u, Some(assembly::Stateful { v, dt, history }), f)
     }
 
     /// Elastic energy stored in all elements, `sum_e V_e W(E_e)`.
+    ///
+    /// Microplane concrete defines no potential: its elements count zero here. Their internal
+    /// work (the energy ledger's `internal_work`, from the forces) is what they stored plus what
+    /// they dissipated, and the energy balance uses it for every material.
     pub fn stored_energy(&self, u: &[Vector3<f64>]) -> f64 {
         self.bodies
             .iter()
@@ -186,9 +241,15 @@ impl Model {
                             self.volume[e] * m.strain_energy_density(&h)
                         })
                         .sum::<f64>()
-                })
+                }, microplane(_) => 0.0)
             })
             .sum()
+    }
+
+    /// Element size `(6 V)^(1/3)` (m): the edge of a cube cut into six tetrahedra of this
+    /// volume, the crack band's `h` and the default length of the crack indicator.
+    pub fn element_size(&self, e: usize) -> f64 {
+        (6.0 * self.volume[e]).cbrt()
     }
 
     /// Nodes of `body` that lie in the node set named `set` (a Gmsh physical group).

@@ -79,10 +79,15 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 *x = rotation * *x + shift;
             }
         }
-        bodies.push((body.name.clone(), mesh, body.material));
+        bodies.push((body.name.clone(), mesh, body.material.model(&body.name)?));
     }
     let meshes: Vec<Mesh> = bodies.iter().map(|(_, m, _)| m.clone()).collect();
-    let model = Model::new(bodies)?;
+    let mut model = Model::new(bodies)?;
+    scene
+        .crack_indicator
+        .validate()
+        .map_err(|m| invalid("crack_indicator", m))?;
+    model.crack_indicator = scene.crack_indicator;
     let mut problem = Problem::new(model);
 
     for (b, body) in scene.bodies.iter().enumerate() {

@@ -13,9 +13,10 @@ pub use selector::Selector;
 
 use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
-use crate::material::MaterialModel;
+use crate::material::microplane::MicroplaneParameters;
+use crate::material::{read_microplane_file, IsotropicElastic, MaterialModel};
 use crate::mesh::BoxSpec;
-use crate::model::{ProbeQuantity, TimeFunction};
+use crate::model::{CrackIndicator, ProbeQuantity, TimeFunction};
 use crate::statics::StaticSettings;
 
 /// A complete simulation: bodies, conditions and the analysis to run.
@@ -38,6 +39,10 @@ pub struct Scene {
     /// Pairs of bodies that may touch (thesis chapters 6 and 7).
     #[serde(default)]
     pub contact: Vec<ContactSpec>,
+    /// The crack indicator of the field output (FORMULATION 5); defaults: `crack_width: 2.0e-4`
+    /// and, without `length`, each element's own size.
+    #[serde(default)]
+    pub crack_indicator: CrackIndicator,
     pub analysis: Analysis,
 }
 
@@ -135,12 +140,81 @@ fn default_true() -> bool {
 pub struct BodySpec {
     pub name: String,
     pub mesh: MeshSource,
-    pub material: MaterialModel,
+    pub material: MaterialSpec,
     #[serde(default)]
     pub initial_velocity: Option<InitialVelocity>,
     /// Rigid placement of the mesh: rotated about an axis through the origin, then translated.
     #[serde(default)]
     pub transform: Option<Transform>,
+}
+
+/// A body's material as written in a scene:
+/// `{ linear_elastic: { density, youngs_modulus, poisson_ratio } }`, the same for
+/// `saint_venant_kirchhoff`, or microplane concrete (thesis chapter 5) as
+/// `{ microplane: { file: ../materials/thesis-concrete.yaml } }` (a parameter file, relative to
+/// the scene file) or `{ microplane: { parameters: { density: ..., e1: ..., ... } } }` (inline).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialSpec {
+    LinearElastic(IsotropicElastic),
+    SaintVenantKirchhoff(IsotropicElastic),
+    Microplane(MicroplaneSpec),
+}
+
+/// Where the parameters of a microplane body come from: exactly one of `file` and `parameters`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MicroplaneSpec {
+    /// A parameter file (`parameters:` and an optional `calibration:` record, see
+    /// [`crate::material::MicroplaneFile`]), relative to the scene file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+    /// The parameters written out in the scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parameters: Option<MicroplaneParameters>,
+}
+
+impl MaterialSpec {
+    /// The model of the body named `body`, reading a microplane parameter file where one is
+    /// named. Errors name the body and, for a file, the file.
+    pub fn model(&self, body: &str) -> Result<MaterialModel> {
+        Ok(match self {
+            MaterialSpec::LinearElastic(c) => MaterialModel::LinearElastic(*c),
+            MaterialSpec::SaintVenantKirchhoff(c) => MaterialModel::SaintVenantKirchhoff(*c),
+            MaterialSpec::Microplane(spec) => {
+                let parameters = match (&spec.file, &spec.parameters) {
+                    (Some(file), None) => read_microplane_file(file).map_err(|e| {
+                        let message = match e {
+                            SolverError::InvalidScene { entity, message } => {
+                                format!("{entity}: {message}")
+                            }
+                            other => other.to_string(),
+                        };
+                        SolverError::InvalidScene {
+                            entity: format!("body `{body}` material.microplane.file"),
+                            message,
+                        }
+                    })?,
+                    (None, Some(p)) => *p,
+                    (file, _) => {
+                        return Err(SolverError::InvalidScene {
+                            entity: format!("body `{body}` material.microplane"),
+                            message: format!(
+                                "{}; give exactly one: `file: <parameter file relative to the \
+                                 scene>` or `parameters: {{ ... }}`",
+                                if file.is_some() {
+                                    "both `file` and `parameters` are given"
+                                } else {
+                                    "neither `file` nor `parameters` is given"
+                                }
+                            ),
+                        })
+                    }
+                };
+                MaterialModel::Microplane(parameters)
+            }
+        })
+    }
 }
 
 /// A rigid transform of a mesh (a rotation keeps every element's orientation; a mirror would
@@ -322,7 +396,8 @@ impl Scene {
         })
     }
 
-    /// Reads and parses a scene file; relative mesh paths are resolved against its folder.
+    /// Reads and parses a scene file; relative mesh and material file paths are resolved against
+    /// its folder.
     pub fn from_yaml_file(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| SolverError::InvalidScene {
             entity: path.display().to_string(),
@@ -332,6 +407,13 @@ impl Scene {
         let base = path.parent().unwrap_or(Path::new("."));
         for body in &mut scene.bodies {
             if let MeshSource::Gmsh(p) = &mut body.mesh {
+                if p.is_relative() {
+                    *p = base.join(&*p);
+                }
+            }
+            if let MaterialSpec::Microplane(MicroplaneSpec { file: Some(p), .. }) =
+                &mut body.material
+            {
                 if p.is_relative() {
                     *p = base.join(&*p);
                 }

@@ -85,9 +85,23 @@ impl StaticSolution {
 }
 
 /// Solves `f_int(u) = f_ext` with the constraints of `problem` (velocity constraints are not
-/// static conditions and are rejected).
+/// static conditions and are rejected, and so are bodies of materials with history).
 pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<StaticSolution> {
     let model = &problem.model;
+    if let Some(body) = model.bodies.iter().find(|b| b.material.has_history()) {
+        // Newton's method evaluates the forces at trial displacements, which would advance the
+        // history at each of them; it would need a commit per load step and a tangent of the
+        // model, which it does not have.
+        return Err(SolverError::InvalidScene {
+            entity: format!("body `{}` material", body.name),
+            message: format!(
+                "the static solver does not support {} concrete, whose stress depends on its \
+                 loading history. Fix: analyse the scene with `analysis: {{ explicit: ... }}` \
+                 (a slow enough loading gives the quasi-static response)",
+                body.material.name()
+            ),
+        });
+    }
     let n = model.node_count();
     let constraint_of = problem.constraint_map();
     for c in &problem.constraints {
@@ -246,7 +260,7 @@ fn solve_tangent(
                     }
                 }
             }
-        });
+        }, microplane(_) => unreachable!("solve_static refuses materials with history"));
     }
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
         .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
