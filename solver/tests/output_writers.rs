@@ -438,3 +438,102 @@ fn malformed_frames_are_errors_and_write_nothing() {
     assert!(!dir.join("run_00000.vtu").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The frames of an explicit run carry the crack indicator `eps_1 / (w_cr / L)` of every element
+/// and the microplane rate factor (0 on elastic bodies), and the stresses of microplane bodies
+/// from their history.
+#[test]
+fn run_frames_carry_the_crack_indicator_and_the_rate_factor() {
+    use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
+    use impact_solver::material::{read_microplane_file, IsotropicElastic, MaterialModel};
+    use impact_solver::mesh::{box_mesh, BoxSpec};
+    use impact_solver::model::{Model, Problem};
+
+    let cube = |x: f64| {
+        box_mesh(&BoxSpec {
+            origin: [x, 0.0, 0.0],
+            size: [0.05; 3],
+            divisions: [1, 1, 1],
+        })
+    };
+    let concrete = read_microplane_file(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml"),
+    )
+    .unwrap();
+    let steel = IsotropicElastic {
+        density: 7800.0,
+        youngs_modulus: 200e9,
+        poisson_ratio: 0.3,
+    };
+    let mut model = Model::new(vec![
+        (
+            "steel".into(),
+            cube(0.0),
+            MaterialModel::LinearElastic(steel),
+        ),
+        (
+            "concrete".into(),
+            cube(0.2),
+            MaterialModel::Microplane(concrete),
+        ),
+    ])
+    .unwrap();
+    model.crack_indicator.crack_width = 1e-4;
+    let mut problem = Problem::new(model);
+    // Both cubes stretched along x at 2 /s (free, so they then vibrate): strains of some 1e-5,
+    // below the tensile peak of the concrete.
+    for (v, x) in problem
+        .initial_velocity
+        .iter_mut()
+        .zip(&problem.model.reference)
+    {
+        let left = if x.x < 0.1 { 0.0 } else { 0.2 };
+        *v = Vector3::new(2.0 * (x.x - left), 0.0, 0.0);
+    }
+    let dir = temp_dir("run-fields");
+    let mut settings = ExplicitSettings::new(1.0);
+    settings.max_steps = Some(10);
+    let output = OutputSettings {
+        dir: Some(dir.clone()),
+        stem: "run".into(),
+        fields: true,
+    };
+    let mut solver = ExplicitSolver::new(&problem, settings, output).unwrap();
+    let summary = solver.run(&mut |_| {}).unwrap();
+    let last = summary
+        .written
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "vtu"))
+        .next_back()
+        .unwrap();
+    let root = parse_xml(&std::fs::read_to_string(last).unwrap());
+    let cells = root
+        .child("UnstructuredGrid")
+        .child("Piece")
+        .child("CellData");
+    let eps_1 = as_f64(cells.array("max_principal_strain"));
+    let crack = as_f64(cells.array("crack_indicator"));
+    let rate = as_f64(cells.array("rate_factor"));
+    let stress = as_f64(cells.array("cauchy_stress"));
+    let body = as_i32(cells.array("body"));
+    assert_eq!(crack.len(), 12);
+    for e in 0..12 {
+        // Element size (6 V)^(1/3) = 0.05 m for the six tetrahedra of a 5 cm cube.
+        let expected = eps_1[e] / (1e-4 / 0.05);
+        assert!(eps_1[e] > 1e-6, "element {e} is stretched");
+        assert!(
+            (crack[e] - expected).abs() <= 1e-12 * expected,
+            "element {e}"
+        );
+        match body[e] {
+            0 => assert_eq!(rate[e], 0.0),
+            _ => assert!(rate[e] > 1.0 && rate[e] < 2.0, "rate factor {}", rate[e]),
+        }
+        let xx = stress[6 * e];
+        assert!(xx.is_finite() && xx != 0.0, "element {e}: sigma_xx {xx}");
+    }
+    // The microplane stresses are the history's.
+    let history = solver.history().bodies[1].as_ref().unwrap();
+    assert_eq!(&stress[36..42], &history.cauchy[0]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
