@@ -281,6 +281,10 @@ fn run(
     time_limit: f64,
     parallel: bool,
 ) -> ExitCode {
+    let known_failures: std::collections::BTreeMap<String, String> = cases
+        .iter()
+        .filter_map(|c| Some((c.spec.id.clone(), c.spec.known_failure.clone()?)))
+        .collect();
     let (date, run_id) = metadata::now();
     let dir = reports.join(&run_id);
     let started = Instant::now();
@@ -370,5 +374,14 @@ fn run(
         );
     }
     println!("wall time {:.1} s", results.wall_s);
-    ExitCode::from(results.exit_code())
+    let unexpected = results.cases.iter().any(|c| {
+        !matches!(c.status, Status::Pass | Status::Skipped)
+            && !(c.status == Status::Fail && known_failures.contains_key(&c.id))
+    });
+    for c in results.cases.iter().filter(|c| c.status == Status::Fail) {
+        if let Some(why) = known_failures.get(&c.id) {
+            println!("  known failure {}: {why}", c.id);
+        }
+    }
+    ExitCode::from(if unexpected { results.exit_code() } else { 0 })
 }
