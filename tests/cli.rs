@@ -78,14 +78,14 @@ fn results(reports: &Path) -> serde_json::Value {
     .unwrap()
 }
 
-/// The material-point cases (`cases/material/`) judge a parameter set that is still being
-/// calibrated: they may fail their bands (exit status 1) without the CLI being wrong. Every other
+/// The material-point cases (`cases/material/`) that fail today carry `known_failure` (a model
+/// limitation of issue 6): they are reported as failed but leave the exit status 0. Every other
 /// quick case must pass.
 fn is_material(id: &str) -> bool {
     id.starts_with("material/")
 }
 
-/// Exit status 0, or 1 with only material cases failing.
+/// Exit status 0, with only (known-failing) material cases failing.
 fn assert_only_material_cases_fail(out: &Output, json: &serde_json::Value) {
     let failing: Vec<&str> = json["cases"]
         .as_array()
@@ -94,8 +94,7 @@ fn assert_only_material_cases_fail(out: &Output, json: &serde_json::Value) {
         .filter(|c| c["status"] != "pass")
         .map(|c| c["id"].as_str().unwrap())
         .collect();
-    let expected = if failing.is_empty() { 0 } else { 1 };
-    assert_eq!(out.status.code(), Some(expected), "{}", text(out));
+    assert_eq!(out.status.code(), Some(0), "{}", text(out));
     assert!(
         failing.iter().all(|id| is_material(id)),
         "{failing:?}: {}",
