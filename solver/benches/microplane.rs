@@ -13,8 +13,8 @@
 //!   virgin softening laws (the others, relaxed further by `psi`, unload: the printout counts
 //!   the branches on their virgin law);
 //! - `microplane/softening_compression/{21,37}`: the same in uniaxial compression, a ramp to
-//!   `E11 = -4e-3`, or as far as the driver gets (it stops past the peak for 21 planes with
-//!   the draft parameters), updated at 1 % more strain;
+//!   `E11 = -4e-3`, or as far as the driver gets (the printout says where it stopped), updated
+//!   at 1 % more strain;
 //! - `microplane/copy_state/{21,37}`: `copy_from_slice` of the history alone, for reference.
 //!
 //! The restore of the prepared history is *not* timed: a batch of 32 copies is restored outside
@@ -22,14 +22,15 @@
 //! over 32 calls and the copies (1196 B each for 21 planes) stay in L1/L2. The numbers are thus
 //! hot-cache costs of the update itself; a mesh sweep streams its histories from memory.
 //! Throughput is one element per call, so `1e9 / throughput` is ns per update; divide by 21 or 37
-//! for ns per microplane. The bench also prints the history size per element for both rules and
-//! the path each prepared state takes (virgin softening or not), and checks it.
+//! for ns per microplane. The bench also prints the history size per element for both rules and,
+//! for each prepared state, the peak of its driver path, the stress of the timed update and how
+//! many branches it moves along their virgin law.
 //!
 //! Run with
 //! `cargo bench -p impact-solver --bench microplane -- --warm-up-time 1 --measurement-time 3`
 //! (about a minute); read the medians in `target/criterion/microplane/*/*/new/estimates.json`.
 //! The two cores of the shared machine are busy with builds at times, which can double every
-//! time; compare within one run, and rerun when the elastic 21-plane update is far above 0.8 us.
+//! time; compare within one run, and rerun when criterion's intervals are wide.
 
 use std::hint::black_box;
 use std::path::PathBuf;
