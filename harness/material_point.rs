@@ -544,26 +544,11 @@ pub struct TargetBox {
     pub y: Vec<f64>,
 }
 
-/// Reads the parameters of a parameter file: `parameters:` (every key checked) and an optional
-/// `calibration:` record, which is ignored; any other top-level key is an error naming it.
+/// Reads the parameters of a parameter file with the solver's loader
+/// ([`impact_solver::material::read_microplane_file`]: `parameters:` checked, an optional
+/// `calibration:` record ignored, any other top-level key an error naming it).
 pub fn read_parameters(path: &Path) -> Result<MicroplaneParameters, String> {
-    #[derive(Deserialize)]
-    #[serde(deny_unknown_fields)]
-    struct File {
-        parameters: MicroplaneParameters,
-        #[serde(default)]
-        #[allow(dead_code)]
-        calibration: Option<serde::de::IgnoredAny>,
-    }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read the parameter file {}: {e}", path.display()))?;
-    let de = serde_norway::Deserializer::from_str(&text);
-    let file: File = serde_norway::with::singleton_map_recursive::deserialize(de)
-        .map_err(|e| format!("parameter file {}: {e}", path.display()))?;
-    file.parameters
-        .validate()
-        .map_err(|e| format!("parameter file {}: parameters: {e}", path.display()))?;
-    Ok(file.parameters)
+    impact_solver::material::read_microplane_file(path).map_err(|e| e.to_string())
 }
 
 /// The options of `spec` that are given (non-default), by name.

@@ -49,19 +49,10 @@ const PREPARE_RATE: f64 = 1e-5;
 /// Updates timed per clock reading; the histories are restored between batches, untimed.
 const BATCH: usize = 32;
 
-#[derive(serde::Deserialize)]
-struct MaterialFile {
-    parameters: MicroplaneParameters,
-}
-
 fn thesis_concrete() -> MicroplaneParameters {
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml");
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let file: MaterialFile = serde_norway::from_str(&text)
-        .unwrap_or_else(|e| panic!("cannot parse {}: {e}", path.display()));
-    file.parameters
+    impact_solver::material::read_microplane_file(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn model(rule: SphereRule, rate_effect: bool) -> MicroplaneConcrete {

@@ -8,18 +8,12 @@ use impact_solver::material::microplane::experiments::{
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters, SphereRule};
 
 fn thesis_concrete() -> MicroplaneParameters {
-    #[derive(serde::Deserialize)]
-    struct File {
-        parameters: MicroplaneParameters,
-    }
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../cases/materials/thesis-concrete.yaml"
     );
-    let text = std::fs::read_to_string(path).expect("the shipped material file");
-    serde_norway::from_str::<File>(&text)
-        .expect("a valid material file")
-        .parameters
+    impact_solver::material::read_microplane_file(std::path::Path::new(path))
+        .expect("the shipped material file")
 }
 
 /// Elastic response: Hooke's law with E and nu to 1e-10 in arbitrary directions, for both rules

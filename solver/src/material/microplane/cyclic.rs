@@ -110,23 +110,6 @@ impl Branch {
             |b: &Branch| b.stress_reached * b.stress_reached / (2.0 * rule.modulus(b, c0, peak));
         work - (recoverable(self) - recoverable(before))
     }
-
-    /// Energy the branch gives back when unloading from strain `x` to zero stress.
-    pub fn recoverable_energy(
-        &self,
-        x: f64,
-        c0: f64,
-        peak: (f64, f64),
-        rule: &UnloadingRule,
-    ) -> f64 {
-        let c = rule.modulus(self, c0, peak);
-        let s = if x >= self.reached {
-            self.stress_reached
-        } else {
-            (self.stress_reached - c * (self.reached - x)).max(0.0)
-        };
-        s * s / (2.0 * c)
-    }
 }
 
 #[cfg(test)]

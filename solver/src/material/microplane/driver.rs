@@ -292,37 +292,15 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Gaussian elimination with partial pivoting for the small dense systems of the driver.
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+/// Solves the small dense Newton system `a x = b` (LU with partial pivoting); a singular system
+/// (a fully open crack in every free direction) gives no step.
+fn solve(a: Vec<Vec<f64>>, b: Vec<f64>) -> Vec<f64> {
     let n = b.len();
-    for col in 0..n {
-        let pivot = (col..n)
-            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .unwrap_or(col);
-        a.swap(col, pivot);
-        b.swap(col, pivot);
-        let d = a[col][col];
-        if d == 0.0 {
-            continue;
-        }
-        for row in col + 1..n {
-            let factor = a[row][col] / d;
-            for k in col..n {
-                a[row][k] -= factor * a[col][k];
-            }
-            b[row] -= factor * b[col];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = if a[row][row] != 0.0 {
-            (b[row] - s) / a[row][row]
-        } else {
-            0.0
-        };
-    }
-    x
+    let matrix = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j]);
+    matrix
+        .lu()
+        .solve(&nalgebra::DVector::from_vec(b))
+        .map_or_else(|| vec![0.0; n], |x| x.as_slice().to_vec())
 }
 
 /// A monotonic list of strains from `0` to `end` in `steps` equal increments (the first strain is

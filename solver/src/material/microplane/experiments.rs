@@ -5,7 +5,7 @@
 use super::driver::{
     equivalent_rate, uniaxial_controls, Control, DriverError, MaterialPoint, PathPoint,
 };
-use super::{MicroplaneConcrete, MicroplaneState, Sym};
+use super::{MicroplaneConcrete, Sym};
 
 /// Strain rate of the quasi-static tests (1/s): the rate factor is 1.0003 here, so "static" tests
 /// are static to well within every band.
@@ -328,11 +328,6 @@ pub fn tension_rate_sweep(
             Ok((rate, result, curve.peak().rate_factor))
         })
         .collect()
-}
-
-/// A fresh history, for callers that drive the model themselves.
-pub fn virgin(model: &MicroplaneConcrete) -> MicroplaneState {
-    model.initial_state()
 }
 
 /// The unit check of the rate law: uniaxial strain in tension (`E_11` rising at `rate`, all other

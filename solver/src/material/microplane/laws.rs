@@ -4,7 +4,7 @@
 //! Every softening law here has the shape `s = C0 x exp(-|x / e_s|^m)`: a secant modulus that
 //! decays from `C0`. In units of the strain scale (`x = e / e_s`) it is `g(x) = x exp(-x^m)`, with
 //! its peak at `x_p = m^(-1/m)`; the constants of `g` that the crack band needs (areas before and
-//! after the peak, steepest softening slope) are computed once per exponent.
+//! after the peak) are computed once per exponent.
 
 /// `g(x) = x exp(-x^m)`, the dimensionless virgin law.
 #[inline(always)]
@@ -37,8 +37,6 @@ pub struct ExponentialLaw {
     /// `int_0^x_p g dx` and `int_x_p^inf g dx`.
     pub area_before_peak: f64,
     pub area_after_peak: f64,
-    /// `max_x |g'(x)|` beyond the peak: the steepest softening slope in units of `C0`.
-    pub steepest_softening: f64,
 }
 
 impl ExponentialLaw {
@@ -60,21 +58,12 @@ impl ExponentialLaw {
         let tail = x_peak + 40f64.powf(1.0 / exponent);
         let area_before_peak = simpson(0.0, x_peak);
         let area_after_peak = simpson(x_peak, tail);
-        let mut steepest: f64 = 0.0;
-        let n = 20_000;
-        for i in 0..=n {
-            let x = x_peak + (tail - x_peak) * i as f64 / n as f64;
-            let xm = power(x, exponent);
-            let slope = (1.0 - exponent * xm) * (-xm).exp();
-            steepest = steepest.max(-slope);
-        }
         Self {
             exponent,
             x_peak,
             g_peak,
             area_before_peak,
             area_after_peak,
-            steepest_softening: steepest,
         }
     }
 
@@ -93,13 +82,6 @@ impl ExponentialLaw {
             x = self.x_peak + band * (x - self.x_peak);
         }
         c0 * scale * shape(x, self.exponent)
-    }
-
-    /// Secant factor `s / (C0 e)` of the unscaled law (no crack band) at `x = e / e_s`, used by the
-    /// discontinuity functions (5.91, 5.96, 5.99), which share the volumetric law's shape.
-    #[inline(always)]
-    pub fn secant_factor(&self, x: f64) -> f64 {
-        (-power(x, self.exponent)).exp()
     }
 
     /// Strain and stress at the peak for a strain scale and modulus.
@@ -142,12 +124,11 @@ mod tests {
 
     #[test]
     fn exponential_law_constants_match_closed_forms() {
-        // m = 1: g = x e^-x, peak at 1, areas 1 - 2/e and 2/e, steepest slope e^-2 at x = 2.
+        // m = 1: g = x e^-x, peak at 1, areas 1 - 2/e and 2/e.
         let law = ExponentialLaw::new(1.0);
         assert!((law.x_peak - 1.0).abs() < 1e-15);
         assert!((law.area_before_peak - (1.0 - 2.0 / std::f64::consts::E)).abs() < 1e-10);
         assert!((law.area_after_peak - 2.0 / std::f64::consts::E).abs() < 1e-10);
-        assert!((law.steepest_softening - (-2.0f64).exp()).abs() < 1e-8);
         // m = 2: total area Gamma(1)/2 = 1/2.
         let law = ExponentialLaw::new(2.0);
         assert!((law.area_before_peak + law.area_after_peak - 0.5).abs() < 1e-10);

@@ -143,12 +143,6 @@ impl MicroplaneConcrete {
         }
     }
 
-    /// Peak of the volumetric-deviatoric tension law at rate factor `f`: `(strain, stress)` per
-    /// unit modulus.
-    pub fn tension_law(&self) -> &ExponentialLaw {
-        &self.tension
-    }
-
     /// The update: back-rotated Cauchy stress `s` for the Green-Lagrange strain `strain` at the
     /// equivalent rate `gamma_dot`, advancing `state`.
     ///
@@ -174,12 +168,10 @@ impl MicroplaneConcrete {
         // and unloads with the larger of E_V0 and the secant (Fig. 5.11a).
         let e1 = f * p.e1;
         let s_v = if e_v >= 0.0 {
-            let law = &self.tension;
-            let (tension, c0, band_t) = (law, self.e_v0, band.tension);
-            let peak = law.peak(e1, c0);
+            let peak = self.tension.peak(e1, self.e_v0);
             let mut branch = Branch::load(&header[state::V_TENSION..state::V_TENSION + 2]);
-            let s = branch.stress(e_v, c0, peak, &self.rule, |x| {
-                tension.stress(x, e1, c0, band_t)
+            let s = branch.stress(e_v, self.e_v0, peak, &self.rule, |x| {
+                self.tension.stress(x, e1, self.e_v0, band.tension)
             });
             branch.store(&mut header[state::V_TENSION..state::V_TENSION + 2]);
             s
