@@ -5,8 +5,10 @@ use std::path::Path;
 
 use impact_solver::contact::problem_file::{ProblemFile, StoredSolution};
 use impact_solver::contact::RecordedProblem;
-use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary};
-use impact_solver::model::{field_frame, Problem};
+use impact_solver::dynamics::{
+    ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot,
+};
+use impact_solver::model::{field_frame, ElementFields, MaterialHistory, Model, Problem};
 use impact_solver::output::{HistoryTable, PvdWriter};
 use impact_solver::scene::Analysis;
 use impact_solver::statics::{solve_static, StaticSettings, StaticSolution};
@@ -25,6 +27,24 @@ pub struct Execution {
     pub written: Vec<std::path::PathBuf>,
     /// Contact problems recorded during the run (pairs with `record_problems_every`).
     pub contact_problems: Vec<RecordedProblem>,
+    /// The material histories at the end of an explicit run (microplane bodies): the stresses
+    /// of the final state are read from them.
+    pub material_history: Option<MaterialHistory>,
+}
+
+impl Execution {
+    /// Stress and strain of every element in the final state, with the stresses of bodies with
+    /// a history taken from that history.
+    pub fn element_fields(&self, model: &Model) -> ElementFields {
+        model.element_fields_with_history(&self.u, self.material_history.as_ref())
+    }
+
+    /// Displacement snapshots of an explicit run (`snapshot_interval`), empty otherwise.
+    pub fn snapshots(&self) -> &[Snapshot] {
+        self.summary
+            .as_ref()
+            .map_or(&[], |s| s.snapshots.as_slice())
+    }
 }
 
 /// Options of one execution.
@@ -102,6 +122,7 @@ fn explicit(
         summary: Some(summary),
         static_solution: None,
         contact_problems,
+        material_history: Some(solver.history().clone()),
     })
 }
 
@@ -144,6 +165,7 @@ fn statics(
         static_solution: Some(solution),
         written,
         contact_problems: Vec::new(),
+        material_history: None,
     })
 }
 

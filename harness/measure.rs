@@ -417,7 +417,7 @@ impl Measure {
                     1.0
                 };
                 let f = Matrix3::identity() + Matrix3::from_row_slice(&gradient.concat()) * scale;
-                let fields = problem.model.element_fields(&run.u);
+                let fields = run.element_fields(&problem.model);
                 let mut worst: f64 = 0.0;
                 for (e, s) in fields.cauchy.iter().enumerate() {
                     let exact = match problem.model.material_of(e) {
@@ -435,7 +435,7 @@ impl Measure {
                 worst
             }
             Measure::MaxStressOverModulus => {
-                let fields = problem.model.element_fields(&run.u);
+                let fields = run.element_fields(&problem.model);
                 fields
                     .cauchy
                     .iter()
@@ -469,7 +469,7 @@ impl Measure {
                 (hi - lo) / mean.abs()
             }
             Measure::ElementStrainMean { component } => {
-                let fields = problem.model.element_fields(&run.u);
+                let fields = run.element_fields(&problem.model);
                 fields
                     .green_lagrange
                     .iter()
@@ -588,7 +588,7 @@ fn element_stress_in_box(
     min: &[f64; 3],
     max: &[f64; 3],
 ) -> Result<Vec<f64>, String> {
-    let fields = problem.model.element_fields(&run.u);
+    let fields = run.element_fields(&problem.model);
     let values: Vec<f64> = problem
         .model
         .tets

@@ -40,6 +40,10 @@ pub struct ExplicitSettings {
     /// Time between field frames (s); `None` writes the first and the last state only.
     #[serde(default)]
     pub field_interval: Option<f64>,
+    /// Time between displacement snapshots kept in memory for the caller (crack growth, failure
+    /// modes); `None` keeps none. Cheaper than field frames: nothing is written or derived.
+    #[serde(default)]
+    pub snapshot_interval: Option<f64>,
     /// The run is declared unstable when the energy balance error exceeds this fraction of the
     /// largest energy scale seen so far.
     #[serde(default = "default_energy_tolerance")]
@@ -71,6 +75,7 @@ impl ExplicitSettings {
             max_steps: None,
             history_interval: None,
             field_interval: None,
+            snapshot_interval: None,
             instability_energy_tolerance: default_energy_tolerance(),
             mesh_stability_eta: default_eta(),
         }
@@ -118,7 +123,16 @@ pub struct RunSummary {
     /// Steps in which some node moved more than `eta` times its smallest element altitude.
     pub mesh_stability_flags: usize,
     pub history: HistoryTable,
+    /// Displacements at every `snapshot_interval` (and at the end), when one is set.
+    pub snapshots: Vec<Snapshot>,
     pub written: Vec<PathBuf>,
+}
+
+/// The displacement of every node at one instant of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    pub time: f64,
+    pub u: Vec<Vector3<f64>>,
 }
 
 /// Central differences in velocity form with mass-proportional damping (FORMULATION 2):
@@ -387,6 +401,8 @@ impl<'p> ExplicitSolver<'p> {
             _ => None,
         };
         let mut next_field = 0.0;
+        let mut next_snapshot = 0.0;
+        let mut snapshots = Vec::new();
         let mut written = Vec::new();
         let mut max_scale: f64 = 0.0;
         let mut max_abs_error: f64 = 0.0;
@@ -435,6 +451,15 @@ impl<'p> ExplicitSolver<'p> {
                     }
                 }
             }
+            if let Some(interval) = self.settings.snapshot_interval {
+                if last || self.time >= next_snapshot - 1e-9 * self.dt {
+                    snapshots.push(Snapshot {
+                        time: self.time,
+                        u: self.u.clone(),
+                    });
+                    next_snapshot += interval;
+                }
+            }
             if n % progress_every == 0 {
                 progress(n as f64 / steps.max(1) as f64);
                 if let Some((deadline, limit_s)) = self.deadline {
@@ -479,6 +504,7 @@ impl<'p> ExplicitSolver<'p> {
             },
             mesh_stability_flags: flags,
             history,
+            snapshots,
             written,
         })
     }
@@ -669,6 +695,14 @@ impl<'p> ExplicitSolver<'p> {
         if !self.history_node.is_empty() {
             c.push("microplane_internal_work".into());
         }
+        // Per body, when there are several: who holds the kinetic energy and the momentum
+        // (the hammer's energy passing to the beam, thesis Figs. 10.11-10.14; (6.48)).
+        if self.problem.model.bodies.len() > 1 {
+            for b in &self.problem.model.bodies {
+                c.push(format!("{}_kinetic", b.name));
+                c.extend(["x", "y", "z"].map(|a| format!("{}_momentum_{a}", b.name)));
+            }
+        }
         for p in &self.problem.probes {
             c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
         }
@@ -719,6 +753,17 @@ impl<'p> ExplicitSolver<'p> {
         row.extend(angular.iter());
         if !self.history_node.is_empty() {
             row.push(e.history_work);
+        }
+        if model.bodies.len() > 1 {
+            for b in &model.bodies {
+                let (mut kinetic, mut momentum) = (0.0, Vector3::zeros());
+                for n in b.nodes.clone() {
+                    kinetic += 0.5 * model.mass[n] * self.v_full[n].norm_squared();
+                    momentum += self.v_full[n] * model.mass[n];
+                }
+                row.push(kinetic);
+                row.extend(momentum.iter());
+            }
         }
         for p in &self.problem.probes {
             let field = match p.quantity {

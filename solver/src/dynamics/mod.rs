@@ -6,5 +6,5 @@ mod explicit;
 mod report;
 
 pub use energy::EnergyLedger;
-pub use explicit::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary};
+pub use explicit::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 pub use report::InstabilityReport;
