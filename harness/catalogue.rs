@@ -148,6 +148,10 @@ pub enum Tolerance {
     /// `|value - reference| <= fraction * max |column|` over the run's history: relative to a
     /// scale such as the peak force or the largest energy, for quantities that pass through zero.
     RelativeToPeak { fraction: f64, column: String },
+    /// `value >= tolerance * reference` (a quantity that must exceed a multiple of a reference,
+    /// e.g. a peak impact force far above the static peak load): the error is
+    /// `value / reference`.
+    AtLeastRatio(f64),
 }
 
 /// One measurement of a case.

@@ -23,6 +23,10 @@ pub fn judge(
         }
         Tolerance::AtMost(t) => (value, *t, value <= *t, "at_most"),
         Tolerance::AtLeast(t) => (value, *t, value >= *t, "at_least"),
+        Tolerance::AtLeastRatio(t) => {
+            let e = value / reference;
+            (e, *t, e >= *t, "at_least_ratio")
+        }
         Tolerance::RelativeToPeak { fraction, column } => {
             // A missing column leaves the scale NaN, and a NaN never passes.
             let scale = peak(column).unwrap_or(f64::NAN);
@@ -52,6 +56,7 @@ pub fn error_for_sweep(spec: &MetricSpec, value: f64, reference: f64) -> f64 {
             (value - reference).abs() / reference.abs()
         }
         Tolerance::AtMost(_) | Tolerance::AtLeast(_) => value.abs(),
+        Tolerance::AtLeastRatio(_) => value / reference,
         Tolerance::Absolute(_) => (value - reference).abs(),
     }
 }

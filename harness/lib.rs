@@ -3,6 +3,7 @@
 //!
 //! Pipeline: `catalogue -> runner (execute, measure) -> judge -> results -> report`.
 
+pub mod beam;
 pub mod calibrate;
 pub mod catalogue;
 pub mod contact_compare;

@@ -779,6 +779,7 @@ impl Targets {
                     Tolerance::Absolute(t) => [r - t, r + t],
                     Tolerance::AtMost(t) => [f64::NEG_INFINITY, *t],
                     Tolerance::AtLeast(t) => [*t, f64::INFINITY],
+                    Tolerance::AtLeastRatio(t) => [t * r, f64::INFINITY],
                     Tolerance::RelativeToPeak { .. } => return None,
                 };
                 Some((measure.clone(), r, band))

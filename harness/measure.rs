@@ -170,6 +170,60 @@ pub enum Measure {
     /// A quantity of the virtual experiment of a `material_point` case (see
     /// `crate::material_point`).
     MaterialPoint(crate::material_point::MaterialMeasure),
+    /// Failure mode of a beam in the final state (FORMULATION 5, thesis 10.3.2), as its code:
+    /// 0 none, 1 bending, 2 mixed, 3 shear (`crate::beam::classify`). Judged against
+    /// `{ failure_mode: <mode> }` with `absolute: 0`.
+    FailureMode(#[serde(default)] crate::beam::BeamSpec),
+    /// Largest speed of the bending-crack tip over the snapshots (`crate::beam::
+    /// crack_tip_history`) over the Rayleigh speed `c_R` of the beam's elastic constants: a
+    /// crack cannot outrun `c_R` (Freund 1990), the thesis finds about 0.55 `c_R`.
+    CrackTipSpeedRatio(#[serde(default)] crate::beam::BeamSpec),
+    /// `max K / W_int` over the records where `W_int` exceeds `above_fraction` (default 5 %)
+    /// of its largest value (`crate::beam::history::kinetic_over_internal_work`).
+    KineticOverInternalWork {
+        #[serde(default = "kinetic_column")]
+        kinetic: String,
+        #[serde(default = "internal_work_column")]
+        internal_work: String,
+        #[serde(default = "five_percent")]
+        above_fraction: f64,
+    },
+    /// Least-squares slope of `force` against `displacement` up to the first record where
+    /// |force| reaches `up_to_fraction` of its peak (`crate::beam::history::secant_stiffness`).
+    SecantStiffness {
+        force: String,
+        displacement: String,
+        up_to_fraction: f64,
+    },
+    /// `max |numerator| / max |denominator|` over the history.
+    PeakRatio {
+        numerator: String,
+        denominator: String,
+    },
+    /// Time of the largest |column| minus that of the largest |after| (s).
+    PeakTimeLag { column: String, after: String },
+    /// The force balance (6.48) of `body` along y summed over its nodes: `max |-contact + m g_y
+    /// + sum reactions - dp/dt| / max |contact|`, with `contact` the force the body exerts on
+    /// the other body of the pair, `dp/dt` by central differences of `momentum`, `m` the body's
+    /// mass (`crate::beam::history::force_equilibrium_error`).
+    ForceEquilibriumError {
+        body: String,
+        contact: String,
+        reactions: Vec<String>,
+        momentum: String,
+    },
+}
+
+fn kinetic_column() -> String {
+    "kinetic".into()
+}
+
+fn internal_work_column() -> String {
+    "internal_work".into()
+}
+
+fn five_percent() -> f64 {
+    0.05
 }
 
 fn replay_tolerance() -> f64 {
@@ -520,6 +574,81 @@ impl Measure {
                 *tolerance,
                 *only_converged,
             )?,
+            Measure::FailureMode(spec) => {
+                crate::beam::cracks::failure_mode_at(problem, spec, &run.u)?
+                    .0
+                    .code()
+            }
+            Measure::CrackTipSpeedRatio(spec) => {
+                let snapshots = run.snapshots();
+                if snapshots.is_empty() {
+                    return Err("crack_tip_speed_ratio needs snapshots: set the explicit \
+                                analysis' snapshot_interval"
+                        .into());
+                }
+                let tip = crate::beam::crack_tip_history(problem, snapshots, spec)?;
+                let b = problem
+                    .model
+                    .body_index(&spec.body)
+                    .ok_or_else(|| format!("no body named `{}`", spec.body))?;
+                let c_r = crate::reference::analytic::rayleigh_wave_speed(
+                    &problem.model.bodies[b].material.constants(),
+                );
+                tip.iter().map(|p| p.2).fold(0.0, f64::max) / c_r
+            }
+            Measure::KineticOverInternalWork {
+                kinetic,
+                internal_work,
+                above_fraction,
+            } => crate::beam::history::kinetic_over_internal_work(
+                &column(kinetic)?,
+                &column(internal_work)?,
+                *above_fraction,
+            )?,
+            Measure::SecantStiffness {
+                force,
+                displacement,
+                up_to_fraction,
+            } => crate::beam::history::secant_stiffness(
+                &column(force)?,
+                &column(displacement)?,
+                *up_to_fraction,
+            )?,
+            Measure::PeakRatio {
+                numerator,
+                denominator,
+            } => crate::beam::history::peak_ratio(&column(numerator)?, &column(denominator)?)?,
+            Measure::PeakTimeLag { column: c, after } => {
+                crate::beam::history::peak_time_lag(&time()?, &column(c)?, &column(after)?)?
+            }
+            Measure::ForceEquilibriumError {
+                body,
+                contact,
+                reactions,
+                momentum,
+            } => {
+                let b = problem
+                    .model
+                    .body_index(body)
+                    .ok_or_else(|| format!("no body named `{body}`"))?;
+                let mass: f64 = problem.model.bodies[b]
+                    .nodes
+                    .clone()
+                    .map(|n| problem.model.mass[n])
+                    .sum();
+                let g = problem.gravity.map_or(0.0, |g| g.y);
+                let reactions = reactions
+                    .iter()
+                    .map(|r| column(r))
+                    .collect::<Result<Vec<_>, _>>()?;
+                crate::beam::history::force_equilibrium_error(
+                    &time()?,
+                    &column(contact)?,
+                    &reactions,
+                    &column(momentum)?,
+                    mass * g,
+                )?
+            }
             Measure::MaterialPoint(_) => {
                 return Err(
                     "material_point measures a material-point experiment: the case needs \

@@ -21,6 +21,9 @@ pub enum Reference {
     /// A published or experimental value from a data file in `references/published/`, which
     /// gives each value with its unit and source.
     Published { file: String, key: String },
+    /// An observed failure mode of a beam (thesis 10.3.2), as the code of the `failure_mode`
+    /// measure (`crate::beam::FailureMode::code`): `{ failure_mode: bending }`.
+    FailureMode(crate::beam::FailureMode),
 }
 
 /// One entry of a published-data file.
@@ -187,6 +190,13 @@ impl Reference {
         use analytic::*;
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
+            Reference::FailureMode(mode) => (
+                mode.code(),
+                format!(
+                    "failure mode `{}` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear)",
+                    mode.name()
+                ),
+            ),
             Reference::Published { file, key } => {
                 let p = published(file, key)?;
                 (p.value, format!("{} ({file}: {key})", p.source))

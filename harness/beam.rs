@@ -1,0 +1,17 @@
+//! Measures of the thesis' plain concrete beam (chapter 10; `shared/design/CATALOGUE.md`,
+//! "Validation: the thesis' plain concrete beam"): the failure mode from the crack pattern
+//! (FORMULATION 5), the bending-crack tip against time, and the history checks of the drop and
+//! static three-point-bending cases.
+//!
+//! - [`cracks`]: cracked zones, their crack planes, the failure-mode classification and the
+//!   bending-crack tip history ([`crack_tip_history`], for the report too).
+//! - [`history`]: checks on history columns (quasi-static ratio, secant stiffness, peak ratios,
+//!   the force balance (6.48) of a body).
+
+pub mod cracks;
+pub mod history;
+
+pub use cracks::{
+    classify, crack_tip_history, failure_mode_details, BeamFrame, BeamSpec, Crack, CrackKind,
+    FailureMode,
+};

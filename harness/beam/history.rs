@@ -1,0 +1,169 @@
+//! Checks on history columns for the beam cases: quasi-static loading, elastic stiffness, peak
+//! ratios, and the force balance of a body (thesis 6.48).
+
+/// `max K_i / W_i` over the records where the internal work `W_i` exceeds `fraction` of its
+/// largest value: a loading is quasi-static when the kinetic energy `K` stays a small part of
+/// the work stored (CATALOGUE, `beam/static-3pt`: below 1 %). The first records, where `W` is
+/// still near zero, are left out so that the ratio is not a quotient of two round-offs.
+pub fn kinetic_over_internal_work(
+    kinetic: &[f64],
+    work: &[f64],
+    fraction: f64,
+) -> Result<f64, String> {
+    let peak = work.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(peak > 0.0) {
+        return Err("the internal work never becomes positive".into());
+    }
+    Ok(kinetic
+        .iter()
+        .zip(work)
+        .filter(|(_, w)| **w > fraction * peak)
+        .map(|(k, w)| k / w)
+        .fold(f64::NEG_INFINITY, f64::max))
+}
+
+/// Least-squares slope `sum (d - d_m)(F - F_m) / sum (d - d_m)^2` of `force` against
+/// `displacement` over the records up to the first at which `|force|` reaches `fraction` of
+/// its largest absolute value: the secant (elastic) stiffness before cracking.
+pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> Result<f64, String> {
+    let peak = force.iter().fold(0.0f64, |a, f| a.max(f.abs()));
+    if !(peak > 0.0) {
+        return Err("the force is zero throughout".into());
+    }
+    let end = force
+        .iter()
+        .position(|f| f.abs() >= fraction * peak)
+        .unwrap_or(force.len() - 1);
+    let n = end + 1;
+    if n < 2 {
+        return Err(format!(
+            "the force reaches {fraction} of its peak at the first record: no points to fit"
+        ));
+    }
+    let (f, d) = (&force[..n], &displacement[..n]);
+    let (fm, dm) = (
+        f.iter().sum::<f64>() / n as f64,
+        d.iter().sum::<f64>() / n as f64,
+    );
+    let sdd: f64 = d.iter().map(|d| (d - dm).powi(2)).sum();
+    if !(sdd > 0.0) {
+        return Err("the displacement does not change before the fit's end".into());
+    }
+    Ok(f.iter()
+        .zip(d)
+        .map(|(f, d)| (d - dm) * (f - fm))
+        .sum::<f64>()
+        / sdd)
+}
+
+/// `max |numerator| / max |denominator|`.
+pub fn peak_ratio(numerator: &[f64], denominator: &[f64]) -> Result<f64, String> {
+    let max_abs = |y: &[f64]| y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let den = max_abs(denominator);
+    if !(den > 0.0) {
+        return Err("the denominator column is zero throughout".into());
+    }
+    Ok(max_abs(numerator) / den)
+}
+
+/// Time of the largest |column| minus the time of the largest |after|: positive when `column`
+/// peaks later.
+pub fn peak_time_lag(time: &[f64], column: &[f64], after: &[f64]) -> Result<f64, String> {
+    let at = |y: &[f64]| {
+        (0..y.len())
+            .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+            .map(|i| time[i])
+            .ok_or_else(|| "empty history".to_string())
+    };
+    Ok(at(column)? - at(after)?)
+}
+
+/// The force balance of a body, thesis (6.48) summed over its nodes:
+/// `F_contact + m g + sum R - dp/dt = 0`, with `F_contact = -contact_on_other` (the recorded
+/// contact force is the one the body exerts on the other one), `R` the reactions of its
+/// constraints and `p` its momentum, all along one axis. `dp/dt` is the central difference
+/// `(p_{i+1} - p_{i-1}) / (t_{i+1} - t_{i-1})` at the interior records. Returns
+/// `max_i |residual_i| / max_i |contact_on_other_i|`.
+pub fn force_equilibrium_error(
+    time: &[f64],
+    contact_on_other: &[f64],
+    reactions: &[Vec<f64>],
+    momentum: &[f64],
+    weight: f64,
+) -> Result<f64, String> {
+    let n = time.len();
+    if n < 3 {
+        return Err("fewer than three records: no central difference".into());
+    }
+    let scale = contact_on_other.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if !(scale > 0.0) {
+        return Err("the contact force is zero throughout".into());
+    }
+    let worst = (1..n - 1)
+        .map(|i| {
+            let dp = (momentum[i + 1] - momentum[i - 1]) / (time[i + 1] - time[i - 1]);
+            let r: f64 = reactions.iter().map(|c| c[i]).sum();
+            (-contact_on_other[i] + weight + r - dp).abs()
+        })
+        .fold(0.0, f64::max);
+    Ok(worst / scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quasi_static_ratio_skips_the_start() {
+        let w = [0.0, 1e-9, 1.0, 5.0, 10.0];
+        let k = [0.0, 1e-6, 0.01, 0.02, 0.05];
+        // At 5 %: records with W > 0.5: 0.01/1, 0.02/5, 0.05/10.
+        assert!((kinetic_over_internal_work(&k, &w, 0.05).unwrap() - 0.01).abs() < 1e-15);
+        assert!(kinetic_over_internal_work(&k, &[0.0; 5], 0.05).is_err());
+    }
+
+    #[test]
+    fn secant_stiffness_of_a_softening_curve() {
+        // Linear at 2e7 N/m up to the peak of 1000 N at 50 um, then softening: with fraction
+        // 0.3 the fit sees only records up to the first at or above 300 N (d = 15 um).
+        let d: Vec<f64> = (0..100).map(|i| i as f64 * 1e-6).collect();
+        let f: Vec<f64> = d
+            .iter()
+            .map(|d| {
+                if *d <= 50e-6 {
+                    2e7 * d
+                } else {
+                    1000.0 - 1e7 * (d - 50e-6)
+                }
+            })
+            .collect();
+        let k = secant_stiffness(&f, &d, 0.3).unwrap();
+        assert!((k - 2e7).abs() < 1e-3, "{k}");
+    }
+
+    #[test]
+    fn peak_ratio_and_lag() {
+        let t = [0.0, 1.0, 2.0, 3.0];
+        let a = [0.0, 1.0, -4.0, 2.0];
+        let b = [0.0, 8.0, 2.0, 1.0];
+        assert_eq!(peak_ratio(&a, &b).unwrap(), 0.5);
+        assert_eq!(peak_time_lag(&t, &a, &b).unwrap(), 1.0);
+        assert!(peak_ratio(&a, &[0.0; 4]).is_err());
+    }
+
+    #[test]
+    fn equilibrium_of_a_body_pushed_down_and_held() {
+        // Body of mass 2 under gravity 10: weight -20 N. Contact on the other body +c (so -c on
+        // this one), reaction R; momentum p(t) = int (-c + W + R) dt exactly for quadratic p.
+        let t: Vec<f64> = (0..50).map(|i| i as f64 * 1e-3).collect();
+        let c: Vec<f64> = t.iter().map(|t| 1000.0 * t).collect();
+        let r: Vec<f64> = t.iter().map(|t| 300.0 * t + 20.0).collect();
+        // -c + W + R = -700 t; p = -350 t^2.
+        let p: Vec<f64> = t.iter().map(|t| -350.0 * t * t).collect();
+        let e = force_equilibrium_error(&t, &c, &[r.clone()], &p, -20.0).unwrap();
+        assert!(e < 1e-9, "{e}");
+        // Forgetting the reaction shows.
+        let e = force_equilibrium_error(&t, &c, &[], &p, -20.0).unwrap();
+        assert!(e > 0.1);
+    }
+}
