@@ -168,13 +168,17 @@ pub struct MetricSpec {
     pub tolerance: Tolerance,
 }
 
-/// A plot of history columns against time.
+/// A plot of history columns against time, or against another column (`x_column`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlotSpec {
     pub title: String,
-    /// History columns to draw against time.
+    /// History columns to draw against time (or against `x_column`).
     pub columns: Vec<String>,
+    /// History column on the x axis, e.g. a displacement probe for a load-displacement curve
+    /// (thesis Fig. 10.5); default `time`.
+    #[serde(default)]
+    pub x_column: Option<String>,
     #[serde(default)]
     pub y_label: String,
     /// Draw the reference (and band) of this metric as a horizontal line.

@@ -6,6 +6,7 @@
 //! it opens from a CI artifact or a mail attachment without network access or fonts.
 
 mod axis;
+pub(crate) mod beam;
 mod contact;
 mod diagrams;
 pub(crate) mod format;
@@ -38,8 +39,9 @@ pub fn write_report(
     fs::create_dir_all(dir)?;
     let json = serde_json::to_string_pretty(results).map_err(io::Error::other)?;
     fs::write(dir.join("results.json"), json + "\n")?;
-    fs::write(dir.join("summary.md"), markdown::summary(results))?;
+    let beams = beam::load(dir, results);
+    fs::write(dir.join("summary.md"), markdown::summary(results, &beams))?;
     let index = dir.join("index.html");
-    fs::write(&index, html::page(results, history))?;
+    fs::write(&index, html::page(results, history, &beams))?;
     Ok(index)
 }

@@ -227,6 +227,15 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
         });
     }
     result.plots = plots(spec, run, &result.metrics);
+    let beam_plots = crate::report::beam::record(
+        &result,
+        &levels[judged].1,
+        problem,
+        run,
+        case_dir.as_deref(),
+        &result.plots,
+    );
+    result.plots.extend(beam_plots);
     let failed: Vec<&MetricResult> = result.metrics.iter().filter(|m| !m.pass).collect();
     result.status = if !failures.is_empty() {
         result.message = Some(failures.join("; "));
@@ -349,22 +358,23 @@ fn plots(
     let Some(history) = &run.history else {
         return Vec::new();
     };
-    let Some(time) = history.column("time") else {
-        return Vec::new();
-    };
     spec.plots
         .iter()
         .map(|p| PlotData {
             title: p.title.clone(),
-            x_label: "time (s)".into(),
+            x_label: match p.x_column.as_deref() {
+                None | Some("time") => "time (s)".into(),
+                Some(c) => c.to_string(),
+            },
             y_label: p.y_label.clone(),
             series: p
                 .columns
                 .iter()
                 .filter_map(|c| {
+                    let x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
                     history.column(c).map(|y| Series {
                         name: c.clone(),
-                        x: time.clone(),
+                        x,
                         y,
                     })
                 })

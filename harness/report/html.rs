@@ -2,6 +2,7 @@
 //! text from the results goes through [`format::html`]; the helpers below take either escaped
 //! fragments (`Cell::Html`, `inner`) or plain text, and say which.
 
+mod beam;
 mod contact;
 mod material;
 
@@ -15,14 +16,19 @@ use crate::results::{CaseResult, HistoryRecord, MetricResult, RunResults, Status
 const STYLE: &str = include_str!("style.css");
 
 /// The whole page.
-pub fn page(results: &RunResults, history: &[HistoryRecord]) -> String {
+pub fn page(
+    results: &RunResults,
+    history: &[HistoryRecord],
+    beams: &[(usize, crate::report::beam::BeamRecord)],
+) -> String {
     let summaries = summary::summaries(results);
     let mut body = header(results);
     body.push_str(&summary_section(&summaries));
     body.push_str(&contact::section(results));
     body.push_str(&material::section(results, &summaries));
+    body.push_str(&beam::section(results, &summaries, beams));
     for s in &summaries {
-        body.push_str(&case_section(s, history));
+        body.push_str(&case_section(s, history, beams));
     }
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
@@ -223,7 +229,11 @@ fn worst_html(m: &MetricResult) -> String {
 }
 
 /// The section of one case: what it is, why it did not pass, its metrics, plots, sweep and trend.
-fn case_section(s: &CaseSummary<'_>, history: &[HistoryRecord]) -> String {
+fn case_section(
+    s: &CaseSummary<'_>,
+    history: &[HistoryRecord],
+    beams: &[(usize, crate::report::beam::BeamRecord)],
+) -> String {
     let c = s.case;
     let mut html = format!(
         "<section class=\"case\" id=\"{}\">\n<h2>{} {} <span class=\"variant\">{}</span></h2>\n",
@@ -243,6 +253,7 @@ fn case_section(s: &CaseSummary<'_>, history: &[HistoryRecord]) -> String {
         html.push_str(&element("h3", "", "Plots"));
         html.push_str(&plots("plots", c.plots.iter().map(render_plot)));
     }
+    html.push_str(&beam::case_pictures(c, beams));
     if let Some(sweep) = &c.sweep {
         html.push_str(&sweep_section(c, sweep));
     }

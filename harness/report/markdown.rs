@@ -8,7 +8,7 @@ use crate::results::{RunResults, Status};
 const MESSAGE_CHARS: usize = 160;
 
 /// The Markdown summary of a run.
-pub fn summary(results: &RunResults) -> String {
+pub fn summary(results: &RunResults, beams: &[(usize, super::beam::BeamRecord)]) -> String {
     let summaries = summary::summaries(results);
     let mut md = format!(
         "# V&V run {}: {}\n\ncommit `{}` · tier {} · {} · {} · {} threads · {}\n\n",
@@ -25,6 +25,7 @@ pub fn summary(results: &RunResults) -> String {
     md.push_str(&failures(&summaries));
     md.push_str(&super::contact::markdown(results));
     md.push_str(&super::material::markdown(results));
+    md.push_str(&super::beam::markdown(results, beams));
     md
 }
 

@@ -1,0 +1,133 @@
+//! The beam pictures on the page (content from `report::beam`): in a beam case's own section its
+//! crack pattern at the end and a filmstrip of earlier instants; and the "Beam: failure modes"
+//! section with the final crack patterns of all beam cases side by side, their impact velocity,
+//! peak force and `failure_mode` metric, and whether the peak contact force rises with velocity.
+
+use super::{element, note, plots, table, text, titles, Cell, Row};
+use crate::report::beam::{
+    self, failure_rows, metric_text, monotonic_statement, side_view_svg, BeamRecord,
+    FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
+};
+use crate::report::format;
+use crate::report::summary::CaseSummary;
+use crate::results::{CaseResult, RunResults};
+
+/// Anchor of the failure-mode section.
+pub const ANCHOR: &str = "beam-failure-modes";
+
+/// The record of a case, if it has one.
+fn record_of<'a>(c: &CaseResult, records: &'a [(usize, BeamRecord)]) -> Option<&'a BeamRecord> {
+    records
+        .iter()
+        .map(|(_, r)| r)
+        .find(|r| r.case == c.id && r.variant == c.variant)
+}
+
+/// The crack pictures in a case's own section; empty for cases without them.
+pub fn case_pictures(c: &CaseResult, records: &[(usize, BeamRecord)]) -> String {
+    let Some(record) = record_of(c, records) else {
+        return String::new();
+    };
+    let mut html = element("h3", "", "Crack pattern (side view)");
+    html.push_str(&element(
+        "p",
+        "",
+        &format!(
+            "Each cell of the side view shows the largest crack indicator eps_1/eps_r of the \
+             elements across the width; 1 and more is cracked. Triangles: supports; blue bar: \
+             impactor footprint. All beam cases side by side: <a href=\"#{ANCHOR}\">Beam: failure \
+             modes</a>."
+        ),
+    ));
+    let (last, earlier): (Vec<_>, Vec<_>) = record.frames.iter().partition(|f| f.last);
+    html.push_str(&plots(
+        "plots",
+        last.iter()
+            .map(|f| side_view_svg(record, f, SIDE_VIEW_WIDTH)),
+    ));
+    if !earlier.is_empty() {
+        html.push_str(&element("h4", "", "Filmstrip"));
+        html.push_str(&plots(
+            "plots small",
+            earlier
+                .iter()
+                .chain(last.iter())
+                .map(|f| side_view_svg(record, f, FILMSTRIP_WIDTH)),
+        ));
+    }
+    html
+}
+
+/// The "Beam: failure modes" section, or nothing when no case recorded beam pictures.
+pub fn section(
+    results: &RunResults,
+    summaries: &[CaseSummary<'_>],
+    records: &[(usize, BeamRecord)],
+) -> String {
+    let rows = failure_rows(results, records);
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut html = format!("<section id=\"{ANCHOR}\">\n<h2>Beam: failure modes</h2>\n");
+    html.push_str(&element(
+        "p",
+        "",
+        "The thesis' plain concrete beam (chapter 10): final crack patterns of the static and \
+         drop-weight cases side by side (side view, largest eps_1/eps_r across the width; 1 and \
+         more is cracked), ordered by impact velocity.",
+    ));
+    let anchor_of = |c: &CaseResult| {
+        summaries
+            .iter()
+            .find(|s| std::ptr::eq(s.case, c))
+            .map(|s| s.anchor.clone())
+    };
+    let table_rows: Vec<Row> = rows
+        .iter()
+        .map(|r| {
+            let name = match anchor_of(r.case) {
+                Some(a) => format!("<a href=\"#{a}\">{}</a>", format::html(&r.case.id)),
+                None => format::html(&r.case.id),
+            };
+            Row::new(vec![
+                Cell::Html(name),
+                r.record
+                    .speed
+                    .map_or_else(|| text("static"), |v| Cell::Num(format::num(v))),
+                r.record
+                    .peak_force
+                    .map_or_else(|| text("—"), |f| Cell::Num(format::num(f / 1e3))),
+                text(if r.record.peak_force_label.is_empty() {
+                    "—"
+                } else {
+                    &r.record.peak_force_label
+                }),
+                r.metric
+                    .map_or_else(|| text("no failure_mode metric"), |m| text(&metric_text(m))),
+            ])
+        })
+        .collect();
+    html.push_str(&table(
+        &titles(&[
+            "case",
+            "impact velocity (m/s)",
+            "peak force (kN)",
+            "which force",
+            beam::FAILURE_MODE_METRIC,
+        ]),
+        &table_rows,
+    ));
+    match monotonic_statement(&rows) {
+        Some(s) => html.push_str(&element("p", "", &format::html(&s))),
+        None => html.push_str(&note(
+            "fewer than two impact cases with a contact force: no monotonicity to state",
+        )),
+    }
+    let finals = rows.iter().filter_map(|r| {
+        let f = r.record.frames.iter().find(|f| f.last)?;
+        Some(side_view_svg(r.record, f, FILMSTRIP_WIDTH + 60))
+    });
+    html.push_str(&plots("plots", finals));
+    html.push_str("</section>\n");
+    html
+}
