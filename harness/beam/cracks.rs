@@ -706,3 +706,38 @@ mod tests {
         assert!((s[2].2 - 0.3 / 8e-5).abs() < 1e-6);
     }
 }
+
+/// Runs a beam drop case and prints its crack table and tip history (about 30 s per case):
+/// `BEAM_CASE=drop-2ms cargo test --release -p impact-vv --lib -- --ignored print_beam_case`.
+#[cfg(test)]
+mod case_run {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn print_beam_case() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
+        let case =
+            crate::catalogue::load_case(&root.join("cases/beam").join(format!("{name}.yaml")))
+                .unwrap();
+        let scene = case.spec.scene.clone().unwrap();
+        // The microplane file is named relative to the case's folder.
+        std::env::set_current_dir(root.join("cases/beam")).unwrap();
+        let mut problem = impact_solver::scene::build_problem(&scene).unwrap();
+        let options = crate::execute::ExecuteOptions {
+            out: None,
+            stem: "run",
+            fields: false,
+            time_limit_s: None,
+        };
+        let run =
+            crate::execute::execute(&mut problem, &scene.analysis, &options, &mut |_| {}).unwrap();
+        let spec = BeamSpec::default();
+        let (mode, cracks, frame) = failure_mode_at(&problem, &spec, &run.u).unwrap();
+        println!("{}", failure_mode_details(mode, &cracks, &frame));
+        for (t, h, v) in crack_tip_history(&problem, run.snapshots(), &spec).unwrap() {
+            println!("tip {:.3} ms {:.3} m {:.0} m/s", t * 1e3, h, v);
+        }
+    }
+}
