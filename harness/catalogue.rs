@@ -221,6 +221,12 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
         if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
             resolve(p);
         }
+        if let impact_solver::scene::MaterialSpec::Microplane(
+            impact_solver::scene::MicroplaneSpec { file: Some(p), .. },
+        ) = &mut body.material
+        {
+            resolve(p);
+        }
     }
     if let Some(problems) = &mut spec.contact_problems {
         resolve(&mut problems.folder);

@@ -47,6 +47,8 @@ pub enum Measure {
     HistoryMax { column: String },
     /// Smallest value of a history column.
     HistoryMin { column: String },
+    /// Largest |value| of a history column (a peak load whose sign is a convention).
+    HistoryPeakMagnitude { column: String },
     /// Last recorded value of a history column.
     /// Last recorded value of a history column, times `scale` (for example `-1 / area` to turn
     /// a contact force into a compressive stress).
@@ -187,6 +189,11 @@ pub enum Measure {
         internal_work: String,
         #[serde(default = "five_percent")]
         above_fraction: f64,
+        /// Only the records up to the largest |value| of this column (the peak load): past the
+        /// peak of a brittle beam the crack releases stored energy as motion whatever the
+        /// loading rate, so the quasi-static check belongs to the loading branch.
+        #[serde(default)]
+        until_peak_of: Option<String>,
     },
     /// Least-squares slope of `force` against `displacement` up to the first record where
     /// |force| reaches `up_to_fraction` of its peak (`crate::beam::history::secant_stiffness`).
@@ -305,6 +312,9 @@ impl Measure {
         Ok(match self {
             Measure::HistoryMax { column: c } => {
                 column(c)?.into_iter().fold(f64::NEG_INFINITY, f64::max)
+            }
+            Measure::HistoryPeakMagnitude { column: c } => {
+                column(c)?.into_iter().fold(0.0, |a: f64, x| a.max(x.abs()))
             }
             Measure::HistoryMin { column: c } => {
                 column(c)?.into_iter().fold(f64::INFINITY, f64::min)
@@ -600,11 +610,19 @@ impl Measure {
                 kinetic,
                 internal_work,
                 above_fraction,
-            } => crate::beam::history::kinetic_over_internal_work(
-                &column(kinetic)?,
-                &column(internal_work)?,
-                *above_fraction,
-            )?,
+                until_peak_of,
+            } => {
+                let (mut k, mut w) = (column(kinetic)?, column(internal_work)?);
+                if let Some(c) = until_peak_of {
+                    let load = column(c)?;
+                    let peak = (0..load.len())
+                        .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
+                        .ok_or("empty history")?;
+                    k.truncate(peak + 1);
+                    w.truncate(peak + 1);
+                }
+                crate::beam::history::kinetic_over_internal_work(&k, &w, *above_fraction)?
+            }
             Measure::SecantStiffness {
                 force,
                 displacement,

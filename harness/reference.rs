@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 pub mod analytic;
 #[path = "../references/concrete.rs"]
 pub mod concrete;
+#[path = "../references/elastic_refinement.rs"]
+pub mod elastic_refinement;
 
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -24,6 +26,9 @@ pub enum Reference {
     /// An observed failure mode of a beam (thesis 10.3.2), as the code of the `failure_mode`
     /// measure (`crate::beam::FailureMode::code`): `{ failure_mode: bending }`.
     FailureMode(crate::beam::FailureMode),
+    /// The elastic stiffness of the case's own scene, solved by the implicit static solver on a
+    /// refined mesh (see `references/elastic_refinement.rs`).
+    ElasticRefinement(elastic_refinement::ElasticStiffnessSpec),
 }
 
 /// One entry of a published-data file.
@@ -201,6 +206,10 @@ impl Reference {
                 let p = published(file, key)?;
                 (p.value, format!("{} ({file}: {key})", p.source))
             }
+            Reference::ElasticRefinement(spec) => elastic_refinement::elastic_stiffness(
+                scene.ok_or("the elastic refinement reference needs the case's scene")?,
+                spec,
+            )?,
             Reference::Analytic(a) => {
                 match a {
                     Analytic::Zero => (0.0, "exact solution: zero".into()),
