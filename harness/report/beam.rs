@@ -121,7 +121,8 @@ fn grid_of(scene: &Scene, problem: &Problem, body: usize, size: [f64; 2]) -> (us
     (n(size[0]), n(size[1]))
 }
 
-/// Runs at the end of a case: the extra plots of a beam case (empty for other scenes), and its
+/// Runs at the end of a case: the extra plots of a beam case (a body `beam` of microplane
+/// concrete; empty for other scenes), and its
 /// pictures written into `out` (the case's output folder) as `beam-<variant>.json` and SVG
 /// files. `existing` are the case's own plots: a generated plot drawing the same curves as one
 /// of them is left out.
@@ -136,10 +137,11 @@ pub fn record(
     let Some(body) = problem.model.body_index(BEAM_BODY) else {
         return Vec::new();
     };
-    let plots = plots(scene, problem, run, existing);
+    // Only the concrete beam of the catalogue: other scenes may call an elastic body `beam`.
     if problem.model.bodies[body].material.name() != "microplane" {
-        return plots;
+        return Vec::new();
     }
+    let plots = plots(scene, problem, run, existing);
     let record = beam_record(case, scene, problem, run, body);
     if let Some(dir) = out {
         // The pictures are a by-product: a folder that cannot be written loses them, not the case.
@@ -390,7 +392,7 @@ fn plots(
             .filter(|c| has(c))
             .map(String::from),
     );
-    if energy_columns.len() >= 2 {
+    if energy_columns.len() >= 2 && energy_columns.iter().any(|c| c.ends_with("_kinetic")) {
         let mut curves: Vec<Series> = energy_columns.iter().filter_map(|c| column(c)).collect();
         let total: Vec<f64> = (0..time.len())
             .map(|k| curves.iter().map(|s| s.y[k]).sum())
