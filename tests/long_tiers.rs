@@ -2,7 +2,9 @@
 //! reference. The stress tier's time-step sweep finds the estimate conservative and every
 //! unstable run stops with its report; the nightly contact cases meet their Hertz bands.
 //! The material-point cases are left out: they judge a parameter set still being calibrated
-//! (`tests/material_cases.rs` runs them).
+//! (`tests/material_cases.rs` runs them). So are the beam cases (`cases/beam/`, minutes each):
+//! the nightly run of `.ci/run` judges them, and its exit status ignores only the cases that
+//! state a `known_failure`.
 
 use std::path::Path;
 
@@ -16,7 +18,11 @@ fn nightly_and_stress_cases_pass() {
         .expect("catalogue loads");
     let stress: Vec<_> = cases
         .into_iter()
-        .filter(|c| c.spec.tier != Tier::Quick && c.spec.material_point.is_none())
+        .filter(|c| {
+            c.spec.tier != Tier::Quick
+                && c.spec.material_point.is_none()
+                && !c.spec.tags.iter().any(|t| t == "beam")
+        })
         .collect();
     assert!(!stress.is_empty());
     let results = run_cases(
