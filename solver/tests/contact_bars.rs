@@ -61,6 +61,7 @@ fn bars_with(algorithm: ContactAlgorithm, record_every: Option<usize>) -> Proble
         },
         algorithm,
         record_every,
+        record_ccd_every: None,
         detection_tolerance: 1e-9,
         two_pass: true,
         normals: Default::default(),

@@ -117,6 +117,20 @@ pub struct DetectionSettings {
     pub normals: NormalSettings,
 }
 
+/// One call of [`vertex_face_ccd`] made by local detection, with its answer: the input of a
+/// cross-check of our CCD against another implementation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CcdCall {
+    pub node: Trajectory,
+    /// The face's node trajectories, in the face's node order.
+    pub face: [Trajectory; 3],
+    /// The barycentric tolerance passed to [`vertex_face_ccd`].
+    pub tolerance: f64,
+    /// The hit time it returned, before detection's filter of nodes that do not move into the
+    /// face.
+    pub hit: Option<f64>,
+}
+
 /// Constraints of the slave surface's nodes against the master surface for one pass, from the
 /// positions at the start of the step `x0` and the predicted positions `x1`.
 pub fn detect(
@@ -126,6 +140,20 @@ pub fn detect(
     x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     settings: &DetectionSettings,
+) -> (Vec<ContactConstraint>, DetectionStats) {
+    detect_recording(model, slave, master, x0, x1, settings, None)
+}
+
+/// [`detect`], appending every CCD call it makes to `ccd_calls` when given. Recording changes
+/// nothing in the result.
+pub fn detect_recording(
+    model: &Model,
+    slave: &ContactSurface,
+    master: &ContactSurface,
+    x0: &[Vector3<f64>],
+    x1: &[Vector3<f64>],
+    settings: &DetectionSettings,
+    mut ccd_calls: Option<&mut Vec<CcdCall>>,
 ) -> (Vec<ContactConstraint>, DetectionStats) {
     let mut stats = DetectionStats::default();
     let mut constraints = Vec::new();
@@ -212,17 +240,25 @@ pub fn detect(
         // path's box (grown by the detection tolerance) finds every such face.
         let path = Aabb::of_points([&node.start, &node.end]);
         candidates(path.grown(settings.tolerance * typical), &mut faces);
-        let resolved = earliest_ccd(master, &faces, &node, x0, x1, settings.tolerance)
-            .map(|(f, w)| (f, w, &mut stats.by_ccd))
-            .or_else(|| {
-                trajectory_intersection(master, &faces, &node, x1, settings.tolerance)
-                    .map(|(f, w)| (f, w, &mut stats.by_trajectory))
-            })
-            .or_else(|| {
-                candidates(path.grown(typical), &mut faces);
-                closest_point(master, &faces, &p, x1, typical)
-                    .map(|(f, w)| (f, w, &mut stats.by_closest_point))
-            });
+        let resolved = earliest_ccd(
+            master,
+            &faces,
+            &node,
+            x0,
+            x1,
+            settings.tolerance,
+            ccd_calls.as_deref_mut(),
+        )
+        .map(|(f, w)| (f, w, &mut stats.by_ccd))
+        .or_else(|| {
+            trajectory_intersection(master, &faces, &node, x1, settings.tolerance)
+                .map(|(f, w)| (f, w, &mut stats.by_trajectory))
+        })
+        .or_else(|| {
+            candidates(path.grown(typical), &mut faces);
+            closest_point(master, &faces, &p, x1, typical)
+                .map(|(f, w)| (f, w, &mut stats.by_closest_point))
+        });
         match resolved {
             Some((face, weights, counter)) => {
                 *counter += 1;
@@ -243,7 +279,8 @@ pub fn detect(
     (constraints, stats)
 }
 
-/// The face (among `candidates`) the node crosses first during the step (7.4.4).
+/// The face (among `candidates`) the node crosses first during the step (7.4.4); every CCD
+/// call is appended to `calls` when given.
 fn earliest_ccd(
     master: &ContactSurface,
     candidates: &[u32],
@@ -251,17 +288,26 @@ fn earliest_ccd(
     x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     tolerance: f64,
+    mut calls: Option<&mut Vec<CcdCall>>,
 ) -> Option<(u32, [f64; 3])> {
     let mut best: Option<(f64, u32, [f64; 3])> = None;
+    let tolerance = tolerance.max(1e-12);
     for &i in candidates {
         let face = master.faces[i as usize];
         let traj = face.map(|n| Trajectory {
             start: x0[n as usize],
             end: x1[n as usize],
         });
-        if let Some(hit) =
-            vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance.max(1e-12))
-        {
+        let found = vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance);
+        if let Some(calls) = calls.as_deref_mut() {
+            calls.push(CcdCall {
+                node: *node,
+                face: traj,
+                tolerance,
+                hit: found.map(|h| h.t),
+            });
+        }
+        if let Some(hit) = found {
             if !moves_into(node, &traj, &hit) {
                 continue;
             }

@@ -17,8 +17,9 @@ mod test_blocks;
 use nalgebra::Vector3;
 
 use crate::model::Model;
+use ccd::Trajectory;
 use conic::{ConicMode, ConicSolver};
-use detection::{detect, ContactSurface, DetectionSettings, DetectionStats};
+use detection::{detect_recording, CcdCall, ContactSurface, DetectionSettings, DetectionStats};
 use gauss_seidel::{gauss_seidel, ContactConstraint, GaussSeidelSettings};
 use normals::NormalSettings;
 use problem::ContactProblem;
@@ -63,6 +64,25 @@ pub struct RecordedProblem {
     pub converged: bool,
 }
 
+/// A vertex-face CCD query made by detection during a run, with our answer: for cross-checks of
+/// [`ccd::vertex_face_ccd`] against another implementation on real inputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedCcdQuery {
+    pub step: usize,
+    pub pair: String,
+    /// 0: the first body's nodes as slaves; 1: the roles swapped (7.2).
+    pub pass: usize,
+    /// The slave node's motion over the step.
+    pub node: Trajectory,
+    /// The master face's node motions, in the face's node order.
+    pub face: [Trajectory; 3],
+    /// The barycentric tolerance passed to `vertex_face_ccd`.
+    pub tolerance: f64,
+    /// The step fraction it returned, before detection dropped hits that do not move into the
+    /// face.
+    pub hit: Option<f64>,
+}
+
 /// Two bodies that may touch, and how their contact is solved (FORMULATION section 4).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPair {
@@ -76,6 +96,9 @@ pub struct ContactPair {
     pub algorithm: ContactAlgorithm,
     /// Record the contact problems of every `n`-th step (`None`: none).
     pub record_every: Option<usize>,
+    /// Record every vertex-face CCD query of detection in every `n`-th step (`None`: none), as
+    /// [`RecordedCcdQuery`]; recording changes no result.
+    pub record_ccd_every: Option<usize>,
     /// Tolerance on barycentric coordinates in detection.
     pub detection_tolerance: f64,
     /// Repeat detection and resolution with the slave and master roles swapped (7.2).
@@ -110,6 +133,8 @@ pub struct ContactPhase {
     surfaces: Vec<[ContactSurface; 2]>,
     /// Problems recorded so far (pairs with `record_every`).
     pub recorded: Vec<RecordedProblem>,
+    /// CCD queries recorded so far (pairs with `record_ccd_every`).
+    pub recorded_ccd: Vec<RecordedCcdQuery>,
 }
 
 impl ContactPhase {
@@ -122,6 +147,7 @@ impl ContactPhase {
             pairs,
             surfaces,
             recorded: Vec::new(),
+            recorded_ccd: Vec::new(),
         }
     }
 
@@ -144,6 +170,7 @@ impl ContactPhase {
         tangential: &mut [Vector3<f64>],
     ) -> Vec<ContactStep> {
         let recorded = &mut self.recorded;
+        let recorded_ccd = &mut self.recorded_ccd;
         self.pairs
             .iter()
             .zip(&self.surfaces)
@@ -165,9 +192,29 @@ impl ContactPhase {
                 let record = pair
                     .record_every
                     .is_some_and(|every| every > 0 && step_index % every == 0);
+                let record_ccd = pair
+                    .record_ccd_every
+                    .is_some_and(|every| every > 0 && step_index % every == 0);
+                let mut calls: Vec<CcdCall> = Vec::new();
                 for (pass, (slave, master)) in passes.iter().enumerate() {
-                    let (mut constraints, stats): (Vec<_>, DetectionStats) =
-                        detect(model, slave, master, x0, x1, &settings);
+                    let (mut constraints, stats): (Vec<_>, DetectionStats) = detect_recording(
+                        model,
+                        slave,
+                        master,
+                        x0,
+                        x1,
+                        &settings,
+                        record_ccd.then_some(&mut calls),
+                    );
+                    recorded_ccd.extend(calls.drain(..).map(|c| RecordedCcdQuery {
+                        step: step_index,
+                        pair: pair.name.clone(),
+                        pass,
+                        node: c.node,
+                        face: c.face,
+                        tolerance: c.tolerance,
+                        hit: c.hit,
+                    }));
                     step.unresolved += stats.unresolved;
                     // A contact whose normal no node can move along (all prescribed) cannot be
                     // enforced: reported with the unresolved ones, not dropped silently.
@@ -298,5 +345,95 @@ fn conic_forces(
             report.status.converged(),
         ),
         Err(_) => (vec![Vector3::zeros(); problem.contacts()], 0, false),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::test_blocks::elastic_boxes;
+    use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
+    use crate::mesh::BoxSpec;
+    use crate::model::Problem;
+
+    /// A small block dropped at 2 m/s onto a larger one, 0.1 mm above it, non-matching meshes,
+    /// with friction, two passes.
+    fn falling_block(record_ccd_every: Option<usize>) -> Problem {
+        let model = elastic_boxes(&[
+            BoxSpec {
+                origin: [0.0; 3],
+                size: [0.1, 0.1, 0.05],
+                divisions: [4, 4, 2],
+            },
+            BoxSpec {
+                origin: [0.013, 0.021, 0.0501],
+                size: [0.07, 0.06, 0.05],
+                divisions: [3, 3, 2],
+            },
+        ]);
+        let mut p = Problem::new(model);
+        for n in p.model.bodies[1].nodes.clone() {
+            p.initial_velocity[n] = Vector3::new(0.3, 0.0, -2.0);
+        }
+        p.contact.push(ContactPair {
+            name: "drop".into(),
+            bodies: [0, 1],
+            friction: 0.3,
+            beta_0: 0.0,
+            solver: GaussSeidelSettings {
+                tolerance: 1e-12,
+                max_iterations: 5000,
+            },
+            algorithm: ContactAlgorithm::GaussSeidel,
+            record_every: None,
+            record_ccd_every,
+            detection_tolerance: 1e-9,
+            two_pass: true,
+            normals: Default::default(),
+        });
+        p
+    }
+
+    fn run(p: &Problem) -> (Vec<Vector3<f64>>, Vec<RecordedCcdQuery>) {
+        let mut settings = ExplicitSettings::new(2e-4);
+        settings.safety = 0.6;
+        let mut solver = ExplicitSolver::new(p, settings, OutputSettings::default()).unwrap();
+        solver.run(&mut |_| {}).unwrap();
+        (solver.u.clone(), solver.take_recorded_ccd_queries())
+    }
+
+    #[test]
+    fn recording_ccd_queries_changes_nothing_and_records_our_answers() {
+        let (u_plain, none) = run(&falling_block(None));
+        assert!(none.is_empty());
+        let (u_every, all) = run(&falling_block(Some(1)));
+        let (u_third, thirds) = run(&falling_block(Some(3)));
+        let bits = |u: &[Vector3<f64>]| -> Vec<u64> {
+            u.iter()
+                .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                .collect()
+        };
+        assert_eq!(bits(&u_plain), bits(&u_every), "recording changed the run");
+        assert_eq!(bits(&u_plain), bits(&u_third), "recording changed the run");
+        assert!(u_plain.iter().any(|x| x.z != 0.0));
+
+        let hits = all.iter().filter(|q| q.hit.is_some()).count();
+        eprintln!("{} CCD queries recorded, {hits} hits", all.len());
+        assert!(hits > 0 && hits < all.len(), "{hits} of {}", all.len());
+        assert!(all.iter().any(|q| q.pass == 1) && all.iter().any(|q| q.pass == 0));
+        for q in &all {
+            assert_eq!(q.pair, "drop");
+            let again =
+                ccd::vertex_face_ccd(&q.node, [&q.face[0], &q.face[1], &q.face[2]], q.tolerance);
+            assert_eq!(
+                again.map(|h| h.t.to_bits()),
+                q.hit.map(f64::to_bits),
+                "{q:?}"
+            );
+        }
+        // Every third step: exactly the queries of those steps.
+        let expected: Vec<&RecordedCcdQuery> = all.iter().filter(|q| q.step % 3 == 0).collect();
+        assert!(!thirds.is_empty());
+        assert_eq!(thirds.iter().collect::<Vec<_>>(), expected);
     }
 }

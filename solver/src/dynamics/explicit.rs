@@ -292,6 +292,14 @@ impl<'p> ExplicitSolver<'p> {
             .unwrap_or_default()
     }
 
+    /// The CCD queries recorded so far (pairs with `record_ccd_every`), taken out of the solver.
+    pub fn take_recorded_ccd_queries(&mut self) -> Vec<crate::contact::RecordedCcdQuery> {
+        self.contact
+            .as_mut()
+            .map(|c| std::mem::take(&mut c.phase.recorded_ccd))
+            .unwrap_or_default()
+    }
+
     pub fn set_time_limit(&mut self, seconds: f64) {
         self.deadline = Some((
             Instant::now() + std::time::Duration::from_secs_f64(seconds),

@@ -283,6 +283,14 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                     .to_string(),
             ));
         }
+        if c.record_ccd_every == Some(0) {
+            return Err(invalid(
+                &entity,
+                "record_ccd_every is 0; give the step interval (1 records every step) or leave \
+                 it out"
+                    .to_string(),
+            ));
+        }
         if let super::ContactSolverSpec::Conic(spec) = &c.solver {
             if !(spec.tolerance > 0.0 && spec.tolerance < 1.0) || spec.max_iterations == 0 {
                 return Err(invalid(
@@ -317,6 +325,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 },
             },
             record_every: c.record_problems_every,
+            record_ccd_every: c.record_ccd_every,
             detection_tolerance: 1e-9,
             two_pass: c.two_pass,
             normals: crate::contact::normals::NormalSettings {

@@ -77,6 +77,10 @@ pub struct ContactSpec {
     /// run's output folder (`<stem>-contact-problems/`).
     #[serde(default)]
     pub record_problems_every: Option<usize>,
+    /// Record every vertex-face CCD query of contact detection in every n-th step, for
+    /// cross-checks of the CCD (`ExplicitSolver::take_recorded_ccd_queries`).
+    #[serde(default)]
+    pub record_ccd_every: Option<usize>,
 }
 
 /// Which algorithm solves a contact pair's problem each step.
