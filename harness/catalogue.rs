@@ -61,6 +61,10 @@ pub struct CaseSpec {
     /// concrete model (`crate::material_point`); its metrics measure that experiment.
     #[serde(default)]
     pub material_point: Option<crate::material_point::MaterialPointSpec>,
+    /// A comparison with independent code (`crate::crosscheck`): scikit-fem on the case's
+    /// scene, or ipctk on recorded CCD queries; its metrics measure that comparison.
+    #[serde(default)]
+    pub crosscheck: Option<crate::crosscheck::CrosscheckSpec>,
     #[serde(default)]
     pub sweep: Option<Sweep>,
     /// Solver configurations to compare on the same scene; each runs and is judged on its own.
@@ -235,7 +239,8 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
         resolve(&mut mp.material);
     }
     crate::material_point::validate(&spec).map_err(fail)?;
-    if spec.material_point.is_none() {
+    crate::crosscheck::validate(&spec).map_err(fail)?;
+    if spec.material_point.is_none() && spec.crosscheck.is_none() {
         crate::contact_compare::case::validate(&spec).map_err(fail)?;
     }
     if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {

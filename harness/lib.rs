@@ -7,6 +7,7 @@ pub mod beam;
 pub mod calibrate;
 pub mod catalogue;
 pub mod contact_compare;
+pub mod crosscheck;
 pub mod execute;
 pub mod judge;
 pub mod material_point;

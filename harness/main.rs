@@ -89,6 +89,15 @@ enum Command {
         #[arg(long, default_value_t = 120)]
         evaluations: usize,
     },
+    /// Recompute the independent answers of the cross-check cases (`crosscheck` tag) with
+    /// scikit-fem and ipctk and write them to references/crosscheck/cache/. Needs a build with
+    /// `--features python` and the packages of references/crosscheck/requirements.txt.
+    CrosscheckRefresh {
+        /// Case ids, globs or tags; empty: every case with a `crosscheck`.
+        patterns: Vec<String>,
+        #[arg(long, default_value = "cases")]
+        catalogue: PathBuf,
+    },
     /// Run one scene file and write its history (CSV) and fields (VTU + PVD for ParaView).
     Scene {
         path: PathBuf,
@@ -257,6 +266,40 @@ fn main() -> ExitCode {
                 solvers,
             },
         )),
+        Command::CrosscheckRefresh {
+            patterns,
+            catalogue: dir,
+        } => {
+            let cases = match catalogue(&dir) {
+                Ok(c) => c,
+                Err(code) => return code,
+            };
+            let chosen: Vec<&LoadedCase> = cases
+                .iter()
+                .filter(|c| c.spec.crosscheck.is_some())
+                .filter(|c| patterns.is_empty() || patterns.iter().any(|p| matches(c, p)))
+                .collect();
+            if chosen.is_empty() {
+                eprintln!("error: no crosscheck case matches {patterns:?}");
+                return ExitCode::from(2);
+            }
+            let mut code = ExitCode::SUCCESS;
+            for case in chosen {
+                eprintln!("{}: computing the independent answer ...", case.spec.id);
+                match impact_vv::crosscheck::refresh(case) {
+                    Ok(p) => println!(
+                        "{}: {}",
+                        case.spec.id,
+                        p.line().replace("fresh answer", "cached answer")
+                    ),
+                    Err(e) => {
+                        eprintln!("error: {}: {e}", case.spec.id);
+                        code = ExitCode::from(2);
+                    }
+                }
+            }
+            code
+        }
         Command::Scene {
             path,
             out,

@@ -172,6 +172,9 @@ pub enum Measure {
     /// A quantity of the virtual experiment of a `material_point` case (see
     /// `crate::material_point`).
     MaterialPoint(crate::material_point::MaterialMeasure),
+    /// A quantity of the comparison of a `crosscheck` case (see `crate::crosscheck`), by name:
+    /// `{ crosscheck: implicit_deflection_difference }`.
+    Crosscheck(String),
     /// Failure mode of a beam in the final state (FORMULATION 5, thesis 10.3.2), as its code:
     /// 0 none, 1 bending, 2 mixed, 3 shear (`crate::beam::classify`). Judged against
     /// `{ failure_mode: <mode> }` with `absolute: 0`.
@@ -671,6 +674,13 @@ impl Measure {
                 return Err(
                     "material_point measures a material-point experiment: the case needs \
                      `material_point` instead of a scene"
+                        .into(),
+                )
+            }
+            Measure::Crosscheck(_) => {
+                return Err(
+                    "crosscheck measures a comparison with independent code: the case needs \
+                     `crosscheck`"
                         .into(),
                 )
             }

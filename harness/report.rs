@@ -8,6 +8,7 @@
 mod axis;
 pub(crate) mod beam;
 mod contact;
+mod crosscheck;
 mod diagrams;
 pub(crate) mod format;
 mod history;

@@ -148,6 +148,10 @@ pub struct CaseResult {
     /// plots with targets), for the report's "Concrete material" section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<crate::material_point::MaterialRecord>,
+    /// What a `crosscheck` case compared (tables, plots, and whether the independent answer
+    /// was fresh or cached), for the report's "Independent cross-checks" section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crosscheck: Option<crate::crosscheck::CrosscheckRecord>,
 }
 
 /// Contact-solver statistics of one scene run (summed over pairs and passes).

@@ -69,6 +69,9 @@ struct LevelRun {
 /// the scene once), then judges its metrics.
 pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
+    if spec.crosscheck.is_some() {
+        return crate::crosscheck::run_case(case, options);
+    }
     if spec.material_point.is_some() {
         return crate::material_point::run_case(case);
     }
@@ -446,5 +449,6 @@ pub(crate) fn unfinished_result(spec: &crate::catalogue::CaseSpec, variant: &str
         contact: None,
         contact_comparison: None,
         material: None,
+        crosscheck: None,
     }
 }

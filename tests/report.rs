@@ -87,6 +87,7 @@ fn pass_case() -> CaseResult {
         contact: None,
         contact_comparison: None,
         material: None,
+        crosscheck: None,
     }
 }
 
@@ -135,6 +136,7 @@ fn fail_case() -> CaseResult {
         contact: None,
         contact_comparison: None,
         material: None,
+        crosscheck: None,
     }
 }
 
@@ -154,6 +156,7 @@ fn error_case() -> CaseResult {
         contact: None,
         contact_comparison: None,
         material: None,
+        crosscheck: None,
     }
 }
 

@@ -4,6 +4,7 @@
 
 mod beam;
 mod contact;
+mod crosscheck;
 mod material;
 
 use super::diagrams::{self, Trend};
@@ -26,6 +27,7 @@ pub fn page(
     body.push_str(&summary_section(&summaries));
     body.push_str(&contact::section(results));
     body.push_str(&material::section(results, &summaries));
+    body.push_str(&crosscheck::section(results, &summaries));
     body.push_str(&beam::section(results, &summaries, beams));
     for s in &summaries {
         body.push_str(&case_section(s, history, beams));
@@ -258,6 +260,7 @@ fn case_section(
         html.push_str(&sweep_section(c, sweep));
     }
     html.push_str(&material::case_link(s));
+    html.push_str(&crosscheck::case_link(s));
     html.push_str(&trend_section(&diagrams::trend(c, history)));
     html.push_str("</section>\n");
     html

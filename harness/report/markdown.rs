@@ -25,6 +25,7 @@ pub fn summary(results: &RunResults, beams: &[(usize, super::beam::BeamRecord)])
     md.push_str(&failures(&summaries));
     md.push_str(&super::contact::markdown(results));
     md.push_str(&super::material::markdown(results));
+    md.push_str(&super::crosscheck::markdown(results));
     md.push_str(&super::beam::markdown(results, beams));
     md
 }
