@@ -4,7 +4,8 @@
 //! The material-point cases are left out: they judge a parameter set still being calibrated
 //! (`tests/material_cases.rs` runs them). So are the beam cases (`cases/beam/`, minutes each):
 //! the nightly run of `.ci/run` judges them, and its exit status ignores only the cases that
-//! state a `known_failure`.
+//! state a `known_failure`. The cross-check cases (`cases/crosscheck/`) run here from their
+//! cached answers; one that states a `known_failure` must still run and be judged.
 
 use std::path::Path;
 
@@ -50,6 +51,16 @@ fn nightly_and_stress_cases_pass() {
                 );
             }
         }
-        assert_eq!(r.status, Status::Pass, "{}: {:?}", r.id, r.message);
+        // A case that states a `known_failure` still runs and is judged (never an error); the
+        // others pass.
+        let known = stress
+            .iter()
+            .find(|c| c.spec.id == r.id)
+            .is_some_and(|c| c.spec.known_failure.is_some());
+        if known {
+            assert_ne!(r.status, Status::Error, "{}: {:?}", r.id, r.message);
+        } else {
+            assert_eq!(r.status, Status::Pass, "{}: {:?}", r.id, r.message);
+        }
     }
 }
