@@ -93,16 +93,7 @@ pub fn section(results: &RunResults, summaries: &[CaseSummary<'_>]) -> String {
             html.push_str(&table(&head, &rows));
         }
         for t in &record.tables {
-            html.push_str(&element("h4", "", &format::html(&t.title)));
-            let rows: Vec<Row> = t
-                .rows
-                .iter()
-                .map(|r| Row::new(r.iter().map(|c| text(c)).collect()))
-                .collect();
-            html.push_str(&table(&t.head, &rows));
-            if !t.note.is_empty() {
-                html.push_str(&note(&t.note));
-            }
+            html.push_str(&super::material::record_table(t));
         }
         if !record.plots.is_empty() {
             html.push_str(&plots(

@@ -111,16 +111,7 @@ pub fn section(results: &RunResults, summaries: &[CaseSummary<'_>]) -> String {
             html.push_str(&table(&head, &rows));
         }
         for t in &record.tables {
-            html.push_str(&element("h4", "", &format::html(&t.title)));
-            let rows: Vec<Row> = t
-                .rows
-                .iter()
-                .map(|r| Row::new(r.iter().map(|c| text(c)).collect()))
-                .collect();
-            html.push_str(&table(&t.head, &rows));
-            if !t.note.is_empty() {
-                html.push_str(&element("p", "muted", &format::html(&t.note)));
-            }
+            html.push_str(&record_table(t));
         }
         if !record.plots.is_empty() {
             html.push_str(&plots("plots", record.plots.iter().map(material::render)));
@@ -151,5 +142,20 @@ pub fn section(results: &RunResults, summaries: &[CaseSummary<'_>]) -> String {
         }
     }
     html.push_str("</section>\n");
+    html
+}
+
+/// A record's table (material-point experiments, cross-checks): title, cells as text, note.
+pub(super) fn record_table(t: &crate::material_point::RecordTable) -> String {
+    let rows: Vec<Row> = t
+        .rows
+        .iter()
+        .map(|r| Row::new(r.iter().map(|c| text(c)).collect()))
+        .collect();
+    let mut html = element("h4", "", &format::html(&t.title));
+    html.push_str(&table(&t.head, &rows));
+    if !t.note.is_empty() {
+        html.push_str(&element("p", "muted", &format::html(&t.note)));
+    }
     html
 }
