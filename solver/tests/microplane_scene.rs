@@ -224,3 +224,32 @@ fn the_static_solver_refuses_microplane_bodies() {
         "{msg}"
     );
 }
+
+/// `rate_effect: false` gives the body the file's parameters at static rates: the rate law is
+/// dropped (rate factor 1 however fast the element is strained), nothing else changes.
+#[test]
+fn rate_effect_false_gives_static_rates() {
+    let file = shipped_file().display().to_string();
+    let with_rate = build(&scene(&format!("      microplane: {{ file: {file} }}"), "")).unwrap();
+    let text = scene(
+        &format!("      microplane: {{ file: {file}, rate_effect: false }}"),
+        "",
+    );
+    let problem = build(&text).unwrap();
+    let mut expected = read_microplane_file(&shipped_file()).unwrap();
+    assert!(
+        expected.rate_effect.is_some(),
+        "the shipped file has a rate law"
+    );
+    assert_ne!(
+        problem.model.bodies[0].material,
+        with_rate.model.bodies[0].material
+    );
+    expected.rate_effect = None;
+    assert_eq!(
+        problem.model.bodies[0].material,
+        MaterialModel::Microplane(expected)
+    );
+    let model = &problem.model.bodies[0].microplane.as_ref().unwrap().model;
+    assert_eq!(model.rate_factor(1e3), 1.0);
+}
