@@ -17,6 +17,16 @@ pub enum TimeFunction {
     },
     /// Piecewise linear through `[t, value]` points in increasing `t`; constant outside.
     Table(Vec<[f64; 2]>),
+    /// Zero at `t = 0`, then a constant rate reached smoothly: `rate t^2 / (2 lead_in)` for
+    /// `0 <= t <= lead_in` (constant acceleration), `rate (t - lead_in / 2)` after; zero before
+    /// `t = 0`. The value and its rate are continuous (a table of the same curve jumps in rate
+    /// at every point, and each jump sets an undamped explicit run ringing), and the
+    /// acceleration `rate / lead_in` excites the modes of frequency `omega` only to an amplitude
+    /// of about `rate / (lead_in omega^2)`.
+    ConstantRate {
+        rate: f64,
+        lead_in: f64,
+    },
 }
 
 impl TimeFunction {
@@ -47,6 +57,15 @@ impl TimeFunction {
                 }
                 points[points.len() - 1][1]
             }
+            TimeFunction::ConstantRate { rate, lead_in } => {
+                if t <= 0.0 {
+                    0.0
+                } else if t < *lead_in {
+                    rate * t * t / (2.0 * lead_in)
+                } else {
+                    rate * (t - 0.5 * lead_in)
+                }
+            }
         }
     }
 
@@ -62,6 +81,14 @@ impl TimeFunction {
             TimeFunction::Table(p) if p.is_empty() => Err("table has no points".into()),
             TimeFunction::Table(p) if p.windows(2).any(|w| !(w[1][0] > w[0][0])) => {
                 Err("table times must increase strictly".into())
+            }
+            TimeFunction::ConstantRate { rate, lead_in }
+                if !(rate.is_finite() && lead_in.is_finite() && *lead_in >= 0.0) =>
+            {
+                Err(format!(
+                    "constant_rate needs a finite rate and lead_in >= 0, got rate = {rate}, \
+                     lead_in = {lead_in}"
+                ))
             }
             _ => Ok(()),
         }
@@ -167,4 +194,43 @@ pub struct NodalLoad {
     pub nodes: Vec<u32>,
     pub force_per_node: Vector3<f64>,
     pub function: TimeFunction,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TimeFunction;
+
+    /// `constant_rate`: the quadratic lead-in meets the straight line with the same value and
+    /// slope, and the slope is `rate` from then on.
+    #[test]
+    fn constant_rate_is_smooth_and_reaches_its_rate() {
+        let f = TimeFunction::ConstantRate {
+            rate: -4e-3,
+            lead_in: 0.01,
+        };
+        assert_eq!(f.eval(-1.0), 0.0);
+        assert_eq!(f.eval(0.0), 0.0);
+        // At the end of the lead-in: rate T / 2 from both sides, slope rate from both sides.
+        let t = 0.01;
+        assert!((f.eval(t) - (-4e-3 * 0.005)).abs() < 1e-18);
+        let slope = |a: f64, b: f64| (f.eval(b) - f.eval(a)) / (b - a);
+        let h = 1e-7;
+        // One-sided slopes differ by O(h) only (a kink would leave O(rate) = 4e-3).
+        assert!((slope(t - h, t) - slope(t, t + h)).abs() < 1e-6);
+        assert!((slope(0.05, 0.06) + 4e-3).abs() < 1e-15);
+        // Half the rate halfway through the lead-in.
+        assert!((slope(0.005 - h, 0.005 + h) + 2e-3).abs() < 1e-9);
+        // No lead-in: a plain ramp from zero.
+        let ramp = TimeFunction::ConstantRate {
+            rate: 2.0,
+            lead_in: 0.0,
+        };
+        assert_eq!(ramp.eval(0.5), 1.0);
+        assert!(TimeFunction::ConstantRate {
+            rate: 1.0,
+            lead_in: -1.0
+        }
+        .validate()
+        .is_err());
+    }
 }
