@@ -205,6 +205,16 @@ pub enum Measure {
         displacement: String,
         up_to_fraction: f64,
     },
+    /// Largest |bending moment| about the z axis at the section `x = section_x` over the run,
+    /// from the y reactions of `conditions`, all on one side of the section: `M = sum_c
+    /// R_c (section_x - x_c)`, each condition's nodes on one line `x = x_c` (split a strip or a
+    /// plate into lines of nodes; `crate::beam::history::peak_bending_moment`). Unlike a load,
+    /// it does not depend on where a rigid plate or support strip carries its force, so it
+    /// compares with a sectional (hinge) model of the beam.
+    PeakBendingMoment {
+        section_x: f64,
+        conditions: Vec<String>,
+    },
     /// `max |numerator| / max |denominator|` over the history.
     PeakRatio {
         numerator: String,
@@ -635,6 +645,17 @@ impl Measure {
                 &column(displacement)?,
                 *up_to_fraction,
             )?,
+            Measure::PeakBendingMoment {
+                section_x,
+                conditions,
+            } => {
+                let mut forces = Vec::with_capacity(conditions.len());
+                for name in conditions {
+                    let x = crate::beam::history::condition_line_x(problem, name)?;
+                    forces.push((column(&format!("{name}_reaction_y"))?, x));
+                }
+                crate::beam::history::peak_bending_moment(*section_x, &forces)?
+            }
             Measure::PeakRatio {
                 numerator,
                 denominator,

@@ -56,6 +56,63 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
         / sdd)
 }
 
+/// The x coordinate shared by the reference positions of the nodes of the condition `name`,
+/// or an error if they do not lie on one line `x = const` (to 1e-9 m).
+pub fn condition_line_x(
+    problem: &impact_solver::model::Problem,
+    name: &str,
+) -> Result<f64, String> {
+    let c = problem
+        .constraints
+        .iter()
+        .find(|c| c.name == name)
+        .ok_or_else(|| format!("no boundary condition named `{name}`"))?;
+    let xs: Vec<f64> = c
+        .nodes
+        .iter()
+        .map(|&n| problem.model.reference[n as usize].x)
+        .collect();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    if xs.is_empty() || hi - lo > 1e-9 {
+        return Err(format!(
+            "boundary condition `{name}` has nodes from x = {lo} to {hi} m: a bending moment \
+             needs each condition on one line of nodes; split it into lines of constant x"
+        ));
+    }
+    Ok(lo)
+}
+
+/// Largest |M| over the records of `M_i = sum_c R_c,i (section_x - x_c)`, the moment about the
+/// z axis at the section `x = section_x` of the forces `R_c` (y reactions, one column each)
+/// acting at `x_c` on one side of it (statics of the free body cut at the section). An error
+/// if the forces lie on both sides.
+pub fn peak_bending_moment(section_x: f64, forces: &[(Vec<f64>, f64)]) -> Result<f64, String> {
+    if forces.is_empty() {
+        return Err("no forces given".into());
+    }
+    let left = forces.iter().all(|(_, x)| *x <= section_x);
+    let right = forces.iter().all(|(_, x)| *x >= section_x);
+    if !(left || right) {
+        return Err(format!(
+            "the forces lie on both sides of the section x = {section_x}: name those of one side"
+        ));
+    }
+    let records = forces.iter().map(|(f, _)| f.len()).min().unwrap_or(0);
+    Ok((0..records)
+        .map(|i| {
+            forces
+                .iter()
+                .map(|(f, x)| f[i] * (section_x - x))
+                .sum::<f64>()
+                .abs()
+        })
+        .fold(0.0, f64::max))
+}
+
 /// `max |numerator| / max |denominator|`.
 pub fn peak_ratio(numerator: &[f64], denominator: &[f64]) -> Result<f64, String> {
     let max_abs = |y: &[f64]| y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -129,6 +186,25 @@ mod tests {
         // At 5 %: records with W > 0.5: 0.01/1, 0.02/5, 0.05/10.
         assert!((kinetic_over_internal_work(&k, &w, 0.05).unwrap() - 0.01).abs() < 1e-15);
         assert!(kinetic_over_internal_work(&k, &[0.0; 5], 0.05).is_err());
+    }
+
+    #[test]
+    fn bending_moment_of_a_simply_supported_beam() {
+        // Point load 2P at mid-span x = 1 of a 2 m span: reactions P at x = 0 and 2; at the
+        // section under the load M = P * 1 from either side, the load itself at zero lever.
+        let p = vec![0.0, 10.0, 20.0, 5.0];
+        let load: Vec<f64> = p.iter().map(|v| -2.0 * v).collect();
+        let left = [(p.clone(), 0.0), (load.clone(), 1.0)];
+        assert_eq!(peak_bending_moment(1.0, &left).unwrap(), 20.0);
+        let right = [(p.clone(), 2.0)];
+        assert_eq!(peak_bending_moment(1.0, &right).unwrap(), 20.0);
+        // A load split over two lines 0.1 m either side of a section at 0.9: the lever of each.
+        let half: Vec<f64> = p.iter().map(|v| -v).collect();
+        let split = [(p.clone(), 0.0), (half.clone(), 0.8)];
+        assert!(
+            (peak_bending_moment(0.9, &split).unwrap() - 20.0 * 0.9 + 20.0 * 0.1).abs() < 1e-12
+        );
+        assert!(peak_bending_moment(1.0, &[(p, 0.0), (half, 1.5)]).is_err());
     }
 
     #[test]
