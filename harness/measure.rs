@@ -197,6 +197,11 @@ pub enum Measure {
         /// loading rate, so the quasi-static check belongs to the loading branch.
         #[serde(default)]
         until_peak_of: Option<String>,
+        /// With `until_peak_of`: go on past the peak to the first record where that column's
+        /// |value| falls below this fraction of its peak (issue 16: quasi-static through the
+        /// peak and down to 80 % of it).
+        #[serde(default)]
+        after_peak_down_to: Option<f64>,
     },
     /// Least-squares slope of `force` against `displacement` up to the first record where
     /// |force| reaches `up_to_fraction` of its peak (`crate::beam::history::secant_stiffness`).
@@ -207,8 +212,9 @@ pub enum Measure {
     },
     /// Largest |bending moment| about the z axis at the section `x = section_x` over the run,
     /// from the y reactions of `conditions`, all on one side of the section: `M = sum_c
-    /// R_c (section_x - x_c)`, each condition's nodes on one line `x = x_c` (split a strip or a
-    /// plate into lines of nodes; `crate::beam::history::peak_bending_moment`). Unlike a load,
+    /// R_c (section_x - x_c)`, each named boundary condition or `quantity: reaction` probe on one
+    /// line of nodes `x = x_c` (probe a strip or a plate line by line;
+    /// `crate::beam::history::peak_bending_moment`). Unlike a load,
     /// it does not depend on where a rigid plate or support strip carries its force, so it
     /// compares with a sectional (hinge) model of the beam.
     PeakBendingMoment {
@@ -624,6 +630,7 @@ impl Measure {
                 internal_work,
                 above_fraction,
                 until_peak_of,
+                after_peak_down_to,
             } => {
                 let (mut k, mut w) = (column(kinetic)?, column(internal_work)?);
                 if let Some(c) = until_peak_of {
@@ -631,8 +638,22 @@ impl Measure {
                     let peak = (0..load.len())
                         .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
                         .ok_or("empty history")?;
-                    k.truncate(peak + 1);
-                    w.truncate(peak + 1);
+                    let end = match after_peak_down_to {
+                        None => peak,
+                        Some(f) => {
+                            let bound = f * load[peak].abs();
+                            (peak..load.len())
+                                .find(|&i| load[i].abs() < bound)
+                                .ok_or_else(|| {
+                                    format!(
+                                        "`{c}` never falls below {f} of its peak after it: \
+                                         run longer"
+                                    )
+                                })?
+                        }
+                    };
+                    k.truncate(end + 1);
+                    w.truncate(end + 1);
                 }
                 crate::beam::history::kinetic_over_internal_work(&k, &w, *above_fraction)?
             }
@@ -651,8 +672,8 @@ impl Measure {
             } => {
                 let mut forces = Vec::with_capacity(conditions.len());
                 for name in conditions {
-                    let x = crate::beam::history::condition_line_x(problem, name)?;
-                    forces.push((column(&format!("{name}_reaction_y"))?, x));
+                    let (c, x) = crate::beam::history::force_line(problem, name)?;
+                    forces.push((column(&c)?, x));
                 }
                 crate::beam::history::peak_bending_moment(*section_x, &forces)?
             }

@@ -56,19 +56,29 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
         / sdd)
 }
 
-/// The x coordinate shared by the reference positions of the nodes of the condition `name`,
-/// or an error if they do not lie on one line `x = const` (to 1e-9 m).
-pub fn condition_line_x(
+/// A line force of the moment measure: the history column of its y force and the x of its
+/// line of nodes. `name` is a boundary condition (its column `<name>_reaction_y`) or a probe of
+/// `quantity: reaction` (column `<name>_y`): the part of a condition's reaction carried by one
+/// line of its nodes. An error if the nodes do not lie on one line `x = const` (to 1e-9 m).
+pub fn force_line(
     problem: &impact_solver::model::Problem,
     name: &str,
-) -> Result<f64, String> {
-    let c = problem
-        .constraints
+) -> Result<(String, f64), String> {
+    use impact_solver::model::ProbeQuantity;
+    let (nodes, column) = if let Some(c) = problem.constraints.iter().find(|c| c.name == name) {
+        (&c.nodes, format!("{name}_reaction_y"))
+    } else if let Some(p) = problem
+        .probes
         .iter()
-        .find(|c| c.name == name)
-        .ok_or_else(|| format!("no boundary condition named `{name}`"))?;
-    let xs: Vec<f64> = c
-        .nodes
+        .find(|p| p.name == name && p.quantity == ProbeQuantity::Reaction)
+    {
+        (&p.nodes, format!("{name}_y"))
+    } else {
+        return Err(format!(
+            "no boundary condition and no `quantity: reaction` probe named `{name}`"
+        ));
+    };
+    let xs: Vec<f64> = nodes
         .iter()
         .map(|&n| problem.model.reference[n as usize].x)
         .collect();
@@ -79,11 +89,11 @@ pub fn condition_line_x(
         });
     if xs.is_empty() || hi - lo > 1e-9 {
         return Err(format!(
-            "boundary condition `{name}` has nodes from x = {lo} to {hi} m: a bending moment \
-             needs each condition on one line of nodes; split it into lines of constant x"
+            "`{name}` has nodes from x = {lo} to {hi} m: a bending moment needs each force on \
+             one line of nodes; split it into lines of constant x (conditions or reaction probes)"
         ));
     }
-    Ok(lo)
+    Ok((column, lo))
 }
 
 /// Largest |M| over the records of `M_i = sum_c R_c,i (section_x - x_c)`, the moment about the

@@ -14,7 +14,9 @@ use impact_solver::material::microplane::driver::{ramp, uniaxial_controls, Mater
 use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneParameters};
 use impact_solver::material::{read_microplane_file, MaterialModel};
 use impact_solver::mesh::Mesh;
-use impact_solver::model::{Constraint, Model, Motion, Problem, TimeFunction};
+use impact_solver::model::{
+    Constraint, Model, Motion, Probe, ProbeQuantity, Problem, TimeFunction,
+};
 use impact_solver::{SolverError, Vector3};
 use nalgebra::{Matrix3, Rotation3};
 
@@ -347,6 +349,51 @@ fn a_rigid_rotation_of_a_damaged_element_rotates_its_stress() {
         assert!(
             (a - b).abs() <= 1e-5 * a.abs() + absolute(i),
             "history value {i}: {a:e} held, {b:e} rotated"
+        );
+    }
+}
+
+/// A `quantity: reaction` probe sums the reactions on its nodes: over a whole condition it is
+/// that condition's reaction, and probes of the parts of a condition add up to it (so a rigid
+/// plate can be probed line by line for the bending moment it applies).
+#[test]
+fn reaction_probes_add_up_to_the_reaction_of_their_condition() {
+    let mut p = pulled_cube(thesis_concrete());
+    let pulled = p
+        .constraints
+        .iter()
+        .find(|c| c.name == "pull")
+        .unwrap()
+        .nodes
+        .clone();
+    let (low, high): (Vec<u32>, Vec<u32>) = pulled
+        .iter()
+        .partition(|&&n| p.model.reference[n as usize].y < 0.5 * EDGE);
+    assert_eq!((low.len(), high.len()), (2, 2));
+    for (name, nodes) in [("whole", pulled), ("low", low), ("high", high)] {
+        p.probes.push(Probe {
+            name: name.into(),
+            nodes,
+            quantity: ProbeQuantity::Reaction,
+        });
+    }
+    let mut settings = ExplicitSettings::new(2.0e-5);
+    settings.history_interval = Some(0.0);
+    let mut solver = ExplicitSolver::new(&p, settings, OutputSettings::default()).unwrap();
+    let h = solver.run(&mut |_| {}).unwrap().history;
+    let reaction = h.column("pull_reaction_x").unwrap();
+    let whole = h.column("whole_x").unwrap();
+    let (low, high) = (h.column("low_x").unwrap(), h.column("high_x").unwrap());
+    let scale = reaction.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+    assert!(scale > 0.0, "the pull carries no force");
+    for i in 0..reaction.len() {
+        assert!(
+            (whole[i] - reaction[i]).abs() <= 1e-12 * scale,
+            "record {i}"
+        );
+        assert!(
+            (low[i] + high[i] - reaction[i]).abs() <= 1e-12 * scale,
+            "record {i}"
         );
     }
 }

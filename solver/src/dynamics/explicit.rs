@@ -774,15 +774,21 @@ impl<'p> ExplicitSolver<'p> {
             }
         }
         for p in &self.problem.probes {
-            let field = match p.quantity {
-                ProbeQuantity::Displacement => &self.u,
-                ProbeQuantity::Velocity => &self.v_full,
+            let (field, mean) = match p.quantity {
+                ProbeQuantity::Displacement => (&self.u, true),
+                ProbeQuantity::Velocity => (&self.v_full, true),
+                ProbeQuantity::Reaction => (&self.reaction, false),
             };
             let sum = p
                 .nodes
                 .iter()
                 .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
-            row.extend((sum / p.nodes.len().max(1) as f64).iter());
+            let count = if mean {
+                p.nodes.len().max(1) as f64
+            } else {
+                1.0
+            };
+            row.extend((sum / count).iter());
         }
         // Each constraint reports only the components it owns (a later constraint on the same
         // node component takes it over).

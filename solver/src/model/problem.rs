@@ -5,12 +5,16 @@ use serde::{Deserialize, Serialize};
 
 use super::{Constraint, Model, NodalLoad};
 
-/// What a probe records: the mean over its nodes, three components.
+/// What a probe records, three components: the mean over its nodes of a nodal field, or the
+/// sum of the reactions on them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ProbeQuantity {
     Displacement,
     Velocity,
+    /// The resultant of the boundary-condition reactions on the probe's nodes (N), a sum, not
+    /// a mean: the force one line of nodes of a rigid plate carries, for example.
+    Reaction,
 }
 
 /// A history of the mean displacement or velocity of a node set.
