@@ -263,7 +263,7 @@ pub struct MaterialMeasure {
     /// A cycle's name (`name#k` for its k-th repetition).
     #[serde(default)]
     pub cycle: Option<String>,
-    /// Cycles run with the deviatoric trace term (default: without).
+    /// Cycles run with the deviatoric trace term (true, the default) or without (false).
     #[serde(default)]
     pub deviatoric_trace_term: Option<bool>,
 }
@@ -316,7 +316,7 @@ impl Selector {
                 .is_none_or(|c| value.cycle.as_ref() == Some(c))
             && self
                 .deviatoric_trace_term
-                .is_none_or(|t| value.deviatoric_trace_term.unwrap_or(false) == t)
+                .is_none_or(|t| value.deviatoric_trace_term.unwrap_or(true) == t)
     }
 
     /// A short label, e.g. `h = 25 mm`, `rate 1e-3 /s`; empty when nothing is set.
@@ -335,8 +335,9 @@ impl Selector {
             parts.push(format!("cycle {c}"));
         }
         match self.deviatoric_trace_term {
+            // (The model's default is on since issue 16; off is the thesis' homogenisation.)
             Some(true) => parts.push("with trace term".into()),
-            Some(false) => parts.push("default (no trace term)".into()),
+            Some(false) => parts.push("thesis default (no trace term)".into()),
             None => {}
         }
         parts.join(", ")

@@ -970,7 +970,7 @@ fn cyclic(
     out: &mut Outcome,
 ) -> Result<(), String> {
     out.setup.push(
-        "each cycle runs with the deviatoric trace term off (the default, judged) and on \
+        "each cycle runs with the deviatoric trace term on (the default, judged) and off \
          (reported), whatever the parameter file says"
             .into(),
     );
@@ -1015,7 +1015,11 @@ fn cyclic(
             let reps: Vec<(f64, f64)> = (0..cycle.repeat)
                 .map(|j| work(&curve.points[(j * per).min(last)..=((j + 1) * per).min(last)]))
                 .collect();
-            let setting = if trace { "trace term" } else { "default" };
+            let setting = if trace {
+                "trace term (default)"
+            } else {
+                "no trace term"
+            };
             for (j, (w, _)) in reps.iter().enumerate() {
                 out.values.push(value(
                     Quantity::CycleDissipation,
@@ -1107,10 +1111,7 @@ fn unloading(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(MicroplaneParameters {
-        deviatoric_trace_term: false,
-        ..*params
-    })?;
+    let model = MicroplaneConcrete::new(*params)?;
     let (monotonic, r) =
         uniaxial_tension(&model, h, QUASI_STATIC_RATE).map_err(|e| e.to_string())?;
     let unload_at = mp.unload_at.unwrap_or(2.5 * r.peak_strain);

@@ -488,7 +488,7 @@ pub fn starting_guess() -> MicroplaneParameters {
         h_ref: 0.3,
         rate_effect: Some(super::RateEffect::default()),
         rule: super::SphereRule::BazantOh21,
-        deviatoric_trace_term: false,
+        deviatoric_trace_term: true,
         shear_cyclic_damage: true,
     }
 }

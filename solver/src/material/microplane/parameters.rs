@@ -52,8 +52,10 @@ pub struct MicroplaneParameters {
     #[serde(default)]
     pub rule: SphereRule,
     /// Homogenise the deviatoric stress with `n n - delta/3` (Carol & Bažant 1997) instead of the
-    /// thesis' `n n` (5.36).
-    #[serde(default)]
+    /// thesis' `n n` (5.36). On by default (MICROPLANE.md "Homogenisation"): without it the
+    /// deviatoric stresses feed the mean stress and a closed shear-normal strain cycle gives
+    /// energy back.
+    #[serde(default = "yes")]
     pub deviatoric_trace_term: bool,
     /// The cyclic shear damage of Eligehausen, Popov & Bertero (5.104).
     #[serde(default = "yes")]
