@@ -486,6 +486,7 @@ pub fn starting_guess() -> MicroplaneParameters {
         alpha: 0.5,
         beta: 0.5,
         h_ref: 0.3,
+        hordijk_tail: 0.0,
         rate_effect: Some(super::RateEffect::default()),
         rule: super::SphereRule::BazantOh21,
         deviatoric_trace_term: true,

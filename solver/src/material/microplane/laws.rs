@@ -27,10 +27,30 @@ pub fn power(x: f64, m: f64) -> f64 {
     }
 }
 
-/// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data.
+/// Hordijk's (1991) normalised softening curve `H(y) = (1 + (c1 y)^3) exp(-c2 y) - y (1 + c1^3)
+/// exp(-c2)`, `c1 = 3`, `c2 = 6.93`, for `y = w / w_c` in [0, 1]: 1 at 0, 0 at 1 and beyond. Its
+/// area `int_0^1 H dy` is about `1 / 5.14` (`w_c = 5.14 GF / ft`).
+#[inline(always)]
+pub fn hordijk(y: f64) -> f64 {
+    const C1: f64 = 3.0;
+    const C2: f64 = 6.93;
+    if y >= 1.0 {
+        return 0.0;
+    }
+    let y = y.max(0.0);
+    let c = C1 * y;
+    ((1.0 + c * c * c) * (-C2 * y).exp() - y * (1.0 + C1 * C1 * C1) * (-C2).exp()).max(0.0)
+}
+
+/// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
+/// optionally with Hordijk's (1991) softening curve after the peak instead (see
+/// [`ExponentialLaw::with_hordijk_tail`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExponentialLaw {
     pub exponent: f64,
+    /// Length of the Hordijk tail in units of the strain scale (`x` from the peak to zero stress
+    /// at the reference size), or 0 for the exponential law all the way.
+    pub tail: f64,
     /// Peak of `g`: `x_p = m^(-1/m)`, `g_p = x_p exp(-1/m)`.
     pub x_peak: f64,
     pub g_peak: f64,
@@ -60,11 +80,30 @@ impl ExponentialLaw {
         let area_after_peak = simpson(x_peak, tail);
         Self {
             exponent,
+            tail: 0.0,
             x_peak,
             g_peak,
             area_before_peak,
             area_after_peak,
         }
+    }
+
+    /// The law `x exp(-x^m)` up to its peak, then Hordijk's curve `g_p H((x - x_p) / tail)` down
+    /// to zero at `tail` strain scales past the peak (at the reference size; the crack band
+    /// shortens it in larger elements). `tail <= 0` gives [`ExponentialLaw::new`].
+    pub fn with_hordijk_tail(exponent: f64, tail: f64) -> Self {
+        let mut law = Self::new(exponent);
+        if tail > 0.0 {
+            let n = 20_000;
+            let dy = 1.0 / n as f64;
+            let mut area = hordijk(0.0) + hordijk(1.0);
+            for i in 1..n {
+                area += if i % 2 == 1 { 4.0 } else { 2.0 } * hordijk(i as f64 * dy);
+            }
+            law.tail = tail;
+            law.area_after_peak = law.g_peak * tail * area * dy / 3.0;
+        }
+        law
     }
 
     /// Stress of the law at strain `e >= 0` with strain scale `scale`, modulus `c0` and crack-band
@@ -79,6 +118,9 @@ impl ExponentialLaw {
     pub fn stress(&self, e: f64, scale: f64, c0: f64, band: f64) -> f64 {
         let mut x = e / scale;
         if x > self.x_peak {
+            if self.tail > 0.0 {
+                return c0 * scale * self.g_peak * hordijk(band * (x - self.x_peak) / self.tail);
+            }
             x = self.x_peak + band * (x - self.x_peak);
         }
         c0 * scale * shape(x, self.exponent)
@@ -118,9 +160,54 @@ pub fn volumetric_compression(e_v: f64, e_v0: f64, a: f64, b: f64, p: f64, q: f6
     e_v0 * e_v * ((1.0 + x / a).powf(-p) + power(x / b, q))
 }
 
+/// Tangent `d s_V / d e_V` of [`volumetric_compression`] at `|e_V| = x`:
+/// `E_V0 [(1 + x/a)^-p (1 - p x / (a + x)) + (q + 1) (x/b)^q]`.
+#[inline(always)]
+pub fn volumetric_compression_tangent(x: f64, e_v0: f64, a: f64, b: f64, p: f64, q: f64) -> f64 {
+    let x = x.abs();
+    e_v0 * ((1.0 + x / a).powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * power(x / b, q))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hordijk_curve_and_tail_area() {
+        assert!((hordijk(0.0) - 1.0).abs() < 1e-15);
+        assert!(hordijk(1.0).abs() < 1e-12 && hordijk(2.0) == 0.0);
+        // w_c = 5.14 GF / ft: the area of H is 1 / 5.14 to the rounding of Hordijk's constants.
+        let law = ExponentialLaw::with_hordijk_tail(4.0, 10.0);
+        let area = law.area_after_peak / (law.g_peak * 10.0);
+        assert!((area * 5.14 - 1.0).abs() < 2e-3, "area {area}");
+        // The crack band keeps h * energy with the tail as well.
+        let h_ref = 0.3;
+        for h in [0.025, 0.05, 0.1] {
+            let band = law.band_factor(h, h_ref).unwrap();
+            let energy = |band: f64| {
+                let n = 400_000;
+                let dx = 20.0 / n as f64;
+                (0..n)
+                    .map(|i| law.stress((i as f64 + 0.5) * dx, 1.0, 1.0, band) * dx)
+                    .sum::<f64>()
+            };
+            let ratio = h * energy(band) / (h_ref * energy(1.0));
+            assert!((ratio - 1.0).abs() < 1e-4, "h = {h}: ratio {ratio}");
+        }
+    }
+
+    #[test]
+    fn volumetric_tangent_is_the_derivative_of_the_law() {
+        let (e_v0, a, b, p, q) = (4.6875e10, 5e-3, 0.04, 0.25, 2.0);
+        for x in [1e-5, 1e-3, 5e-3, 0.02, 0.05] {
+            let d = 1e-7 * x;
+            let fd = (volumetric_compression(-(x + d), e_v0, a, b, p, q)
+                - volumetric_compression(-(x - d), e_v0, a, b, p, q))
+                / (-2.0 * d);
+            let t = volumetric_compression_tangent(x, e_v0, a, b, p, q);
+            assert!((t / fd - 1.0).abs() < 1e-6, "x = {x}: {t} against {fd}");
+        }
+    }
 
     #[test]
     fn exponential_law_constants_match_closed_forms() {
