@@ -184,9 +184,10 @@ mod tests {
         let h_ref = 0.3;
         for h in [0.025, 0.05, 0.1] {
             let band = law.band_factor(h, h_ref).unwrap();
+            // The tail ends at x_p + tail / band: integrate a little beyond.
             let energy = |band: f64| {
-                let n = 400_000;
-                let dx = 20.0 / n as f64;
+                let n = 2_000_000;
+                let dx = (law.x_peak + law.tail / band + 1.0) / n as f64;
                 (0..n)
                     .map(|i| law.stress((i as f64 + 0.5) * dx, 1.0, 1.0, band) * dx)
                     .sum::<f64>()
