@@ -42,14 +42,28 @@ pub fn hordijk(y: f64) -> f64 {
     ((1.0 + c * c * c) * (-C2 * y).exp() - y * (1.0 + C1 * C1 * C1) * (-C2).exp()).max(0.0)
 }
 
+/// `dH/dy` of [`hordijk`] on [0, 1).
+#[inline(always)]
+fn hordijk_slope(y: f64) -> f64 {
+    const C1: f64 = 3.0;
+    const C2: f64 = 6.93;
+    let c = C1 * y;
+    let e = (-C2 * y).exp();
+    3.0 * C1 * c * c * e - C2 * (1.0 + c * c * c) * e - (1.0 + C1 * C1 * C1) * (-C2).exp()
+}
+
+/// Largest `|dH/dy|` (at `y = 0`): `c2 + (1 + c1^3) exp(-c2)`.
+const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
+
 /// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
 /// optionally with Hordijk's (1991) softening curve after the peak instead (see
 /// [`ExponentialLaw::with_hordijk_tail`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExponentialLaw {
     pub exponent: f64,
-    /// Length of the Hordijk tail in units of the strain scale (`x` from the peak to zero stress
-    /// at the reference size), or 0 for the exponential law all the way.
+    /// Length of the Hordijk tail in units of the strain scale: the growth of the inelastic
+    /// strain `x - s` (`s` in units of `C0 e_s`) from the peak to zero stress at the reference
+    /// size; 0 for the exponential law all the way.
     pub tail: f64,
     /// Peak of `g`: `x_p = m^(-1/m)`, `g_p = x_p exp(-1/m)`.
     pub x_peak: f64,
@@ -88,9 +102,12 @@ impl ExponentialLaw {
         }
     }
 
-    /// The law `x exp(-x^m)` up to its peak, then Hordijk's curve `g_p H((x - x_p) / tail)` down
-    /// to zero at `tail` strain scales past the peak (at the reference size; the crack band
-    /// shortens it in larger elements). `tail <= 0` gives [`ExponentialLaw::new`].
+    /// The law `x exp(-x^m)` up to its peak, then Hordijk's curve `s = g_p H((u - u_p) / tail)`
+    /// in the inelastic strain `u = x - s` (the crack opening over the band, as Hordijk's `w` is
+    /// the opening beyond the elastic deformation), down to zero `tail` strain scales of inelastic
+    /// strain past the peak at the reference size (the crack band shortens it in larger
+    /// elements). `area_after_peak` is then `int s du = g_p tail int_0^1 H`. `tail <= 0` gives
+    /// [`ExponentialLaw::new`].
     pub fn with_hordijk_tail(exponent: f64, tail: f64) -> Self {
         let mut law = Self::new(exponent);
         if tail > 0.0 {
@@ -119,11 +136,63 @@ impl ExponentialLaw {
         let mut x = e / scale;
         if x > self.x_peak {
             if self.tail > 0.0 {
-                return c0 * scale * self.g_peak * hordijk(band * (x - self.x_peak) / self.tail);
+                return c0 * scale * self.tail_stress(x, band);
             }
             x = self.x_peak + band * (x - self.x_peak);
         }
         c0 * scale * shape(x, self.exponent)
+    }
+
+    /// The Hordijk tail at `x > x_p` in units of the law: solves `x = u + g_p H(k (u - u_p))`,
+    /// `k = band / tail`, `u_p = x_p - g_p`, for the inelastic strain `u` (Newton from the
+    /// explicit guess; `x(u)` rises monotonically when [`ExponentialLaw::band_factor`] admits the
+    /// size) and returns `s = x - u`.
+    #[inline(always)]
+    fn tail_stress(&self, x: f64, band: f64) -> f64 {
+        let (g_p, k) = (self.g_peak, band / self.tail);
+        let u_p = self.x_peak - g_p;
+        // The stress is at most g_p, so u lies in [x - g_p, x].
+        let (mut lo, mut hi) = (x - g_p, x);
+        if k * (lo - u_p) >= 1.0 {
+            return 0.0;
+        }
+        let mut u = (x - g_p * hordijk(k * (x - self.x_peak))).clamp(lo, hi);
+        for _ in 0..30 {
+            let y = k * (u - u_p);
+            let (h, dh) = if y >= 1.0 {
+                (0.0, 0.0)
+            } else {
+                (hordijk(y), hordijk_slope(y))
+            };
+            let f = u + g_p * h - x;
+            if f > 0.0 {
+                hi = u;
+            } else {
+                lo = u;
+            }
+            if f.abs() <= 1e-14 * x.max(1.0) {
+                break;
+            }
+            let d = 1.0 + g_p * k * dh;
+            let next = u - f / d;
+            u = if d > 0.0 && next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
+        }
+        (x - u).clamp(0.0, g_p)
+    }
+
+    /// Area before the peak that the crack band counts: all of it for the exponential law; for
+    /// the Hordijk tail, in the inelastic strain, the pre-peak area less the elastic triangle
+    /// `g_p^2 / 2` that unloading from the peak gives back (`int s dx = int s du + s^2 / 2`).
+    fn band_area_before_peak(&self) -> f64 {
+        if self.tail > 0.0 {
+            self.area_before_peak - 0.5 * self.g_peak * self.g_peak
+        } else {
+            self.area_before_peak
+        }
     }
 
     /// Strain and stress at the peak for a strain scale and modulus.
@@ -136,19 +205,31 @@ impl ExponentialLaw {
     /// law per unit crack area is the same for every size. `None` when no factor can achieve it or
     /// the scaled law would snap back (a softening slope steeper than the initial modulus).
     pub fn band_factor(&self, h: f64, h_ref: f64) -> Option<f64> {
-        let (pre, post) = (self.area_before_peak, self.area_after_peak);
+        let (pre, post) = (self.band_area_before_peak(), self.area_after_peak);
         let denominator = h_ref / h * (pre + post) - pre;
         if !(denominator > 0.0) {
             return None;
         }
-        Some(post / denominator)
+        let band = post / denominator;
+        // The Hordijk tail snaps back where its steepest slope in x, g_p |H'| k / (1 - g_p |H'| k),
+        // turns infinite.
+        if self.tail > 0.0 && self.g_peak * HORDIJK_STEEPEST * band / self.tail >= 1.0 {
+            return None;
+        }
+        Some(band)
     }
 
     /// The largest element size for which [`ExponentialLaw::band_factor`] exists:
     /// `h_ref (A_pre + A_post) / A_pre`.
     pub fn largest_element(&self, h_ref: f64) -> f64 {
-        let (pre, post) = (self.area_before_peak, self.area_after_peak);
-        h_ref * (pre + post) / pre
+        let (pre, post) = (self.band_area_before_peak(), self.area_after_peak);
+        let mut largest = h_ref * (pre + post) / pre;
+        if self.tail > 0.0 {
+            // band < tail / (g_p |H'|max): h_ref / h (pre + post) - pre > post g_p |H'| / tail.
+            let band_max = self.tail / (self.g_peak * HORDIJK_STEEPEST);
+            largest = largest.min(h_ref * (pre + post) / (pre + post / band_max));
+        }
+        largest
     }
 }
 
@@ -180,6 +261,13 @@ mod tests {
         let law = ExponentialLaw::with_hordijk_tail(4.0, 10.0);
         let area = law.area_after_peak / (law.g_peak * 10.0);
         assert!((area * 5.14 - 1.0).abs() < 2e-3, "area {area}");
+        // The tail is Hordijk's curve in the inelastic strain x - s.
+        let (g_p, u_p) = (law.g_peak, law.x_peak - law.g_peak);
+        for y in [0.05, 0.2, 0.5, 0.9] {
+            let u = u_p + y * 10.0;
+            let s = g_p * hordijk(y);
+            assert!((law.stress(u + s, 1.0, 1.0, 1.0) - s).abs() < 1e-12, "y = {y}");
+        }
         // The crack band keeps h * energy with the tail as well.
         let h_ref = 0.3;
         for h in [0.025, 0.05, 0.1] {
