@@ -179,6 +179,9 @@ impl Experiment {
                 InitialBulkModulus,
                 ResidualVolumetricStrain,
                 CycleDissipation,
+                ReturnedWorkFraction,
+                ReturnedWorkFractionClosedForm,
+                ReturnedWorkFractionError,
             ],
             Experiment::Cyclic => &[
                 SmallestDissipation,
@@ -196,6 +199,8 @@ impl Experiment {
                 PeakStrain,
                 FinalStressRatio,
                 PostPeakRise,
+                SofteningStressRatioAtW1,
+                SofteningEndOpening,
             ],
             Experiment::RateEffect => &[
                 RateScalingError,
@@ -241,6 +246,8 @@ pub enum ReferenceCurve {
     Mc2010Compression { f_cm: f64, e_ci: f64, eps_c1: f64 },
     /// fib MC2010 bilinear softening in tension (`f_t` in MPa, `g_f` in N/mm).
     Mc2010Softening { f_t: f64, g_f: f64 },
+    /// Hordijk's (1991) softening curve, `w_c = 5.14 GF / ft` (`f_t` in MPa, `g_f` in N/mm).
+    Hordijk1991Softening { f_t: f64, g_f: f64 },
     /// CEB-FIP MC1990 dynamic increase factors for `f_cm` (MPa).
     CebFip1990Dif { f_cm: f64 },
 }
@@ -263,7 +270,7 @@ pub struct MaterialMeasure {
     /// A cycle's name (`name#k` for its k-th repetition).
     #[serde(default)]
     pub cycle: Option<String>,
-    /// Cycles run with the deviatoric trace term (default: without).
+    /// Cycles run with the deviatoric trace term (true, the default) or without (false).
     #[serde(default)]
     pub deviatoric_trace_term: Option<bool>,
 }
@@ -316,7 +323,7 @@ impl Selector {
                 .is_none_or(|c| value.cycle.as_ref() == Some(c))
             && self
                 .deviatoric_trace_term
-                .is_none_or(|t| value.deviatoric_trace_term.unwrap_or(false) == t)
+                .is_none_or(|t| value.deviatoric_trace_term.unwrap_or(true) == t)
     }
 
     /// A short label, e.g. `h = 25 mm`, `rate 1e-3 /s`; empty when nothing is set.
@@ -335,8 +342,9 @@ impl Selector {
             parts.push(format!("cycle {c}"));
         }
         match self.deviatoric_trace_term {
+            // (The model's default is on since issue 16; off is the thesis' homogenisation.)
             Some(true) => parts.push("with trace term".into()),
-            Some(false) => parts.push("default (no trace term)".into()),
+            Some(false) => parts.push("thesis default (no trace term)".into()),
             None => {}
         }
         parts.join(", ")
@@ -402,6 +410,19 @@ pub enum Quantity {
     /// Volumetric strain where the pressure first returns to zero on unloading (magnitude;
     /// zero if it does only at zero strain).
     ResidualVolumetricStrain,
+    /// Hydrostatic load-unload cycle: work given back on unloading over the work of loading
+    /// (trapezoidal rule along the model's path).
+    ReturnedWorkFraction,
+    /// The same computed here in closed form from the volumetric law (5.21) and its unloading
+    /// rule (slope max(E_V0, tangent) at the turning point), independently of the solver.
+    ReturnedWorkFractionClosedForm,
+    /// `|model / closed form - 1|`.
+    ReturnedWorkFractionError,
+    /// Softening against the crack opening `w = h (eps - sigma/E)`: stress over the peak where
+    /// the opening reaches `w1 = GF / ft` of the case's softening reference curve.
+    SofteningStressRatioAtW1,
+    /// Opening where the stress has fallen to 1 % of the peak (mm): the end `w_c` of the law.
+    SofteningEndOpening,
     /// Smallest work `oint sigma : d eps` over the repetitions of a closed cycle (J/m^3).
     SmallestDissipation,
     /// The same over `oint |sigma : d eps|` of the cycle.
@@ -456,6 +477,7 @@ impl Quantity {
             | TensionPeakStress
             | CompressionPeakStress => "MPa",
             FractureEnergy => "N/mm",
+            SofteningEndOpening => "mm",
             SmallestDissipation | CycleDissipation => "J/m^3",
             _ => "-",
         }

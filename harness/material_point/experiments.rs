@@ -5,7 +5,8 @@
 use impact_solver::material::microplane::driver::{MaterialPoint, PathPoint};
 use impact_solver::material::microplane::experiments::{
     closed_strain_cycle, equal_biaxial_compression, hydrostatic_compression, isotropy_error,
-    rate_scaling, uniaxial_compression, uniaxial_tension, Curve, QUASI_STATIC_RATE,
+    rate_scaling, softening_shape, uniaxial_compression, uniaxial_tension, Curve,
+    QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters, SphereRule};
 use impact_solver::rng::SplitMix64;
@@ -449,6 +450,13 @@ fn crack_band(
         "crack opening w = h (eps - sigma/E) [mm]",
         "stress [MPa]",
     );
+    // w1 = GF / ft of the case's softening reference (mm), where MC2010 and Hordijk are compared.
+    let reference = mp.reference_curves.iter().find_map(|c| match *c {
+        ReferenceCurve::Mc2010Softening { f_t, g_f }
+        | ReferenceCurve::Hordijk1991Softening { f_t, g_f } => Some((f_t, g_f)),
+        _ => None,
+    });
+    let mut shape_rows = Vec::new();
     let mut energies = Vec::new();
     let mut rows = Vec::new();
     for &h in &mp.element_sizes {
@@ -478,6 +486,23 @@ fn crack_band(
             format!("{:.1e}", get(Quantity::FinalStressRatio)),
         ]);
         out.values.extend(values);
+        if let Some((f_t, g_f)) = reference {
+            let w1 = g_f / f_t;
+            let shape = softening_shape(&curve, h, e, w1 * 1e-3);
+            out.values.extend([
+                value(Quantity::SofteningStressRatioAtW1, &at, shape.stress_ratio_at_w1),
+                value(
+                    Quantity::SofteningEndOpening,
+                    &at,
+                    shape.opening_at_one_percent * 1e3,
+                ),
+            ]);
+            shape_rows.push(vec![
+                num(h * 1e3),
+                format!("{:.4}", shape.stress_ratio_at_w1),
+                format!("{:.4}", shape.opening_at_one_percent * 1e3),
+            ]);
+        }
         let name = format!("h = {} mm", num(h * 1e3));
         // The tail below 1 % of the peak would squeeze the curves into the left edge.
         let top = curve.peak().stress[0];
@@ -511,6 +536,43 @@ fn crack_band(
                 |w| mc2010_bilinear_softening(w, f_t, g_f),
             ));
         }
+        if let ReferenceCurve::Hordijk1991Softening { f_t, g_f } = *c {
+            opening_plot = opening_plot.reference_curve(sampled(
+                format!("Hordijk 1991 (ft {f_t} MPa, GF {g_f} N/mm)"),
+                0.0,
+                5.5 * g_f / f_t,
+                200,
+                false,
+                |w| f_t * hordijk_softening(w / (5.14 * g_f / f_t)),
+            ));
+        }
+    }
+    if let Some((f_t, g_f)) = reference {
+        let w1 = g_f / f_t;
+        out.tables.push(RecordTable {
+            title: "Crack band: softening shape against MC2010 and Hordijk".into(),
+            head: vec![
+                "h [mm]".into(),
+                format!("sigma / ft at w1 = GF/ft = {w1:.4} mm"),
+                "w at 1 % of ft [mm]".into(),
+            ],
+            rows: {
+                shape_rows.push(vec![
+                    "MC2010 bilinear".into(),
+                    "0.2000".into(),
+                    format!("{:.4}", 5.0 * w1),
+                ]);
+                shape_rows.push(vec![
+                    "Hordijk 1991".into(),
+                    format!("{:.4}", hordijk_softening(1.0 / 5.14)),
+                    format!("{:.4} (zero at 5.14 GF/ft)", 5.14 * w1),
+                ]);
+                shape_rows
+            },
+            note: "Crack opening w = h (eps - sigma/E) after the peak; sigma / ft with the model's \
+                   own peak as ft."
+                .into(),
+        });
     }
     let mut energy_plot = MaterialPlot::new(
         "Crack band: h int sigma d eps per element size",
@@ -805,6 +867,37 @@ fn biaxial(
 
 /// Hydrostatic compression and unloading: damage, and compaction then stiffening of the
 /// secant bulk modulus.
+/// Hordijk's (1991) softening curve `sigma / ft` at `y = w / w_c`, `w_c = 5.14 GF / ft`:
+/// `(1 + (3 y)^3) exp(-6.93 y) - 28 y exp(-6.93)` on [0, 1], zero beyond (written out here,
+/// independently of the solver's tail).
+fn hordijk_softening(y: f64) -> f64 {
+    if !(0.0..1.0).contains(&y) {
+        return if y < 0.0 { 1.0 } else { 0.0 };
+    }
+    ((1.0 + 27.0 * y * y * y) * (-6.93 * y).exp() - 28.0 * y * (-6.93f64).exp()).max(0.0)
+}
+
+/// The fraction of the work of hydrostatic loading to a volumetric strain `e_V = -end` that
+/// unloading gives back, in closed form from the volumetric compression law (5.21)
+/// `s_V = E_V0 x [(1 + x/a)^-p + (x/b)^q]` (x = -e_V) and its unloading rule: a straight line of
+/// slope `C = max(E_V0, ds_V/dx)` from the turning point `X` down to zero stress (M4/M7). Loading
+/// work `int_0^X s_V dx = E_V0 [a^2 ((u^(2-p) - 1)/(2-p) - (u^(1-p) - 1)/(1-p)) + X^(q+2) /
+/// ((q+2) b^q)]` with `u = 1 + X/a` (p not 1 or 2); returned `s_V(X)^2 / (2 C)`. The factor 3 of
+/// `sigma : d eps = 3 s_V d e_V` cancels.
+fn hydrostatic_returned_fraction(params: &MicroplaneParameters, end: f64) -> f64 {
+    let (a, b, p, q) = (params.a, params.b, params.p, params.q);
+    let e_v0 = params.youngs_modulus / (1.0 - 2.0 * params.poisson_ratio);
+    let x = end;
+    let u = 1.0 + x / a;
+    let loading = e_v0
+        * (a * a * ((u.powf(2.0 - p) - 1.0) / (2.0 - p) - (u.powf(1.0 - p) - 1.0) / (1.0 - p))
+            + x.powf(q + 2.0) / ((q + 2.0) * b.powf(q)));
+    let stress = e_v0 * x * (u.powf(-p) + (x / b).powf(q));
+    let tangent = e_v0 * (u.powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * (x / b).powf(q));
+    let slope = e_v0.max(tangent);
+    stress * stress / (2.0 * slope) / loading
+}
+
 fn hydrostatic(
     mp: &MaterialPointSpec,
     params: &MicroplaneParameters,
@@ -849,10 +942,14 @@ fn hydrostatic(
     let at = Selector::default();
     let hooke_k = params.youngs_modulus / (3.0 * (1.0 - 2.0 * params.poisson_ratio));
     let (cycle_work, cycle_abs) = work(&curve.points);
+    let loading_work = work(&curve.points[..=turn]).0;
+    let returned = -work(&curve.points[turn..]).0;
+    let fraction = returned / loading_work;
+    let closed_form = hydrostatic_returned_fraction(params, end);
     if cycle_work < -1e-6 * cycle_abs {
         out.notes.push(format!(
             "the load-unload cycle gives back {} J/m^3 more than it took ({} % of its work): \
-             unloading runs above the loading curve where the secant modulus exceeds E_V0",
+             unloading runs above the loading curve",
             num(-cycle_work),
             num(-100.0 * cycle_work / (0.5 * cycle_abs))
         ));
@@ -869,6 +966,13 @@ fn hydrostatic(
         value(Quantity::InitialBulkModulus, &at, k0 / MPA),
         value(Quantity::ResidualVolumetricStrain, &at, residual),
         value(Quantity::CycleDissipation, &at, cycle_work),
+        value(Quantity::ReturnedWorkFraction, &at, fraction),
+        value(Quantity::ReturnedWorkFractionClosedForm, &at, closed_form),
+        value(
+            Quantity::ReturnedWorkFractionError,
+            &at,
+            (fraction / closed_form - 1.0).abs(),
+        ),
     ]);
     out.tables.push(RecordTable {
         title: "Hydrostatic compression".into(),
@@ -899,6 +1003,14 @@ fn hydrostatic(
             vec![
                 "volumetric strain where the pressure returns to zero on unloading".into(),
                 format!("{residual:.3e}"),
+            ],
+            vec![
+                "work given back on unloading / work of loading".into(),
+                format!(
+                    "{} (closed form from the law: {})",
+                    num(fraction),
+                    num(closed_form)
+                ),
             ],
             vec![
                 "work over the load-unload cycle, oint sigma : d eps [J/m^3]".into(),
@@ -970,7 +1082,7 @@ fn cyclic(
     out: &mut Outcome,
 ) -> Result<(), String> {
     out.setup.push(
-        "each cycle runs with the deviatoric trace term off (the default, judged) and on \
+        "each cycle runs with the deviatoric trace term on (the default, judged) and off \
          (reported), whatever the parameter file says"
             .into(),
     );
@@ -1015,7 +1127,11 @@ fn cyclic(
             let reps: Vec<(f64, f64)> = (0..cycle.repeat)
                 .map(|j| work(&curve.points[(j * per).min(last)..=((j + 1) * per).min(last)]))
                 .collect();
-            let setting = if trace { "trace term" } else { "default" };
+            let setting = if trace {
+                "trace term (default)"
+            } else {
+                "no trace term"
+            };
             for (j, (w, _)) in reps.iter().enumerate() {
                 out.values.push(value(
                     Quantity::CycleDissipation,
@@ -1107,10 +1223,7 @@ fn unloading(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(MicroplaneParameters {
-        deviatoric_trace_term: false,
-        ..*params
-    })?;
+    let model = MicroplaneConcrete::new(*params)?;
     let (monotonic, r) =
         uniaxial_tension(&model, h, QUASI_STATIC_RATE).map_err(|e| e.to_string())?;
     let unload_at = mp.unload_at.unwrap_or(2.5 * r.peak_strain);

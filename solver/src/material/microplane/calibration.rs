@@ -14,7 +14,7 @@
 
 use super::experiments::{
     equal_biaxial_compression, hydrostatic_compression, uniaxial_compression, uniaxial_tension,
-    CompressionResult, TensionResult, QUASI_STATIC_RATE,
+    softening_shape, CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
 };
 use super::{MicroplaneConcrete, MicroplaneParameters};
 use serde::{Deserialize, Serialize};
@@ -41,6 +41,15 @@ pub struct Targets {
     pub biaxial_ratio: [f64; 2],
     /// Element size of the single-element tests of strength (m).
     pub element_size: f64,
+    /// Softening shape (issue 16): `sigma / ft` at the opening `w1 = GF / ft`, `[low, high]`:
+    /// from the fib MC2010 bilinear law (0.20) to Hordijk's (1991) curve (0.306) and a little
+    /// above.
+    #[serde(default)]
+    pub softening_at_w1: [f64; 2],
+    /// Opening where the stress has fallen to 1 % of `ft` (m), `[low, high]`: MC2010's
+    /// `w_c = 5 GF / ft` (0.185 mm) and Hordijk's `5.14 GF / ft` (0.190 mm), within 15 %.
+    #[serde(default)]
+    pub softening_end: [f64; 2],
 }
 
 impl Targets {
@@ -59,6 +68,8 @@ impl Targets {
             fc_strain: [2.0e-3, 2.6e-3],
             biaxial_ratio: [1.1, 1.25],
             element_size: 0.05,
+            softening_at_w1: [0.20, 0.31],
+            softening_end: [0.85 * 5.0 * 100.0 / 2.7e6, 1.15 * 5.14 * 100.0 / 2.7e6],
         }
     }
 }
@@ -72,6 +83,8 @@ pub struct Evaluation {
     pub compression: CompressionResult,
     pub biaxial_peak: f64,
     pub hydrostatic_damage: bool,
+    /// The softening branch at the element size of the strength tests, against `w1 = GF / ft`.
+    pub softening: SofteningShape,
 }
 
 /// One target's outcome.
@@ -98,7 +111,8 @@ impl Evaluation {
         let model = MicroplaneConcrete::new(*parameters)?;
         let h = targets.element_size;
         let rate = QUASI_STATIC_RATE;
-        let (_, tension) = uniaxial_tension(&model, h, rate).map_err(|e| e.to_string())?;
+        let (curve, tension) = uniaxial_tension(&model, h, rate).map_err(|e| e.to_string())?;
+        let softening = softening_shape(&curve, h, parameters.youngs_modulus, targets.gf / targets.ft);
         let mut fracture_energy = [0.0; 3];
         for (g, &size) in fracture_energy.iter_mut().zip(&targets.gf_sizes) {
             *g = if size == h {
@@ -126,18 +140,28 @@ impl Evaluation {
             compression,
             biaxial_peak,
             hydrostatic_damage,
+            softening,
         })
     }
 
-    /// Squared band misfits of the tensile peak and its strain.
+    /// Squared band misfits of the tensile peak and its strain, and of the softening shape
+    /// (`sigma / ft` at `w1`, the opening at 1 % of `ft`) when the targets give its bands.
     fn tension_cost(&self, t: &Targets) -> f64 {
-        misfit(
+        let mut cost = misfit(
             self.tension.peak_stress,
             t.ft * (1.0 - t.ft_tolerance),
             t.ft * (1.0 + t.ft_tolerance),
         )
         .powi(2)
-            + misfit(self.tension.peak_strain, t.ft_strain[0], t.ft_strain[1]).powi(2)
+            + misfit(self.tension.peak_strain, t.ft_strain[0], t.ft_strain[1]).powi(2);
+        if t.softening_at_w1[1] > t.softening_at_w1[0] {
+            let sh = &self.softening;
+            cost += misfit(sh.stress_ratio_at_w1, t.softening_at_w1[0], t.softening_at_w1[1])
+                .powi(2)
+                + misfit(sh.opening_at_one_percent, t.softening_end[0], t.softening_end[1])
+                    .powi(2);
+        }
+        cost
     }
 
     /// Squared band misfits of compression, dilatancy and biaxial strength.
@@ -188,6 +212,37 @@ impl Evaluation {
                 met: (g / t.gf - 1.0).abs() <= t.gf_tolerance,
             });
         }
+        let sh = &self.softening;
+        out.extend([
+            Outcome {
+                name: format!(
+                    "sigma / ft at the crack opening w1 = GF / ft = {:.4} mm (h = {} mm)",
+                    t.gf / t.ft * 1e3,
+                    t.element_size * 1e3
+                ),
+                target: format!(
+                    "{} to {} (MC2010 0.20, Hordijk 1991 0.306)",
+                    t.softening_at_w1[0], t.softening_at_w1[1]
+                ),
+                achieved: sh.stress_ratio_at_w1,
+                unit: "-".into(),
+                met: within(sh.stress_ratio_at_w1, t.softening_at_w1[0], t.softening_at_w1[1]),
+            },
+            Outcome {
+                name: format!(
+                    "crack opening where the stress falls to 1 % of the peak (h = {} mm)",
+                    t.element_size * 1e3
+                ),
+                target: format!(
+                    "{:.3} to {:.3} mm (MC2010 5 GF/ft, Hordijk 5.14 GF/ft, +- 15 %)",
+                    t.softening_end[0] * 1e3,
+                    t.softening_end[1] * 1e3
+                ),
+                achieved: sh.opening_at_one_percent * 1e3,
+                unit: "mm".into(),
+                met: within(sh.opening_at_one_percent, t.softening_end[0], t.softening_end[1]),
+            },
+        ]);
         let c = &self.compression;
         out.extend([
             Outcome {
@@ -347,12 +402,15 @@ impl Free {
 /// Progress of a calibration: a line per stage.
 pub type Log<'a> = &'a mut dyn FnMut(&str);
 
+/// Minimises `cost` over the `free` parameters; with `refit`, the fracture energy is fitted
+/// (`fit_reference_size`) at every evaluation, so that shapes are compared at the target `GF`.
 fn optimise(
     start: &MicroplaneParameters,
     free: &[Free],
     evaluations: usize,
     cost: &dyn Fn(&Evaluation) -> f64,
     targets: &Targets,
+    refit: bool,
 ) -> MicroplaneParameters {
     let x0: Vec<f64> = free.iter().map(|v| v.get(start).ln()).collect();
     let step = vec![0.15; free.len()];
@@ -360,6 +418,9 @@ fn optimise(
         let mut p = *start;
         for (v, &xi) in free.iter().zip(x) {
             v.set(&mut p, xi.exp());
+        }
+        if refit && fit_reference_size(&mut p, targets).is_err() {
+            return 1e6;
         }
         match Evaluation::of(&p, targets) {
             Ok(e) => cost(&e),
@@ -375,8 +436,24 @@ fn optimise(
 }
 
 /// Fits `h_ref` so that `h int sigma d eps` at `element_size` equals `GF` (secant iterations:
-/// the energy is close to proportional to `h_ref`).
+/// the energy is close to proportional to `h_ref`). With a Hordijk tail, `h_ref` is the element
+/// size of the strength tests and the tail length is fitted instead (the energy is affine in it;
+/// only the product of `h_ref` and the tail, the opening where the law ends, matters).
 fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), String> {
+    if p.hordijk_tail > 0.0 {
+        p.h_ref = t.element_size;
+        for _ in 0..60 {
+            let model = MicroplaneConcrete::new(*p)?;
+            let (_, r) = uniaxial_tension(&model, t.element_size, QUASI_STATIC_RATE)
+                .map_err(|e| e.to_string())?;
+            let ratio = t.gf / r.fracture_energy;
+            if (ratio - 1.0).abs() < 1e-4 {
+                break;
+            }
+            p.hordijk_tail *= ratio;
+        }
+        return Ok(());
+    }
     for _ in 0..20 {
         let model = MicroplaneConcrete::new(*p)?;
         let (_, r) = uniaxial_tension(&model, t.element_size, QUASI_STATIC_RATE)
@@ -407,11 +484,12 @@ pub fn calibrate(
             evaluations,
             &|e| e.tension_cost(targets),
             targets,
+            p.hordijk_tail > 0.0,
         );
         fit_reference_size(p, targets)?;
         log(&format!(
-            "{stage}, tension: e1 = {:.4e}, m = {:.3}, h_ref = {:.4} m",
-            p.e1, p.m, p.h_ref
+            "{stage}, tension: e1 = {:.4e}, m = {:.3}, h_ref = {:.4} m, hordijk_tail = {:.3}",
+            p.e1, p.m, p.h_ref, p.hordijk_tail
         ));
         Ok::<(), String>(())
     };
@@ -424,6 +502,7 @@ pub fn calibrate(
             evaluations,
             &|e| e.compression_cost(targets) + e.tension_cost(targets),
             targets,
+            false,
         );
         log(&format!(
             "round {round}, compression: e2 = {:.4e}, n = {:.3}, e3 = {:.4e}, e4 = {:.3}, k = {:.3}",
@@ -485,10 +564,11 @@ pub fn starting_guess() -> MicroplaneParameters {
         s_i_min: -2.7e6,
         alpha: 0.5,
         beta: 0.5,
-        h_ref: 0.3,
+        h_ref: 0.05,
+        hordijk_tail: 100.0,
         rate_effect: Some(super::RateEffect::default()),
         rule: super::SphereRule::BazantOh21,
-        deviatoric_trace_term: false,
+        deviatoric_trace_term: true,
         shear_cyclic_damage: true,
     }
 }

@@ -123,6 +123,51 @@ pub fn uniaxial_tension(
     Ok((curve, result))
 }
 
+/// The shape of the softening branch of a uniaxial tension curve against the crack opening
+/// `w = h (eps - sigma / E)` (crack band: the inelastic strain spread over the element).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SofteningShape {
+    /// `sigma / peak` where, after the peak, the opening reaches `w1` (NaN if it never does).
+    pub stress_ratio_at_w1: f64,
+    /// Opening where, after the peak, the stress first falls to 1 % of the peak (m; NaN if it
+    /// never does): the end `w_c` of the softening law.
+    pub opening_at_one_percent: f64,
+}
+
+/// The [`SofteningShape`] of a tension curve on an element of size `h` with Young's modulus
+/// `youngs`, at `w1` (m; MC2010 and Hordijk compare at `w1 = GF / ft`), interpolating linearly
+/// between the path's points.
+pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> SofteningShape {
+    let top = curve
+        .points
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.stress[0].total_cmp(&b.1.stress[0]))
+        .map_or(0, |(i, _)| i);
+    let peak = curve.points[top].stress[0];
+    let pts: Vec<(f64, f64)> = curve.points[top..]
+        .iter()
+        .map(|p| (h * (p.strain[0] - p.stress[0] / youngs), p.stress[0]))
+        .collect();
+    let mut shape = SofteningShape {
+        stress_ratio_at_w1: f64::NAN,
+        opening_at_one_percent: f64::NAN,
+    };
+    for pair in pts.windows(2) {
+        let ((w0, s0), (w1_, s1)) = (pair[0], pair[1]);
+        if shape.stress_ratio_at_w1.is_nan() && w0 <= w1 && w1_ >= w1 && w1_ > w0 {
+            let t = (w1 - w0) / (w1_ - w0);
+            shape.stress_ratio_at_w1 = (s0 + t * (s1 - s0)) / peak;
+        }
+        let end = 0.01 * peak;
+        if shape.opening_at_one_percent.is_nan() && s0 >= end && s1 < end {
+            let t = (s0 - end) / (s0 - s1);
+            shape.opening_at_one_percent = w0 + t * (w1_ - w0);
+        }
+    }
+    shape
+}
+
 /// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompressionResult {

@@ -27,10 +27,44 @@ pub fn power(x: f64, m: f64) -> f64 {
     }
 }
 
-/// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data.
+/// Hordijk's (1991) normalised softening curve `H(y) = (1 + (c1 y)^3) exp(-c2 y) - y (1 + c1^3)
+/// exp(-c2)`, `c1 = 3`, `c2 = 6.93`, for `y = w / w_c` in [0, 1]: 1 at 0, 0 at 1 and beyond. Its
+/// area `int_0^1 H dy` is about `1 / 5.14` (`w_c = 5.14 GF / ft`).
+#[inline(always)]
+pub fn hordijk(y: f64) -> f64 {
+    const C1: f64 = 3.0;
+    const C2: f64 = 6.93;
+    if y >= 1.0 {
+        return 0.0;
+    }
+    let y = y.max(0.0);
+    let c = C1 * y;
+    ((1.0 + c * c * c) * (-C2 * y).exp() - y * (1.0 + C1 * C1 * C1) * (-C2).exp()).max(0.0)
+}
+
+/// `dH/dy` of [`hordijk`] on [0, 1).
+#[inline(always)]
+fn hordijk_slope(y: f64) -> f64 {
+    const C1: f64 = 3.0;
+    const C2: f64 = 6.93;
+    let c = C1 * y;
+    let e = (-C2 * y).exp();
+    3.0 * C1 * c * c * e - C2 * (1.0 + c * c * c) * e - (1.0 + C1 * C1 * C1) * (-C2).exp()
+}
+
+/// Largest `|dH/dy|` (at `y = 0`): `c2 + (1 + c1^3) exp(-c2)`.
+const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
+
+/// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
+/// optionally with Hordijk's (1991) softening curve after the peak instead (see
+/// [`ExponentialLaw::with_hordijk_tail`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExponentialLaw {
     pub exponent: f64,
+    /// Length of the Hordijk tail in units of the strain scale: the growth of the inelastic
+    /// strain `x - s` (`s` in units of `C0 e_s`) from the peak to zero stress at the reference
+    /// size; 0 for the exponential law all the way.
+    pub tail: f64,
     /// Peak of `g`: `x_p = m^(-1/m)`, `g_p = x_p exp(-1/m)`.
     pub x_peak: f64,
     pub g_peak: f64,
@@ -60,11 +94,33 @@ impl ExponentialLaw {
         let area_after_peak = simpson(x_peak, tail);
         Self {
             exponent,
+            tail: 0.0,
             x_peak,
             g_peak,
             area_before_peak,
             area_after_peak,
         }
+    }
+
+    /// The law `x exp(-x^m)` up to its peak, then Hordijk's curve `s = g_p H((u - u_p) / tail)`
+    /// in the inelastic strain `u = x - s` (the crack opening over the band, as Hordijk's `w` is
+    /// the opening beyond the elastic deformation), down to zero `tail` strain scales of inelastic
+    /// strain past the peak at the reference size (the crack band shortens it in larger
+    /// elements). `area_after_peak` is then `int s du = g_p tail int_0^1 H`. `tail <= 0` gives
+    /// [`ExponentialLaw::new`].
+    pub fn with_hordijk_tail(exponent: f64, tail: f64) -> Self {
+        let mut law = Self::new(exponent);
+        if tail > 0.0 {
+            let n = 20_000;
+            let dy = 1.0 / n as f64;
+            let mut area = hordijk(0.0) + hordijk(1.0);
+            for i in 1..n {
+                area += if i % 2 == 1 { 4.0 } else { 2.0 } * hordijk(i as f64 * dy);
+            }
+            law.tail = tail;
+            law.area_after_peak = law.g_peak * tail * area * dy / 3.0;
+        }
+        law
     }
 
     /// Stress of the law at strain `e >= 0` with strain scale `scale`, modulus `c0` and crack-band
@@ -79,9 +135,64 @@ impl ExponentialLaw {
     pub fn stress(&self, e: f64, scale: f64, c0: f64, band: f64) -> f64 {
         let mut x = e / scale;
         if x > self.x_peak {
+            if self.tail > 0.0 {
+                return c0 * scale * self.tail_stress(x, band);
+            }
             x = self.x_peak + band * (x - self.x_peak);
         }
         c0 * scale * shape(x, self.exponent)
+    }
+
+    /// The Hordijk tail at `x > x_p` in units of the law: solves `x = u + g_p H(k (u - u_p))`,
+    /// `k = band / tail`, `u_p = x_p - g_p`, for the inelastic strain `u` (Newton from the
+    /// explicit guess; `x(u)` rises monotonically when [`ExponentialLaw::band_factor`] admits the
+    /// size) and returns `s = x - u`.
+    #[inline(always)]
+    fn tail_stress(&self, x: f64, band: f64) -> f64 {
+        let (g_p, k) = (self.g_peak, band / self.tail);
+        let u_p = self.x_peak - g_p;
+        // The stress is at most g_p, so u lies in [x - g_p, x].
+        let (mut lo, mut hi) = (x - g_p, x);
+        if k * (lo - u_p) >= 1.0 {
+            return 0.0;
+        }
+        let mut u = (x - g_p * hordijk(k * (x - self.x_peak))).clamp(lo, hi);
+        for _ in 0..30 {
+            let y = k * (u - u_p);
+            let (h, dh) = if y >= 1.0 {
+                (0.0, 0.0)
+            } else {
+                (hordijk(y), hordijk_slope(y))
+            };
+            let f = u + g_p * h - x;
+            if f > 0.0 {
+                hi = u;
+            } else {
+                lo = u;
+            }
+            if f.abs() <= 1e-14 * x.max(1.0) {
+                break;
+            }
+            let d = 1.0 + g_p * k * dh;
+            let next = u - f / d;
+            u = if d > 0.0 && next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
+        }
+        (x - u).clamp(0.0, g_p)
+    }
+
+    /// Area before the peak that the crack band counts: all of it for the exponential law; for
+    /// the Hordijk tail, in the inelastic strain, the pre-peak area less the elastic triangle
+    /// `g_p^2 / 2` that unloading from the peak gives back (`int s dx = int s du + s^2 / 2`).
+    fn band_area_before_peak(&self) -> f64 {
+        if self.tail > 0.0 {
+            self.area_before_peak - 0.5 * self.g_peak * self.g_peak
+        } else {
+            self.area_before_peak
+        }
     }
 
     /// Strain and stress at the peak for a strain scale and modulus.
@@ -94,19 +205,31 @@ impl ExponentialLaw {
     /// law per unit crack area is the same for every size. `None` when no factor can achieve it or
     /// the scaled law would snap back (a softening slope steeper than the initial modulus).
     pub fn band_factor(&self, h: f64, h_ref: f64) -> Option<f64> {
-        let (pre, post) = (self.area_before_peak, self.area_after_peak);
+        let (pre, post) = (self.band_area_before_peak(), self.area_after_peak);
         let denominator = h_ref / h * (pre + post) - pre;
         if !(denominator > 0.0) {
             return None;
         }
-        Some(post / denominator)
+        let band = post / denominator;
+        // The Hordijk tail snaps back where its steepest slope in x, g_p |H'| k / (1 - g_p |H'| k),
+        // turns infinite.
+        if self.tail > 0.0 && self.g_peak * HORDIJK_STEEPEST * band / self.tail >= 1.0 {
+            return None;
+        }
+        Some(band)
     }
 
     /// The largest element size for which [`ExponentialLaw::band_factor`] exists:
     /// `h_ref (A_pre + A_post) / A_pre`.
     pub fn largest_element(&self, h_ref: f64) -> f64 {
-        let (pre, post) = (self.area_before_peak, self.area_after_peak);
-        h_ref * (pre + post) / pre
+        let (pre, post) = (self.band_area_before_peak(), self.area_after_peak);
+        let mut largest = h_ref * (pre + post) / pre;
+        if self.tail > 0.0 {
+            // band < tail / (g_p |H'|max): h_ref / h (pre + post) - pre > post g_p |H'| / tail.
+            let band_max = self.tail / (self.g_peak * HORDIJK_STEEPEST);
+            largest = largest.min(h_ref * (pre + post) / (pre + post / band_max));
+        }
+        largest
     }
 }
 
@@ -118,9 +241,62 @@ pub fn volumetric_compression(e_v: f64, e_v0: f64, a: f64, b: f64, p: f64, q: f6
     e_v0 * e_v * ((1.0 + x / a).powf(-p) + power(x / b, q))
 }
 
+/// Tangent `d s_V / d e_V` of [`volumetric_compression`] at `|e_V| = x`:
+/// `E_V0 [(1 + x/a)^-p (1 - p x / (a + x)) + (q + 1) (x/b)^q]`.
+#[inline(always)]
+pub fn volumetric_compression_tangent(x: f64, e_v0: f64, a: f64, b: f64, p: f64, q: f64) -> f64 {
+    let x = x.abs();
+    e_v0 * ((1.0 + x / a).powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * power(x / b, q))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hordijk_curve_and_tail_area() {
+        assert!((hordijk(0.0) - 1.0).abs() < 1e-15);
+        assert!(hordijk(1.0).abs() < 1e-12 && hordijk(2.0) == 0.0);
+        // w_c = 5.14 GF / ft: the area of H is 1 / 5.14 to the rounding of Hordijk's constants.
+        let law = ExponentialLaw::with_hordijk_tail(4.0, 10.0);
+        let area = law.area_after_peak / (law.g_peak * 10.0);
+        assert!((area * 5.14 - 1.0).abs() < 2e-3, "area {area}");
+        // The tail is Hordijk's curve in the inelastic strain x - s.
+        let (g_p, u_p) = (law.g_peak, law.x_peak - law.g_peak);
+        for y in [0.05, 0.2, 0.5, 0.9] {
+            let u = u_p + y * 10.0;
+            let s = g_p * hordijk(y);
+            assert!((law.stress(u + s, 1.0, 1.0, 1.0) - s).abs() < 1e-12, "y = {y}");
+        }
+        // The crack band keeps h * energy with the tail as well.
+        let h_ref = 0.3;
+        for h in [0.025, 0.05, 0.1] {
+            let band = law.band_factor(h, h_ref).unwrap();
+            // The tail ends at x_p + tail / band: integrate a little beyond.
+            let energy = |band: f64| {
+                let n = 2_000_000;
+                let dx = (law.x_peak + law.tail / band + 1.0) / n as f64;
+                (0..n)
+                    .map(|i| law.stress((i as f64 + 0.5) * dx, 1.0, 1.0, band) * dx)
+                    .sum::<f64>()
+            };
+            let ratio = h * energy(band) / (h_ref * energy(1.0));
+            assert!((ratio - 1.0).abs() < 1e-4, "h = {h}: ratio {ratio}");
+        }
+    }
+
+    #[test]
+    fn volumetric_tangent_is_the_derivative_of_the_law() {
+        let (e_v0, a, b, p, q) = (4.6875e10, 5e-3, 0.04, 0.25, 2.0);
+        for x in [1e-5, 1e-3, 5e-3, 0.02, 0.05] {
+            let d = 1e-7 * x;
+            let fd = (volumetric_compression(-(x + d), e_v0, a, b, p, q)
+                - volumetric_compression(-(x - d), e_v0, a, b, p, q))
+                / (-2.0 * d);
+            let t = volumetric_compression_tangent(x, e_v0, a, b, p, q);
+            assert!((t / fd - 1.0).abs() < 1e-6, "x = {x}: {t} against {fd}");
+        }
+    }
 
     #[test]
     fn exponential_law_constants_match_closed_forms() {

@@ -27,7 +27,7 @@ pub use parameters::{MicroplaneParameters, RateEffect};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
-use laws::{volumetric_compression, ExponentialLaw};
+use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
 
 /// The model with everything that does not change during a run precomputed.
 #[derive(Debug, Clone)]
@@ -72,7 +72,7 @@ impl MicroplaneConcrete {
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
             e_t0: e / (1.0 + nu),
-            tension: ExponentialLaw::new(parameters.m),
+            tension: ExponentialLaw::with_hordijk_tail(parameters.m, parameters.hordijk_tail),
             compression: ExponentialLaw::new(parameters.n),
             shear: ExponentialLaw::new(parameters.k),
             rule: UnloadingRule {
@@ -165,7 +165,11 @@ impl MicroplaneConcrete {
         let e_v = (strain[0] + strain[1] + strain[2]) / 3.0;
 
         // Volumetric stress: tension softens (with the crack band), compression does not damage
-        // and unloads with the larger of E_V0 and the secant (Fig. 5.11a).
+        // and unloads with the larger of E_V0 and the tangent of the law where unloading starts
+        // (Fig. 5.11a; Bažant et al. M4 2000, M7 2013: unloading in volumetric compression is
+        // stiffer than the virgin secant). Once the law stiffens (x > b) the secant exceeds E_V0,
+        // and a secant unloading line through the origin would run above the convex loading curve
+        // and give back 1.5 times the work of loading; the tangent line lies under it.
         let e1 = f * p.e1;
         let s_v = if e_v >= 0.0 {
             let peak = self.tension.peak(e1, self.e_v0);
@@ -184,7 +188,9 @@ impl MicroplaneConcrete {
                 -envelope(x)
             } else {
                 let s_reached = envelope(reached);
-                let unloading = self.e_v0.max(s_reached / reached);
+                let unloading = self.e_v0.max(volumetric_compression_tangent(
+                    reached, self.e_v0, p.a, p.b, p.p, p.q,
+                ));
                 -(s_reached - unloading * (reached - x)).max(0.0)
             }
         };

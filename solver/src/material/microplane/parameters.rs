@@ -45,6 +45,13 @@ pub struct MicroplaneParameters {
     pub beta: f64,
     /// Element size the softening laws were calibrated at (m), for the crack band.
     pub h_ref: f64,
+    /// Post-peak shape of the tension law (volumetric and deviatoric, exponent `m`): 0 keeps
+    /// `x exp(-x^m)`; a positive value replaces the branch after its peak by Hordijk's (1991)
+    /// curve falling to zero over `hordijk_tail` strain scales `e1` at the size `h_ref`. The crack
+    /// band shortens it in larger elements, so with `w = h x` inelastic strain the law is a
+    /// stress-opening curve of Hordijk's shape whatever the element size (MICROPLANE "Crack band").
+    #[serde(default)]
+    pub hordijk_tail: f64,
     /// Rate effect (5.110, MICROPLANE "Rate effect"); `~` (null) switches it off.
     #[serde(default = "default_rate_effect")]
     pub rate_effect: Option<RateEffect>,
@@ -52,8 +59,10 @@ pub struct MicroplaneParameters {
     #[serde(default)]
     pub rule: SphereRule,
     /// Homogenise the deviatoric stress with `n n - delta/3` (Carol & Bažant 1997) instead of the
-    /// thesis' `n n` (5.36).
-    #[serde(default)]
+    /// thesis' `n n` (5.36). On by default (MICROPLANE.md "Homogenisation"): without it the
+    /// deviatoric stresses feed the mean stress and a closed shear-normal strain cycle gives
+    /// energy back.
+    #[serde(default = "yes")]
     pub deviatoric_trace_term: bool,
     /// The cyclic shear damage of Eligehausen, Popov & Bertero (5.104).
     #[serde(default = "yes")]
@@ -126,6 +135,12 @@ impl MicroplaneParameters {
             if !(value > 0.0 && value.is_finite()) {
                 return Err(format!("{name} must be positive and finite, got {value}"));
             }
+        }
+        if !(self.hordijk_tail >= 0.0 && self.hordijk_tail.is_finite()) {
+            return Err(format!(
+                "hordijk_tail must be >= 0 (0: exponential softening), got {}",
+                self.hordijk_tail
+            ));
         }
         if !(self.e4 >= 0.0 && self.e4.is_finite()) {
             return Err(format!("e4 must be >= 0, got {}", self.e4));
