@@ -557,15 +557,36 @@ fn crack_band(
                 "w at 1 % of ft [mm]".into(),
             ],
             rows: {
+                // Where a decreasing curve on [0, end] falls to 1 % of ft (bisection).
+                let one_percent = |f: &dyn Fn(f64) -> f64, end: f64| {
+                    let (mut lo, mut hi) = (0.0, end);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if f(mid) > 0.01 {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
+                    }
+                    0.5 * (lo + hi)
+                };
                 shape_rows.push(vec![
                     "MC2010 bilinear".into(),
-                    "0.2000".into(),
-                    format!("{:.4}", 5.0 * w1),
+                    format!("{:.4}", mc2010_bilinear_softening(w1, f_t, g_f) / f_t),
+                    format!(
+                        "{:.4} (zero at 5 GF/ft = {:.4})",
+                        one_percent(&|w| mc2010_bilinear_softening(w, f_t, g_f) / f_t, 6.0 * w1),
+                        5.0 * w1
+                    ),
                 ]);
                 shape_rows.push(vec![
                     "Hordijk 1991".into(),
                     format!("{:.4}", hordijk_softening(1.0 / 5.14)),
-                    format!("{:.4} (zero at 5.14 GF/ft)", 5.14 * w1),
+                    format!(
+                        "{:.4} (zero at 5.14 GF/ft = {:.4})",
+                        one_percent(&|w| hordijk_softening(w / (5.14 * w1)), 6.0 * w1),
+                        5.14 * w1
+                    ),
                 ]);
                 shape_rows
             },
@@ -882,15 +903,24 @@ fn hordijk_softening(y: f64) -> f64 {
 /// `s_V = E_V0 x [(1 + x/a)^-p + (x/b)^q]` (x = -e_V) and its unloading rule: a straight line of
 /// slope `C = max(E_V0, ds_V/dx)` from the turning point `X` down to zero stress (M4/M7). Loading
 /// work `int_0^X s_V dx = E_V0 [a^2 ((u^(2-p) - 1)/(2-p) - (u^(1-p) - 1)/(1-p)) + X^(q+2) /
-/// ((q+2) b^q)]` with `u = 1 + X/a` (p not 1 or 2); returned `s_V(X)^2 / (2 C)`. The factor 3 of
+/// ((q+2) b^q)]` with `u = 1 + X/a` (`ln u` for the term whose exponent is 0); returned
+/// `s_V(X)^2 / (2 C)`. The factor 3 of
 /// `sigma : d eps = 3 s_V d e_V` cancels.
 fn hydrostatic_returned_fraction(params: &MicroplaneParameters, end: f64) -> f64 {
     let (a, b, p, q) = (params.a, params.b, params.p, params.q);
     let e_v0 = params.youngs_modulus / (1.0 - 2.0 * params.poisson_ratio);
     let x = end;
     let u = 1.0 + x / a;
+    // int_1^u v^(k-1) dv, = ln u when k = 0.
+    let power_integral = |k: f64| {
+        if k.abs() < 1e-12 {
+            u.ln()
+        } else {
+            (u.powf(k) - 1.0) / k
+        }
+    };
     let loading = e_v0
-        * (a * a * ((u.powf(2.0 - p) - 1.0) / (2.0 - p) - (u.powf(1.0 - p) - 1.0) / (1.0 - p))
+        * (a * a * (power_integral(2.0 - p) - power_integral(1.0 - p))
             + x.powf(q + 2.0) / ((q + 2.0) * b.powf(q)));
     let stress = e_v0 * x * (u.powf(-p) + (x / b).powf(q));
     let tangent = e_v0 * (u.powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * (x / b).powf(q));
