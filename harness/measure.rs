@@ -220,6 +220,11 @@ pub enum Measure {
     PeakBendingMoment {
         section_x: f64,
         conditions: Vec<String>,
+        /// Only the records up to the largest |value| of this column (the peak load): after a
+        /// brittle beam snaps, inertia forces make the reactions' moment differ from the
+        /// section's, so the quasi-static branch alone gives a sectional moment.
+        #[serde(default)]
+        until_peak_of: Option<String>,
     },
     /// `max |numerator| / max |denominator|` over the history.
     PeakRatio {
@@ -669,11 +674,24 @@ impl Measure {
             Measure::PeakBendingMoment {
                 section_x,
                 conditions,
+                until_peak_of,
             } => {
+                let end = match until_peak_of {
+                    Some(c) => {
+                        let load = column(c)?;
+                        (0..load.len())
+                            .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
+                            .ok_or("empty history")?
+                            + 1
+                    }
+                    None => usize::MAX,
+                };
                 let mut forces = Vec::with_capacity(conditions.len());
                 for name in conditions {
                     let (c, x) = crate::beam::history::force_line(problem, name)?;
-                    forces.push((column(&c)?, x));
+                    let mut f = column(&c)?;
+                    f.truncate(end);
+                    forces.push((f, x));
                 }
                 crate::beam::history::peak_bending_moment(*section_x, &forces)?
             }

@@ -108,9 +108,10 @@ fn driver_reference(
 #[test]
 fn a_cube_pulled_apart_softens_to_zero_stress_and_dissipates_the_work_put_in() {
     let parameters = thesis_concrete();
-    // Run to about 20 times the strain at the driver's uniaxial peak.
+    // Run to about 40 times the strain at the driver's uniaxial peak: the Hordijk tail of the
+    // calibrated law (zero near w = 0.18 mm, issue 16) falls below 5 % of the peak only there.
     let (peak_strain, _, _) = driver_reference(parameters, 20.0 * parameters.e1, 400);
-    let end_strain = 20.0 * peak_strain;
+    let end_strain = 40.0 * peak_strain;
     let end_time = end_strain * EDGE / SPEED;
     let (_, driver_peak, driver_work) = driver_reference(parameters, end_strain, 2000);
     let &(driver_end, driver_work) = driver_work.last().unwrap();
