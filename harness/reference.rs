@@ -11,6 +11,8 @@ pub mod analytic;
 pub mod concrete;
 #[path = "../references/elastic_refinement.rs"]
 pub mod elastic_refinement;
+#[path = "../references/hinge.rs"]
+pub mod hinge;
 
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
