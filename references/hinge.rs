@@ -317,10 +317,20 @@ impl Hinge {
     }
 
     /// The response from zero rotation: 20 steps to the cracking rotation, then steps of 2 %
-    /// until the moment has fallen below 2 % of its peak, the crack tip passes 0.98 h or the
+    /// until the moment has fallen below 2 % of its peak (`stop_fraction`), the crack tip passes 0.98 h or the
     /// rotation reaches `max_rotation_ratio` times the cracking rotation. The peak is refined by
     /// golden-section search between the grid neighbours of the largest grid moment.
     pub fn curve(&self, max_rotation_ratio: f64) -> HingeCurve {
+        self.curve_until(max_rotation_ratio, 0.02)
+    }
+
+    /// The peak alone: the curve stops once the moment has fallen below half its peak (a
+    /// plain-concrete law's hinge does not rise again), about a third of the full curve's work.
+    pub fn peak(&self, max_rotation_ratio: f64) -> HingePoint {
+        self.curve_until(max_rotation_ratio, 0.5).peak
+    }
+
+    fn curve_until(&self, max_rotation_ratio: f64, stop_fraction: f64) -> HingeCurve {
         let phi_cr = self.cracking_rotation();
         let mut points: Vec<HingePoint> = (0..=20)
             .map(|i| self.state(phi_cr * i as f64 / 20.0))
@@ -332,7 +342,7 @@ impl Hinge {
             let p = self.state(phi);
             points.push(p);
             best = best.max(p.moment);
-            if p.moment < 0.02 * best || p.crack_tip > 0.98 * self.depth {
+            if p.moment < stop_fraction * best || p.crack_tip > 0.98 * self.depth {
                 break;
             }
         }
@@ -454,7 +464,7 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
         parameters.youngs_modulus,
         law,
     );
-    let peak = hinge.curve(1e4).peak;
+    let peak = hinge.peak(1e4);
     let (value, what) = match spec.quantity {
         HingeQuantity::PeakBendingMoment => (peak.moment, "peak bending moment"),
         HingeQuantity::PeakLoad => (peak.load, "peak load 4 M / L"),

@@ -166,7 +166,7 @@ fn hinge_ductile_and_brittle_limits() {
 
 #[test]
 fn hinge_peak_falls_with_the_law_shape_at_equal_fracture_energy() {
-    let peak = |law| thesis_hinge(law).curve(1e3).peak.load;
+    let peak = |law| thesis_hinge(law).peak(1e3).load;
     let lin = peak(linear());
     let mc = peak(SofteningLaw::Mc2010 { ft: FT, gf: GF });
     let hor = peak(SofteningLaw::Hordijk { ft: FT, gf: GF });
@@ -176,10 +176,14 @@ fn hinge_peak_falls_with_the_law_shape_at_equal_fracture_energy() {
 
 #[test]
 fn hinge_solve_is_fast() {
+    // The reference's solve: the peak of the slowest law (Hordijk's exponential).
+    let hinge = thesis_hinge(SofteningLaw::Hordijk { ft: FT, gf: GF });
     let start = std::time::Instant::now();
-    let curve = thesis_hinge(SofteningLaw::Hordijk { ft: FT, gf: GF }).curve(1e4);
+    let peak = hinge.peak(1e4);
     let elapsed = start.elapsed().as_secs_f64();
-    assert!(elapsed < 1.0, "{elapsed} s for {} points", curve.points.len());
+    assert!(elapsed < 1.0, "{elapsed} s");
+    let curve = hinge.curve(1e4);
+    assert!((curve.peak.moment - peak.moment).abs() < 1e-9 * peak.moment);
     // Rotation rises along the curve; the deflection after the peak may turn back (snap-back).
     assert!(curve.points.windows(2).all(|p| p[1].rotation > p[0].rotation));
 }
@@ -210,3 +214,84 @@ fn hinge_thesis_beam_peaks() {
     }
 }
 
+
+fn thesis_concrete() -> MicroplaneConcrete {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/materials/thesis-concrete.yaml");
+    let parameters = impact_solver::material::read_microplane_file(&path).expect("parameter file");
+    MicroplaneConcrete::new(parameters).expect("valid parameters")
+}
+
+#[test]
+fn hinge_own_law_holds_the_crack_band_fracture_energy() {
+    let model = thesis_concrete();
+    let h = 0.05;
+    let (w, sigma) = crack_opening_curve(&model, h);
+    assert!(w.windows(2).all(|w| w[1] > w[0]) && w[0] == 0.0);
+    let (_, tension) = uniaxial_tension(&model, h, QUASI_STATIC_RATE).expect("tension");
+    assert_eq!(sigma[0], tension.peak_stress);
+    let law = SofteningLaw::Tabulated { w, sigma };
+    let gf = law.fracture_energy();
+    assert!(
+        (gf - tension.fracture_energy).abs() < 0.02 * tension.fracture_energy,
+        "int sigma dw {gf} against h int sigma d eps {}",
+        tension.fracture_energy
+    );
+}
+
+#[test]
+fn hinge_reference_parses_and_evaluates_on_a_scene() {
+    // As the catalogue reads a case: externally tagged enums as single-key maps.
+    #[derive(Deserialize)]
+    struct Metric {
+        reference: crate::reference::Reference,
+    }
+    let parse = |text: &str| {
+        serde_norway::with::singleton_map_recursive::deserialize::<Metric, _>(
+            serde_norway::Deserializer::from_str(text),
+        )
+        .map(|m| m.reference)
+    };
+    let reference = parse(
+        "reference: { hinge: { depth: 0.6, width: 0.3, span: 2.8, law: own, element_size: 0.05, \
+         quantity: peak_bending_moment } }",
+    )
+    .expect("a hinge reference");
+    let crate::reference::Reference::Hinge(spec) = &reference else {
+        panic!("{reference:?}");
+    };
+    assert_eq!(spec.law, HingeLaw::Own);
+    assert_eq!(spec.quantity, HingeQuantity::PeakBendingMoment);
+    assert!(parse(
+        "reference: { hinge: { depth: 0.6, width: 0.3, span: 2.8, law: linear, \
+         element_size: 0.05, quantity: peak_load } }"
+    )
+    .is_err());
+    let material = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases/materials/thesis-concrete.yaml");
+    let scene = Scene::from_yaml(
+        &format!(
+            "name: hinge-test\n\
+             bodies:\n  - name: beam\n    \
+             mesh: {{ box: {{ origin: [0, 0, 0], size: [3.0, 0.6, 0.3], divisions: [2, 1, 1] }} }}\n    \
+             material: {{ microplane: {{ file: {} }} }}\n\
+             analysis:\n  explicit: {{ end_time: 1.0e-3 }}\n",
+            material.display()
+        ),
+        "test",
+    )
+    .expect("scene");
+    let (moment, source) = reference.evaluate(&scene).expect("evaluates");
+    println!("{moment} N m: {source}");
+    // Between the elastic cracking moment and the rigid-plastic one at f_t = 2.7 MPa.
+    let (elastic, plastic) = (FT * B * H * H / 6.0, FT * B * H * H / 2.0);
+    assert!(moment > elastic && moment < plastic, "{moment}");
+    let mut load = spec.clone();
+    load.quantity = HingeQuantity::PeakLoad;
+    load.law = HingeLaw::Hordijk;
+    let (p, _) = crate::reference::Reference::Hinge(load)
+        .evaluate(&scene)
+        .expect("evaluates");
+    println!("Hordijk at the material's f_t and G_F: {p} N");
+    assert!(p > 4.0 * elastic / L && p < 4.0 * plastic / L, "{p}");
+}
