@@ -435,7 +435,9 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
             _ => None,
         })
         .ok_or_else(|| match &spec.body {
-            Some(n) => format!("the hinge reference names body `{n}`, which is no microplane body of the scene"),
+            Some(n) => format!(
+                "the hinge reference names body `{n}`, which is no microplane body of the scene"
+            ),
             None => "the hinge reference needs a microplane body in the scene".to_string(),
         })?;
     let model = MicroplaneConcrete::new(parameters)?;

@@ -54,7 +54,10 @@ fn hinge_elastic_limit() {
     for f in [0.1, 0.5, 0.99] {
         let p = hinge.state(f * phi_cr);
         let exact = ei * f * phi_cr / hinge.length;
-        assert!((p.moment - exact).abs() < 1e-5 * exact, "{p:?} against {exact}");
+        assert!(
+            (p.moment - exact).abs() < 1e-5 * exact,
+            "{p:?} against {exact}"
+        );
         assert!((p.bottom_strain - 0.5 * f * phi_cr / hinge.length * H).abs() < 1e-12);
         assert_eq!(p.crack_tip, 0.0);
         // No crack: the deflection is the elastic beam's.
@@ -64,7 +67,11 @@ fn hinge_elastic_limit() {
     // First cracking at the elastic cracking moment f_t b h^2 / 6.
     let p = hinge.state(phi_cr);
     let m_cr = FT * B * H * H / 6.0;
-    assert!((p.moment - m_cr).abs() < 1e-5 * m_cr, "{} against {m_cr}", p.moment);
+    assert!(
+        (p.moment - m_cr).abs() < 1e-5 * m_cr,
+        "{} against {m_cr}",
+        p.moment
+    );
     let p = hinge.state(1.05 * phi_cr);
     assert!(p.crack_tip > 0.0 && p.moment > m_cr);
 }
@@ -138,7 +145,10 @@ fn hinge_matches_the_closed_form_of_linear_softening() {
             p.moment
         );
     }
-    assert!(phases.iter().all(|&n| n >= 5), "points per phase {phases:?}");
+    assert!(
+        phases.iter().all(|&n| n >= 5),
+        "points per phase {phases:?}"
+    );
 }
 
 #[test]
@@ -171,7 +181,10 @@ fn hinge_peak_falls_with_the_law_shape_at_equal_fracture_energy() {
     let mc = peak(SofteningLaw::Mc2010 { ft: FT, gf: GF });
     let hor = peak(SofteningLaw::Hordijk { ft: FT, gf: GF });
     let cracking = 4.0 * FT * B * H * H / 6.0 / L;
-    assert!(lin > mc && mc > hor && hor > cracking, "{lin} {mc} {hor} {cracking}");
+    assert!(
+        lin > mc && mc > hor && hor > cracking,
+        "{lin} {mc} {hor} {cracking}"
+    );
 }
 
 #[test]
@@ -185,16 +198,33 @@ fn hinge_solve_is_fast() {
     let curve = hinge.curve(1e4);
     assert!((curve.peak.moment - peak.moment).abs() < 1e-9 * peak.moment);
     // Rotation rises along the curve; the deflection after the peak may turn back (snap-back).
-    assert!(curve.points.windows(2).all(|p| p[1].rotation > p[0].rotation));
+    assert!(curve
+        .points
+        .windows(2)
+        .all(|p| p[1].rotation > p[0].rotation));
 }
 
 #[test]
 #[ignore = "prints the thesis beam's peak loads; run with --ignored --nocapture"]
 fn hinge_thesis_beam_peaks() {
+    // The microplane model's own law at the 50 mm cells of the thesis beam's mesh.
+    let model = thesis_concrete();
+    let (w, sigma) = crack_opening_curve(&model, 0.05);
+    let own = SofteningLaw::Tabulated { w, sigma };
+    let (_, tension) = uniaxial_tension(&model, 0.05, QUASI_STATIC_RATE).expect("tension");
+    println!(
+        "own law at 50 mm: f_t {:.4} MPa, int sigma dw {:.2} N/m, crack-band h int sigma d eps \
+         {:.2} N/m, w_end {:.3} mm",
+        own.tensile_strength() / 1e6,
+        own.fracture_energy(),
+        tension.fracture_energy,
+        own.critical_opening() * 1e3
+    );
     for (name, law) in [
         ("linear", linear()),
         ("MC2010", SofteningLaw::Mc2010 { ft: FT, gf: GF }),
         ("Hordijk", SofteningLaw::Hordijk { ft: FT, gf: GF }),
+        ("own", own),
     ] {
         let start = std::time::Instant::now();
         let curve = thesis_hinge(law).curve(1e4);
@@ -213,7 +243,6 @@ fn hinge_thesis_beam_peaks() {
         );
     }
 }
-
 
 fn thesis_concrete() -> MicroplaneConcrete {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
