@@ -11,6 +11,8 @@ pub mod analytic;
 pub mod concrete;
 #[path = "../references/elastic_refinement.rs"]
 pub mod elastic_refinement;
+#[path = "../references/hinge.rs"]
+pub mod hinge;
 
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -29,6 +31,9 @@ pub enum Reference {
     /// The elastic stiffness of the case's own scene, solved by the implicit static solver on a
     /// refined mesh (see `references/elastic_refinement.rs`).
     ElasticRefinement(elastic_refinement::ElasticStiffnessSpec),
+    /// The peak of a cohesive hinge (Olesen 2001) fed with a crack-opening law of the case's own
+    /// microplane material (see `references/hinge.rs`).
+    Hinge(hinge::HingeSpec),
 }
 
 /// One entry of a published-data file.
@@ -208,6 +213,10 @@ impl Reference {
             }
             Reference::ElasticRefinement(spec) => elastic_refinement::elastic_stiffness(
                 scene.ok_or("the elastic refinement reference needs the case's scene")?,
+                spec,
+            )?,
+            Reference::Hinge(spec) => hinge::hinge_reference(
+                scene.ok_or("the hinge reference needs the case's scene")?,
                 spec,
             )?,
             Reference::Analytic(a) => {

@@ -168,6 +168,35 @@ pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> Softening
     shape
 }
 
+/// The stress-crack opening law `(w, sigma)` of the model at element size `h` (m), from
+/// [`uniaxial_tension`] at the quasi-static rate, in the crack band's reading: after the peak,
+/// `w = h (eps - sigma / E)`, the inelastic strain of the element times its size, with `E` the
+/// initial Young's modulus as the unloading modulus (an elastic unloading). The opening already
+/// reached at the peak (the small pre-peak inelastic strain) is lumped at `f_t`: the law starts at
+/// `(0, f_t)`, then follows the points after the peak with `w` rising, so its area is the
+/// fracture energy `h int sigma d eps` of the test within the pre-peak share (below 1 %).
+/// Empty vectors if the experiment cannot start (an element size the crack band rejects).
+pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Vec<f64>, Vec<f64>) {
+    let Ok((curve, result)) = uniaxial_tension(model, element_size, QUASI_STATIC_RATE) else {
+        return (Vec::new(), Vec::new());
+    };
+    let e = model.parameters.youngs_modulus;
+    let top = curve
+        .points
+        .iter()
+        .position(|p| p.stress[0] == result.peak_stress)
+        .unwrap_or(0);
+    let (mut w, mut sigma) = (vec![0.0], vec![result.peak_stress]);
+    for p in &curve.points[top..] {
+        let opening = element_size * (p.strain[0] - p.stress[0] / e);
+        if opening > *w.last().expect("first point") {
+            w.push(opening);
+            sigma.push(p.stress[0].max(0.0));
+        }
+    }
+    (w, sigma)
+}
+
 /// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompressionResult {
