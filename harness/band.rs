@@ -203,6 +203,9 @@ pub struct BandSpec {
     /// The material-point path of the comparison.
     #[serde(default)]
     pub path: PointPath,
+    /// Further material-point paths to draw in the plot (not measured).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also_plot: Vec<PointPath>,
 }
 
 /// What a band measure returns.
@@ -411,18 +414,45 @@ pub fn plot_series(
     )?;
     let mm = |w: &[f64]| w.iter().map(|w| w * 1e3).collect::<Vec<_>>();
     let mpa = |s: &[f64]| s.iter().map(|s| s * 1e-6).collect::<Vec<_>>();
-    Ok(vec![
+    // The run goes on far past the opening where the point's stress is gone; draw it up to 1.5
+    // times the point's last opening so that the softening branches fill the plot.
+    let w_max = 1.5 * point.w.last().copied().unwrap_or(f64::INFINITY);
+    let n = run.w.iter().position(|&w| w > w_max).unwrap_or(run.w.len());
+    let name = |path: &PointPath| {
+        let path = match path {
+            PointPath::UniaxialStress => "uniaxial stress".to_string(),
+            PointPath::UniaxialStrain => "uniaxial strain".to_string(),
+            PointPath::TensionShear { ratio } => format!("tension, then shear 1 : {ratio}"),
+        };
+        format!("material point, h = {} mm, {path}", spec.element_size * 1e3)
+    };
+    let mut series = vec![
         crate::results::Series {
             name: "prism: end reaction / area".into(),
-            x: mm(&run.w),
-            y: mpa(&run.t),
+            x: mm(&run.w[..n]),
+            y: mpa(&run.t[..n]),
         },
         crate::results::Series {
-            name: format!("material point, h = {} mm", spec.element_size * 1e3),
+            name: name(&spec.path),
             x: mm(&point.w),
             y: mpa(&point.sigma),
         },
-    ])
+    ];
+    for path in &spec.also_plot {
+        let c = point_curve(
+            &region_parameters(scene, &spec.band)?,
+            spec.element_size,
+            *path,
+            0.05,
+        )?;
+        let n = c.w.iter().position(|&w| w > w_max).unwrap_or(c.w.len());
+        series.push(crate::results::Series {
+            name: name(path),
+            x: mm(&c.w[..n]),
+            y: mpa(&c.sigma[..n]),
+        });
+    }
+    Ok(series)
 }
 
 #[cfg(test)]
