@@ -188,6 +188,10 @@ pub struct PlotSpec {
     /// Draw the reference (and band) of this metric as a horizontal line.
     #[serde(default)]
     pub reference_metric: Option<String>,
+    /// Instead of `columns`: the traction-opening curve of a crack band in the run beside the
+    /// material point's `sigma(w)` (`crate::band::plot_series`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_band: Option<crate::band::BandSpec>,
 }
 
 /// A case with the file it came from.
@@ -228,6 +232,13 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
         if let impact_solver::scene::MaterialSpec::Microplane(
             impact_solver::scene::MicroplaneSpec { file: Some(p), .. },
         ) = &mut body.material
+        {
+            resolve(p);
+        }
+        for p in body
+            .regions
+            .iter_mut()
+            .filter_map(|r| r.material.file_mut())
         {
             resolve(p);
         }

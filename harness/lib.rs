@@ -3,6 +3,7 @@
 //!
 //! Pipeline: `catalogue -> runner (execute, measure) -> judge -> results -> report`.
 
+pub mod band;
 pub mod beam;
 pub mod calibrate;
 pub mod catalogue;

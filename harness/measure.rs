@@ -243,6 +243,12 @@ pub enum Measure {
         reactions: Vec<String>,
         momentum: String,
     },
+    /// The crack band of a prism run against the material point of its size (`crate::band`):
+    /// dissipated energy per crack area, traction-opening deviation.
+    CrackBand(crate::band::BandMeasure),
+    /// A material-point diagnostic of the band's concrete at its size, no run needed
+    /// (`crate::band::PointMeasure`): uniaxial strain, tension with shear (stress locking).
+    CrackBandPoint(crate::band::PointMeasure),
 }
 
 fn kinetic_column() -> String {
@@ -730,6 +736,8 @@ impl Measure {
                     mass * g,
                 )?
             }
+            Measure::CrackBand(m) => m.evaluate(&problem.model, &|c| column(c))?,
+            Measure::CrackBandPoint(m) => m.evaluate(&problem.model)?,
             Measure::MaterialPoint(_) => {
                 return Err(
                     "material_point measures a material-point experiment: the case needs \

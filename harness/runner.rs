@@ -366,22 +366,33 @@ fn plots(
         .map(|p| PlotData {
             title: p.title.clone(),
             x_label: match p.x_column.as_deref() {
+                _ if p.crack_band.is_some() => "crack opening w (mm)".into(),
                 None | Some("time") => "time (s)".into(),
                 Some(c) => c.to_string(),
             },
             y_label: p.y_label.clone(),
-            series: p
-                .columns
-                .iter()
-                .filter_map(|c| {
-                    let x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
-                    history.column(c).map(|y| Series {
-                        name: c.clone(),
-                        x,
-                        y,
-                    })
+            series: match (&p.crack_band, &spec.scene) {
+                (Some(band), Some(scene)) => crate::band::plot_series(band, scene, &|c| {
+                    history
+                        .column(c)
+                        .ok_or_else(|| format!("the history has no column `{c}`"))
                 })
-                .collect(),
+                .unwrap_or_else(|e| {
+                    eprintln!("plot `{}`: {e}", p.title);
+                    Vec::new()
+                }),
+                _ => Vec::new(),
+            }
+            .into_iter()
+            .chain(p.columns.iter().filter_map(|c| {
+                let x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
+                history.column(c).map(|y| Series {
+                    name: c.clone(),
+                    x,
+                    y,
+                })
+            }))
+            .collect(),
             reference_lines: p
                 .reference_metric
                 .iter()

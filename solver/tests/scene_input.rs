@@ -72,3 +72,71 @@ fn a_missing_mesh_file_is_refused() {
     assert!(matches!(err, SolverError::MeshRead { .. }), "{err}");
     assert!(err.to_string().contains("does/not/exist.msh"));
 }
+
+const REGION_SCENE: &str = "
+name: region
+bodies:
+  - name: prism
+    mesh: { box: { origin: [0, 0, 0], size: [0.3, 0.1, 0.1], divisions: [6, 2, 2] } }
+    material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.18 } }
+    regions:
+      - name: band
+        centroid_box: { min: [0.1, 0, 0], max: [0.15, 0.1, 0.1] }
+        material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.18 } }
+boundary_conditions:
+  - { body: prism, nodes: boundary, motion: { fixed: [x] } }
+analysis: { static: { load_steps: 1 } }
+";
+
+/// A material region takes the elements whose centroid lies in its box into a body of its own
+/// that shares the parent's nodes: the same material there gives bitwise the same forces as the
+/// undivided body, and `boundary` still means the outer surface of the whole mesh.
+#[test]
+fn a_material_region_shares_the_nodes_of_its_body() {
+    let scene = Scene::from_yaml(REGION_SCENE, "region.yaml").unwrap();
+    let problem = build_problem(&scene).unwrap();
+    let model = &problem.model;
+    assert_eq!(model.bodies.len(), 2);
+    assert_eq!(model.element_count(), 6 * 6 * 2 * 2);
+    assert_eq!(model.bodies[1].name, "band");
+    assert_eq!(model.bodies[1].elements.len(), 6 * 2 * 2);
+    assert!(model.bodies[1].nodes.is_empty());
+    assert_eq!(model.node_count(), 7 * 3 * 3);
+    // Boundary nodes of the whole 6 x 2 x 2 box: all but the 5 interior ones.
+    assert_eq!(problem.constraints[0].nodes.len(), 7 * 3 * 3 - 5);
+
+    let whole = REGION_SCENE
+        .split("    regions:")
+        .next()
+        .unwrap()
+        .to_string()
+        + "boundary_conditions: []\nanalysis: { static: { load_steps: 1 } }\n";
+    let plain = build_problem(&Scene::from_yaml(&whole, "plain.yaml").unwrap()).unwrap();
+    let u: Vec<_> = model
+        .reference
+        .iter()
+        .map(|x| nalgebra::Vector3::new(1e-4 * x.y * x.x, 2e-4 * x.z, -1e-4 * x.x * x.x))
+        .collect();
+    let (mut f, mut g) = (
+        vec![nalgebra::Vector3::zeros(); u.len()],
+        vec![nalgebra::Vector3::zeros(); u.len()],
+    );
+    model.internal_forces(&u, &mut f);
+    plain.model.internal_forces(&u, &mut g);
+    for (a, b) in f.iter().zip(&g) {
+        assert!((a - b).norm() <= 1e-9 * b.norm().max(1.0), "{a} {b}");
+    }
+}
+
+#[test]
+fn a_region_that_holds_no_element_is_refused() {
+    let text = REGION_SCENE.replace(
+        "min: [0.1, 0, 0], max: [0.15, 0.1, 0.1]",
+        "min: [1, 1, 1], max: [2, 2, 2]",
+    );
+    let msg = error_of(&text);
+    assert!(
+        msg.contains("region `band`") && msg.contains("no element"),
+        "{msg}"
+    );
+}

@@ -246,8 +246,14 @@ impl<'p> ExplicitSolver<'p> {
             history: model.initial_history(),
             history_node: if model.has_history() {
                 let mut flags = vec![false; n];
+                // The nodes of the history bodies' elements (a material region owns no nodes
+                // of its own but uses its parent's).
                 for body in model.bodies.iter().filter(|b| b.material.has_history()) {
-                    flags[body.nodes.clone()].fill(true);
+                    for e in body.elements.clone() {
+                        for &node in &model.tets[e] {
+                            flags[node as usize] = true;
+                        }
+                    }
                 }
                 flags
             } else {

@@ -42,6 +42,17 @@ pub struct Body {
     pub microplane: Option<MicroplaneBody>,
 }
 
+/// Elements of a body that take another material (see [`Model::with_regions`]).
+#[derive(Debug, Clone)]
+pub struct Region {
+    pub name: String,
+    /// Index of the parent body in the list given to [`Model::with_regions`].
+    pub parent: usize,
+    /// Connectivity in the parent mesh's local node ids.
+    pub tets: Vec<[u32; 4]>,
+    pub material: MaterialModel,
+}
+
 /// The assembled model in its reference configuration.
 #[derive(Debug)]
 pub struct Model {
@@ -69,6 +80,18 @@ impl Model {
     /// Assembles bodies `(name, mesh, material)`; each mesh is validated first so that an
     /// inverted or degenerate element is reported with its body and id.
     pub fn new(bodies: Vec<(String, Mesh, MaterialModel)>) -> Result<Self> {
+        Self::with_regions(bodies, Vec::new())
+    }
+
+    /// As [`Self::new`], plus material regions: each [`Region`] becomes a body of its own (its
+    /// own material, history and element range, after all the bodies) whose elements use the
+    /// nodes of its parent body, so it is bonded to the parent's remaining elements node by node.
+    /// A region body owns no nodes (its `nodes` range is empty): conditions, probes and contact
+    /// select nodes through the parent.
+    pub fn with_regions(
+        bodies: Vec<(String, Mesh, MaterialModel)>,
+        regions: Vec<Region>,
+    ) -> Result<Self> {
         let mut reference = Vec::new();
         let mut tets = Vec::new();
         let mut model_bodies = Vec::new();
@@ -98,6 +121,40 @@ impl Model {
                 nodes: offset as usize..reference.len(),
                 elements: first_element..tets.len(),
                 node_sets,
+                microplane: None,
+            });
+        }
+        for region in regions {
+            let Some(parent) = model_bodies.get(region.parent) else {
+                return Err(SolverError::InvalidScene {
+                    entity: format!("region `{}`", region.name),
+                    message: format!("no parent body {}", region.parent),
+                });
+            };
+            let offset = parent.nodes.start as u32;
+            let end = parent.nodes.end;
+            let local = Mesh {
+                nodes: reference[parent.nodes.clone()].to_vec(),
+                tets: region.tets.clone(),
+                node_sets: BTreeMap::new(),
+            };
+            local.validate(&region.name, DEFAULT_MIN_ALTITUDE_RATIO)?;
+            region.material.constants().validate().map_err(|message| {
+                SolverError::InvalidScene {
+                    entity: format!("region `{}` material", region.name),
+                    message,
+                }
+            })?;
+            let first_element = tets.len();
+            let index = model_bodies.len();
+            tets.extend(region.tets.iter().map(|t| t.map(|n| n + offset)));
+            element_body.extend(std::iter::repeat_n(index as u16, region.tets.len()));
+            model_bodies.push(Body {
+                name: region.name,
+                material: region.material,
+                nodes: end..end,
+                elements: first_element..tets.len(),
+                node_sets: BTreeMap::new(),
                 microplane: None,
             });
         }

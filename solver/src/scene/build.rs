@@ -7,7 +7,7 @@ use crate::error::{Result, SolverError};
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
 };
-use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Problem};
+use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Problem, Region};
 
 fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
     SolverError::InvalidScene {
@@ -27,6 +27,8 @@ fn dofs(components: &[Component]) -> [bool; 3] {
 /// Builds the model and the conditions of `scene`.
 pub fn build_problem(scene: &Scene) -> Result<Problem> {
     let mut bodies = Vec::new();
+    let mut regions = Vec::new();
+    let mut full_meshes = Vec::new();
     for (i, body) in scene.bodies.iter().enumerate() {
         if scene.bodies[..i].iter().any(|b| b.name == body.name) {
             return Err(invalid(
@@ -79,10 +81,46 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 *x = rotation * *x + shift;
             }
         }
+        let mut mesh = mesh;
+        // Selectors (the boundary among them) see the whole mesh, regions included.
+        full_meshes.push(mesh.clone());
+        for spec in &body.regions {
+            let entity = format!("body `{}` region `{}`", body.name, spec.name);
+            if scene.bodies.iter().any(|b| b.name == spec.name)
+                || regions.iter().any(|r: &Region| r.name == spec.name)
+            {
+                return Err(invalid(&entity, "a body or region already has this name"));
+            }
+            let (lo, hi) = mesh.bounding_box();
+            let tol = 1e-9 * (hi - lo).norm();
+            let (inside, outside): (Vec<[u32; 4]>, Vec<[u32; 4]>) =
+                mesh.tets.iter().partition(|t| {
+                    let c = t
+                        .iter()
+                        .map(|&n| mesh.nodes[n as usize])
+                        .sum::<Vector3<f64>>()
+                        / 4.0;
+                    let b = &spec.centroid_box;
+                    (0..3).all(|a| c[a] >= b.min[a] - tol && c[a] <= b.max[a] + tol)
+                });
+            if inside.is_empty() {
+                return Err(invalid(
+                    &entity,
+                    "centroid_box holds the centroid of no element; check it against the mesh",
+                ));
+            }
+            mesh.tets = outside;
+            regions.push(Region {
+                name: spec.name.clone(),
+                parent: i,
+                tets: inside,
+                material: spec.material.model(&spec.name)?,
+            });
+        }
         bodies.push((body.name.clone(), mesh, body.material.model(&body.name)?));
     }
-    let meshes: Vec<Mesh> = bodies.iter().map(|(_, m, _)| m.clone()).collect();
-    let mut model = Model::new(bodies)?;
+    let meshes: Vec<Mesh> = full_meshes;
+    let mut model = Model::with_regions(bodies, regions)?;
     scene
         .crack_indicator
         .validate()

@@ -150,6 +150,39 @@ pub struct BodySpec {
     /// Rigid placement of the mesh: rotated about an axis through the origin, then translated.
     #[serde(default)]
     pub transform: Option<Transform>,
+    /// Parts of the mesh that take another material: the elements whose centroid lies in a
+    /// region's box (after `transform`) become a body of their own, named by the region, that
+    /// shares the nodes of this body (bonded, one mesh). For a crack band of concrete between
+    /// elastic neighbours; an element is in the first region that holds it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<RegionSpec>,
+}
+
+/// A material region of a body: `{ name, centroid_box: { min, max }, material }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    pub name: String,
+    /// Axis-aligned box (m) that the centroid of an element must lie in (closed).
+    pub centroid_box: CentroidBox,
+    pub material: MaterialSpec,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CentroidBox {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl MaterialSpec {
+    /// The parameter file of a microplane material, to resolve relative paths.
+    pub fn file_mut(&mut self) -> Option<&mut PathBuf> {
+        match self {
+            MaterialSpec::Microplane(MicroplaneSpec { file: Some(p), .. }) => Some(p),
+            _ => None,
+        }
+    }
 }
 
 /// A body's material as written in a scene:
@@ -437,6 +470,11 @@ impl Scene {
             if let MaterialSpec::Microplane(MicroplaneSpec { file: Some(p), .. }) =
                 &mut body.material
             {
+                if p.is_relative() {
+                    *p = base.join(&*p);
+                }
+            }
+            for p in body.regions.iter_mut().filter_map(|r| r.material.file_mut()) {
                 if p.is_relative() {
                     *p = base.join(&*p);
                 }
