@@ -18,6 +18,9 @@ pub enum Tier {
     Nightly,
     /// Stability and robustness sweeps.
     Stress,
+    /// Validation runs too long for the nightly budget (the static beam on an unstructured
+    /// mesh, about 15 minutes): run by hand or weekly, `impact-vv run --tier long`.
+    Long,
 }
 
 impl Tier {
@@ -26,15 +29,18 @@ impl Tier {
             Tier::Quick => "quick",
             Tier::Nightly => "nightly",
             Tier::Stress => "stress",
+            Tier::Long => "long",
         }
     }
 
-    /// Tiers included when running `self`: nightly includes quick; stress is its own.
+    /// Tiers included when running `self`: nightly includes quick; stress and long are their
+    /// own.
     pub fn includes(self, case: Tier) -> bool {
         match self {
             Tier::Quick => case == Tier::Quick,
             Tier::Nightly => matches!(case, Tier::Quick | Tier::Nightly),
             Tier::Stress => case == Tier::Stress,
+            Tier::Long => case == Tier::Long,
         }
     }
 }

@@ -114,8 +114,9 @@ fn parse_tier(s: &str) -> Result<Tier, String> {
         "quick" => Ok(Tier::Quick),
         "nightly" => Ok(Tier::Nightly),
         "stress" => Ok(Tier::Stress),
+        "long" => Ok(Tier::Long),
         other => Err(format!(
-            "unknown tier `{other}`: use quick, nightly or stress"
+            "unknown tier `{other}`: use quick, nightly, stress or long"
         )),
     }
 }
