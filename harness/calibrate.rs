@@ -1,5 +1,7 @@
 //! `impact-vv calibrate`: fits the microplane parameters of the thesis concrete to the targets of
 //! MICROPLANE.md and writes them, with the value achieved for every target, to a material file.
+//! `--targets FILE` calibrates another concrete instead: the file gives its elastic constants,
+//! its targets and the comment written at the top of the material file ([`TargetsFile`]).
 
 use std::path::Path;
 
@@ -15,13 +17,49 @@ const HEADER: &str = "\
 # gives the value every target reaches with these parameters (quasi-static, single element).
 ";
 
+/// A concrete to calibrate other than the thesis's: measured elastic constants and density (kept
+/// as they are) and the strength and fracture targets. The starting guess is the thesis's with
+/// these elastic constants and `s_i_min = -ft`.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TargetsFile {
+    /// The comment at the top of the written material file (source of the data).
+    pub header: String,
+    /// kg/m^3.
+    pub density: f64,
+    /// Pa.
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    pub targets: Targets,
+}
+
 /// Runs the calibration with `evaluations` optimiser evaluations per stage and writes the result
-/// to `out`; returns whether every target is met.
-pub fn run(out: &Path, evaluations: usize) -> Result<bool, String> {
-    let targets = Targets::thesis_concrete();
+/// to `out`; returns whether every target is met. `targets_file`: another concrete than the
+/// thesis's ([`TargetsFile`]).
+pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Result<bool, String> {
+    let (targets, start, header) = match targets_file {
+        None => (Targets::thesis_concrete(), starting_guess(), HEADER.to_string()),
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            let file: TargetsFile = serde_norway::from_str(&text)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let mut start = starting_guess();
+            start.density = file.density;
+            start.youngs_modulus = file.youngs_modulus;
+            start.poisson_ratio = file.poisson_ratio;
+            start.s_i_min = -file.targets.ft;
+            let header = file
+                .header
+                .lines()
+                .map(|l| format!("# {l}\n"))
+                .collect::<String>();
+            (file.targets, start, header)
+        }
+    };
     let started = std::time::Instant::now();
     let (parameters, evaluation) =
-        calibrate(&starting_guess(), &targets, evaluations, &mut |line| {
+        calibrate(&start, &targets, evaluations, &mut |line| {
             eprintln!("[{:6.1} s] {line}", started.elapsed().as_secs_f64())
         })?;
     let outcomes = evaluation.outcomes(&targets);
@@ -40,8 +78,11 @@ pub fn run(out: &Path, evaluations: usize) -> Result<bool, String> {
         parameters,
         calibration: CalibrationRecord {
             command: format!(
-                "cargo run --release --bin impact-vv -- calibrate --out {} --evaluations {evaluations}",
-                out.display()
+                "cargo run --release --bin impact-vv -- calibrate --out {} --evaluations {evaluations}{}",
+                out.display(),
+                targets_file
+                    .map(|p| format!(" --targets {}", p.display()))
+                    .unwrap_or_default()
             ),
             evaluations,
             targets,
@@ -49,7 +90,7 @@ pub fn run(out: &Path, evaluations: usize) -> Result<bool, String> {
         },
     };
     let yaml = serde_norway::to_string(&file).map_err(|e| e.to_string())?;
-    std::fs::write(out, format!("{HEADER}{yaml}"))
+    std::fs::write(out, format!("{header}{yaml}"))
         .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
     println!(
         "wrote {} in {:.0} s",

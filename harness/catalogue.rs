@@ -198,6 +198,74 @@ pub struct PlotSpec {
     /// material point's `sigma(w)` (`crate::band::plot_series`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crack_band: Option<crate::band::BandSpec>,
+    /// History column subtracted from `x_column`, e.g. the crack mouth opening as the difference
+    /// of two probes' displacements (`x_column: mouth_right_x`, `x_minus: mouth_left_x`).
+    #[serde(default)]
+    pub x_minus: Option<String>,
+    /// Factor on the drawn `columns`, e.g. -1 to draw a downward reaction as a positive load.
+    #[serde(default)]
+    pub y_scale: Option<f64>,
+    /// Measured curves drawn beside the computed ones, from published data files.
+    #[serde(default)]
+    pub reference_curves: Vec<ReferenceCurve>,
+}
+
+/// A measured curve from a CSV file (a header line of column names, `#` comment lines), its
+/// columns scaled to the plot's units: `x = x_scale * file[x]`, `y = y_scale * file[y]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceCurve {
+    /// The file, relative to the case file.
+    pub file: PathBuf,
+    pub x: String,
+    pub y: String,
+    #[serde(default = "one")]
+    pub x_scale: f64,
+    #[serde(default = "one")]
+    pub y_scale: f64,
+    /// The legend entry.
+    pub label: String,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl ReferenceCurve {
+    /// Reads the curve's two columns, scaled.
+    pub fn read(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let text = std::fs::read_to_string(&self.file)
+            .map_err(|e| format!("cannot read {}: {e}", self.file.display()))?;
+        let mut lines = text
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'));
+        let header: Vec<&str> = lines
+            .next()
+            .ok_or_else(|| format!("{}: no header line", self.file.display()))?
+            .split(',')
+            .map(str::trim)
+            .collect();
+        let column = |name: &str| {
+            header.iter().position(|h| *h == name).ok_or_else(|| {
+                format!("{}: no column `{name}` in {header:?}", self.file.display())
+            })
+        };
+        let (ix, iy) = (column(&self.x)?, column(&self.y)?);
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        for (k, line) in lines.enumerate() {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            let value = |i: usize| -> Result<f64, String> {
+                fields
+                    .get(i)
+                    .and_then(|f| f.parse().ok())
+                    .ok_or_else(|| format!("{}: bad data row {}", self.file.display(), k + 1))
+            };
+            xs.push(self.x_scale * value(ix)?);
+            ys.push(self.y_scale * value(iy)?);
+        }
+        Ok((xs, ys))
+    }
 }
 
 /// A case with the file it came from.
@@ -254,6 +322,10 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
     }
     if let Some(mp) = &mut spec.material_point {
         resolve(&mut mp.material);
+    }
+    for curve in spec.plots.iter_mut().flat_map(|p| p.reference_curves.iter_mut()) {
+        resolve(&mut curve.file);
+        curve.read().map_err(&fail)?;
     }
     crate::material_point::validate(&spec).map_err(fail)?;
     crate::crosscheck::validate(&spec).map_err(fail)?;

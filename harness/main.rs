@@ -88,6 +88,11 @@ enum Command {
         /// Optimiser evaluations per stage.
         #[arg(long, default_value_t = 120)]
         evaluations: usize,
+        /// Another concrete: a YAML file with `header`, `density`, `youngs_modulus`,
+        /// `poisson_ratio` and `targets` (the fields of the record's `targets`), e.g.
+        /// cases/materials/gregoire-2013-targets.yaml.
+        #[arg(long)]
+        targets: Option<PathBuf>,
     },
     /// Recompute the independent answers of the cross-check cases (`crosscheck` tag) with
     /// scikit-fem and ipctk and write them to references/crosscheck/cache/. Needs a build with
@@ -206,8 +211,12 @@ fn main() -> ExitCode {
             }
             run(selected, tier, &reports, time_limit, !serial)
         }
-        Command::Calibrate { out, evaluations } => {
-            match impact_vv::calibrate::run(&out, evaluations) {
+        Command::Calibrate {
+            out,
+            evaluations,
+            targets,
+        } => {
+            match impact_vv::calibrate::run(&out, evaluations, targets.as_deref()) {
                 Ok(true) => ExitCode::SUCCESS,
                 Ok(false) => {
                     eprintln!(

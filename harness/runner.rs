@@ -368,7 +368,10 @@ fn plots(
             x_label: match p.x_column.as_deref() {
                 _ if p.crack_band.is_some() => "crack opening w (mm)".into(),
                 None | Some("time") => "time (s)".into(),
-                Some(c) => c.to_string(),
+                Some(c) => match &p.x_minus {
+                    Some(m) => format!("{c} - {m}"),
+                    None => c.to_string(),
+                },
             },
             y_label: p.y_label.clone(),
             series: match (&p.crack_band, &spec.scene) {
@@ -385,9 +388,21 @@ fn plots(
             }
             .into_iter()
             .chain(p.columns.iter().filter_map(|c| {
-                let x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
+                let mut x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
+                if let Some(minus) = &p.x_minus {
+                    let m = history.column(minus)?;
+                    x.iter_mut().zip(m).for_each(|(a, b)| *a -= b);
+                }
+                let scale = p.y_scale.unwrap_or(1.0);
                 history.column(c).map(|y| Series {
                     name: c.clone(),
+                    x,
+                    y: y.into_iter().map(|v| scale * v).collect(),
+                })
+            }))
+            .chain(p.reference_curves.iter().filter_map(|r| {
+                r.read().ok().map(|(x, y)| Series {
+                    name: r.label.clone(),
                     x,
                     y,
                 })
