@@ -1,0 +1,71 @@
+//! Issue 16 diagnostic: one material point of the calibrated concrete (h = 50 mm) pulled in
+//! uniaxial stress and in uniaxial strain (lateral strains held, as in a crack band bonded to
+//! elastic neighbours). Prints, for each path, the peak with the volumetric strain
+//! `e_V = tr(eps) / 3` and the mean stress there, the dissipated energy times h, and the path.
+//! Both paths peak at the same `e_V` and mean stress: the model's tensile failure is governed by
+//! the volumetric law `s_V(e_V)`, so holding the lateral strains (e_V = eps_x / 3 instead of
+//! about 0.18 eps_x) lowers the strength and the fracture energy.
+//!
+//! `cargo run --release -p impact-solver --example tension_lateral_constraint`
+use impact_solver::material::microplane::driver::{uniaxial_controls, Control, MaterialPoint};
+use impact_solver::material::microplane::MicroplaneConcrete;
+use impact_solver::material::read_microplane_file;
+
+fn main() {
+    let p =
+        read_microplane_file(std::path::Path::new("cases/materials/thesis-concrete.yaml")).unwrap();
+    println!("e1 {:e}", p.e1);
+    let model = MicroplaneConcrete::new(p).unwrap();
+    let h = 0.05;
+    for lateral_free in [true, false] {
+        let mut pt = MaterialPoint::new(&model, h).unwrap();
+        let (mut peak, mut at) = (0.0f64, None);
+        let mut work = 0.0;
+        let mut prev = (0.0f64, 0.0f64);
+        let mut e = 0.0;
+        let mut rows = Vec::new();
+        while e < 3e-3 {
+            e += if e < 3e-4 { 1e-6 } else { 4e-6 };
+            let c = if lateral_free {
+                uniaxial_controls(e)
+            } else {
+                [
+                    Control::Strain(e),
+                    Control::Strain(0.0),
+                    Control::Strain(0.0),
+                    Control::Strain(0.0),
+                    Control::Strain(0.0),
+                    Control::Strain(0.0),
+                ]
+            };
+            let q = match pt.mixed_step_subdivided(&c, 1.0) {
+                Ok(q) => q,
+                Err(_) => break,
+            };
+            let s = q.stress;
+            let eps = q.strain;
+            work += 0.5 * (s[0] + prev.1) * (eps[0] - prev.0);
+            prev = (eps[0], s[0]);
+            let ev = (eps[0] + eps[1] + eps[2]) / 3.0;
+            let sm = (s[0] + s[1] + s[2]) / 3.0;
+            if s[0] > peak {
+                peak = s[0];
+                at = Some((eps[0], ev, sm, s[1]));
+            }
+            rows.push((eps[0], s[0], ev, sm, s[1]));
+        }
+        let (ex, ev, sm, sy) = at.unwrap();
+        println!("{}: peak {:.3} MPa at eps_x {:.3e}, e_V {:.3e}, mean stress {:.3} MPa, lateral stress {:.3} MPa; energy x h {:.4} N/mm",
+            if lateral_free {"uniaxial stress"} else {"uniaxial strain"}, peak/1e6, ex, ev, sm/1e6, sy/1e6, work*h*1e-3);
+        for r in rows.iter().step_by(60).take(14) {
+            println!(
+                "   eps_x {:.2e} sigma_x {:7.3} e_V {:.2e} mean {:7.3} lateral {:7.3}",
+                r.0,
+                r.1 / 1e6,
+                r.2,
+                r.3 / 1e6,
+                r.4 / 1e6
+            );
+        }
+    }
+}
