@@ -247,9 +247,10 @@ impl ReferenceCurve {
             .map(str::trim)
             .collect();
         let column = |name: &str| {
-            header.iter().position(|h| *h == name).ok_or_else(|| {
-                format!("{}: no column `{name}` in {header:?}", self.file.display())
-            })
+            header
+                .iter()
+                .position(|h| *h == name)
+                .ok_or_else(|| format!("{}: no column `{name}` in {header:?}", self.file.display()))
         };
         let (ix, iy) = (column(&self.x)?, column(&self.y)?);
         let (mut xs, mut ys) = (Vec::new(), Vec::new());
@@ -323,7 +324,11 @@ pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
     if let Some(mp) = &mut spec.material_point {
         resolve(&mut mp.material);
     }
-    for curve in spec.plots.iter_mut().flat_map(|p| p.reference_curves.iter_mut()) {
+    for curve in spec
+        .plots
+        .iter_mut()
+        .flat_map(|p| p.reference_curves.iter_mut())
+    {
         resolve(&mut curve.file);
         curve.read().map_err(&fail)?;
     }
@@ -445,4 +450,43 @@ fn glob_match(pattern: &str, text: &str) -> bool {
         }
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ReferenceCurve;
+
+    /// A measured curve reads its two named columns scaled, skipping `#` comments and blank
+    /// lines; a missing column or a bad number is an error naming the file.
+    #[test]
+    fn a_reference_curve_reads_its_columns_scaled() {
+        let dir = std::env::temp_dir().join(format!("impact-refcurve-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("curve.csv");
+        std::fs::write(
+            &file,
+            "# source: a test\ncmod_mm, load_min, load_max\n\n0.0, 1.0, 2.0\n0.5, 3.0, 4.0\n",
+        )
+        .unwrap();
+        let curve = |y: &str| ReferenceCurve {
+            file: file.clone(),
+            x: "cmod_mm".into(),
+            y: y.into(),
+            x_scale: 1e-3,
+            y_scale: 2.0,
+            label: "measured".into(),
+        };
+        let (x, y) = curve("load_max").read().unwrap();
+        assert_eq!(x, vec![0.0, 0.5e-3]);
+        assert_eq!(y, vec![4.0, 8.0]);
+        let missing = curve("load").read().unwrap_err();
+        assert!(missing.contains("no column `load`"), "{missing}");
+        std::fs::write(&file, "cmod_mm, load_max\n0.0, x\n").unwrap();
+        let bad = curve("load_max").read().unwrap_err();
+        assert!(
+            bad.contains("bad data row 1") && bad.contains("curve.csv"),
+            "{bad}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -645,26 +645,13 @@ impl Measure {
             } => {
                 let (mut k, mut w) = (column(kinetic)?, column(internal_work)?);
                 if let Some(c) = until_peak_of {
-                    let load = column(c)?;
-                    let peak = (0..load.len())
-                        .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
-                        .ok_or("empty history")?;
-                    let end = match after_peak_down_to {
-                        None => peak,
-                        Some(f) => {
-                            let bound = f * load[peak].abs();
-                            (peak..load.len())
-                                .find(|&i| load[i].abs() < bound)
-                                .ok_or_else(|| {
-                                    format!(
-                                        "`{c}` never falls below {f} of its peak after it: \
-                                         run longer"
-                                    )
-                                })?
-                        }
-                    };
-                    k.truncate(end + 1);
-                    w.truncate(end + 1);
+                    let end = crate::beam::history::records_through_peak(
+                        &column(c)?,
+                        *after_peak_down_to,
+                    )
+                    .map_err(|e| format!("`{c}`: {e}"))?;
+                    k.truncate(end);
+                    w.truncate(end);
                 }
                 crate::beam::history::kinetic_over_internal_work(&k, &w, *above_fraction)?
             }
@@ -683,13 +670,7 @@ impl Measure {
                 until_peak_of,
             } => {
                 let end = match until_peak_of {
-                    Some(c) => {
-                        let load = column(c)?;
-                        (0..load.len())
-                            .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
-                            .ok_or("empty history")?
-                            + 1
-                    }
+                    Some(c) => crate::beam::history::records_through_peak(&column(c)?, None)?,
                     None => usize::MAX,
                 };
                 let mut forces = Vec::with_capacity(conditions.len());

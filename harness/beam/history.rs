@@ -123,6 +123,31 @@ pub fn peak_bending_moment(section_x: f64, forces: &[(Vec<f64>, f64)]) -> Result
         .fold(0.0, f64::max))
 }
 
+/// Number of records of the quasi-static branch of a load history: up to and including the
+/// largest |load|, or with `after_peak_down_to = Some(f)` on to the first record after the peak
+/// where |load| falls below `f` times its peak (an error if it never does: the run is too
+/// short).
+pub fn records_through_peak(
+    load: &[f64],
+    after_peak_down_to: Option<f64>,
+) -> Result<usize, String> {
+    let peak = (0..load.len())
+        .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
+        .ok_or("empty history")?;
+    let end = match after_peak_down_to {
+        None => peak,
+        Some(f) => {
+            let bound = f * load[peak].abs();
+            (peak..load.len())
+                .find(|&i| load[i].abs() < bound)
+                .ok_or_else(|| {
+                    format!("the load never falls below {f} of its peak after it: run longer")
+                })?
+        }
+    };
+    Ok(end + 1)
+}
+
 /// `max |numerator| / max |denominator|`.
 pub fn peak_ratio(numerator: &[f64], denominator: &[f64]) -> Result<f64, String> {
     let max_abs = |y: &[f64]| y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -188,6 +213,56 @@ pub fn force_equilibrium_error(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn records_through_the_peak_and_down_to_a_fraction_after_it() {
+        let load = [0.0, -1.0, -3.0, -4.0, -3.5, -2.9, -1.0];
+        assert_eq!(records_through_peak(&load, None).unwrap(), 4);
+        // 80 % of 4 is 3.2: the first record below it after the peak is -2.9, the sixth.
+        assert_eq!(records_through_peak(&load, Some(0.8)).unwrap(), 6);
+        assert!(records_through_peak(&load, Some(0.1)).is_err());
+        assert!(records_through_peak(&[], None).is_err());
+    }
+
+    /// A moment's forces come from boundary conditions (column `<name>_reaction_y`) or from
+    /// reaction probes (column `<name>_y`), each on one line of nodes of constant x; a
+    /// displacement probe, an unknown name or a set spread in x is refused.
+    #[test]
+    fn force_lines_from_conditions_and_reaction_probes() {
+        let scene = impact_solver::scene::Scene::from_yaml(
+            "name: bar
+bodies:
+  - name: bar
+    mesh: { box: { origin: [0, 0, 0], size: [0.2, 0.1, 0.1], divisions: [2, 1, 1] } }
+    material: { linear_elastic: { density: 2400, youngs_modulus: 3.0e10, poisson_ratio: 0.2 } }
+boundary_conditions:
+  - { name: end, body: bar, nodes: { box: { min: [0, 0, 0], max: [0, 0.1, 0.1] } }, motion: { fixed: [x, y, z] } }
+  - { name: strip, body: bar, nodes: { box: { min: [0, 0, 0], max: [0.1, 0, 0.1] } }, motion: { fixed: [y] } }
+probes:
+  - { name: middle, body: bar, nodes: { box: { min: [0.1, 0, 0], max: [0.1, 0, 0.1] } }, quantity: reaction }
+  - { name: moved, body: bar, nodes: { box: { min: [0.1, 0, 0], max: [0.1, 0, 0.1] } }, quantity: displacement }
+analysis:
+  explicit: { end_time: 1.0e-6 }
+",
+            "bar.yaml",
+        )
+        .unwrap();
+        let problem = impact_solver::scene::build_problem(&scene).unwrap();
+        assert_eq!(
+            force_line(&problem, "end").unwrap(),
+            ("end_reaction_y".to_string(), 0.0)
+        );
+        let (column, x) = force_line(&problem, "middle").unwrap();
+        assert_eq!(column, "middle_y");
+        assert!((x - 0.1).abs() < 1e-12);
+        assert!(force_line(&problem, "strip")
+            .unwrap_err()
+            .contains("split it into lines"));
+        assert!(force_line(&problem, "moved")
+            .unwrap_err()
+            .contains("no boundary condition"));
+        assert!(force_line(&problem, "nothing").is_err());
+    }
 
     #[test]
     fn quasi_static_ratio_skips_the_start() {
