@@ -38,12 +38,16 @@ pub struct TargetsFile {
 /// thesis's ([`TargetsFile`]).
 pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Result<bool, String> {
     let (targets, start, header) = match targets_file {
-        None => (Targets::thesis_concrete(), starting_guess(), HEADER.to_string()),
+        None => (
+            Targets::thesis_concrete(),
+            starting_guess(),
+            HEADER.to_string(),
+        ),
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            let file: TargetsFile = serde_norway::from_str(&text)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let file: TargetsFile =
+                serde_norway::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
             let mut start = starting_guess();
             start.density = file.density;
             start.youngs_modulus = file.youngs_modulus;
@@ -58,10 +62,9 @@ pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Resul
         }
     };
     let started = std::time::Instant::now();
-    let (parameters, evaluation) =
-        calibrate(&start, &targets, evaluations, &mut |line| {
-            eprintln!("[{:6.1} s] {line}", started.elapsed().as_secs_f64())
-        })?;
+    let (parameters, evaluation) = calibrate(&start, &targets, evaluations, &mut |line| {
+        eprintln!("[{:6.1} s] {line}", started.elapsed().as_secs_f64())
+    })?;
     let outcomes = evaluation.outcomes(&targets);
     let met = outcomes.iter().all(|o| o.met);
     for o in &outcomes {

@@ -215,22 +215,20 @@ fn main() -> ExitCode {
             out,
             evaluations,
             targets,
-        } => {
-            match impact_vv::calibrate::run(&out, evaluations, targets.as_deref()) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => {
-                    eprintln!(
-                        "some targets are missed: see the table above and {}",
-                        out.display()
-                    );
-                    ExitCode::from(1)
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
-                }
+        } => match impact_vv::calibrate::run(&out, evaluations, targets.as_deref()) {
+            Ok(true) => ExitCode::SUCCESS,
+            Ok(false) => {
+                eprintln!(
+                    "some targets are missed: see the table above and {}",
+                    out.display()
+                );
+                ExitCode::from(1)
             }
-        }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
         Command::Report { run, reports } => {
             let text = match std::fs::read_to_string(run.join("results.json")) {
                 Ok(t) => t,

@@ -490,7 +490,11 @@ fn crack_band(
             let w1 = g_f / f_t;
             let shape = softening_shape(&curve, h, e, w1 * 1e-3);
             out.values.extend([
-                value(Quantity::SofteningStressRatioAtW1, &at, shape.stress_ratio_at_w1),
+                value(
+                    Quantity::SofteningStressRatioAtW1,
+                    &at,
+                    shape.stress_ratio_at_w1,
+                ),
                 value(
                     Quantity::SofteningEndOpening,
                     &at,
@@ -590,9 +594,10 @@ fn crack_band(
                 ]);
                 shape_rows
             },
-            note: "Crack opening w = h (eps - sigma/E) after the peak; sigma / ft with the model's \
+            note:
+                "Crack opening w = h (eps - sigma/E) after the peak; sigma / ft with the model's \
                    own peak as ft."
-                .into(),
+                    .into(),
         });
     }
     let mut energy_plot = MaterialPlot::new(

@@ -474,7 +474,11 @@ impl Scene {
                     *p = base.join(&*p);
                 }
             }
-            for p in body.regions.iter_mut().filter_map(|r| r.material.file_mut()) {
+            for p in body
+                .regions
+                .iter_mut()
+                .filter_map(|r| r.material.file_mut())
+            {
                 if p.is_relative() {
                     *p = base.join(&*p);
                 }

@@ -13,8 +13,8 @@
 //! edge, and the optimiser minimises the sum of squared misfits.
 
 use super::experiments::{
-    equal_biaxial_compression, hydrostatic_compression, uniaxial_compression, uniaxial_tension,
-    softening_shape, CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
+    equal_biaxial_compression, hydrostatic_compression, softening_shape, uniaxial_compression,
+    uniaxial_tension, CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
 };
 use super::{MicroplaneConcrete, MicroplaneParameters};
 use serde::{Deserialize, Serialize};
@@ -112,7 +112,12 @@ impl Evaluation {
         let h = targets.element_size;
         let rate = QUASI_STATIC_RATE;
         let (curve, tension) = uniaxial_tension(&model, h, rate).map_err(|e| e.to_string())?;
-        let softening = softening_shape(&curve, h, parameters.youngs_modulus, targets.gf / targets.ft);
+        let softening = softening_shape(
+            &curve,
+            h,
+            parameters.youngs_modulus,
+            targets.gf / targets.ft,
+        );
         let mut fracture_energy = [0.0; 3];
         for (g, &size) in fracture_energy.iter_mut().zip(&targets.gf_sizes) {
             *g = if size == h {
@@ -156,10 +161,18 @@ impl Evaluation {
             + misfit(self.tension.peak_strain, t.ft_strain[0], t.ft_strain[1]).powi(2);
         if t.softening_at_w1[1] > t.softening_at_w1[0] {
             let sh = &self.softening;
-            cost += misfit(sh.stress_ratio_at_w1, t.softening_at_w1[0], t.softening_at_w1[1])
-                .powi(2)
-                + misfit(sh.opening_at_one_percent, t.softening_end[0], t.softening_end[1])
-                    .powi(2);
+            cost += misfit(
+                sh.stress_ratio_at_w1,
+                t.softening_at_w1[0],
+                t.softening_at_w1[1],
+            )
+            .powi(2)
+                + misfit(
+                    sh.opening_at_one_percent,
+                    t.softening_end[0],
+                    t.softening_end[1],
+                )
+                .powi(2);
         }
         cost
     }
@@ -226,7 +239,11 @@ impl Evaluation {
                 ),
                 achieved: sh.stress_ratio_at_w1,
                 unit: "-".into(),
-                met: within(sh.stress_ratio_at_w1, t.softening_at_w1[0], t.softening_at_w1[1]),
+                met: within(
+                    sh.stress_ratio_at_w1,
+                    t.softening_at_w1[0],
+                    t.softening_at_w1[1],
+                ),
             },
             Outcome {
                 name: format!(
@@ -240,7 +257,11 @@ impl Evaluation {
                 ),
                 achieved: sh.opening_at_one_percent * 1e3,
                 unit: "mm".into(),
-                met: within(sh.opening_at_one_percent, t.softening_end[0], t.softening_end[1]),
+                met: within(
+                    sh.opening_at_one_percent,
+                    t.softening_end[0],
+                    t.softening_end[1],
+                ),
             },
         ]);
         let c = &self.compression;

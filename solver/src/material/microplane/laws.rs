@@ -266,7 +266,10 @@ mod tests {
         for y in [0.05, 0.2, 0.5, 0.9] {
             let u = u_p + y * 10.0;
             let s = g_p * hordijk(y);
-            assert!((law.stress(u + s, 1.0, 1.0, 1.0) - s).abs() < 1e-12, "y = {y}");
+            assert!(
+                (law.stress(u + s, 1.0, 1.0, 1.0) - s).abs() < 1e-12,
+                "y = {y}"
+            );
         }
         // The crack band keeps h * energy with the tail as well.
         let h_ref = 0.3;
