@@ -72,6 +72,21 @@ pub fn mc2010_bilinear_softening(w: f64, f_t: f64, g_f: f64) -> f64 {
     }
 }
 
+/// Hordijk's (1991) stress-crack opening law in tension, with `w_c = 5.14 G_F / f_t`:
+/// `sigma / f_t = (1 + (3 y)^3) exp(-6.93 y) - 28 y exp(-6.93)` at `y = w / w_c` on [0, 1],
+/// `f_t` at `w <= 0` and zero beyond `w_c` (written out here, apart from the solver's tail).
+/// Units as [`mc2010_bilinear_softening`].
+pub fn hordijk_softening(w: f64, f_t: f64, g_f: f64) -> f64 {
+    let y = w / (5.14 * g_f / f_t);
+    if y <= 0.0 {
+        return f_t;
+    }
+    if y >= 1.0 {
+        return 0.0;
+    }
+    f_t * ((1.0 + 27.0 * y * y * y) * (-6.93 * y).exp() - 28.0 * y * (-6.93f64).exp()).max(0.0)
+}
+
 /// The rate factor of the microplane model, `F = 1 + c2 asinh(gamma_dot / c1)` (MICROPLANE.md
 /// "Rate effect", Bažant et al. 2000), with the equivalent rate `gamma_dot = sqrt(1/2 Edot :
 /// Edot)` (5.111), written here apart from the solver for the unit check of the rate law.

@@ -61,15 +61,7 @@ impl SofteningLaw {
             SofteningLaw::Mc2010 { ft, gf } => {
                 super::concrete::mc2010_bilinear_softening(w, *ft, *gf)
             }
-            SofteningLaw::Hordijk { ft, .. } => {
-                let wc = self.critical_opening();
-                if w >= wc {
-                    return 0.0;
-                }
-                let (c1, c2, x) = (3.0f64, 6.93f64, w / wc);
-                ft * ((1.0 + (c1 * x).powi(3)) * (-c2 * x).exp()
-                    - x * (1.0 + c1.powi(3)) * (-c2).exp())
-            }
+            SofteningLaw::Hordijk { ft, gf } => super::concrete::hordijk_softening(w, *ft, *gf),
             SofteningLaw::Tabulated { w: ws, sigma } => {
                 let n = ws.len();
                 if n == 0 || w > ws[n - 1] {

@@ -17,8 +17,8 @@ use super::{
     ReferenceCurve, Selector, Targets, Value,
 };
 use crate::reference::concrete::{
-    cebfip1990_dynamic_increase_factor, mc2010_bilinear_softening, mc2010_compression_stress,
-    mc2010_dif_ratio, microplane_rate_factor,
+    cebfip1990_dynamic_increase_factor, hordijk_softening, mc2010_bilinear_softening,
+    mc2010_compression_stress, mc2010_dif_ratio, microplane_rate_factor,
 };
 use crate::report::format::num;
 
@@ -530,26 +530,25 @@ fn crack_band(
         opening_plot = opening_plot.curve(series(name, &opening));
     }
     for c in &mp.reference_curves {
-        if let ReferenceCurve::Mc2010Softening { f_t, g_f } = *c {
-            opening_plot = opening_plot.reference_curve(sampled(
-                format!("MC2010 bilinear (ft {f_t} MPa, GF {g_f} N/mm)"),
-                0.0,
-                5.5 * g_f / f_t,
-                200,
-                false,
-                |w| mc2010_bilinear_softening(w, f_t, g_f),
-            ));
-        }
-        if let ReferenceCurve::Hordijk1991Softening { f_t, g_f } = *c {
-            opening_plot = opening_plot.reference_curve(sampled(
-                format!("Hordijk 1991 (ft {f_t} MPa, GF {g_f} N/mm)"),
-                0.0,
-                5.5 * g_f / f_t,
-                200,
-                false,
-                |w| f_t * hordijk_softening(w / (5.14 * g_f / f_t)),
-            ));
-        }
+        let (label, f_t, g_f, hordijk) = match *c {
+            ReferenceCurve::Mc2010Softening { f_t, g_f } => ("MC2010 bilinear", f_t, g_f, false),
+            ReferenceCurve::Hordijk1991Softening { f_t, g_f } => ("Hordijk 1991", f_t, g_f, true),
+            _ => continue,
+        };
+        opening_plot = opening_plot.reference_curve(sampled(
+            format!("{label} (ft {f_t} MPa, GF {g_f} N/mm)"),
+            0.0,
+            5.5 * g_f / f_t,
+            200,
+            false,
+            |w| {
+                if hordijk {
+                    hordijk_softening(w, f_t, g_f)
+                } else {
+                    mc2010_bilinear_softening(w, f_t, g_f)
+                }
+            },
+        ));
     }
     if let Some((f_t, g_f)) = reference {
         let w1 = g_f / f_t;
@@ -585,10 +584,10 @@ fn crack_band(
                 ]);
                 shape_rows.push(vec![
                     "Hordijk 1991".into(),
-                    format!("{:.4}", hordijk_softening(1.0 / 5.14)),
+                    format!("{:.4}", hordijk_softening(w1, f_t, g_f) / f_t),
                     format!(
                         "{:.4} (zero at 5.14 GF/ft = {:.4})",
-                        one_percent(&|w| hordijk_softening(w / (5.14 * w1)), 6.0 * w1),
+                        one_percent(&|w| hordijk_softening(w, f_t, g_f) / f_t, 6.0 * w1),
                         5.14 * w1
                     ),
                 ]);
@@ -891,18 +890,6 @@ fn biaxial(
     Ok(())
 }
 
-/// Hydrostatic compression and unloading: damage, and compaction then stiffening of the
-/// secant bulk modulus.
-/// Hordijk's (1991) softening curve `sigma / ft` at `y = w / w_c`, `w_c = 5.14 GF / ft`:
-/// `(1 + (3 y)^3) exp(-6.93 y) - 28 y exp(-6.93)` on [0, 1], zero beyond (written out here,
-/// independently of the solver's tail).
-fn hordijk_softening(y: f64) -> f64 {
-    if !(0.0..1.0).contains(&y) {
-        return if y < 0.0 { 1.0 } else { 0.0 };
-    }
-    ((1.0 + 27.0 * y * y * y) * (-6.93 * y).exp() - 28.0 * y * (-6.93f64).exp()).max(0.0)
-}
-
 /// The fraction of the work of hydrostatic loading to a volumetric strain `e_V = -end` that
 /// unloading gives back, in closed form from the volumetric compression law (5.21)
 /// `s_V = E_V0 x [(1 + x/a)^-p + (x/b)^q]` (x = -e_V) and its unloading rule: a straight line of
@@ -933,6 +920,8 @@ fn hydrostatic_returned_fraction(params: &MicroplaneParameters, end: f64) -> f64
     stress * stress / (2.0 * slope) / loading
 }
 
+/// Hydrostatic compression and unloading: damage, and compaction then stiffening of the
+/// secant bulk modulus.
 fn hydrostatic(
     mp: &MaterialPointSpec,
     params: &MicroplaneParameters,

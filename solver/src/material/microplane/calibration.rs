@@ -461,21 +461,14 @@ fn optimise(
 /// size of the strength tests and the tail length is fitted instead (the energy is affine in it;
 /// only the product of `h_ref` and the tail, the opening where the law ends, matters).
 fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), String> {
-    if p.hordijk_tail > 0.0 {
-        p.h_ref = t.element_size;
-        for _ in 0..60 {
-            let model = MicroplaneConcrete::new(*p)?;
-            let (_, r) = uniaxial_tension(&model, t.element_size, QUASI_STATIC_RATE)
-                .map_err(|e| e.to_string())?;
-            let ratio = t.gf / r.fracture_energy;
-            if (ratio - 1.0).abs() < 1e-4 {
-                break;
-            }
-            p.hordijk_tail *= ratio;
-        }
-        return Ok(());
-    }
-    for _ in 0..20 {
+    let (scaled, iterations): (fn(&mut MicroplaneParameters) -> &mut f64, usize) =
+        if p.hordijk_tail > 0.0 {
+            p.h_ref = t.element_size;
+            (|p| &mut p.hordijk_tail, 60)
+        } else {
+            (|p| &mut p.h_ref, 20)
+        };
+    for _ in 0..iterations {
         let model = MicroplaneConcrete::new(*p)?;
         let (_, r) = uniaxial_tension(&model, t.element_size, QUASI_STATIC_RATE)
             .map_err(|e| e.to_string())?;
@@ -483,7 +476,7 @@ fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), S
         if (ratio - 1.0).abs() < 1e-4 {
             break;
         }
-        p.h_ref *= ratio;
+        *scaled(p) *= ratio;
     }
     Ok(())
 }
