@@ -7,7 +7,7 @@
 //! about 0.18 eps_x) lowers the strength and the fracture energy.
 //!
 //! `cargo run --release -p impact-solver --example tension_lateral_constraint`
-use impact_solver::material::microplane::driver::{uniaxial_controls, Control, MaterialPoint};
+use impact_solver::material::microplane::driver::{uniaxial_controls, MaterialPoint};
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::read_microplane_file;
 
@@ -26,21 +26,13 @@ fn main() {
         let mut rows = Vec::new();
         while e < 3e-3 {
             e += if e < 3e-4 { 1e-6 } else { 4e-6 };
-            let c = if lateral_free {
-                uniaxial_controls(e)
+            let q = if lateral_free {
+                match pt.mixed_step_subdivided(&uniaxial_controls(e), 1.0) {
+                    Ok(q) => q,
+                    Err(_) => break,
+                }
             } else {
-                [
-                    Control::Strain(e),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                ]
-            };
-            let q = match pt.mixed_step_subdivided(&c, 1.0) {
-                Ok(q) => q,
-                Err(_) => break,
+                pt.strain_step([e, 0.0, 0.0, 0.0, 0.0, 0.0], 1.0)
             };
             let s = q.stress;
             let eps = q.strain;
