@@ -94,6 +94,38 @@ pub fn microplane_rate_factor(gamma_dot: f64, c1: f64, c2: f64) -> f64 {
     1.0 + c2 * (gamma_dot / c1).asinh()
 }
 
+/// The fraction of the work of hydrostatic loading to a volumetric strain `e_V = -end` that
+/// unloading gives back, in closed form from the volumetric compression law (5.21)
+/// `s_V = E_V0 x [(1 + x/a)^-p + (x/b)^q]` (x = -e_V) and its unloading rule: a straight line of
+/// slope `C = max(E_V0, ds_V/dx)` from the turning point `X` down to zero stress (M4/M7). Loading
+/// work `int_0^X s_V dx = E_V0 [a^2 ((u^(2-p) - 1)/(2-p) - (u^(1-p) - 1)/(1-p)) + X^(q+2) /
+/// ((q+2) b^q)]` with `u = 1 + X/a` (`ln u` for the term whose exponent is 0); returned
+/// `s_V(X)^2 / (2 C)`. The factor 3 of
+/// `sigma : d eps = 3 s_V d e_V` cancels. `e_v0 = E / (1 - 2 nu)`; `[a, b, p, q]` of the law.
+pub fn microplane_hydrostatic_returned_fraction(
+    e_v0: f64,
+    [a, b, p, q]: [f64; 4],
+    end: f64,
+) -> f64 {
+    let x = end;
+    let u = 1.0 + x / a;
+    // int_1^u v^(k-1) dv, = ln u when k = 0.
+    let power_integral = |k: f64| {
+        if k.abs() < 1e-12 {
+            u.ln()
+        } else {
+            (u.powf(k) - 1.0) / k
+        }
+    };
+    let loading = e_v0
+        * (a * a * (power_integral(2.0 - p) - power_integral(1.0 - p))
+            + x.powf(q + 2.0) / ((q + 2.0) * b.powf(q)));
+    let stress = e_v0 * x * (u.powf(-p) + (x / b).powf(q));
+    let tangent = e_v0 * (u.powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * (x / b).powf(q));
+    let slope = e_v0.max(tangent);
+    stress * stress / (2.0 * slope) / loading
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,7 +18,8 @@ use super::{
 };
 use crate::reference::concrete::{
     cebfip1990_dynamic_increase_factor, hordijk_softening, mc2010_bilinear_softening,
-    mc2010_compression_stress, mc2010_dif_ratio, microplane_rate_factor,
+    mc2010_compression_stress, mc2010_dif_ratio, microplane_hydrostatic_returned_fraction,
+    microplane_rate_factor,
 };
 use crate::report::format::num;
 
@@ -890,36 +891,6 @@ fn biaxial(
     Ok(())
 }
 
-/// The fraction of the work of hydrostatic loading to a volumetric strain `e_V = -end` that
-/// unloading gives back, in closed form from the volumetric compression law (5.21)
-/// `s_V = E_V0 x [(1 + x/a)^-p + (x/b)^q]` (x = -e_V) and its unloading rule: a straight line of
-/// slope `C = max(E_V0, ds_V/dx)` from the turning point `X` down to zero stress (M4/M7). Loading
-/// work `int_0^X s_V dx = E_V0 [a^2 ((u^(2-p) - 1)/(2-p) - (u^(1-p) - 1)/(1-p)) + X^(q+2) /
-/// ((q+2) b^q)]` with `u = 1 + X/a` (`ln u` for the term whose exponent is 0); returned
-/// `s_V(X)^2 / (2 C)`. The factor 3 of
-/// `sigma : d eps = 3 s_V d e_V` cancels.
-fn hydrostatic_returned_fraction(params: &MicroplaneParameters, end: f64) -> f64 {
-    let (a, b, p, q) = (params.a, params.b, params.p, params.q);
-    let e_v0 = params.youngs_modulus / (1.0 - 2.0 * params.poisson_ratio);
-    let x = end;
-    let u = 1.0 + x / a;
-    // int_1^u v^(k-1) dv, = ln u when k = 0.
-    let power_integral = |k: f64| {
-        if k.abs() < 1e-12 {
-            u.ln()
-        } else {
-            (u.powf(k) - 1.0) / k
-        }
-    };
-    let loading = e_v0
-        * (a * a * (power_integral(2.0 - p) - power_integral(1.0 - p))
-            + x.powf(q + 2.0) / ((q + 2.0) * b.powf(q)));
-    let stress = e_v0 * x * (u.powf(-p) + (x / b).powf(q));
-    let tangent = e_v0 * (u.powf(-p) * (1.0 - p * x / (a + x)) + (q + 1.0) * (x / b).powf(q));
-    let slope = e_v0.max(tangent);
-    stress * stress / (2.0 * slope) / loading
-}
-
 /// Hydrostatic compression and unloading: damage, and compaction then stiffening of the
 /// secant bulk modulus.
 fn hydrostatic(
@@ -969,7 +940,11 @@ fn hydrostatic(
     let loading_work = work(&curve.points[..=turn]).0;
     let returned = -work(&curve.points[turn..]).0;
     let fraction = returned / loading_work;
-    let closed_form = hydrostatic_returned_fraction(params, end);
+    let closed_form = microplane_hydrostatic_returned_fraction(
+        params.youngs_modulus / (1.0 - 2.0 * params.poisson_ratio),
+        [params.a, params.b, params.p, params.q],
+        end,
+    );
     if cycle_work < -1e-6 * cycle_abs {
         out.notes.push(format!(
             "the load-unload cycle gives back {} J/m^3 more than it took ({} % of its work): \
