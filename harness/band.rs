@@ -33,6 +33,10 @@ pub enum PointPath {
     UniaxialStress,
     /// Uniaxial strain along x (lateral strains zero throughout): the restrained prism.
     UniaxialStrain,
+    /// Uniaxial stress to the tensile peak, then lateral strains held: the band bonded to elastic
+    /// neighbours with free sides, and the path on which the calibration defines GF
+    /// (`experiments::bonded_tension`).
+    Bonded,
     /// Uniaxial stress to the tensile peak, then lateral strains held and the shear strain
     /// `gamma_xy = 2 E_12` rising with the normal strain at `ratio` (d gamma / d eps_xx).
     TensionShear { ratio: f64 },
@@ -94,7 +98,7 @@ pub fn point_curve(
                 .mixed_step_subdivided(&uniaxial_controls(e), dt)
                 .map_err(|err| err.to_string())?,
             PointPath::UniaxialStrain => point.strain_step([e, 0.0, 0.0, 0.0, 0.0, 0.0], dt),
-            PointPath::TensionShear { ratio } => match shear_from {
+            PointPath::Bonded | PointPath::TensionShear { .. } => match shear_from {
                 None => {
                     let p = point
                         .mixed_step_subdivided(&uniaxial_controls(e), dt)
@@ -105,6 +109,10 @@ pub fn point_curve(
                     p
                 }
                 Some((e0, s0)) => {
+                    let ratio = match path {
+                        PointPath::TensionShear { ratio } => ratio,
+                        _ => 0.0,
+                    };
                     // Sym holds tensor shears: gamma_xy = 2 E_12.
                     let mut s = s0;
                     s[0] = e;
@@ -422,6 +430,7 @@ pub fn plot_series(
         let path = match path {
             PointPath::UniaxialStress => "uniaxial stress".to_string(),
             PointPath::UniaxialStrain => "uniaxial strain".to_string(),
+            PointPath::Bonded => "lateral strains held after the peak".to_string(),
             PointPath::TensionShear { ratio } => format!("tension, then shear 1 : {ratio}"),
         };
         format!("material point, h = {} mm, {path}", spec.element_size * 1e3)

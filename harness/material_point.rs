@@ -30,6 +30,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use impact_solver::material::microplane::calibration::FracturePath;
 use impact_solver::material::microplane::{MicroplaneParameters, SphereRule};
 use serde::{Deserialize, Serialize};
 
@@ -85,6 +86,10 @@ pub struct MaterialPointSpec {
     /// Published curves drawn beside the model's (not judged unless a metric says so).
     #[serde(default)]
     pub reference_curves: Vec<ReferenceCurve>,
+    /// `crack_band`: the path of the tension tests, uniaxial stress (default) or `bonded` (lateral
+    /// strains held after the peak), as the material's calibration measured GF.
+    #[serde(default)]
+    pub fracture_path: FracturePath,
 }
 
 /// The virtual experiments.

@@ -2,6 +2,7 @@
 //! (`impact_solver::material::microplane::experiments`), measures its quantities in report units
 //! and draws its plots with the targets of the case's metrics.
 
+use impact_solver::material::microplane::calibration::FracturePath;
 use impact_solver::material::microplane::driver::{MaterialPoint, PathPoint};
 use impact_solver::material::microplane::experiments::{
     closed_strain_cycle, equal_biaxial_compression, hydrostatic_compression, isotropy_error,
@@ -76,7 +77,14 @@ pub fn run(
         Experiment::UniaxialTension => {
             let model = MicroplaneConcrete::new(*params)?;
             let rate = rate_of(mp, &mut out);
-            let (curve, values) = tension_run(&model, h, rate, Selector::default(), &mut out)?;
+            let (curve, values) = tension_run(
+                &model,
+                h,
+                rate,
+                FracturePath::UniaxialStress,
+                Selector::default(),
+                &mut out,
+            )?;
             out.values.extend(values);
             out.plots.extend(tension_plots(
                 &curve,
@@ -257,15 +265,17 @@ fn isotropy(
     Ok(())
 }
 
-/// One uniaxial tension run and its values at `at`.
+/// One tension run on `path` (uniaxial stress, or lateral strains held after the peak) and its
+/// values at `at`.
 fn tension_run(
     model: &MicroplaneConcrete,
     h: f64,
     rate: f64,
+    path: FracturePath,
     at: Selector,
     out: &mut Outcome,
 ) -> Result<(Curve, Vec<Value>), String> {
-    let (curve, r) = uniaxial_tension(model, h, rate).map_err(|e| e.to_string())?;
+    let (curve, r) = path.tension(model, h, rate).map_err(|e| e.to_string())?;
     let what = format!("tension{}", label_suffix(&at));
     note_stop(&curve, &what, out);
     let (peak, peak_strain) = established_peak(&curve, &what, out);
@@ -465,7 +475,7 @@ fn crack_band(
             element_size: Some(h),
             ..Selector::default()
         };
-        let (curve, values) = tension_run(&model, h, rate, at.clone(), out)?;
+        let (curve, values) = tension_run(&model, h, rate, mp.fracture_path, at.clone(), out)?;
         let get = |q: Quantity| {
             values
                 .iter()

@@ -2,17 +2,22 @@
 //! Hooke's law, the rate law's own factor, the crack-band energy, and thermodynamics (no energy
 //! given back on closed strain cycles, damage never healing).
 
+use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
-    closed_strain_cycle, isotropy_error, rate_scaling, uniaxial_tension, QUASI_STATIC_RATE,
+    bonded_tension, closed_strain_cycle, isotropy_error, rate_scaling, uniaxial_tension,
+    QUASI_STATIC_RATE,
 };
-use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters, SphereRule};
+use impact_solver::material::microplane::{
+    MicroplaneConcrete, MicroplaneParameters, SphereRule, TensionDriver,
+};
 
 fn thesis_concrete() -> MicroplaneParameters {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../cases/materials/thesis-concrete.yaml"
-    );
-    impact_solver::material::read_microplane_file(std::path::Path::new(path))
+    material("thesis-concrete.yaml")
+}
+
+fn material(file: &str) -> MicroplaneParameters {
+    let path = format!("{}/../cases/materials/{file}", env!("CARGO_MANIFEST_DIR"));
+    impact_solver::material::read_microplane_file(std::path::Path::new(&path))
         .expect("the shipped material file")
 }
 
@@ -48,11 +53,21 @@ fn rate_effect_scales_strength_by_its_factor() {
     }
 }
 
-/// Crack band (Bažant & Oh 1983): h int sigma d eps within 10 % of GF = 0.1 N/mm for three sizes.
+/// Crack band (Bažant & Oh 1983): h int sigma d eps within 10 % of GF = 0.1 N/mm for three sizes,
+/// on the path each material's calibration defines GF on (uniaxial stress for the thesis'
+/// volumetric tension driver, lateral strains held after the peak for the equivalent one;
+/// MICROPLANE "Tension driver").
 #[test]
 fn crack_band_keeps_the_fracture_energy() {
     let model = MicroplaneConcrete::new(thesis_concrete()).unwrap();
+    let equivalent = MicroplaneConcrete::new(material("thesis-concrete-equivalent.yaml")).unwrap();
     for h in [0.025, 0.05, 0.1] {
+        let (_, b) = bonded_tension(&equivalent, h, QUASI_STATIC_RATE).unwrap();
+        assert!(
+            (b.fracture_energy / 100.0 - 1.0).abs() < 0.10,
+            "equivalent driver, h = {h}: {} N/m",
+            b.fracture_energy
+        );
         let (_, t) = uniaxial_tension(&model, h, QUASI_STATIC_RATE).unwrap();
         assert!(
             (t.fracture_energy / 100.0 - 1.0).abs() < 0.10,
@@ -63,6 +78,63 @@ fn crack_band_keeps_the_fracture_energy() {
     }
     let too_large = model.largest_element() * 1.01;
     assert!(model.crack_band(too_large).is_err());
+}
+
+/// `h int sigma_xx d eps_xx` and the peak of one point at `h = 50 mm` pulled in uniaxial strain
+/// (lateral strains zero throughout) until the stress has fallen below 1e-3 of its peak.
+fn uniaxial_strain_test(model: &MicroplaneConcrete) -> (f64, f64) {
+    let h = 0.05;
+    let mut point = MaterialPoint::new(model, h).unwrap();
+    let (mut e, mut peak, mut work, mut previous) = (0.0f64, 0.0f64, 0.0, (0.0, 0.0));
+    while e < 0.05 {
+        let de = if e < 4e-4 { 2e-6 } else { e / 200.0 };
+        e += de;
+        let s = point
+            .strain_step([e, 0.0, 0.0, 0.0, 0.0, 0.0], de / QUASI_STATIC_RATE)
+            .stress[0];
+        work += 0.5 * (s + previous.1) * (e - previous.0);
+        previous = (e, s);
+        peak = peak.max(s);
+        if e > 4e-4 && s < 1e-3 * peak {
+            break;
+        }
+    }
+    (h * work, peak)
+}
+
+/// Issue 16: a crack's energy must not depend on the lateral constraint. With the `equivalent`
+/// tension driver (cases/materials/thesis-concrete-equivalent.yaml), uniaxial strain (a band with restrained sides) dissipates within
+/// 10 % of the crack band's path on which GF is calibrated, and the restraint does not weaken
+/// it. With the thesis' volumetric driver and the same parameters, the tensile failure follows
+/// `e_V = tr(E) / 3`, which uniaxial strain reaches 1.5 times sooner: the restrained point is
+/// weaker than the free one by a third.
+#[test]
+fn fracture_energy_does_not_depend_on_the_lateral_constraint() {
+    let p = material("thesis-concrete-equivalent.yaml");
+    assert_eq!(p.tension_driver, TensionDriver::Equivalent);
+    let model = MicroplaneConcrete::new(p).unwrap();
+    let (_, bonded) = bonded_tension(&model, 0.05, QUASI_STATIC_RATE).unwrap();
+    let (energy, peak) = uniaxial_strain_test(&model);
+    assert!(
+        (energy / bonded.fracture_energy - 1.0).abs() < 0.10,
+        "uniaxial strain {energy} N/m against the bonded path {} N/m",
+        bonded.fracture_energy
+    );
+    assert!(
+        peak >= bonded.peak_stress,
+        "{peak} against {}",
+        bonded.peak_stress
+    );
+    let mut thesis = p;
+    thesis.tension_driver = TensionDriver::Volumetric;
+    let model = MicroplaneConcrete::new(thesis).unwrap();
+    let (_, bonded) = bonded_tension(&model, 0.05, QUASI_STATIC_RATE).unwrap();
+    let (_, peak) = uniaxial_strain_test(&model);
+    assert!(
+        peak < 0.8 * bonded.peak_stress,
+        "volumetric driver: uniaxial-strain peak {peak} Pa against {} Pa free",
+        bonded.peak_stress
+    );
 }
 
 fn tension_shear_cycle() -> Vec<[f64; 6]> {
@@ -100,20 +172,25 @@ fn closed_strain_cycles_dissipate_and_damage_never_heals() {
         ],
     ];
     for (i, corners) in cycles.iter().enumerate() {
-        for trace_term in [false, true] {
-            let mut p = thesis_concrete();
+        for (trace_term, file) in [false, true].into_iter().flat_map(|t| {
+            [
+                (t, "thesis-concrete.yaml"),
+                (t, "thesis-concrete-equivalent.yaml"),
+            ]
+        }) {
+            let mut p = material(file);
             p.deviatoric_trace_term = trace_term;
             let model = MicroplaneConcrete::new(p).unwrap();
             let (_, dissipation, healed) = closed_strain_cycle(&model, 0.05, corners, 200).unwrap();
             if !trace_term {
                 assert!(
                     dissipation >= 0.0,
-                    "cycle {i}: dissipation {dissipation} J/m^3"
+                    "cycle {i} ({file}): dissipation {dissipation} J/m^3"
                 );
             }
             assert!(
                 !healed,
-                "cycle {i} (trace term {trace_term}): a secant rose"
+                "cycle {i} ({file}, trace term {trace_term}): a secant rose"
             );
         }
     }
@@ -126,9 +203,14 @@ fn closed_strain_cycles_dissipate_and_damage_never_heals() {
 /// rises, MICROPLANE.md "damage never heals"), and the cycle must dissipate.
 #[test]
 fn tension_shear_cycle_dissipates() {
-    let model = MicroplaneConcrete::new(thesis_concrete()).unwrap();
-    let (_, dissipation, healed) =
-        closed_strain_cycle(&model, 0.05, &tension_shear_cycle(), 200).unwrap();
-    assert!(!healed);
-    assert!(dissipation >= 0.0, "dissipation {dissipation} J/m^3");
+    for file in ["thesis-concrete.yaml", "thesis-concrete-equivalent.yaml"] {
+        let model = MicroplaneConcrete::new(material(file)).unwrap();
+        let (_, dissipation, healed) =
+            closed_strain_cycle(&model, 0.05, &tension_shear_cycle(), 200).unwrap();
+        assert!(!healed, "{file}");
+        assert!(
+            dissipation >= 0.0,
+            "{file}: dissipation {dissipation} J/m^3"
+        );
+    }
 }

@@ -13,10 +13,11 @@
 //! edge, and the optimiser minimises the sum of squared misfits.
 
 use super::experiments::{
-    equal_biaxial_compression, hydrostatic_compression, softening_shape, uniaxial_compression,
-    uniaxial_tension, CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
+    bonded_tension, equal_biaxial_compression, hydrostatic_compression, softening_shape,
+    uniaxial_compression, uniaxial_tension, CompressionResult, SofteningShape, TensionResult,
+    QUASI_STATIC_RATE,
 };
-use super::{MicroplaneConcrete, MicroplaneParameters};
+use super::{MicroplaneConcrete, MicroplaneParameters, TensionDriver};
 use serde::{Deserialize, Serialize};
 
 /// The measurable targets of the thesis concrete (MICROPLANE "Parameters and calibration").
@@ -50,6 +51,39 @@ pub struct Targets {
     /// `w_c = 5 GF / ft` (0.185 mm) and Hordijk's `5.14 GF / ft` (0.190 mm), within 15 %.
     #[serde(default)]
     pub softening_end: [f64; 2],
+    /// The tension driver of the calibrated parameters (MICROPLANE "Tension driver"); the thesis'
+    /// volumetric strain by default.
+    #[serde(default)]
+    pub tension_driver: TensionDriver,
+    /// The path on which `GF` and the softening shape are measured: uniaxial stress throughout
+    /// (default), or the crack band's path with the lateral strains held after the peak
+    /// ([`bonded_tension`]).
+    #[serde(default)]
+    pub fracture_path: FracturePath,
+}
+
+/// The single-element path of the fracture targets (see [`Targets::fracture_path`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FracturePath {
+    #[default]
+    UniaxialStress,
+    Bonded,
+}
+
+impl FracturePath {
+    /// The tension test on this path.
+    pub fn tension(
+        self,
+        model: &MicroplaneConcrete,
+        h: f64,
+        rate: f64,
+    ) -> Result<(super::experiments::Curve, TensionResult), super::driver::DriverError> {
+        match self {
+            FracturePath::UniaxialStress => uniaxial_tension(model, h, rate),
+            FracturePath::Bonded => bonded_tension(model, h, rate),
+        }
+    }
 }
 
 impl Targets {
@@ -70,6 +104,8 @@ impl Targets {
             element_size: 0.05,
             softening_at_w1: [0.20, 0.31],
             softening_end: [0.85 * 5.0 * 100.0 / 2.7e6, 1.15 * 5.14 * 100.0 / 2.7e6],
+            tension_driver: TensionDriver::Volumetric,
+            fracture_path: FracturePath::UniaxialStress,
         }
     }
 }
@@ -111,7 +147,10 @@ impl Evaluation {
         let model = MicroplaneConcrete::new(*parameters)?;
         let h = targets.element_size;
         let rate = QUASI_STATIC_RATE;
-        let (curve, tension) = uniaxial_tension(&model, h, rate).map_err(|e| e.to_string())?;
+        let (curve, tension) = targets
+            .fracture_path
+            .tension(&model, h, rate)
+            .map_err(|e| e.to_string())?;
         let softening = softening_shape(
             &curve,
             h,
@@ -123,7 +162,9 @@ impl Evaluation {
             *g = if size == h {
                 tension.fracture_energy
             } else {
-                uniaxial_tension(&model, size, rate)
+                targets
+                    .fracture_path
+                    .tension(&model, size, rate)
                     .map_err(|e| e.to_string())?
                     .1
                     .fracture_energy
@@ -470,7 +511,9 @@ fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), S
         };
     for _ in 0..iterations {
         let model = MicroplaneConcrete::new(*p)?;
-        let (_, r) = uniaxial_tension(&model, t.element_size, QUASI_STATIC_RATE)
+        let (_, r) = t
+            .fracture_path
+            .tension(&model, t.element_size, QUASI_STATIC_RATE)
             .map_err(|e| e.to_string())?;
         let ratio = t.gf / r.fracture_energy;
         if (ratio - 1.0).abs() < 1e-4 {
@@ -491,6 +534,7 @@ pub fn calibrate(
 ) -> Result<(MicroplaneParameters, Evaluation), String> {
     let mut p = *start;
     p.rate_effect = None;
+    p.tension_driver = targets.tension_driver;
     let tension = |p: &mut MicroplaneParameters, stage: &str, log: &mut dyn FnMut(&str)| {
         *p = optimise(
             p,
@@ -584,5 +628,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         rule: super::SphereRule::BazantOh21,
         deviatoric_trace_term: true,
         shear_cyclic_damage: true,
+        tension_driver: TensionDriver::Volumetric,
     }
 }

@@ -5,7 +5,7 @@
 use super::driver::{
     equivalent_rate, uniaxial_controls, Control, DriverError, MaterialPoint, PathPoint,
 };
-use super::{MicroplaneConcrete, Sym};
+use super::{MicroplaneConcrete, Sym, TensionDriver};
 
 /// Strain rate of the quasi-static tests (1/s): the rate factor is 1.0003 here, so "static" tests
 /// are static to well within every band.
@@ -67,11 +67,35 @@ pub struct TensionResult {
 
 /// Uniaxial tension at strain rate `rate` on an element of size `h`, driven until the stress has
 /// fallen below `1e-3` of its peak (or a strain of 5 %): increments of 2e-6 up to 4e-4, then 0.5 %
-/// of the current strain.
+/// of the current strain. Lateral stresses stay zero throughout (see [`bonded_tension`] for the
+/// path of a crack band in a structure).
 pub fn uniaxial_tension(
     model: &MicroplaneConcrete,
     h: f64,
     rate: f64,
+) -> Result<(Curve, TensionResult), DriverError> {
+    tension(model, h, rate, false)
+}
+
+/// The crack band's path (issue 16): uniaxial stress up to the tensile peak, then the lateral
+/// strains held at their values there while the axial strain grows, as in a band of elements
+/// bonded to elastic neighbours, whose lateral strains (`-nu sigma / E`) only shrink once the crack
+/// softens. A free single element instead contracts laterally after the peak by up to several
+/// times its axial strain, which no bonded band can follow, so this is the path on which the
+/// fracture energy `GF` of a crack is defined and calibrated (MICROPLANE "Crack band").
+pub fn bonded_tension(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+) -> Result<(Curve, TensionResult), DriverError> {
+    tension(model, h, rate, true)
+}
+
+fn tension(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+    hold_after_peak: bool,
 ) -> Result<(Curve, TensionResult), DriverError> {
     let mut point = MaterialPoint::new(model, h)?;
     let mut points = vec![PathPoint {
@@ -83,6 +107,7 @@ pub fn uniaxial_tension(
     let mut error = None;
     let mut e = 0.0;
     let mut peak: f64 = 0.0;
+    let mut held: Option<Sym> = None;
     while e < 0.05 {
         // A first increment of 1e-8 measures the initial slope inside the elastic range.
         let de = if e == 0.0 {
@@ -93,8 +118,18 @@ pub fn uniaxial_tension(
             e / 200.0
         };
         e += de;
-        match point.mixed_step_subdivided(&uniaxial_controls(e), de / rate) {
+        let step = match held {
+            Some(mut strain) => {
+                strain[0] = e;
+                Ok(point.strain_step(strain, de / rate))
+            }
+            None => point.mixed_step_subdivided(&uniaxial_controls(e), de / rate),
+        };
+        match step {
             Ok(p) => {
+                if hold_after_peak && held.is_none() && p.stress[0] < peak {
+                    held = Some(p.strain);
+                }
                 peak = peak.max(p.stress[0]);
                 points.push(p);
                 if e > 4e-4 && p.stress[0] < 1e-3 * peak {
@@ -168,8 +203,11 @@ pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> Softening
     shape
 }
 
-/// The stress-crack opening law `(w, sigma)` of the model at element size `h` (m), from
-/// [`uniaxial_tension`] at the quasi-static rate, in the crack band's reading: after the peak,
+/// The stress-crack opening law `(w, sigma)` of the model at element size `h` (m), from the
+/// tension test on which the calibration defines GF for the model's tension driver
+/// ([`uniaxial_tension`] for the thesis' volumetric driver, [`bonded_tension`] for the
+/// equivalent one; MICROPLANE "Tension driver") at the quasi-static rate, in the crack band's
+/// reading: after the peak,
 /// `w = h (eps - sigma / E)`, the inelastic strain of the element times its size, with `E` the
 /// initial Young's modulus as the unloading modulus (an elastic unloading). The opening already
 /// reached at the peak (the small pre-peak inelastic strain) is lumped at `f_t`: the law starts at
@@ -177,7 +215,11 @@ pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> Softening
 /// fracture energy `h int sigma d eps` of the test within the pre-peak share (below 1 %).
 /// Empty vectors if the experiment cannot start (an element size the crack band rejects).
 pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Vec<f64>, Vec<f64>) {
-    let Ok((curve, result)) = uniaxial_tension(model, element_size, QUASI_STATIC_RATE) else {
+    let path = match model.parameters.tension_driver {
+        TensionDriver::Volumetric => uniaxial_tension,
+        TensionDriver::Equivalent => bonded_tension,
+    };
+    let Ok((curve, result)) = path(model, element_size, QUASI_STATIC_RATE) else {
         return (Vec::new(), Vec::new());
     };
     let e = model.parameters.youngs_modulus;

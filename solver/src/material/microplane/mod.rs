@@ -23,7 +23,7 @@ pub mod parameters;
 pub mod state;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
-pub use parameters::{MicroplaneParameters, RateEffect};
+pub use parameters::{MicroplaneParameters, RateEffect, TensionDriver};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
@@ -41,6 +41,8 @@ pub struct MicroplaneConcrete {
     /// Volumetric and deviatoric tension (exponent `m`), deviatoric compression (`n`), shear (`k`).
     tension: ExponentialLaw,
     compression: ExponentialLaw,
+    /// `(1 - 2 nu) / 3`: the equivalent tension driver per unit of Mazars' strain.
+    equivalent_factor: f64,
     shear: ExponentialLaw,
     rule: UnloadingRule,
 }
@@ -72,6 +74,7 @@ impl MicroplaneConcrete {
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
             e_t0: e / (1.0 + nu),
+            equivalent_factor: (1.0 - 2.0 * nu) / 3.0,
             tension: ExponentialLaw::with_hordijk_tail(parameters.m, parameters.hordijk_tail),
             compression: ExponentialLaw::new(parameters.n),
             shear: ExponentialLaw::new(parameters.k),
@@ -171,7 +174,30 @@ impl MicroplaneConcrete {
         // and a secant unloading line through the origin would run above the convex loading curve
         // and give back 1.5 times the work of loading; the tangent line lies under it.
         let e1 = f * p.e1;
-        let s_v = if e_v >= 0.0 {
+        let driver = match p.tension_driver {
+            TensionDriver::Volumetric => e_v.max(0.0),
+            TensionDriver::Equivalent if e_v > 0.0 => {
+                self.equivalent_factor * mazars_strain(strain)
+            }
+            TensionDriver::Equivalent => 0.0,
+        };
+        let s_v = if e_v >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
+            // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k).
+            let stored = &mut header[state::V_TENSION..state::V_TENSION + 2];
+            let (reached, stress_reached) = (stored[0] as f64, stored[1] as f64);
+            let kappa = driver.max(reached);
+            let mut secant = if kappa > 0.0 {
+                self.tension.stress(kappa, e1, 1.0, band.tension) / kappa
+            } else {
+                1.0
+            };
+            if reached > 0.0 {
+                secant = secant.min(stress_reached / reached);
+            }
+            stored[0] = kappa as f32;
+            stored[1] = (secant * kappa) as f32;
+            self.e_v0 * e_v * secant
+        } else if e_v >= 0.0 {
             let peak = self.tension.peak(e1, self.e_v0);
             let mut branch = Branch::load(&header[state::V_TENSION..state::V_TENSION + 2]);
             let s = branch.stress(e_v, self.e_v0, peak, &self.rule, |x| {
@@ -202,7 +228,7 @@ impl MicroplaneConcrete {
         // drop tests the cracked zone pumped about 700 J into the beam in 3 ms).
         let s_i = header[state::PRINCIPAL_STRESS] as f64;
         let relaxation = discontinuity::relaxation(
-            discontinuity::closure(s_i, p.s_i_min) * e_v.max(0.0),
+            discontinuity::closure(s_i, p.s_i_min) * driver,
             e1,
             &self.tension,
             band.tension,
@@ -363,6 +389,34 @@ impl MicroplaneConcrete {
     }
 }
 
+/// Mazars' (1986) equivalent strain `sqrt(sum <e_i>^2)` over the principal values of `e`.
+pub fn mazars_strain(e: &Sym) -> f64 {
+    principal_values(e)
+        .iter()
+        .map(|v| v.max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The three eigenvalues of a symmetric tensor, largest first (trigonometric closed form; Smith
+/// 1961).
+pub fn principal_values(s: &Sym) -> [f64; 3] {
+    let mean = (s[0] + s[1] + s[2]) / 3.0;
+    let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
+    let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
+    let p2 = a * a + b * b + c * c + 2.0 * p1;
+    if p2 <= 1e-300 {
+        return [mean; 3];
+    }
+    let p = (p2 / 6.0).sqrt();
+    let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
+    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+    let largest = mean + 2.0 * p * phi.cos();
+    let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    [largest, 3.0 * mean - largest - smallest, smallest]
+}
+
 /// Largest eigenvalue of a symmetric tensor (trigonometric closed form; Smith 1961).
 pub fn largest_principal(s: &Sym) -> f64 {
     let mean = (s[0] + s[1] + s[2]) / 3.0;
@@ -391,5 +445,13 @@ mod tests {
         let max = m.symmetric_eigenvalues().max();
         assert!((largest_principal(&s) - max).abs() < 1e-12);
         assert_eq!(largest_principal(&[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]), 2.0);
+        let mut all = m.symmetric_eigenvalues().as_slice().to_vec();
+        all.sort_by(|a, b| b.total_cmp(a));
+        for (v, w) in principal_values(&s).iter().zip(&all) {
+            assert!((v - w).abs() < 1e-12, "{v} against {w}");
+        }
+        // Uniaxial strain and uniaxial stress both give Mazars' strain e_x.
+        assert_eq!(mazars_strain(&[1e-4, 0.0, 0.0, 0.0, 0.0, 0.0]), 1e-4);
+        assert!((mazars_strain(&[1e-4, -2e-5, -2e-5, 0.0, 0.0, 0.0]) - 1e-4).abs() < 1e-18);
     }
 }
