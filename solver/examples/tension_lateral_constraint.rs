@@ -7,8 +7,10 @@
 //! is governed by the volumetric law `s_V(e_V)`, so held lateral strains (e_V = eps_x / 3 instead
 //! of about 0.18 eps_x) lower the strength to 1.81 MPa and the energy to 0.036 N/mm (against
 //! 2.72 MPa and 0.100 N/mm). With the candidate `equivalent` driver (MICROPLANE.md "Tension
-//! driver"; pass cases/materials/thesis-concrete-equivalent.yaml as the argument) the two paths
-//! peak at the same axial strain and dissipate 0.091 and 0.107 N/mm to this strain.
+//! driver"; pass cases/materials/thesis-concrete-equivalent.yaml as the argument) the uniaxial-
+//! strain path dissipates 0.098 N/mm, the crack band's path (lateral strains held after the peak,
+//! on which that concrete's GF is calibrated) 0.100; uniaxial stress throughout gives 0.12, because
+//! the free point keeps contracting laterally after its peak.
 //!
 //! `cargo run --release -p impact-solver --example tension_lateral_constraint [-- MATERIAL_FILE]`
 use impact_solver::material::microplane::driver::{uniaxial_controls, MaterialPoint};

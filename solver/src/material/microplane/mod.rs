@@ -174,15 +174,10 @@ impl MicroplaneConcrete {
         // and a secant unloading line through the origin would run above the convex loading curve
         // and give back 1.5 times the work of loading; the tangent line lies under it.
         let e1 = f * p.e1;
-        let driver = match p.tension_driver {
-            TensionDriver::Volumetric => e_v.max(0.0),
-            TensionDriver::Equivalent if e_v > 0.0 => {
-                self.equivalent_factor * mazars_strain(strain)
-            }
-            TensionDriver::Equivalent => 0.0,
-        };
         let s_v = if e_v >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
-            // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k).
+            // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k), with
+            // k = (1 - 2 nu) / 3 sqrt(sum <e_i>^2) (MICROPLANE "Tension driver").
+            let driver = self.equivalent_factor * mazars_strain(strain);
             let stored = &mut header[state::V_TENSION..state::V_TENSION + 2];
             let (reached, stress_reached) = (stored[0] as f64, stored[1] as f64);
             let kappa = driver.max(reached);
@@ -228,7 +223,7 @@ impl MicroplaneConcrete {
         // drop tests the cracked zone pumped about 700 J into the beam in 3 ms).
         let s_i = header[state::PRINCIPAL_STRESS] as f64;
         let relaxation = discontinuity::relaxation(
-            discontinuity::closure(s_i, p.s_i_min) * driver,
+            discontinuity::closure(s_i, p.s_i_min) * e_v.max(0.0),
             e1,
             &self.tension,
             band.tension,

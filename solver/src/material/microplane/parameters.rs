@@ -67,17 +67,17 @@ pub struct MicroplaneParameters {
     /// The cyclic shear damage of Eligehausen, Popov & Bertero (5.104).
     #[serde(default = "yes")]
     pub shear_cyclic_damage: bool,
-    /// What drives the softening of volumetric tension and the relaxation `psi` (MICROPLANE.md
-    /// "Tension driver").
+    /// What drives the softening of volumetric tension (MICROPLANE.md "Tension driver").
     #[serde(default)]
     pub tension_driver: TensionDriver,
 }
 
-/// The strain that drives volumetric tensile softening and the relaxation `psi`.
+/// The strain that drives volumetric tensile softening (the relaxation `psi` follows `e_V` with
+/// either).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TensionDriver {
-    /// The thesis: `e_V = tr(E) / 3` (5.19, 5.91). A crack between elastic neighbours opens with
+    /// The thesis: `e_V = tr(E) / 3` (5.19). A crack between elastic neighbours opens with
     /// its lateral strains held, `e_V = e_x / 3`, where the uniaxial test that calibrates the law
     /// has `e_V ~ 0.2 e_x`: the crack then dissipates about a third of GF.
     #[default]
