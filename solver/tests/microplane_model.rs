@@ -4,8 +4,8 @@
 
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
-    bonded_tension, closed_strain_cycle, isotropy_error, rate_scaling, uniaxial_tension,
-    QUASI_STATIC_RATE,
+    bonded_tension, closed_strain_cycle, isotropy_error, rate_scaling, uniaxial_compression,
+    uniaxial_tension, QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{
     MicroplaneConcrete, MicroplaneParameters, SphereRule, TensionDriver,
@@ -130,6 +130,31 @@ fn fracture_energy_does_not_depend_on_the_lateral_constraint() {
         peak < 0.8 * bonded.peak_stress,
         "volumetric driver: uniaxial-strain peak {peak} Pa against {} Pa free",
         bonded.peak_stress
+    );
+}
+
+/// Issue 16: under uniaxial compression the volume must grow after the peak (apparent Poisson
+/// ratio above 0.5). With the trace term the mean stress is the volumetric law of `e_V` less the
+/// dilatant strain (MICROPLANE "Dilatancy"); without the dilatant strain it cannot pass 0.5.
+#[test]
+fn dilatancy_lets_the_volume_grow_after_the_compressive_peak() {
+    let p = thesis_concrete();
+    assert!(p.dilatancy > 0.0);
+    let model = MicroplaneConcrete::new(p).unwrap();
+    let (_, c) = uniaxial_compression(&model, 0.05, QUASI_STATIC_RATE, 6e-3, 600).unwrap();
+    assert!(
+        c.largest_poisson_after_peak > 0.5,
+        "{}",
+        c.largest_poisson_after_peak
+    );
+    let mut none = p;
+    none.dilatancy = 0.0;
+    let model = MicroplaneConcrete::new(none).unwrap();
+    let (_, c) = uniaxial_compression(&model, 0.05, QUASI_STATIC_RATE, 6e-3, 600).unwrap();
+    assert!(
+        c.largest_poisson_after_peak < 0.5,
+        "{}",
+        c.largest_poisson_after_peak
     );
 }
 

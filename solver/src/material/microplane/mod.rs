@@ -174,7 +174,10 @@ impl MicroplaneConcrete {
         // and a secant unloading line through the origin would run above the convex loading curve
         // and give back 1.5 times the work of loading; the tangent line lies under it.
         let e1 = f * p.e1;
-        let s_v = if e_v >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
+        // The volumetric law sees the strain less the dilatant part reached so far (the previous
+        // update's: MICROPLANE "Dilatancy").
+        let e_v_law = e_v - header[state::DILATANCY] as f64;
+        let s_v = if e_v_law >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
             // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k), with
             // k = (1 - 2 nu) / 3 sqrt(sum <e_i>^2) (MICROPLANE "Tension driver").
             let driver = self.equivalent_factor * mazars_strain(strain);
@@ -191,17 +194,17 @@ impl MicroplaneConcrete {
             }
             stored[0] = kappa as f32;
             stored[1] = (secant * kappa) as f32;
-            self.e_v0 * e_v * secant
-        } else if e_v >= 0.0 {
+            self.e_v0 * e_v_law * secant
+        } else if e_v_law >= 0.0 {
             let peak = self.tension.peak(e1, self.e_v0);
             let mut branch = Branch::load(&header[state::V_TENSION..state::V_TENSION + 2]);
-            let s = branch.stress(e_v, self.e_v0, peak, &self.rule, |x| {
+            let s = branch.stress(e_v_law, self.e_v0, peak, &self.rule, |x| {
                 self.tension.stress(x, e1, self.e_v0, band.tension)
             });
             branch.store(&mut header[state::V_TENSION..state::V_TENSION + 2]);
             s
         } else {
-            let x = -e_v;
+            let x = -e_v_law;
             let reached = header[state::V_COMPRESSION] as f64;
             let envelope = |x: f64| -volumetric_compression(-x, self.e_v0, p.a, p.b, p.p, p.q);
             if x >= reached {
@@ -241,6 +244,7 @@ impl MicroplaneConcrete {
             * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear);
 
         let mut sum_d = 0.0;
+        let mut inelastic_compression = 0.0;
         let mut sigma = [0.0; 6];
         for (plane, history) in self
             .planes
@@ -269,6 +273,7 @@ impl MicroplaneConcrete {
                     self.compression.stress(x, e2, self.e_d0, 1.0)
                 });
                 b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
+                inelastic_compression += 6.0 * plane.weight * (-e_d - s / self.e_d0).max(0.0);
                 -s
             };
             let e_m = contract(&plane.mn, strain) * psi_t;
@@ -305,6 +310,12 @@ impl MicroplaneConcrete {
         }
         header[state::RATE_FACTOR] = f as f32;
         header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
+        if p.dilatancy > 0.0 {
+            let dilatant = p.dilatancy * inelastic_compression;
+            if dilatant > header[state::DILATANCY] as f64 {
+                header[state::DILATANCY] = dilatant as f32;
+            }
+        }
         (
             sigma,
             UpdateInfo {

@@ -67,6 +67,10 @@ pub struct MicroplaneParameters {
     /// The cyclic shear damage of Eligehausen, Popov & Bertero (5.104).
     #[serde(default = "yes")]
     pub shear_cyclic_damage: bool,
+    /// Dilatant volumetric strain per unit of inelastic deviatoric compressive strain (MICROPLANE
+    /// "Dilatancy"); 0 (the thesis) for none.
+    #[serde(default)]
+    pub dilatancy: f64,
     /// What drives the softening of volumetric tension (MICROPLANE.md "Tension driver").
     #[serde(default)]
     pub tension_driver: TensionDriver,
@@ -160,6 +164,12 @@ impl MicroplaneParameters {
             return Err(format!(
                 "hordijk_tail must be >= 0 (0: exponential softening), got {}",
                 self.hordijk_tail
+            ));
+        }
+        if !(self.dilatancy >= 0.0 && self.dilatancy.is_finite()) {
+            return Err(format!(
+                "dilatancy must be >= 0 (0: none), got {}",
+                self.dilatancy
             ));
         }
         if !(self.e4 >= 0.0 && self.e4.is_finite()) {

@@ -1,17 +1,20 @@
 //! The history an element carries from step to step, as `f32` (damage and turning points need no
 //! more digits, and the state of 21 planes then fits in 1.2 KB).
 //!
-//! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi]`, then per plane
+//! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi, dilatancy]`, then per
+//! plane
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
 //! component ending with its cyclic dissipation `Lambda` (5.104).
 
-pub const HEADER: usize = 6;
+pub const HEADER: usize = 7;
 pub const V_TENSION: usize = 0;
 pub const V_COMPRESSION: usize = 2;
 pub const RATE_FACTOR: usize = 3;
 pub const PRINCIPAL_STRESS: usize = 4;
 /// The smallest relaxation `psi` reached: the relaxation is damage and never heals.
 pub const RELAXATION: usize = 5;
+/// The largest dilatant volumetric strain reached (MICROPLANE "Dilatancy"): it never shrinks.
+pub const DILATANCY: usize = 6;
 pub const PER_PLANE: usize = 14;
 pub const D_POSITIVE: usize = 0;
 pub const D_NEGATIVE: usize = 2;
