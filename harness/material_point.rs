@@ -30,7 +30,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use impact_solver::material::microplane::calibration::FracturePath;
+use impact_solver::material::microplane::experiments::FracturePath;
 use impact_solver::material::microplane::{MicroplaneParameters, SphereRule};
 use serde::{Deserialize, Serialize};
 

@@ -2,8 +2,8 @@
 //! (`impact_solver::material::microplane::experiments`), measures its quantities in report units
 //! and draws its plots with the targets of the case's metrics.
 
-use impact_solver::material::microplane::calibration::FracturePath;
 use impact_solver::material::microplane::driver::{MaterialPoint, PathPoint};
+use impact_solver::material::microplane::experiments::FracturePath;
 use impact_solver::material::microplane::experiments::{
     closed_strain_cycle, equal_biaxial_compression, hydrostatic_compression, isotropy_error,
     rate_scaling, softening_shape, uniaxial_compression, uniaxial_tension, Curve,

@@ -12,10 +12,10 @@
 //! Every target is a band; the misfit of a target is zero at the centre of its band and one at its
 //! edge, and the optimiser minimises the sum of squared misfits.
 
+pub use super::experiments::FracturePath;
 use super::experiments::{
-    bonded_tension, equal_biaxial_compression, hydrostatic_compression, softening_shape,
-    uniaxial_compression, uniaxial_tension, CompressionResult, SofteningShape, TensionResult,
-    QUASI_STATIC_RATE,
+    equal_biaxial_compression, hydrostatic_compression, softening_shape, uniaxial_compression,
+    CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
 };
 use super::{MicroplaneConcrete, MicroplaneParameters, TensionDriver};
 use serde::{Deserialize, Serialize};
@@ -61,33 +61,9 @@ pub struct Targets {
     pub dilatancy: f64,
     /// The path on which `GF` and the softening shape are measured: uniaxial stress throughout
     /// (default), or the crack band's path with the lateral strains held after the peak
-    /// ([`bonded_tension`]).
+    /// ([`super::experiments::bonded_tension`]).
     #[serde(default)]
     pub fracture_path: FracturePath,
-}
-
-/// The single-element path of the fracture targets (see [`Targets::fracture_path`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FracturePath {
-    #[default]
-    UniaxialStress,
-    Bonded,
-}
-
-impl FracturePath {
-    /// The tension test on this path.
-    pub fn tension(
-        self,
-        model: &MicroplaneConcrete,
-        h: f64,
-        rate: f64,
-    ) -> Result<(super::experiments::Curve, TensionResult), super::driver::DriverError> {
-        match self {
-            FracturePath::UniaxialStress => uniaxial_tension(model, h, rate),
-            FracturePath::Bonded => bonded_tension(model, h, rate),
-        }
-    }
 }
 
 impl Targets {

@@ -91,6 +91,39 @@ pub fn bonded_tension(
     tension(model, h, rate, true)
 }
 
+/// The single-element path of a tension test: uniaxial stress throughout, or the crack band's
+/// path ([`bonded_tension`]). The calibration measures GF on one of them
+/// (`calibration::Targets::fracture_path`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FracturePath {
+    #[default]
+    UniaxialStress,
+    Bonded,
+}
+
+impl FracturePath {
+    /// The path on which the calibration defines GF for a tension driver (MICROPLANE "Tension
+    /// driver"): uniaxial stress for the thesis' volumetric driver, the crack band's path for the
+    /// equivalent one.
+    pub fn of_driver(driver: TensionDriver) -> Self {
+        match driver {
+            TensionDriver::Volumetric => FracturePath::UniaxialStress,
+            TensionDriver::Equivalent => FracturePath::Bonded,
+        }
+    }
+
+    /// The tension test on this path.
+    pub fn tension(
+        self,
+        model: &MicroplaneConcrete,
+        h: f64,
+        rate: f64,
+    ) -> Result<(Curve, TensionResult), DriverError> {
+        tension(model, h, rate, self == FracturePath::Bonded)
+    }
+}
+
 fn tension(
     model: &MicroplaneConcrete,
     h: f64,
@@ -215,11 +248,8 @@ pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> Softening
 /// fracture energy `h int sigma d eps` of the test within the pre-peak share (below 1 %).
 /// Empty vectors if the experiment cannot start (an element size the crack band rejects).
 pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Vec<f64>, Vec<f64>) {
-    let path = match model.parameters.tension_driver {
-        TensionDriver::Volumetric => uniaxial_tension,
-        TensionDriver::Equivalent => bonded_tension,
-    };
-    let Ok((curve, result)) = path(model, element_size, QUASI_STATIC_RATE) else {
+    let path = FracturePath::of_driver(model.parameters.tension_driver);
+    let Ok((curve, result)) = path.tension(model, element_size, QUASI_STATIC_RATE) else {
         return (Vec::new(), Vec::new());
     };
     let e = model.parameters.youngs_modulus;

@@ -407,37 +407,39 @@ pub fn mazars_strain(e: &Sym) -> f64 {
 /// The three eigenvalues of a symmetric tensor, largest first (trigonometric closed form; Smith
 /// 1961).
 pub fn principal_values(s: &Sym) -> [f64; 3] {
-    let mean = (s[0] + s[1] + s[2]) / 3.0;
-    let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
-    let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
-    let p2 = a * a + b * b + c * c + 2.0 * p1;
-    if p2 <= 1e-300 {
-        return [mean; 3];
+    match spectral_angle(s) {
+        None => [(s[0] + s[1] + s[2]) / 3.0; 3],
+        Some((mean, p, phi)) => {
+            let largest = mean + 2.0 * p * phi.cos();
+            let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+            [largest, 3.0 * mean - largest - smallest, smallest]
+        }
     }
-    let p = (p2 / 6.0).sqrt();
-    let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
-    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-    let largest = mean + 2.0 * p * phi.cos();
-    let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-    [largest, 3.0 * mean - largest - smallest, smallest]
 }
 
 /// Largest eigenvalue of a symmetric tensor (trigonometric closed form; Smith 1961).
 pub fn largest_principal(s: &Sym) -> f64 {
+    match spectral_angle(s) {
+        None => (s[0] + s[1] + s[2]) / 3.0,
+        Some((mean, p, phi)) => mean + 2.0 * p * phi.cos(),
+    }
+}
+
+/// Smith's (1961) parametrisation of the eigenvalues, `mean + 2 p cos(phi + 2 pi k / 3)`:
+/// `(mean, p, phi)`, or `None` for an isotropic tensor (all three equal to the mean).
+fn spectral_angle(s: &Sym) -> Option<(f64, f64, f64)> {
     let mean = (s[0] + s[1] + s[2]) / 3.0;
     let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
     let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
     let p2 = a * a + b * b + c * c + 2.0 * p1;
     if p2 <= 1e-300 {
-        return mean;
+        return None;
     }
     let p = (p2 / 6.0).sqrt();
     // det((s - mean I) / p) / 2
     let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
     let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-    let r = (det / 2.0).clamp(-1.0, 1.0);
-    mean + 2.0 * p * (r.acos() / 3.0).cos()
+    Some((mean, p, (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0))
 }
 
 #[cfg(test)]
