@@ -22,7 +22,9 @@
 //! microplane material (`law: own`, from `crack_opening_curve`) or with the MC2010 or Hordijk
 //! laws at that material's tensile strength and fracture energy.
 
-use impact_solver::material::microplane::experiments::crack_opening_curve;
+use impact_solver::material::microplane::experiments::{
+    crack_opening_curve, tension_pre_peak_curve,
+};
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::MaterialModel;
 use impact_solver::scene::Scene;
@@ -190,6 +192,42 @@ pub struct Hinge {
     pub law: SofteningLaw,
     /// Number of layers over the depth.
     pub layers: usize,
+    /// The layers' law before the crack opens: `None` linear up to `f_t` (Olesen), or the
+    /// material's own rising branch, which the bulk of a smeared-crack beam follows.
+    pub pre_peak: Option<PrePeak>,
+    /// Depth of a notch at mid-span (m), 0 for none: the layers below it carry nothing, and the
+    /// hinge spans the ligament, `s = 0.5 (h - a_0)` (Olesen's hinge on the ligament, as in its
+    /// use for notched beams).
+    pub notch: f64,
+}
+
+/// A rising stress-strain branch `(eps, sigma)` from the origin to the peak `(eps_p, f_t)`,
+/// strains increasing. A layer follows it up to `eps_p`; past it the crack opens while the
+/// layer's bulk unloads elastically from the peak, keeping its pre-peak inelastic strain
+/// `eps_p - f_t / E`: the linear-hinge layer law at `eps - (eps_p - f_t / E)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrePeak {
+    pub strain: Vec<f64>,
+    pub stress: Vec<f64>,
+}
+
+impl PrePeak {
+    /// The peak strain `eps_p`.
+    pub fn peak_strain(&self) -> f64 {
+        self.strain.last().copied().unwrap_or(0.0)
+    }
+
+    /// `sigma(eps)` for `0 <= eps <= eps_p`, linear between the points.
+    fn stress(&self, eps: f64) -> f64 {
+        let (e, s) = (&self.strain, &self.stress);
+        let i = e.partition_point(|&x| x <= eps).clamp(1, e.len() - 1);
+        let (e0, e1, s0, s1) = (e[i - 1], e[i], s[i - 1], s[i]);
+        if e1 <= e0 {
+            s1
+        } else {
+            s0 + (s1 - s0) * (eps - e0) / (e1 - e0)
+        }
+    }
 }
 
 /// One state of the hinge.
@@ -205,7 +243,8 @@ pub struct HingePoint {
     pub deflection: f64,
     /// Strain of the bottom fibre.
     pub bottom_strain: f64,
-    /// Height of the crack tip (where the strain is `f_t / E`) above the bottom (m), 0 uncracked.
+    /// Height of the crack tip (where the strain is `eps_p`, `f_t / E` for the linear pre-peak)
+    /// above the bottom face (m), 0 uncracked (with a notch: the notch's depth included).
     pub crack_tip: f64,
 }
 
@@ -228,6 +267,35 @@ impl Hinge {
             youngs_modulus,
             law,
             layers: 400,
+            pre_peak: None,
+            notch: 0.0,
+        }
+    }
+
+    /// The same hinge on the ligament above a notch of depth `notch` at mid-span.
+    pub fn with_notch(mut self, notch: f64) -> Self {
+        self.notch = notch;
+        self.length = 0.5 * (self.depth - notch);
+        self
+    }
+
+    /// Depth of the ligament above the notch `h - a_0`.
+    pub fn ligament(&self) -> f64 {
+        self.depth - self.notch
+    }
+
+    /// The same hinge whose layers rise along `pre_peak` (its last point the peak, at the law's
+    /// `f_t`) instead of linearly.
+    pub fn with_pre_peak(mut self, pre_peak: PrePeak) -> Self {
+        self.pre_peak = Some(pre_peak);
+        self
+    }
+
+    /// The strain at which a layer reaches `f_t`: `f_t / E`, or the pre-peak branch's end.
+    pub fn peak_strain(&self) -> f64 {
+        match &self.pre_peak {
+            Some(p) => p.peak_strain(),
+            None => self.law.tensile_strength() / self.youngs_modulus,
         }
     }
 
@@ -236,16 +304,24 @@ impl Hinge {
         self.width * self.depth.powi(3) / 12.0
     }
 
-    /// The rotation at which the bottom fibre reaches `f_t`: `2 f_t s / (E h)`.
+    /// The rotation at which the bottom fibre of the ligament reaches `f_t` (in a linear
+    /// section): `2 eps_p s / (h - a_0)`, `eps_p = f_t / E` for the linear pre-peak.
     pub fn cracking_rotation(&self) -> f64 {
-        2.0 * self.law.tensile_strength() * self.length / (self.youngs_modulus * self.depth)
+        2.0 * self.peak_strain() * self.length / self.ligament()
     }
 
     /// Stress of a layer at strain `eps`: elastic up to `f_t / E`, then the root of
     /// `sigma = sigma_law(s eps - s sigma / E)` (the crack opening between 0 and `s eps`).
+    /// With a pre-peak branch: that branch up to `eps_p`, then the same root at
+    /// `eps - (eps_p - f_t / E)` ([`PrePeak`]); compression stays linear.
     pub fn layer_stress(&self, eps: f64) -> f64 {
         let (e, s) = (self.youngs_modulus, self.length);
         let ft = self.law.tensile_strength();
+        let eps = match &self.pre_peak {
+            Some(p) if eps > 0.0 && eps <= p.peak_strain() => return p.stress(eps),
+            Some(p) if eps > 0.0 => eps - (p.peak_strain() - ft / e),
+            _ => eps,
+        };
         if e * eps <= ft {
             return e * eps;
         }
@@ -261,10 +337,10 @@ impl Hinge {
     /// curvature `k = phi / s` and bottom strain `eps_b`.
     fn section_forces(&self, k: f64, bottom_strain: f64) -> (f64, f64) {
         let n = self.layers;
-        let dy = self.depth / n as f64;
+        let dy = self.ligament() / n as f64;
         let (mut force, mut moment) = (0.0, 0.0);
         for i in 0..n {
-            let y = (i as f64 + 0.5) * dy;
+            let y = self.notch + (i as f64 + 0.5) * dy;
             let sigma = self.layer_stress(bottom_strain - k * y);
             force += sigma;
             moment += sigma * (0.5 * self.depth - y);
@@ -280,9 +356,12 @@ impl Hinge {
         let bottom_strain = if phi <= 0.0 {
             0.0
         } else {
+            // From the ligament's strains symmetric about its middle (force at most zero) to
+            // the whole ligament in tension (at least zero); `eb` is the strain the plane
+            // section gives at the beam's bottom face, `eb - k a_0` the ligament's lowest.
             bracketed_root(
                 |eb| self.section_forces(k, eb).0,
-                0.5 * k * h,
+                k * (self.notch + 0.5 * self.ligament()),
                 k * h,
                 1e-14 * k * h,
             )
@@ -290,7 +369,7 @@ impl Hinge {
         let moment = self.section_forces(k, bottom_strain).1;
         let ei = self.youngs_modulus * self.inertia();
         let load = 4.0 * moment / self.span;
-        let et = self.law.tensile_strength() / self.youngs_modulus;
+        let et = self.peak_strain();
         HingePoint {
             rotation: phi,
             moment,
@@ -298,7 +377,7 @@ impl Hinge {
             deflection: load * self.span.powi(3) / (48.0 * ei)
                 + (phi - moment * self.length / ei) * self.span / 4.0,
             bottom_strain,
-            crack_tip: if bottom_strain > et && k > 0.0 {
+            crack_tip: if bottom_strain - k * self.notch > et && k > 0.0 {
                 ((bottom_strain - et) / k).min(h)
             } else {
                 0.0
@@ -388,6 +467,19 @@ pub enum HingeLaw {
     Hordijk,
 }
 
+/// The layers' law before the crack opens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HingePrePeak {
+    /// Linear elastic up to `f_t` (Olesen's hinge, the cohesive-crack idealisation).
+    #[default]
+    Linear,
+    /// The material's own rising branch from the same tension test (`law: own` only): the
+    /// bulk of a smeared-crack beam is not linear up to `f_t`, and its pre-peak inelastic
+    /// strain, spread over the hinge, carries moment ([`PrePeak`]).
+    Own,
+}
+
 /// What a hinge reference gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -412,6 +504,11 @@ pub struct HingeSpec {
     pub quantity: HingeQuantity,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<String>,
+    #[serde(default)]
+    pub pre_peak: HingePrePeak,
+    /// Depth of a notch at mid-span (m; default none): the hinge spans the ligament.
+    #[serde(default)]
+    pub notch: f64,
 }
 
 /// The reference value and a line saying how it was computed.
@@ -420,15 +517,27 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
         .bodies
         .iter()
         .filter(|b| spec.body.as_ref().is_none_or(|n| n == &b.name))
-        .find_map(|b| match b.material.model(&b.name) {
-            Ok(MaterialModel::Microplane(p)) => Some((b.name.clone(), p)),
-            _ => None,
+        .find_map(|b| {
+            // The body's own material first, then its regions (a band of concrete between
+            // elastic neighbours).
+            std::iter::once((b.name.clone(), &b.material))
+                .chain(
+                    b.regions
+                        .iter()
+                        .map(|r| (format!("{}/{}", b.name, r.name), &r.material)),
+                )
+                .find_map(|(name, m)| match m.model(&name) {
+                    Ok(MaterialModel::Microplane(p)) => Some((name, p)),
+                    _ => None,
+                })
         })
         .ok_or_else(|| match &spec.body {
             Some(n) => format!(
                 "the hinge reference names body `{n}`, which is no microplane body of the scene"
             ),
-            None => "the hinge reference needs a microplane body in the scene".to_string(),
+            None => {
+                "the hinge reference needs a microplane body or region in the scene".to_string()
+            }
         })?;
     let model = MicroplaneConcrete::new(parameters)?;
     let (w, sigma) = crack_opening_curve(&model, spec.element_size);
@@ -446,13 +555,48 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
         HingeLaw::Mc2010 => (SofteningLaw::Mc2010 { ft, gf }, "MC2010 bilinear law"),
         HingeLaw::Hordijk => (SofteningLaw::Hordijk { ft, gf }, "Hordijk (1991) law"),
     };
-    let hinge = Hinge::new(
-        spec.depth,
-        spec.width,
-        spec.span,
-        parameters.youngs_modulus,
-        law,
-    );
+    let e = parameters.youngs_modulus;
+    if !(0.0..0.9 * spec.depth).contains(&spec.notch) {
+        return Err(format!(
+            "the hinge reference's notch {} m must lie in [0, 0.9 depth = {} m)",
+            spec.notch,
+            0.9 * spec.depth
+        ));
+    }
+    let hinge = match spec.pre_peak {
+        HingePrePeak::Linear => Hinge::new(spec.depth, spec.width, spec.span, e, law),
+        HingePrePeak::Own => {
+            if spec.law != HingeLaw::Own {
+                return Err(
+                    "the hinge reference's `pre_peak: own` needs `law: own`: the rising \
+                     branch and the crack-opening law must come from the same test"
+                        .to_string(),
+                );
+            }
+            let (strain, stress) = tension_pre_peak_curve(&model, spec.element_size);
+            let pre = PrePeak { strain, stress };
+            // The bulk of the hinge now holds the pre-peak inelastic strain, which the crack
+            // band's reading lumps into the opening at f_t: the crack law starts after it.
+            let w_peak = spec.element_size * (pre.peak_strain() - ft / e);
+            let SofteningLaw::Tabulated { w, sigma } = law else {
+                unreachable!("law: own is tabulated")
+            };
+            let (mut ws, mut ss) = (vec![0.0], vec![ft]);
+            for (wi, si) in w.iter().zip(&sigma) {
+                if *wi > w_peak {
+                    ws.push(wi - w_peak);
+                    ss.push(*si);
+                }
+            }
+            let law = SofteningLaw::Tabulated { w: ws, sigma: ss };
+            Hinge::new(spec.depth, spec.width, spec.span, e, law).with_pre_peak(pre)
+        }
+    };
+    let hinge = if spec.notch > 0.0 {
+        hinge.with_notch(spec.notch)
+    } else {
+        hinge
+    };
     let peak = hinge.peak(1e4);
     let (value, what) = match spec.quantity {
         HingeQuantity::PeakBendingMoment => (peak.moment, "peak bending moment"),
@@ -461,9 +605,19 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
     Ok((
         value,
         format!(
-            "cohesive hinge (Olesen 2001, s = h/2, {} layers), {what} of a {} x {} m beam on a {} m \
-             span, {name_of_law} of body `{name}` (f_t {:.3} MPa, G_F {:.1} N/m at {} m)",
+            "cohesive hinge (Olesen 2001, s = {} m, {} layers{}{}), {what} of a {} x {} m beam on \
+             a {} m span, {name_of_law} of body `{name}` (f_t {:.3} MPa, G_F {:.1} N/m at {} m)",
+            hinge.length,
             hinge.layers,
+            if spec.notch > 0.0 {
+                format!(", on the ligament above a {} m notch", spec.notch)
+            } else {
+                String::new()
+            },
+            match spec.pre_peak {
+                HingePrePeak::Linear => "",
+                HingePrePeak::Own => ", rising along the material's own pre-peak branch",
+            },
             spec.depth,
             spec.width,
             spec.span,

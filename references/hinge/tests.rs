@@ -1,5 +1,5 @@
 use super::*;
-use impact_solver::material::microplane::experiments::{uniaxial_tension, QUASI_STATIC_RATE};
+use impact_solver::material::microplane::experiments::{FracturePath, QUASI_STATIC_RATE};
 
 /// The thesis beam (chapter 10): 600 x 300 mm, span 2.8 m; concrete E 30 GPa, f_t 2.7 MPa,
 /// G_F 100 N/m (cases/materials/thesis-concrete.yaml and its calibration targets).
@@ -212,7 +212,9 @@ fn hinge_thesis_beam_peaks() {
     let model = thesis_concrete();
     let (w, sigma) = crack_opening_curve(&model, 0.05);
     let own = SofteningLaw::Tabulated { w, sigma };
-    let (_, tension) = uniaxial_tension(&model, 0.05, QUASI_STATIC_RATE).expect("tension");
+    let (_, tension) = FracturePath::of_driver(model.parameters.tension_driver)
+        .tension(&model, 0.05, QUASI_STATIC_RATE)
+        .expect("tension");
     println!(
         "own law at 50 mm: f_t {:.4} MPa, int sigma dw {:.2} N/m, crack-band h int sigma d eps \
          {:.2} N/m, w_end {:.3} mm",
@@ -258,7 +260,9 @@ fn hinge_own_law_holds_the_crack_band_fracture_energy() {
     let h = 0.05;
     let (w, sigma) = crack_opening_curve(&model, h);
     assert!(w.windows(2).all(|w| w[1] > w[0]) && w[0] == 0.0);
-    let (_, tension) = uniaxial_tension(&model, h, QUASI_STATIC_RATE).expect("tension");
+    // The test the calibration defines GF on for the concrete's tension driver.
+    let path = FracturePath::of_driver(model.parameters.tension_driver);
+    let (_, tension) = path.tension(&model, h, QUASI_STATIC_RATE).expect("tension");
     assert_eq!(sigma[0], tension.peak_stress);
     let law = SofteningLaw::Tabulated { w, sigma };
     let gf = law.fracture_energy();
@@ -324,4 +328,67 @@ fn hinge_reference_parses_and_evaluates_on_a_scene() {
         .expect("evaluates");
     println!("Hordijk at the material's f_t and G_F: {p} N");
     assert!(p > 4.0 * elastic / L && p < 4.0 * plastic / L, "{p}");
+}
+
+/// A pre-peak branch that is the linear one, `(0, 0)` to `(f_t / E, f_t)`, is Olesen's hinge:
+/// the same moments at every rotation.
+#[test]
+fn linear_pre_peak_branch_is_olesens_hinge() {
+    let plain = thesis_hinge(SofteningLaw::Hordijk { ft: FT, gf: GF });
+    let branch = PrePeak {
+        strain: vec![0.0, 0.5 * FT / E, FT / E],
+        stress: vec![0.0, 0.5 * FT, FT],
+    };
+    let with = plain.clone().with_pre_peak(branch);
+    assert_eq!(with.cracking_rotation(), plain.cracking_rotation());
+    for f in [0.5, 1.0, 2.0, 5.0, 20.0] {
+        let phi = f * plain.cracking_rotation();
+        let (a, b) = (plain.state(phi).moment, with.state(phi).moment);
+        assert!(
+            (a - b).abs() < 1e-9 * a,
+            "phi / phi_cr = {f}: {a} against {b}"
+        );
+    }
+}
+
+/// A rising branch that bends over (secant 0.7 E at the peak) puts more stress into the layers
+/// below the crack tip at the same strains, so the peak moment is higher than Olesen's, and
+/// below the rigid-plastic moment `f_t b h^2 / 2`; past the peak the crack law is shifted by the
+/// bulk's inelastic strain, so the layer law is continuous at `eps_p`.
+#[test]
+fn a_rounded_pre_peak_branch_raises_the_peak() {
+    let law = SofteningLaw::Hordijk { ft: FT, gf: GF };
+    let plain = thesis_hinge(law.clone());
+    let eps_p = FT / (0.7 * E);
+    // sigma = E eps (1 - c eps) reaching f_t at eps_p: c = (1 - f_t / (E eps_p)) / eps_p.
+    let c = (1.0 - 0.7) / eps_p;
+    let strain: Vec<f64> = (0..=50).map(|i| eps_p * i as f64 / 50.0).collect();
+    let mut stress: Vec<f64> = strain.iter().map(|e| E * e * (1.0 - c * e)).collect();
+    *stress.last_mut().unwrap() = FT;
+    let rounded = plain.clone().with_pre_peak(PrePeak { strain, stress });
+    let below = rounded.layer_stress(eps_p * (1.0 - 1e-9));
+    let above = rounded.layer_stress(eps_p * (1.0 + 1e-9));
+    assert!((below - FT).abs() < 1e-5 * FT && (above - FT).abs() < 1e-5 * FT);
+    let (a, b) = (plain.peak(1e4).moment, rounded.peak(1e4).moment);
+    assert!(b > a && b < FT * B * H * H / 2.0, "{a} against {b}");
+}
+
+/// A notch of depth a_0 leaves the hinge of the ligament: the moments of a notched beam of depth
+/// h are those of an unnotched beam of depth h - a_0 at the same rotation (the normal force
+/// vanishes, so the moment does not depend on the axis).
+#[test]
+fn a_notched_hinge_is_the_hinge_of_its_ligament() {
+    let law = SofteningLaw::Hordijk { ft: FT, gf: GF };
+    let a0 = 0.25 * H;
+    let notched = Hinge::new(H, B, L, E, law.clone()).with_notch(a0);
+    let ligament = Hinge::new(H - a0, B, L, E, law);
+    assert_eq!(notched.length, ligament.length);
+    for f in [0.5, 1.0, 3.0, 10.0] {
+        let phi = f * ligament.cracking_rotation();
+        let (a, b) = (ligament.state(phi).moment, notched.state(phi).moment);
+        assert!(
+            (a - b).abs() < 1e-7 * a,
+            "phi / phi_cr = {f}: {a} against {b}"
+        );
+    }
 }

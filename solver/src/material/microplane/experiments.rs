@@ -269,6 +269,31 @@ pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Ve
     (w, sigma)
 }
 
+/// The rising branch `(eps, sigma)` of the same test as [`crack_opening_curve`], from the
+/// origin to the peak (inclusive): the material's own stress-strain law before it cracks, for
+/// references whose bulk is not linear up to `f_t` (the hinge with `pre_peak: own`). Empty
+/// vectors if the experiment cannot start.
+pub fn tension_pre_peak_curve(
+    model: &MicroplaneConcrete,
+    element_size: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let path = FracturePath::of_driver(model.parameters.tension_driver);
+    let Ok((curve, result)) = path.tension(model, element_size, QUASI_STATIC_RATE) else {
+        return (Vec::new(), Vec::new());
+    };
+    let (mut strain, mut stress) = (vec![0.0], vec![0.0]);
+    for p in &curve.points {
+        if p.strain[0] > *strain.last().expect("origin") {
+            strain.push(p.strain[0]);
+            stress.push(p.stress[0]);
+        }
+        if p.stress[0] == result.peak_stress {
+            break;
+        }
+    }
+    (strain, stress)
+}
+
 /// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompressionResult {
