@@ -86,10 +86,19 @@ pub struct MaterialPointSpec {
     /// Published curves drawn beside the model's (not judged unless a metric says so).
     #[serde(default)]
     pub reference_curves: Vec<ReferenceCurve>,
-    /// `crack_band`: the path of the tension tests, uniaxial stress (default) or `bonded` (lateral
-    /// strains held after the peak), as the material's calibration measured GF.
+    /// `uniaxial_tension`, `crack_band`: the path of the tension tests, uniaxial stress or
+    /// `bonded` (lateral strains held after the peak). Default: the path on which the
+    /// calibration defines GF for the material's tension driver (`FracturePath::of_driver`).
     #[serde(default)]
-    pub fracture_path: FracturePath,
+    pub fracture_path: Option<FracturePath>,
+}
+
+impl MaterialPointSpec {
+    /// The tension tests' path for a material with these parameters.
+    pub fn fracture_path_for(&self, params: &MicroplaneParameters) -> FracturePath {
+        self.fracture_path
+            .unwrap_or_else(|| FracturePath::of_driver(params.tension_driver))
+    }
 }
 
 /// The virtual experiments.

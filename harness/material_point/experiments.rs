@@ -81,7 +81,7 @@ pub fn run(
                 &model,
                 h,
                 rate,
-                FracturePath::UniaxialStress,
+                mp.fracture_path_for(params),
                 Selector::default(),
                 &mut out,
             )?;
@@ -475,7 +475,14 @@ fn crack_band(
             element_size: Some(h),
             ..Selector::default()
         };
-        let (curve, values) = tension_run(&model, h, rate, mp.fracture_path, at.clone(), out)?;
+        let (curve, values) = tension_run(
+            &model,
+            h,
+            rate,
+            mp.fracture_path_for(params),
+            at.clone(),
+            out,
+        )?;
         let get = |q: Quantity| {
             values
                 .iter()

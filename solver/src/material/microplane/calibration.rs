@@ -84,10 +84,14 @@ impl Targets {
             element_size: 0.05,
             softening_at_w1: [0.20, 0.31],
             softening_end: [0.85 * 5.0 * 100.0 / 2.7e6, 1.15 * 5.14 * 100.0 / 2.7e6],
-            tension_driver: TensionDriver::Volumetric,
+            // MICROPLANE "Tension driver": tensile failure driven by Mazars' strain, with GF
+            // defined on the crack band's path, so a band bonded to elastic neighbours
+            // dissipates GF (issue 16).
+            tension_driver: TensionDriver::Equivalent,
             // MICROPLANE "Dilatancy": without it the apparent Poisson ratio cannot pass 0.5.
-            dilatancy: 0.3,
-            fracture_path: FracturePath::UniaxialStress,
+            // Started at 0.6: from 0.3 the fit stops at 0.38, where the ratio peaks at 0.494.
+            dilatancy: 0.6,
+            fracture_path: FracturePath::Bonded,
         }
     }
 }
