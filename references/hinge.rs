@@ -511,6 +511,29 @@ pub struct HingeSpec {
     pub notch: f64,
 }
 
+/// Both branches of a microplane material's own law at `element_size`, from the tension test
+/// the calibration defines GF on: the rising branch, and the crack-opening law with its opening
+/// counted from the peak (the bulk of a hinge with that branch holds the pre-peak inelastic
+/// strain, which the crack band's reading `crack_opening_curve` lumps into the opening at f_t).
+pub fn own_law_with_pre_peak(
+    model: &MicroplaneConcrete,
+    element_size: f64,
+) -> (SofteningLaw, PrePeak) {
+    let (w, sigma) = crack_opening_curve(model, element_size);
+    let (strain, stress) = tension_pre_peak_curve(model, element_size);
+    let pre = PrePeak { strain, stress };
+    let ft = sigma.first().copied().unwrap_or(0.0);
+    let w_peak = element_size * (pre.peak_strain() - ft / model.parameters.youngs_modulus);
+    let (mut ws, mut ss) = (vec![0.0], vec![ft]);
+    for (wi, si) in w.iter().zip(&sigma) {
+        if *wi > w_peak {
+            ws.push(wi - w_peak);
+            ss.push(*si);
+        }
+    }
+    (SofteningLaw::Tabulated { w: ws, sigma: ss }, pre)
+}
+
 /// The reference value and a line saying how it was computed.
 pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String), String> {
     let (name, parameters) = scene
@@ -573,22 +596,7 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
                         .to_string(),
                 );
             }
-            let (strain, stress) = tension_pre_peak_curve(&model, spec.element_size);
-            let pre = PrePeak { strain, stress };
-            // The bulk of the hinge now holds the pre-peak inelastic strain, which the crack
-            // band's reading lumps into the opening at f_t: the crack law starts after it.
-            let w_peak = spec.element_size * (pre.peak_strain() - ft / e);
-            let SofteningLaw::Tabulated { w, sigma } = law else {
-                unreachable!("law: own is tabulated")
-            };
-            let (mut ws, mut ss) = (vec![0.0], vec![ft]);
-            for (wi, si) in w.iter().zip(&sigma) {
-                if *wi > w_peak {
-                    ws.push(wi - w_peak);
-                    ss.push(*si);
-                }
-            }
-            let law = SofteningLaw::Tabulated { w: ws, sigma: ss };
+            let (law, pre) = own_law_with_pre_peak(&model, spec.element_size);
             Hinge::new(spec.depth, spec.width, spec.span, e, law).with_pre_peak(pre)
         }
     };

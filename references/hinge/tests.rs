@@ -392,3 +392,25 @@ fn a_notched_hinge_is_the_hinge_of_its_ligament() {
         );
     }
 }
+
+#[test]
+#[ignore = "prints the thesis beam's hinge curve with the rising branch; run with --ignored --nocapture"]
+fn hinge_thesis_beam_curve_with_rising_branch() {
+    // After the peak the load falls by 12.7 kN over 8.5 um of deflection: nearly vertical, so a
+    // beam only slightly more compliant than the hinge's (shear, supports, the plate) snaps
+    // back under load-point displacement control.
+    let model = thesis_concrete();
+    let (law, pre) = own_law_with_pre_peak(&model, 0.05);
+    let hinge = thesis_hinge(law).with_pre_peak(pre);
+    let curve = hinge.curve(1e4);
+    for p in curve.points.iter().step_by(2).take(60) {
+        println!(
+            "phi {:.3e} M {:.2} kNm P {:.1} kN delta {:.4} mm tip {:.0} mm",
+            p.rotation,
+            p.moment / 1e3,
+            p.load / 1e3,
+            p.deflection * 1e3,
+            p.crack_tip * 1e3
+        );
+    }
+}
