@@ -414,3 +414,26 @@ fn hinge_thesis_beam_curve_with_rising_branch() {
         );
     }
 }
+
+/// Both branches of the thesis concrete's own law join at the peak: the rising branch starts at
+/// the origin, rises monotonically to the crack-opening law's `f_t` at its last point, and the
+/// crack-opening law counted from the peak is the crack band's reading less exactly its plateau
+/// at `f_t` over the pre-peak opening `h (eps_p - f_t / E)`, which the hinge's bulk now holds.
+#[test]
+fn own_law_branches_join_at_the_peak() {
+    let model = thesis_concrete();
+    let (law, pre) = own_law_with_pre_peak(&model, 0.05);
+    assert_eq!((pre.strain[0], pre.stress[0]), (0.0, 0.0));
+    assert!(pre.strain.windows(2).all(|w| w[1] > w[0]));
+    assert!(pre.stress.windows(2).all(|s| s[1] >= s[0]));
+    assert_eq!(*pre.stress.last().unwrap(), law.tensile_strength());
+    let (w, sigma) = crack_opening_curve(&model, 0.05);
+    let lumped = SofteningLaw::Tabulated { w, sigma }.fracture_energy();
+    let counted = law.fracture_energy();
+    let ft = law.tensile_strength();
+    let plateau = ft * 0.05 * (pre.peak_strain() - ft / model.parameters.youngs_modulus);
+    assert!(
+        (lumped - plateau - counted).abs() < 1e-9 * lumped,
+        "{counted} + {plateau} against {lumped} N/m"
+    );
+}
