@@ -22,9 +22,7 @@
 //! microplane material (`law: own`, from `crack_opening_curve`) or with the MC2010 or Hordijk
 //! laws at that material's tensile strength and fracture energy.
 
-use impact_solver::material::microplane::experiments::{
-    crack_opening_curve, tension_pre_peak_curve,
-};
+use impact_solver::material::microplane::experiments::{tension_branches, TensionBranches};
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::MaterialModel;
 use impact_solver::scene::Scene;
@@ -512,18 +510,31 @@ pub struct HingeSpec {
 }
 
 /// Both branches of a microplane material's own law at `element_size`, from the tension test
-/// the calibration defines GF on: the rising branch, and the crack-opening law with its opening
-/// counted from the peak (the bulk of a hinge with that branch holds the pre-peak inelastic
-/// strain, which the crack band's reading `crack_opening_curve` lumps into the opening at f_t).
+/// the calibration defines GF on (one run): the rising branch, and the crack-opening law with its
+/// opening counted from the peak.
 pub fn own_law_with_pre_peak(
     model: &MicroplaneConcrete,
     element_size: f64,
 ) -> (SofteningLaw, PrePeak) {
-    let (w, sigma) = crack_opening_curve(model, element_size);
-    let (strain, stress) = tension_pre_peak_curve(model, element_size);
+    counted_from_peak(
+        tension_branches(model, element_size),
+        element_size,
+        model.parameters.youngs_modulus,
+    )
+}
+
+/// The crack-opening law with its opening counted from the peak, and the rising branch: the bulk
+/// of a hinge with that branch holds the pre-peak inelastic strain `eps_p - f_t / E`, which the
+/// crack band's reading (`crack_opening_curve`) lumps into the opening at `f_t`.
+fn counted_from_peak(
+    branches: TensionBranches,
+    element_size: f64,
+    youngs_modulus: f64,
+) -> (SofteningLaw, PrePeak) {
+    let ((strain, stress), (w, sigma)) = (branches.rising, branches.opening);
     let pre = PrePeak { strain, stress };
     let ft = sigma.first().copied().unwrap_or(0.0);
-    let w_peak = element_size * (pre.peak_strain() - ft / model.parameters.youngs_modulus);
+    let w_peak = element_size * (pre.peak_strain() - ft / youngs_modulus);
     let (mut ws, mut ss) = (vec![0.0], vec![ft]);
     for (wi, si) in w.iter().zip(&sigma) {
         if *wi > w_peak {
@@ -563,7 +574,8 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
             }
         })?;
     let model = MicroplaneConcrete::new(parameters)?;
-    let (w, sigma) = crack_opening_curve(&model, spec.element_size);
+    let branches = tension_branches(&model, spec.element_size);
+    let (w, sigma) = branches.opening.clone();
     if w.len() < 2 {
         return Err(format!(
             "the uniaxial tension of body `{name}` at element size {} m gave no crack-opening curve",
@@ -596,7 +608,7 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
                         .to_string(),
                 );
             }
-            let (law, pre) = own_law_with_pre_peak(&model, spec.element_size);
+            let (law, pre) = counted_from_peak(branches, spec.element_size, e);
             Hinge::new(spec.depth, spec.width, spec.span, e, law).with_pre_peak(pre)
         }
     };

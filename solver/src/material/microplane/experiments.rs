@@ -250,9 +250,27 @@ pub fn softening_shape(curve: &Curve, h: f64, youngs: f64, w1: f64) -> Softening
 /// areas differ by 0.8 %). The hinge with `pre_peak: own` counts the opening from the peak.
 /// Empty vectors if the experiment cannot start (an element size the crack band rejects).
 pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Vec<f64>, Vec<f64>) {
+    tension_branches(model, element_size).opening
+}
+
+/// Both branches of the tension test behind [`crack_opening_curve`], read from one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TensionBranches {
+    /// `(eps, sigma)` from the origin to the peak (inclusive): the material's own stress-strain
+    /// law before it cracks, for references whose bulk is not linear up to `f_t` (the hinge with
+    /// `pre_peak: own`).
+    pub rising: (Vec<f64>, Vec<f64>),
+    /// `(w, sigma)`: [`crack_opening_curve`].
+    pub opening: (Vec<f64>, Vec<f64>),
+}
+
+/// The tension test on the path the calibration defines GF on for the model's driver, at the
+/// quasi-static rate, read as its rising branch and its crack-opening law. Empty vectors if the
+/// experiment cannot start (an element size the crack band rejects).
+pub fn tension_branches(model: &MicroplaneConcrete, element_size: f64) -> TensionBranches {
     let path = FracturePath::of_driver(model.parameters.tension_driver);
     let Ok((curve, result)) = path.tension(model, element_size, QUASI_STATIC_RATE) else {
-        return (Vec::new(), Vec::new());
+        return TensionBranches::default();
     };
     let e = model.parameters.youngs_modulus;
     let top = curve
@@ -260,6 +278,13 @@ pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Ve
         .iter()
         .position(|p| p.stress[0] == result.peak_stress)
         .unwrap_or(0);
+    let (mut strain, mut stress) = (vec![0.0], vec![0.0]);
+    for p in &curve.points[..=top] {
+        if p.strain[0] > *strain.last().expect("origin") {
+            strain.push(p.strain[0]);
+            stress.push(p.stress[0]);
+        }
+    }
     let (mut w, mut sigma) = (vec![0.0], vec![result.peak_stress]);
     for p in &curve.points[top..] {
         let opening = element_size * (p.strain[0] - p.stress[0] / e);
@@ -268,32 +293,10 @@ pub fn crack_opening_curve(model: &MicroplaneConcrete, element_size: f64) -> (Ve
             sigma.push(p.stress[0].max(0.0));
         }
     }
-    (w, sigma)
-}
-
-/// The rising branch `(eps, sigma)` of the same test as [`crack_opening_curve`], from the
-/// origin to the peak (inclusive): the material's own stress-strain law before it cracks, for
-/// references whose bulk is not linear up to `f_t` (the hinge with `pre_peak: own`). Empty
-/// vectors if the experiment cannot start.
-pub fn tension_pre_peak_curve(
-    model: &MicroplaneConcrete,
-    element_size: f64,
-) -> (Vec<f64>, Vec<f64>) {
-    let path = FracturePath::of_driver(model.parameters.tension_driver);
-    let Ok((curve, result)) = path.tension(model, element_size, QUASI_STATIC_RATE) else {
-        return (Vec::new(), Vec::new());
-    };
-    let (mut strain, mut stress) = (vec![0.0], vec![0.0]);
-    for p in &curve.points {
-        if p.strain[0] > *strain.last().expect("origin") {
-            strain.push(p.strain[0]);
-            stress.push(p.stress[0]);
-        }
-        if p.stress[0] == result.peak_stress {
-            break;
-        }
+    TensionBranches {
+        rising: (strain, stress),
+        opening: (w, sigma),
     }
-    (strain, stress)
 }
 
 /// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
