@@ -6,8 +6,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use impact_solver::material::{read_microplane_file, MaterialModel};
-use impact_solver::scene::{build_problem, Analysis, Scene};
-use impact_solver::statics::solve_static;
+use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
 fn shipped_file() -> PathBuf {
@@ -201,28 +200,6 @@ fn the_crack_indicator_setting_is_read_and_checked() {
     );
     let msg = error_of(&scene(material, "crack_indicator: { width: 1 }"));
     assert!(msg.contains("width") && msg.contains("line"), "{msg}");
-}
-
-#[test]
-fn the_static_solver_refuses_microplane_bodies() {
-    let text = scene(
-        &format!("      microplane: {{ file: {} }}", shipped_file().display()),
-        "",
-    )
-    .replace(
-        "explicit: { end_time: 1.0e-5 }",
-        "static: { load_steps: 1 }",
-    );
-    let scene = Scene::from_yaml(&text, "cube.yaml").unwrap();
-    let problem = build_problem(&scene).unwrap();
-    let Analysis::Static(settings) = &scene.analysis else {
-        unreachable!()
-    };
-    let msg = solve_static(&problem, settings).unwrap_err().to_string();
-    assert!(
-        msg.contains("body `cube`") && msg.contains("explicit"),
-        "{msg}"
-    );
 }
 
 /// `rate_effect: false` gives the body the file's parameters at static rates: the rate law is

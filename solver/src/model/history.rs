@@ -6,8 +6,9 @@
 //! step, which computes the forces at the current displacement and commits the update. Anything
 //! else that wants forces or stresses of such a body (a second force evaluation at another
 //! displacement, a static Newton iteration, an energy) must not advance it: the explicit stepper
-//! computes forces once per step, the static solver refuses these bodies, and stored energy and
-//! field output read the history without changing it.
+//! computes forces once per step, the static solver updates copies of the committed history at
+//! each Newton iteration and commits one per converged load step (`statics::path`), and stored
+//! energy and field output read the history without changing it.
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -1,5 +1,12 @@
 //! Implicit static analysis: Newton's method with a sparse LU factorisation (`faer`) and load
-//! stepping (thesis 3.3.3, (3.64)-(3.68)). Used by patch tests and for elastic references.
+//! stepping (thesis 3.3.3, (3.64)-(3.68)). Used by patch tests and for elastic references, and,
+//! for bodies of materials with a history (microplane concrete), as a path followed increment by
+//! increment with step cutting up to its limit point ([`path`]).
+
+mod opening_control;
+mod path;
+
+pub use opening_control::OpeningControl;
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
@@ -10,7 +17,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Result, SolverError};
 use crate::kinematics::deformation_gradient;
 use crate::material::Material;
-use crate::model::{Motion, Problem};
+use crate::model::{MaterialHistory, Motion, Problem};
+use crate::output::HistoryTable;
 use crate::with_material;
 
 /// Settings of a static analysis.
@@ -18,15 +26,28 @@ use crate::with_material;
 #[serde(deny_unknown_fields)]
 pub struct StaticSettings {
     /// Load steps: prescribed displacements and loads are applied at load factors
-    /// `k / load_steps`, evaluated as the time argument of their functions.
+    /// `lambda = k / load_steps`, their functions evaluated at time `lambda * end_time`.
     #[serde(default = "default_steps")]
     pub load_steps: usize,
+    /// The time (s) of the conditions' functions that load factor 1 stands for: 1 unless set,
+    /// so that a scene written for an explicit run (a displacement ramp over seconds) can be
+    /// solved statically along the same loading.
+    #[serde(default = "default_end_time")]
+    pub end_time: f64,
     /// Converged when the out-of-balance force (3.64) on the free components is below
     /// `tolerance` times the largest of the reaction and external force norms.
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
     #[serde(default = "default_iterations")]
     pub max_iterations: usize,
+    /// Bodies with a history only: how many times a load step that does not converge is halved
+    /// before the path stops at its limit point ([`path`]).
+    #[serde(default = "default_cuts")]
+    pub max_cuts: u32,
+    /// Indirect displacement control: a condition's nodes move together by the displacement
+    /// that gives an opening between two probes ([`OpeningControl`]); solved as a path.
+    #[serde(default)]
+    pub opening_control: Option<OpeningControl>,
 }
 
 fn default_steps() -> usize {
@@ -38,13 +59,22 @@ fn default_tolerance() -> f64 {
 fn default_iterations() -> usize {
     25
 }
+fn default_end_time() -> f64 {
+    1.0
+}
+fn default_cuts() -> u32 {
+    6
+}
 
 impl Default for StaticSettings {
     fn default() -> Self {
         Self {
             load_steps: default_steps(),
+            end_time: default_end_time(),
             tolerance: default_tolerance(),
             max_iterations: default_iterations(),
+            max_cuts: default_cuts(),
+            opening_control: None,
         }
     }
 }
@@ -59,6 +89,13 @@ pub struct StaticSolution {
     pub iterations: Vec<usize>,
     /// Final relative residual per load step.
     pub residuals: Vec<f64>,
+    /// Bodies with a history: one row per converged load step (load factor as `time`, probes,
+    /// reactions of each condition, as an explicit run's history).
+    pub history: Option<HistoryTable>,
+    /// Bodies with a history: the history committed at the last converged load step.
+    pub material_history: Option<MaterialHistory>,
+    /// Why the path stopped before the end of the loading, if it did (its limit point).
+    pub stopped: Option<String>,
 }
 
 impl StaticSolution {
@@ -85,49 +122,25 @@ impl StaticSolution {
 }
 
 /// Solves `f_int(u) = f_ext` with the constraints of `problem` (velocity constraints are not
-/// static conditions and are rejected, and so are bodies of materials with history).
+/// static conditions and are rejected). A model with bodies whose material has a history, or
+/// under an [`OpeningControl`], is followed along its loading path by [`path::solve_path`].
 pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<StaticSolution> {
+    solve_static_with_progress(problem, settings, &mut |_| {})
+}
+
+/// [`solve_static`], reporting the load factor reached in `[0, 1]`.
+pub fn solve_static_with_progress(
+    problem: &Problem,
+    settings: &StaticSettings,
+    progress: &mut dyn FnMut(f64),
+) -> Result<StaticSolution> {
     let model = &problem.model;
-    if let Some(body) = model.bodies.iter().find(|b| b.material.has_history()) {
-        // Newton's method evaluates the forces at trial displacements, which would advance the
-        // history at each of them; it would need a commit per load step and a tangent of the
-        // model, which it does not have.
-        return Err(SolverError::InvalidScene {
-            entity: format!("body `{}` material", body.name),
-            message: format!(
-                "the static solver does not support {} concrete, whose stress depends on its \
-                 loading history. Fix: analyse the scene with `analysis: {{ explicit: ... }}` \
-                 (a slow enough loading gives the quasi-static response)",
-                body.material.name()
-            ),
-        });
+    let (equation, free) = free_equations(problem)?;
+    if model.has_history() || settings.opening_control.is_some() {
+        return path::solve_path(problem, settings, &equation, free, progress);
     }
     let n = model.node_count();
     let constraint_of = problem.constraint_map();
-    for c in &problem.constraints {
-        if matches!(
-            c.motion,
-            Motion::Velocity(..) | Motion::AffineVelocity { .. }
-        ) {
-            return Err(SolverError::InvalidScene {
-                entity: format!("constraint `{}`", c.name),
-                message: "a velocity condition has no meaning in a static analysis; prescribe a \
-                          displacement instead"
-                    .into(),
-            });
-        }
-    }
-    // Free components get consecutive equation numbers.
-    let mut equation = vec![[usize::MAX; 3]; n];
-    let mut free = 0;
-    for i in 0..n {
-        for d in 0..3 {
-            if constraint_of[i][d].is_none() {
-                equation[i][d] = free;
-                free += 1;
-            }
-        }
-    }
     let mut u = vec![Vector3::zeros(); n];
     let mut f_int = vec![Vector3::zeros(); n];
     let mut f_ext = vec![Vector3::zeros(); n];
@@ -135,16 +148,9 @@ pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<Stat
     let mut residuals = Vec::new();
     let steps = settings.load_steps.max(1);
     for step in 1..=steps {
-        let lambda = step as f64 / steps as f64;
-        for i in 0..n {
-            for d in 0..3 {
-                if let Some(c) = constraint_of[i][d] {
-                    let motion = &problem.constraints[c as usize].motion;
-                    u[i][d] = motion.displacement(&model.reference[i], lambda).unwrap()[d];
-                }
-            }
-        }
-        if !problem.external_forces(lambda, &mut f_ext) {
+        let time = step as f64 / steps as f64 * settings.end_time;
+        prescribe(problem, &constraint_of, time, &mut u);
+        if !problem.external_forces(time, &mut f_ext) {
             f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
         }
         let mut converged = None;
@@ -178,7 +184,7 @@ pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<Stat
             if iteration == settings.max_iterations {
                 break;
             }
-            let du = solve_tangent(problem, &u, &equation, free, &residual)?;
+            let (du, _) = solve_tangent(problem, &u, &equation, free, &residual, &[], None)?;
             for i in 0..n {
                 for d in 0..3 {
                     if equation[i][d] != usize::MAX {
@@ -219,21 +225,83 @@ pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<Stat
         reaction,
         iterations,
         residuals,
+        history: None,
+        material_history: None,
+        stopped: None,
     })
 }
 
+/// Equation numbers of the free components (consecutive; `usize::MAX` where a condition
+/// prescribes the component) and their count. Velocity conditions have no static meaning and are
+/// refused.
+fn free_equations(problem: &Problem) -> Result<(Vec<[usize; 3]>, usize)> {
+    for c in &problem.constraints {
+        if matches!(
+            c.motion,
+            Motion::Velocity(..) | Motion::AffineVelocity { .. }
+        ) {
+            return Err(SolverError::InvalidScene {
+                entity: format!("constraint `{}`", c.name),
+                message: "a velocity condition has no meaning in a static analysis; prescribe a \
+                          displacement instead"
+                    .into(),
+            });
+        }
+    }
+    let constraint_of = problem.constraint_map();
+    let mut equation = vec![[usize::MAX; 3]; constraint_of.len()];
+    let mut free = 0;
+    for (i, owner) in constraint_of.iter().enumerate() {
+        for d in 0..3 {
+            if owner[d].is_none() {
+                equation[i][d] = free;
+                free += 1;
+            }
+        }
+    }
+    Ok((equation, free))
+}
+
+/// Sets the prescribed components of `u` to their values at `time`.
+fn prescribe(
+    problem: &Problem,
+    constraint_of: &[[Option<u16>; 3]],
+    time: f64,
+    u: &mut [Vector3<f64>],
+) {
+    for (i, owner) in constraint_of.iter().enumerate() {
+        for d in 0..3 {
+            if let Some(c) = owner[d] {
+                let motion = &problem.constraints[c as usize].motion;
+                u[i][d] = motion
+                    .displacement(&problem.model.reference[i], time)
+                    .expect("velocity conditions are refused")[d];
+            }
+        }
+    }
+}
+
 /// Solves `K du = r` on the free components, with the consistent tangent
-/// `K_{ai,bj} = V sum_{JL} grad N_aJ (dP_iJ/dF_jL) grad N_bL` (3.68a).
+/// `K_{ai,bj} = V sum_{JL} grad N_aJ (dP_iJ/dF_jL) grad N_bL` (3.68a) of elastic elements, and for
+/// the elements of a body with a history the stiffness in `history_tangents[body]` (one
+/// [`ElementTangent`] per element of the body, in its order). With `moved` (prescribed components
+/// that move together by one unknown, an [`OpeningControl`]), also solves `K b = k` for the sum
+/// `k` of their columns, and returns `b` second.
 fn solve_tangent(
     problem: &Problem,
     u: &[Vector3<f64>],
     equation: &[[usize; 3]],
     free: usize,
     residual: &[f64],
-) -> Result<Vec<f64>> {
+    history_tangents: &[Vec<ElementTangent>],
+    moved: Option<&[[bool; 3]]>,
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
     let model = &problem.model;
     let mut triplets = Vec::with_capacity(144 * model.element_count());
-    for body in &model.bodies {
+    let mut moved_column = moved.map(|_| vec![0.0; free]);
+    // Where column (node, component) goes: its equation, or the moved column, or nowhere.
+    let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
+    for (b_index, body) in model.bodies.iter().enumerate() {
         with_material!(&body.material, |m| {
             for e in body.elements.clone() {
                 let g = &model.grad_n[e];
@@ -242,7 +310,8 @@ fn solve_tangent(
                 for b in 0..4 {
                     for j in 0..3 {
                         let col = equation[tet[b] as usize][j];
-                        if col == usize::MAX {
+                        let into_moved = col == usize::MAX && is_moved(tet[b] as usize, j);
+                        if col == usize::MAX && !into_moved {
                             continue;
                         }
                         let mut df = Matrix3::zeros();
@@ -252,28 +321,67 @@ fn solve_tangent(
                             let force = dp * g[a];
                             for i in 0..3 {
                                 let row = equation[tet[a] as usize][i];
-                                if row != usize::MAX {
-                                    triplets.push(Triplet::new(row, col, force[i]));
+                                if row == usize::MAX {
+                                    continue;
+                                }
+                                match (&mut moved_column, into_moved) {
+                                    (Some(k), true) => k[row] += force[i],
+                                    _ => triplets.push(Triplet::new(row, col, force[i])),
                                 }
                             }
                         }
                     }
                 }
             }
-        }, microplane(_) => unreachable!("solve_static refuses materials with history"));
+        }, microplane(_) => {
+            let tangents = history_tangents
+                .get(b_index)
+                .filter(|t| t.len() == body.elements.len())
+                .expect("a tangent for every element of a body with a history");
+            for (e, k) in body.elements.clone().zip(tangents) {
+                let tet = model.tets[e];
+                for (col_dof, &node_b) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+                    let col = equation[node_b as usize][col_dof % 3];
+                    let into_moved = col == usize::MAX && is_moved(node_b as usize, col_dof % 3);
+                    if col == usize::MAX && !into_moved {
+                        continue;
+                    }
+                    for (row_dof, &node_a) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+                        let row = equation[node_a as usize][row_dof % 3];
+                        if row == usize::MAX {
+                            continue;
+                        }
+                        let value = k[col_dof * 12 + row_dof];
+                        match (&mut moved_column, into_moved) {
+                            (Some(column), true) => column[row] += value,
+                            _ => triplets.push(Triplet::new(row, col, value)),
+                        }
+                    }
+                }
+            }
+        });
     }
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
         .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
     let lu = k
         .sp_lu()
         .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
-    let mut rhs = Mat::from_fn(free, 1, |i, _| residual[i]);
+    let columns = 1 + usize::from(moved_column.is_some());
+    let mut rhs = Mat::from_fn(free, columns, |i, j| match j {
+        0 => residual[i],
+        _ => moved_column.as_ref().map_or(0.0, |k| k[i]),
+    });
     lu.solve_in_place(rhs.as_mut());
-    let du: Vec<f64> = (0..free).map(|i| rhs[(i, 0)]).collect();
-    if du.iter().any(|x| !x.is_finite()) {
+    if (0..columns).any(|j| (0..free).any(|i| !rhs[(i, j)].is_finite())) {
         return Err(SolverError::SingularStiffness(
             "the solution of the tangent system is not finite".into(),
         ));
     }
-    Ok(du)
+    let du = (0..free).map(|i| rhs[(i, 0)]).collect();
+    let b = moved_column.map(|_| (0..free).map(|i| rhs[(i, 1)]).collect());
+    Ok((du, b))
 }
+
+/// Stiffness of one element, `K[col * 12 + row] = d f_row / d u_col` with the element's degrees
+/// of freedom numbered `3 a + i` (node `a` of the tetrahedron, component `i`).
+pub type ElementTangent = [f64; 144];

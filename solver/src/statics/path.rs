@@ -1,0 +1,515 @@
+//! The static loading path of a model with bodies whose material has a history (microplane
+//! concrete): load steps under the prescribed displacements, Newton's method on each step from the
+//! history committed at the last one, step cutting, and a stop at the path's limit point.
+//!
+//! Within a load step from `u_c` (history `H_c`, both committed) to load factor `lambda`, a trial
+//! displacement `u` gives every microplane element its stress from `H_c` and the strain at `u`:
+//! one update of the model from its committed history, never a chain of trial updates, so the
+//! out-of-balance force `r(u) = f_int(u) - f_ext` (3.64) is a function of `u` alone and Newton's
+//! method applies to it. The step's history is committed once `|r|` on the free components is
+//! below `tolerance` times the larger of the reaction and the external force norms.
+//!
+//! The tangent (3.66): the model has no closed-form consistent tangent, so a microplane element's
+//! stiffness is its forward difference from the same committed history,
+//! `K_e[:, j] = (f_e(u_e + delta e_j) - f_e(u_e)) / delta` with `delta = 1e-7 h_e`: strain steps of
+//! about 1e-7, a thousandth of the cracking strain, so the difference sees the branch (loading
+//! or unloading) that a small step along `e_j` takes, and round-off (1e-16 of stresses of 1e6
+//! Pa over 3e3 Pa steps) stays near 1e-13. Elastic elements keep their consistent tangent (3.68a).
+//! The strain rate of a static path is zero: the rate law gives `F(0) = 1`, the static law.
+//!
+//! Newton starts each step from the last converged increment extrapolated (a secant predictor),
+//! not from the committed state (the comment in [`solve_path`] says why). Under an
+//! [`super::OpeningControl`] the loading condition's displacement is one more unknown and the
+//! opening between two probes is prescribed (`opening_control.rs`).
+//!
+//! The path follows its primary branch and does not switch branches. Where a crack may form in
+//! any of several equivalent places (two cell columns at the mid-span of an unnotched beam), the
+//! primary branch spreads the damage over them past the point where one should take it: an
+//! imperfection (a notch, a slightly weaker element) decides, as the dynamics do in an explicit
+//! run (`cases/beam/static-3pt-slice-h50-implicit-imperfect.yaml`).
+//!
+//! A step that does not converge in `max_iterations` (or that inverts an element) is halved, up
+//! to `max_cuts` times; after a converged step the next one grows back by a factor of two, up to
+//! the nominal `1 / load_steps`. Past the last cut the path has reached a limit point of this
+//! control (under load-point control, the peak of a beam that snaps back after it): it stops there
+//! and returns what it computed, with the reason in [`StaticSolution::stopped`].
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use super::opening_control::Control;
+use super::{prescribe, solve_tangent, ElementTangent, StaticSettings, StaticSolution};
+use crate::error::{Result, SolverError};
+use crate::material::MaterialModel;
+use crate::model::{
+    element_internal_forces, microplane_element_forces, MaterialHistory, ProbeQuantity, Problem,
+};
+use crate::output::HistoryTable;
+use crate::with_material;
+
+/// Relative size of the forward-difference step of the element tangent, times the element size.
+const DIFFERENCE_STEP: f64 = 1e-7;
+
+/// Follows the loading path of `problem` from rest to load factor 1 (see the module
+/// documentation), reporting the load factor reached.
+pub(super) fn solve_path(
+    problem: &Problem,
+    settings: &StaticSettings,
+    equation: &[[usize; 3]],
+    free: usize,
+    progress: &mut dyn FnMut(f64),
+) -> Result<StaticSolution> {
+    let model = &problem.model;
+    let n = model.node_count();
+    let constraint_of = problem.constraint_map();
+    let control = settings
+        .opening_control
+        .as_ref()
+        .map(|c| Control::new(c, problem, equation))
+        .transpose()?;
+    let mut table = HistoryTable::new(history_columns(problem, control.is_some()));
+    let mut committed = Committed {
+        u: vec![Vector3::zeros(); n],
+        reaction: vec![Vector3::zeros(); n],
+        history: model.initial_history(),
+    };
+    table.push(history_row(
+        problem,
+        &committed,
+        control.as_ref(),
+        0.0,
+        0,
+        0,
+        0.0,
+    ));
+    let nominal = 1.0 / settings.load_steps.max(1) as f64;
+    let (mut lambda, mut cuts, mut step) = (0.0_f64, 0_u32, 0_usize);
+    // The last converged increment, for the predictor: its displacement change and its size.
+    let mut last_increment: Option<(Vec<Vector3<f64>>, f64)> = None;
+    let (mut iterations, mut residuals) = (Vec::new(), Vec::new());
+    let mut stopped = None;
+    while lambda < 1.0 - 1e-12 {
+        let size = (nominal / f64::from(1_u32 << cuts)).min(1.0 - lambda);
+        let target = if 1.0 - (lambda + size) < 1e-12 {
+            1.0
+        } else {
+            lambda + size
+        };
+        // Linear extrapolation of the last increment (a secant predictor): Newton then starts,
+        // and takes its first tangent, where every loading plane is past its committed state by
+        // a finite step. At the committed state itself a forward difference straddles the
+        // loading-unloading switch of each plane (loading for columns that stretch it,
+        // unloading for those that shorten it), and that mixture is no linearisation along any
+        // path: on the slice beam under opening control it made the opening's response to the
+        // plate 20 times too small at 60 % of the peak.
+        let predicted = last_increment.as_ref().map(|(du, size_before)| {
+            let ratio = size / size_before;
+            committed
+                .u
+                .iter()
+                .zip(du)
+                .map(|(u, du)| u + du * ratio)
+                .collect::<Vec<_>>()
+        });
+        let trial = Step {
+            problem,
+            settings,
+            equation,
+            free,
+            constraint_of: &constraint_of,
+            control: control.as_ref(),
+            committed: &committed,
+            lambda: target,
+            predicted: predicted.as_deref(),
+        };
+        match trial.solve()? {
+            Outcome::Converged {
+                state,
+                iterations: it,
+                residual,
+            } => {
+                let du = state
+                    .u
+                    .iter()
+                    .zip(&committed.u)
+                    .map(|(a, b)| a - b)
+                    .collect();
+                last_increment = Some((du, target - lambda));
+                committed = state;
+                lambda = target;
+                step += 1;
+                iterations.push(it);
+                residuals.push(residual);
+                let time = lambda * settings.end_time;
+                table.push(history_row(
+                    problem,
+                    &committed,
+                    control.as_ref(),
+                    time,
+                    step,
+                    it,
+                    residual,
+                ));
+                progress(lambda);
+                cuts = cuts.saturating_sub(1);
+            }
+            Outcome::Failed { reason } if cuts >= settings.max_cuts => {
+                stopped = Some(format!(
+                    "limit point at load factor {lambda:.6}: the step to {target:.6} ({} of the \
+                     nominal step, after {cuts} halvings) {reason}",
+                    size / nominal
+                ));
+                break;
+            }
+            Outcome::Failed { .. } => cuts += 1,
+        }
+    }
+    Ok(StaticSolution {
+        u: committed.u,
+        reaction: committed.reaction,
+        iterations,
+        residuals,
+        history: Some(table),
+        material_history: Some(committed.history),
+        stopped,
+    })
+}
+
+/// A converged state of the path.
+struct Committed {
+    u: Vec<Vector3<f64>>,
+    /// `f_int - f_ext` at the prescribed components, zero at the free ones.
+    reaction: Vec<Vector3<f64>>,
+    history: MaterialHistory,
+}
+
+enum Outcome {
+    Converged {
+        state: Committed,
+        iterations: usize,
+        residual: f64,
+    },
+    Failed {
+        reason: String,
+    },
+}
+
+/// One load step of the path, from the committed state to load factor `lambda`.
+struct Step<'a> {
+    problem: &'a Problem,
+    settings: &'a StaticSettings,
+    equation: &'a [[usize; 3]],
+    free: usize,
+    constraint_of: &'a [[Option<u16>; 3]],
+    control: Option<&'a Control>,
+    committed: &'a Committed,
+    /// Where Newton starts, if not at the committed displacement (prescribed components are
+    /// set anyway).
+    predicted: Option<&'a [Vector3<f64>]>,
+    lambda: f64,
+}
+
+impl Step<'_> {
+    fn solve(&self) -> Result<Outcome> {
+        let problem = self.problem;
+        let n = problem.model.node_count();
+        let time = self.lambda * self.settings.end_time;
+        let mut u = self.predicted.unwrap_or(&self.committed.u).to_vec();
+        prescribe(problem, self.constraint_of, time, &mut u);
+        let target_opening = self.control.map(|c| {
+            // The controlled condition keeps its (predicted) displacement, not its function's.
+            c.set_delta(&mut u, c.delta(self.predicted.unwrap_or(&self.committed.u)));
+            c.opening.eval(time)
+        });
+        let mut f_ext = vec![Vector3::zeros(); n];
+        if !problem.external_forces(time, &mut f_ext) {
+            f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
+        }
+        let mut last = f64::INFINITY;
+        for iteration in 0..=self.settings.max_iterations {
+            let Some((f_int, history)) = trial_forces(problem, &u, &self.committed.history) else {
+                return Ok(Outcome::Failed {
+                    reason: format!("inverted an element at iteration {iteration}"),
+                });
+            };
+            let mut residual = vec![0.0; self.free];
+            let mut reaction = vec![Vector3::zeros(); n];
+            let (mut reaction_sq, mut external_sq) = (0.0, 0.0);
+            for i in 0..n {
+                for d in 0..3 {
+                    let r = f_int[i][d] - f_ext[i][d];
+                    external_sq += f_ext[i][d] * f_ext[i][d];
+                    match self.equation[i][d] {
+                        usize::MAX => {
+                            reaction_sq += r * r;
+                            reaction[i][d] = r;
+                        }
+                        k => residual[k] = r,
+                    }
+                }
+            }
+            let scale = reaction_sq.sqrt().max(external_sq.sqrt());
+            let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
+            last = if scale > 0.0 { norm / scale } else { norm };
+            // The opening is linear in `u`: Newton's first iteration meets it to round-off.
+            let opening_residual = match (self.control, target_opening) {
+                (Some(c), Some(target)) => c.opening_of(&u) - target,
+                _ => 0.0,
+            };
+            let opening_error =
+                opening_residual.abs() / target_opening.map_or(1.0, |t| t.abs().max(1e-300));
+            if (norm <= self.settings.tolerance * scale || norm == 0.0) && opening_error < 1e-9 {
+                return Ok(Outcome::Converged {
+                    state: Committed {
+                        u,
+                        reaction,
+                        history,
+                    },
+                    iterations: iteration,
+                    residual: last,
+                });
+            }
+            if !last.is_finite() || iteration == self.settings.max_iterations {
+                break;
+            }
+            let tangents = history_tangents(problem, &u, &self.committed.history);
+            // At a limit point the tangent of this control is singular: a step that meets one
+            // fails like one that does not converge, and is cut.
+            // Under opening control, bordering (Batoz & Dhatt 1979): with `a = K^-1 r` and
+            // `b = K^-1 k` (`k` the summed columns of the moved components), the step
+            // `du = -a - b d_delta` meets the opening when `d_delta = (r_g - G a) / (G b)`.
+            let solved = solve_tangent(
+                problem,
+                &u,
+                self.equation,
+                self.free,
+                &residual,
+                &tangents,
+                self.control.map(|c| c.moved_mask.as_slice()),
+            );
+            let (a, b) = match solved {
+                Ok(ab) => ab,
+                Err(SolverError::SingularStiffness(why)) => {
+                    return Ok(Outcome::Failed {
+                        reason: format!("met a singular tangent at iteration {iteration} ({why})"),
+                    })
+                }
+                Err(e) => return Err(e),
+            };
+            let d_delta = match (self.control, b.as_deref()) {
+                (Some(c), Some(b)) => (opening_residual - c.along(&a)) / c.along(b),
+                _ => 0.0,
+            };
+            for (ui, eq) in u.iter_mut().zip(self.equation) {
+                for d in 0..3 {
+                    if eq[d] != usize::MAX {
+                        ui[d] -= a[eq[d]] + b.as_ref().map_or(0.0, |b| b[eq[d]] * d_delta);
+                    }
+                }
+            }
+            if let Some(c) = self.control {
+                let delta = c.delta(&u) + d_delta;
+                c.set_delta(&mut u, delta);
+            }
+        }
+        Ok(Outcome::Failed {
+            reason: format!(
+                "did not converge in {} iterations (relative residual {last:.3e}, tolerance {:.1e})",
+                self.settings.max_iterations, self.settings.tolerance
+            ),
+        })
+    }
+}
+
+/// Internal forces at `u`, each microplane element updated once from its `committed` history;
+/// the updated (trial) history with them. `None` if an element is inverted. The sum at every
+/// node runs over its elements in ascending order (elements are evaluated in parallel, summed in
+/// order), so the result does not depend on the number of threads.
+fn trial_forces(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    committed: &MaterialHistory,
+) -> Option<(Vec<Vector3<f64>>, MaterialHistory)> {
+    let model = &problem.model;
+    let mut history = committed.clone();
+    let mut f = vec![Vector3::zeros(); model.node_count()];
+    for (b, body) in model.bodies.iter().enumerate() {
+        let elements = body.elements.clone();
+        let forces: Vec<([Vector3<f64>; 4], f64)> = with_material!(&body.material, |m| {
+            elements
+                .clone()
+                .into_par_iter()
+                .map(|e| {
+                    element_internal_forces(
+                        &m,
+                        &model.grad_n[e],
+                        model.volume[e],
+                        &model.element_displacements(e, u),
+                    )
+                })
+                .collect()
+        }, microplane(_) => {
+            let microplane = body.microplane.as_ref().expect("microplane bodies are prepared");
+            let trial = history.bodies[b].as_mut().expect("a history for every microplane body");
+            let len = trial.state_len;
+            trial
+                .values
+                .par_chunks_mut(len)
+                .zip(trial.cauchy.par_iter_mut())
+                .enumerate()
+                .map(|(local, (state, cauchy))| {
+                    let e = elements.start + local;
+                    let update = microplane_element_forces(
+                        &microplane.model,
+                        &microplane.bands[local],
+                        state,
+                        &model.grad_n[e],
+                        model.volume[e],
+                        &model.element_displacements(e, u),
+                        &[Vector3::zeros(); 4],
+                        0.0,
+                    );
+                    *cauchy = update.cauchy;
+                    (update.forces, update.det)
+                })
+                .collect()
+        });
+        for (e, (fe, det)) in elements.zip(forces) {
+            if !(det > 0.0) {
+                return None;
+            }
+            for (&node, fa) in model.tets[e].iter().zip(fe) {
+                f[node as usize] += fa;
+            }
+        }
+    }
+    Some((f, history))
+}
+
+/// Forward-difference stiffness of every element of every body with a history (empty for the
+/// other bodies), from the `committed` history at displacement `u` (module documentation).
+fn history_tangents(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    committed: &MaterialHistory,
+) -> Vec<Vec<ElementTangent>> {
+    let model = &problem.model;
+    model
+        .bodies
+        .iter()
+        .zip(&committed.bodies)
+        .map(|(body, history)| {
+            let (Some(microplane), Some(history), MaterialModel::Microplane(_)) =
+                (body.microplane.as_ref(), history.as_ref(), &body.material)
+            else {
+                return Vec::new();
+            };
+            body.elements
+                .clone()
+                .into_par_iter()
+                .map(|e| {
+                    let local = e - body.elements.start;
+                    let mut state = history.element(local).to_vec();
+                    let forces = |state: &mut Vec<f32>, ue: &[Vector3<f64>; 4]| {
+                        state.copy_from_slice(history.element(local));
+                        microplane_element_forces(
+                            &microplane.model,
+                            &microplane.bands[local],
+                            state,
+                            &model.grad_n[e],
+                            model.volume[e],
+                            ue,
+                            &[Vector3::zeros(); 4],
+                            0.0,
+                        )
+                        .forces
+                    };
+                    let ue = model.element_displacements(e, u);
+                    let base = forces(&mut state, &ue);
+                    let delta = DIFFERENCE_STEP * model.element_size(e);
+                    let mut k = [0.0; 144];
+                    for col in 0..12 {
+                        let mut moved = ue;
+                        moved[col / 3][col % 3] += delta;
+                        let f = forces(&mut state, &moved);
+                        for row in 0..12 {
+                            k[col * 12 + row] =
+                                (f[row / 3][row % 3] - base[row / 3][row % 3]) / delta;
+                        }
+                    }
+                    k
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Columns of the path's history: the time of the conditions' functions (the load factor times
+/// `end_time`), the load step, its Newton iterations and final relative residual, under opening
+/// control the opening and the controlled displacement, then the probes and the reactions of
+/// each condition named as in an explicit run's history (`<probe>_<x|y|z>`,
+/// `<condition>_reaction_<x|y|z>`).
+fn history_columns(problem: &Problem, controlled: bool) -> Vec<String> {
+    let mut c: Vec<String> = ["time", "step", "iterations", "residual"]
+        .map(String::from)
+        .to_vec();
+    if controlled {
+        c.extend(["control_opening", "control_displacement"].map(String::from));
+    }
+    for p in &problem.probes {
+        c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
+    }
+    for k in &problem.constraints {
+        c.extend(["x", "y", "z"].map(|a| format!("{}_reaction_{a}", k.name)));
+    }
+    c
+}
+
+fn history_row(
+    problem: &Problem,
+    state: &Committed,
+    control: Option<&Control>,
+    time: f64,
+    step: usize,
+    iterations: usize,
+    residual: f64,
+) -> Vec<f64> {
+    let mut row = vec![time, step as f64, iterations as f64, residual];
+    if let Some(c) = control {
+        row.extend([c.opening_of(&state.u), c.delta(&state.u)]);
+    }
+    for p in &problem.probes {
+        let (field, mean) = match p.quantity {
+            ProbeQuantity::Displacement => (&state.u, true),
+            // A static path has no velocity.
+            ProbeQuantity::Velocity => {
+                row.extend([0.0; 3]);
+                continue;
+            }
+            ProbeQuantity::Reaction => (&state.reaction, false),
+        };
+        let sum = p
+            .nodes
+            .iter()
+            .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
+        let count = if mean {
+            p.nodes.len().max(1) as f64
+        } else {
+            1.0
+        };
+        row.extend((sum / count).iter());
+    }
+    let constraint_of = problem.constraint_map();
+    for (c, k) in problem.constraints.iter().enumerate() {
+        let mut sum = Vector3::zeros();
+        for &n in &k.nodes {
+            for d in 0..3 {
+                if constraint_of[n as usize][d] == Some(c as u16) {
+                    sum[d] += state.reaction[n as usize][d];
+                }
+            }
+        }
+        row.extend(sum.iter());
+    }
+    row
+}

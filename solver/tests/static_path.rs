@@ -1,0 +1,206 @@
+//! The static path of microplane concrete (`statics::path`): Newton's method from the committed
+//! history, checked against the material-point driver, an independent code path (stress control
+//! of one point, no elements, no assembly, no tangent matrix).
+
+use std::path::PathBuf;
+
+use impact_solver::material::microplane::experiments::{uniaxial_tension, QUASI_STATIC_RATE};
+use impact_solver::material::microplane::MicroplaneConcrete;
+use impact_solver::material::{read_microplane_file, MaterialModel};
+use impact_solver::model::TimeFunction;
+use impact_solver::scene::{build_problem, Analysis, Component, MotionSpec, Scene};
+use impact_solver::statics::{solve_static, StaticSolution};
+
+fn shipped_file() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml")
+}
+
+/// A 5 cm cube of the thesis concrete (six tetrahedra) on rollers (x on the face x = 0, y on
+/// y = 0, z on z = 0), its face x = 5 cm pulled to an axial strain `strain` in `steps` load
+/// steps: uniaxial stress, the same strain in every element.
+fn pulled_cube(strain: f64, steps: usize) -> (impact_solver::model::Problem, Analysis) {
+    let text = format!(
+        "name: cube
+bodies:
+  - name: cube
+    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.05, 0.05, 0.05], divisions: [1, 1, 1] }} }}
+    material: {{ microplane: {{ file: {file}, rate_effect: false }} }}
+boundary_conditions:
+  - {{ name: roller_x, body: cube, nodes: {{ box: {{ min: [0, 0, 0], max: [0, 0.05, 0.05] }} }}, motion: {{ fixed: [x] }} }}
+  - {{ name: roller_y, body: cube, nodes: {{ box: {{ min: [0, 0, 0], max: [0.05, 0, 0.05] }} }}, motion: {{ fixed: [y] }} }}
+  - {{ name: roller_z, body: cube, nodes: {{ box: {{ min: [0, 0, 0], max: [0.05, 0.05, 0] }} }}, motion: {{ fixed: [z] }} }}
+  - name: pull
+    body: cube
+    nodes: {{ box: {{ min: [0.05, 0, 0], max: [0.05, 0.05, 0.05] }} }}
+    motion: {{ displacement: {{ components: [x], value: {{ constant_rate: {{ rate: {rate}, lead_in: 0 }} }} }} }}
+analysis:
+  static: {{ load_steps: {steps}, tolerance: 1.0e-9, max_iterations: 20 }}
+",
+        file = shipped_file().display(),
+        rate = strain * 0.05,
+    );
+    let scene = Scene::from_yaml(&text, "cube.yaml").unwrap();
+    (build_problem(&scene).unwrap(), scene.analysis)
+}
+
+fn solve(strain: f64, steps: usize) -> StaticSolution {
+    let (problem, analysis) = pulled_cube(strain, steps);
+    let Analysis::Static(settings) = analysis else {
+        unreachable!()
+    };
+    solve_static(&problem, &settings).unwrap()
+}
+
+fn model() -> MicroplaneConcrete {
+    MicroplaneConcrete::new(read_microplane_file(&shipped_file()).unwrap()).unwrap()
+}
+
+/// Up to past the tensile peak, the cube's axial stress (reaction over the face area) equals the
+/// material point's uniaxial tension curve at the same strain, and the peaks agree (measured:
+/// peaks 9e-5 apart, curves within 1.5e-4 of the peak; the driver's stress control stops at a
+/// lateral residual, and the cube's strain is Green-Lagrange).
+#[test]
+fn a_pulled_cube_follows_the_material_point_through_the_tensile_peak() {
+    // The driver's increments are 2e-6: the same load steps here, to 2.4e-4 (the peak is near
+    // 1.3e-4 for this concrete).
+    let solution = solve(2.4e-4, 120);
+    assert!(solution.stopped.is_none(), "{:?}", solution.stopped);
+    let history = solution.history.as_ref().unwrap();
+    let reaction = history.column("pull_reaction_x").unwrap();
+    let area = 0.05 * 0.05;
+    let (curve, result) = uniaxial_tension(&model(), 0.05, QUASI_STATIC_RATE).unwrap();
+    let (strains, stresses) = (curve.axial_strain(), curve.axial_stress());
+    let mut worst: f64 = 0.0;
+    for (k, r) in reaction.iter().enumerate().skip(1) {
+        let strain = 2.4e-4 * k as f64 / 120.0;
+        // The driver's path: its first increment is 1e-8, then 2e-6 steps.
+        let at = strains
+            .iter()
+            .position(|&e| (e - strain).abs() < 2e-8)
+            .unwrap_or_else(|| panic!("the driver has no point at strain {strain:e}"));
+        worst = worst.max((r / area - stresses[at]).abs() / result.peak_stress);
+    }
+    let peak = reaction.iter().fold(0.0_f64, |a, &r| a.max(r)) / area;
+    assert!(
+        (peak / result.peak_stress - 1.0).abs() < 1e-3,
+        "peak {peak} against the material point's {}",
+        result.peak_stress
+    );
+    assert!(
+        worst < 1e-3,
+        "largest difference {worst} of the peak stress"
+    );
+}
+
+/// The path is a function of the input: the same history whatever the number of threads.
+#[test]
+fn the_static_path_does_not_depend_on_the_thread_count() {
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| solve(1.6e-4, 20))
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.history, two.history);
+    assert_eq!(one.material_history, two.material_history);
+}
+
+/// A path records one history row per converged load step (and the start) and returns the
+/// committed material history.
+#[test]
+fn the_static_path_records_every_load_step() {
+    let solution = solve(5e-5, 2);
+    assert_eq!(solution.history.as_ref().unwrap().rows().len(), 3);
+    let (problem, _) = pulled_cube(5e-5, 2);
+    assert!(matches!(
+        problem.model.bodies[0].material,
+        MaterialModel::Microplane(_)
+    ));
+    assert!(solution.material_history.is_some());
+}
+
+/// An elastic bar of three 5 cm cells on rollers, its end face moved by opening control: the
+/// opening between the nodes at x = 5 and 10 cm is prescribed. Uniform strain: the end moves by
+/// three openings and the reaction is `E A eps` (uniaxial stress), to round-off.
+#[test]
+fn opening_control_moves_the_loaded_face_by_what_the_opening_needs() {
+    let text = |probe_to: &str| {
+        format!(
+            "name: bar
+bodies:
+  - name: bar
+    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.15, 0.05, 0.05], divisions: [3, 1, 1] }} }}
+    material: {{ linear_elastic: {{ density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 }} }}
+boundary_conditions:
+  - {{ name: roller_x, body: bar, nodes: {{ box: {{ min: [0, 0, 0], max: [0, 0.05, 0.05] }} }}, motion: {{ fixed: [x] }} }}
+  - {{ name: roller_y, body: bar, nodes: {{ box: {{ min: [0, 0, 0], max: [0.15, 0, 0.05] }} }}, motion: {{ fixed: [y] }} }}
+  - {{ name: roller_z, body: bar, nodes: {{ box: {{ min: [0, 0, 0], max: [0.15, 0.05, 0] }} }}, motion: {{ fixed: [z] }} }}
+  - name: pull
+    body: bar
+    nodes: {{ box: {{ min: [0.15, 0, 0], max: [0.15, 0.05, 0.05] }} }}
+    motion: {{ displacement: {{ components: [x], value: {{ constant: 0.0 }} }} }}
+probes:
+  - {{ name: x05, body: bar, nodes: {{ box: {{ min: [0.05, 0, 0], max: [0.05, 0.05, 0.05] }} }}, quantity: displacement }}
+  - {{ name: x10, body: bar, nodes: {{ box: {{ min: [0.1, 0, 0], max: [0.1, 0.05, 0.05] }} }}, quantity: displacement }}
+analysis:
+  static:
+    load_steps: 2
+    tolerance: 1.0e-10
+    opening_control: {{ condition: pull, from: x05, to: {probe_to}, component: x, opening: {{ constant_rate: {{ rate: 1.0e-6, lead_in: 0 }} }} }}
+"
+        )
+    };
+    let scene = Scene::from_yaml(&text("x10"), "bar.yaml").unwrap();
+    let problem = build_problem(&scene).unwrap();
+    let Analysis::Static(settings) = &scene.analysis else {
+        unreachable!()
+    };
+    let solution = solve_static(&problem, settings).unwrap();
+    let history = solution.history.as_ref().unwrap();
+    let last = |c: &str| *history.column(c).unwrap().last().unwrap();
+    let strain = 1.0e-6 / 0.05;
+    assert!((last("control_opening") - 1.0e-6).abs() < 1e-18);
+    assert!((last("control_displacement") / (3.0 * 1.0e-6) - 1.0).abs() < 1e-9);
+    // Against the same bar with the end displacement prescribed, solved without the control: the
+    // same equilibrium to round-off. Against Hooke's law to the order of the strain (2e-5: the
+    // material is linear in the Green-Lagrange strain of the co-rotated frame).
+    let reaction = last("pull_reaction_x");
+    let mut prescribed = scene.clone();
+    prescribed.boundary_conditions[3].motion = MotionSpec::Displacement {
+        components: vec![Component::X],
+        value: TimeFunction::Constant(last("control_displacement")),
+    };
+    let Analysis::Static(mut plain) = prescribed.analysis.clone() else {
+        unreachable!()
+    };
+    plain.opening_control = None;
+    let problem = build_problem(&prescribed).unwrap();
+    let direct = solve_static(&problem, &plain).unwrap();
+    let index = problem.constraints.iter().position(|c| c.name == "pull").unwrap();
+    let expected = direct.constraint_reaction(&problem, index).x;
+    assert!(
+        (reaction / expected - 1.0).abs() < 1e-9,
+        "{reaction} against {expected}"
+    );
+    let stress = reaction / (0.05 * 0.05);
+    assert!(
+        (stress / (30.0e9 * strain) - 1.0).abs() < 1e-4,
+        "{stress} against {}",
+        30.0e9 * strain
+    );
+    // A probe that does not exist is named, with those that do.
+    let scene = Scene::from_yaml(&text("x15"), "bar.yaml").unwrap();
+    let problem = build_problem(&scene).unwrap();
+    let Analysis::Static(settings) = &scene.analysis else {
+        unreachable!()
+    };
+    let message = solve_static(&problem, settings).unwrap_err().to_string();
+    assert!(
+        message.contains("opening_control.to")
+            && message.contains("x15")
+            && message.contains("x05"),
+        "{message}"
+    );
+}
