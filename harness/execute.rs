@@ -8,10 +8,14 @@ use impact_solver::contact::RecordedProblem;
 use impact_solver::dynamics::{
     ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot,
 };
-use impact_solver::model::{field_frame, ElementFields, MaterialHistory, Model, Problem};
+use impact_solver::model::{
+    field_frame_with_history, ElementFields, MaterialHistory, Model, Problem,
+};
 use impact_solver::output::{HistoryTable, PvdWriter};
 use impact_solver::scene::Analysis;
-use impact_solver::statics::{solve_static, StaticSettings, StaticSolution};
+use impact_solver::statics::{
+    solve_static, solve_static_with_progress, StaticSettings, StaticSolution,
+};
 use impact_solver::{SolverError, Vector3};
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
@@ -64,7 +68,7 @@ pub fn execute(
 ) -> Result<Execution, SolverError> {
     match analysis {
         Analysis::Explicit(settings) => explicit(problem, settings, None, options, progress),
-        Analysis::Static(settings) => statics(problem, settings, options),
+        Analysis::Static(settings) => statics(problem, settings, options, progress),
         Analysis::Release {
             preload,
             explicit: settings,
@@ -130,15 +134,35 @@ fn statics(
     problem: &Problem,
     settings: &StaticSettings,
     options: &ExecuteOptions,
+    progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
+    let path = if problem.model.has_history() {
+        format!(
+            " from the committed history (forward-difference tangent of microplane elements), \
+             steps halved up to {} times, stopping at the limit point",
+            settings.max_cuts
+        )
+    } else {
+        String::new()
+    };
     let plan = format!(
-        "static analysis: {} nodes, {} elements, {} load steps, Newton with sparse LU",
+        "static analysis: {} nodes, {} elements, {} load steps, Newton with sparse LU{path}",
         problem.model.node_count(),
         problem.model.element_count(),
         settings.load_steps
     );
-    let solution = solve_static(problem, settings)?;
+    let solution = solve_static_with_progress(problem, settings, progress)?;
+    let plan = match &solution.stopped {
+        Some(reason) => format!("{plan}; stopped: {reason}"),
+        None => plan,
+    };
     let mut written = Vec::new();
+    if let (Some(dir), Some(history)) = (options.out, &solution.history) {
+        // The same file an explicit run writes: one row per converged load step.
+        let path = dir.join(format!("{}_history.csv", options.stem));
+        history.write_csv(&path)?;
+        written.push(path);
+    }
     if let (Some(dir), true) = (options.out, options.fields) {
         let mut pvd = PvdWriter::new(dir, options.stem)?;
         let points: Vec<_> = problem
@@ -148,8 +172,9 @@ fn statics(
             .zip(&solution.u)
             .map(|(x, u)| x + u)
             .collect();
-        written.push(pvd.write_frame(&field_frame(
+        written.push(pvd.write_frame(&field_frame_with_history(
             &problem.model,
+            solution.material_history.as_ref(),
             &points,
             &solution.u,
             None,
@@ -160,12 +185,12 @@ fn statics(
         plan,
         u: solution.u.clone(),
         v: None,
-        history: None,
+        history: solution.history.clone(),
         summary: None,
+        material_history: solution.material_history.clone(),
         static_solution: Some(solution),
         written,
         contact_problems: Vec::new(),
-        material_history: None,
     })
 }
 

@@ -13,6 +13,8 @@ pub mod concrete;
 pub mod elastic_refinement;
 #[path = "../references/hinge.rs"]
 pub mod hinge;
+#[path = "../references/static_path.rs"]
+pub mod static_path;
 
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -34,6 +36,9 @@ pub enum Reference {
     /// The peak of a cohesive hinge (Olesen 2001) fed with a crack-opening law of the case's own
     /// microplane material (see `references/hinge.rs`).
     Hinge(hinge::HingeSpec),
+    /// The peak of the case's own scene solved by the implicit static solver along the same
+    /// loading (see `references/static_path.rs`).
+    StaticPath(static_path::StaticPathSpec),
 }
 
 /// One entry of a published-data file.
@@ -217,6 +222,10 @@ impl Reference {
             )?,
             Reference::Hinge(spec) => hinge::hinge_reference(
                 scene.ok_or("the hinge reference needs the case's scene")?,
+                spec,
+            )?,
+            Reference::StaticPath(spec) => static_path::static_path_peak(
+                scene.ok_or("the static path reference needs the case's scene")?,
                 spec,
             )?,
             Reference::Analytic(a) => {

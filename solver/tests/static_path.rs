@@ -178,7 +178,11 @@ analysis:
     plain.opening_control = None;
     let problem = build_problem(&prescribed).unwrap();
     let direct = solve_static(&problem, &plain).unwrap();
-    let index = problem.constraints.iter().position(|c| c.name == "pull").unwrap();
+    let index = problem
+        .constraints
+        .iter()
+        .position(|c| c.name == "pull")
+        .unwrap();
     let expected = direct.constraint_reaction(&problem, index).x;
     assert!(
         (reaction / expected - 1.0).abs() < 1e-9,
