@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
-use impact_vv::catalogue::{load_catalogue, matches, LoadedCase, Tier};
+use impact_vv::catalogue::{load_case, load_catalogue, matches, LoadedCase, Tier};
 use impact_vv::results::{RunResults, Status};
 use impact_vv::runner::{run_cases, RunOptions};
 use impact_vv::{metadata, report};
@@ -151,6 +151,35 @@ fn select<'a>(cases: &'a [LoadedCase], patterns: &[String], tier: Option<Tier>) 
         .collect()
 }
 
+/// The patterns that name a case file outside the catalogue (in a temporary folder, say), loaded
+/// as they are: an explicit file runs whatever its tier, its relative paths resolved from its own
+/// folder. A file that does not load stops the run naming the file (and the line and key).
+fn case_files_outside(
+    cases: &[LoadedCase],
+    patterns: &[String],
+) -> Result<Vec<LoadedCase>, ExitCode> {
+    let canonical = |p: &Path| std::fs::canonicalize(p).ok();
+    let known: Vec<_> = cases.iter().filter_map(|c| canonical(&c.path)).collect();
+    let mut outside = Vec::new();
+    for pattern in patterns {
+        let path = Path::new(pattern);
+        let is_case_file =
+            path.is_file() && path.extension().is_some_and(|e| e == "yaml" || e == "yml");
+        if !is_case_file || canonical(path).is_some_and(|c| known.contains(&c)) {
+            continue;
+        }
+        match load_case(path) {
+            Ok(case) => outside.push(case),
+            Err(e) => {
+                eprintln!("error: {e}");
+                eprintln!("1 case file error; nothing was run");
+                return Err(ExitCode::from(2));
+            }
+        }
+    }
+    Ok(outside)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
@@ -201,7 +230,11 @@ fn main() -> ExitCode {
             } else {
                 patterns
             };
-            let selected = select(&cases, &patterns, Some(tier));
+            let mut selected = select(&cases, &patterns, Some(tier));
+            match case_files_outside(&cases, &patterns) {
+                Ok(mut outside) => selected.append(&mut outside),
+                Err(code) => return code,
+            }
             if selected.is_empty() {
                 eprintln!(
                     "error: no case matches {patterns:?} in tier {}",

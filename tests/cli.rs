@@ -493,3 +493,69 @@ fn contact_compare_names_what_is_wrong_with_its_input() {
         .unwrap()
         .contains("broken.json"));
 }
+
+/// A case file outside the catalogue (in a temporary folder, with an id no catalogue case has)
+/// runs by its path, whatever the tier asked for, and is judged; the catalogue's own cases are
+/// not run with it.
+#[test]
+fn a_case_file_in_a_temporary_folder_runs_and_is_judged() {
+    let dir = temp_dir("outside");
+    let file = dir.join("my-case.yaml");
+    std::fs::write(
+        &file,
+        confined_wave()
+            .replace("id: elastic/confined-wave", "id: mine/confined-wave")
+            .replace("tier: quick", "tier: long"),
+    )
+    .unwrap();
+    let reports = dir.join("reports");
+    let out = impact_vv(
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out));
+    let json = results(&reports);
+    // One result per variant of the case, none from the catalogue.
+    let cases = json["cases"].as_array().unwrap();
+    assert!(!cases.is_empty());
+    for case in cases {
+        assert_eq!(case["id"], "mine/confined-wave");
+        assert_eq!(case["status"], "pass", "{}", case["variant"]);
+        assert!(!case["metrics"].as_array().unwrap().is_empty());
+    }
+}
+
+/// A case file outside the catalogue with an unknown key stops the run naming the file and the
+/// key.
+#[test]
+fn a_case_file_outside_the_catalogue_with_an_unknown_key_names_it() {
+    let dir = temp_dir("outside-bad");
+    let file = dir.join("bad-case.yaml");
+    std::fs::write(
+        &file,
+        confined_wave()
+            .replace("id: elastic/confined-wave", "id: mine/bad")
+            .replace("tier: quick", "tier: quick\ntolerence: 3"),
+    )
+    .unwrap();
+    let out = impact_vv(
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--reports",
+            dir.join("r").to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out));
+    assert!(
+        text(&out).contains("bad-case.yaml") && text(&out).contains("unknown field `tolerence`"),
+        "{}",
+        text(&out)
+    );
+}
