@@ -57,6 +57,8 @@ pub struct ExecuteOptions<'a> {
     pub stem: &'a str,
     pub fields: bool,
     pub time_limit_s: Option<f64>,
+    /// Stops an explicit run at the end of the step during which it becomes true (a signal).
+    pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// Runs `analysis` on `problem`, reporting progress in `[0, 1]`.
@@ -104,6 +106,9 @@ fn explicit(
     }
     if let Some(limit) = options.time_limit_s {
         solver.set_time_limit(limit);
+    }
+    if let Some(flag) = &options.stop {
+        solver.set_stop_flag(flag.clone());
     }
     let plan = solver.plan();
     let outcome = solver.run(progress);

@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
@@ -180,6 +182,23 @@ fn case_files_outside(
     Ok(outside)
 }
 
+/// A flag that the first SIGINT or SIGTERM sets (the run stops at the end of its step and writes
+/// what it has); a second signal exits at once with status 130.
+fn stop_on_signal() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let handler_flag = flag.clone();
+    let installed = ctrlc::set_handler(move || {
+        if handler_flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupted: stopping at the end of the current step (again to quit at once)");
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: no signal handler ({e}): an interrupted run will not write its output");
+    }
+    flag
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
@@ -345,7 +364,12 @@ fn main() -> ExitCode {
             path,
             out,
             no_fields,
-        } => match impact_vv::scene_run::run_scene_file(&path, &out, !no_fields) {
+        } => match impact_vv::scene_run::run_scene_file(
+            &path,
+            &out,
+            !no_fields,
+            Some(stop_on_signal()),
+        ) {
             Ok(report) => {
                 println!("{report}");
                 ExitCode::SUCCESS

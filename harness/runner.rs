@@ -112,6 +112,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
                     stem: &stem,
                     fields: false,
                     time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
+                    stop: None,
                 };
                 execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
             });

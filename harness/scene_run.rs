@@ -2,6 +2,8 @@
 
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
@@ -18,6 +20,9 @@ pub enum SceneRunError {
     /// The input is fine but the run failed (instability, no convergence): exit status 1.
     #[error("{0}")]
     Run(SolverError),
+    /// A signal (SIGINT, SIGTERM) stopped the run, which wrote what it had: exit status 130.
+    #[error("{0}")]
+    Interrupted(SolverError),
 }
 
 impl SceneRunError {
@@ -25,6 +30,7 @@ impl SceneRunError {
         match self {
             SceneRunError::Input(_) => 2,
             SceneRunError::Run(_) => 1,
+            SceneRunError::Interrupted(_) => 130,
         }
     }
 }
@@ -38,13 +44,16 @@ pub fn is_input_error(e: &SolverError) -> bool {
             | SolverError::SingularStiffness(_)
             | SolverError::ElementInverted { .. }
             | SolverError::TimeLimit { .. }
+            | SolverError::Interrupted { .. }
             | SolverError::Write { .. }
     )
 }
 
 impl From<SolverError> for SceneRunError {
     fn from(e: SolverError) -> Self {
-        if is_input_error(&e) {
+        if matches!(e, SolverError::Interrupted { .. }) {
+            SceneRunError::Interrupted(e)
+        } else if is_input_error(&e) {
             SceneRunError::Input(e)
         } else {
             SceneRunError::Run(e)
@@ -71,8 +80,14 @@ impl fmt::Display for SceneReport {
     }
 }
 
-/// Reads, builds and runs the scene at `path`, writing its output under `out`.
-pub fn run_scene_file(path: &Path, out: &Path, fields: bool) -> Result<SceneReport, SceneRunError> {
+/// Reads, builds and runs the scene at `path`, writing its output under `out`; `stop` (set by a
+/// signal handler) ends an explicit run at the end of the current step.
+pub fn run_scene_file(
+    path: &Path,
+    out: &Path,
+    fields: bool,
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<SceneReport, SceneRunError> {
     let scene = Scene::from_yaml_file(path)?;
     let mut problem = build_problem(&scene)?;
     let bar = fraction_bar(&scene.name);
@@ -81,6 +96,7 @@ pub fn run_scene_file(path: &Path, out: &Path, fields: bool) -> Result<SceneRepo
         stem: &scene.name,
         fields,
         time_limit_s: None,
+        stop,
     };
     let result = execute(&mut problem, &scene.analysis, &options, &mut |x| {
         bar.set_position((1000.0 * x) as u64)

@@ -730,6 +730,7 @@ mod case_run {
             stem: "run",
             fields: false,
             time_limit_s: None,
+            stop: None,
         };
         let run =
             crate::execute::execute(&mut problem, &scene.analysis, &options, &mut |_| {}).unwrap();

@@ -289,6 +289,7 @@ pub fn explicit(
         stem: "explicit",
         fields: false,
         time_limit_s: Some(time_limit_s),
+        stop: None,
     };
     let run = crate::execute::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
         .map_err(|e| e.to_string())?;

@@ -93,6 +93,12 @@ pub enum SolverError {
         time: f64,
     },
 
+    #[error(
+        "interrupted by a signal at step {step} (t = {time:.6e} s): the output up to there is \
+         written"
+    )]
+    Interrupted { step: usize, time: f64 },
+
     #[error("cannot write `{path}`: {source}")]
     Write {
         path: PathBuf,

@@ -177,6 +177,8 @@ pub struct ExplicitSolver<'p> {
     pub step: usize,
     pub time: f64,
     deadline: Option<(Instant, f64)>,
+    /// Set from outside (a signal handler) to stop the run at the end of the current step.
+    stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -268,6 +270,7 @@ impl<'p> ExplicitSolver<'p> {
             step: 0,
             time: 0.0,
             deadline: None,
+            stop: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -304,6 +307,13 @@ impl<'p> ExplicitSolver<'p> {
             .as_mut()
             .map(|c| std::mem::take(&mut c.phase.recorded_ccd))
             .unwrap_or_default()
+    }
+
+    /// Stops the run at the end of the step during which `flag` becomes true: the history up to
+    /// that step is written (with the frames and snapshots already written) and the run returns
+    /// [`SolverError::Interrupted`].
+    pub fn set_stop_flag(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.stop = Some(flag);
     }
 
     pub fn set_time_limit(&mut self, seconds: f64) {
@@ -493,6 +503,20 @@ impl<'p> ExplicitSolver<'p> {
             }
             if last {
                 break;
+            }
+            if self
+                .stop
+                .as_ref()
+                .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+            {
+                if let Some(path) = self.history_path() {
+                    history.write_csv(&path)?;
+                    written.push(path);
+                }
+                return Err(SolverError::Interrupted {
+                    step: self.step,
+                    time: self.time,
+                });
             }
             self.finish_step();
         }
