@@ -412,12 +412,14 @@ fn run(
         .progress_chars("=> "),
     );
     bar.set_prefix("running");
+    let stop = stop_on_signal();
     let results = run_cases(
         &cases,
         &RunOptions {
             output_dir: Some(dir.clone()),
             time_limit_s: time_limit,
             parallel,
+            stop: Some(stop.clone()),
         },
         &|r| {
             bar.inc(1);
@@ -490,6 +492,12 @@ fn run(
         if let Some(why) = known_failures.get(&c.id) {
             println!("  known failure {}: {why}", c.id);
         }
+    }
+    if stop.load(Ordering::Relaxed) {
+        // The finished cases are judged, reported and in the history; the others are marked
+        // interrupted. A status of its own, whatever the verdicts.
+        eprintln!("interrupted: the report holds the cases that finished");
+        return ExitCode::from(130);
     }
     ExitCode::from(if unexpected { results.exit_code() } else { 0 })
 }

@@ -33,6 +33,8 @@ pub enum Status {
     Skipped,
     /// The case could not be evaluated (bad input, solver error); the message says why.
     Error,
+    /// A signal stopped the run before the case finished (or started): no verdict.
+    Interrupted,
 }
 
 /// One measured quantity against its reference.
@@ -213,9 +215,11 @@ pub struct HistoryRecord {
 
 impl RunResults {
     /// The history lines of this run, one per case.
+    /// One record per case that finished (interrupted cases have no verdict to trend).
     pub fn history_records(&self) -> Vec<HistoryRecord> {
         self.cases
             .iter()
+            .filter(|c| c.status != Status::Interrupted)
             .map(|c| HistoryRecord {
                 run_id: self.run_id.clone(),
                 commit: self.commit.clone(),

@@ -26,6 +26,9 @@ pub struct RunOptions {
     pub time_limit_s: f64,
     /// Run cases in parallel.
     pub parallel: bool,
+    /// Set by a signal: running explicit analyses stop at the end of their step and cases not
+    /// started are not run; both are recorded as interrupted.
+    pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// Runs the cases and returns their results in the order given. `on_done` is called as each
@@ -47,7 +50,18 @@ pub fn run_cases(
         })
         .collect();
     let run_one = |(case, variant): &(&LoadedCase, Option<&Variant>)| {
-        let result = run_case(case, *variant, options);
+        let stopped = options
+            .stop
+            .as_ref()
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed));
+        let result = if stopped {
+            let mut r = unfinished_result(&case.spec, variant.map_or("default", |v| &v.name));
+            r.status = Status::Interrupted;
+            r.message = Some("interrupted before it started".into());
+            r
+        } else {
+            run_case(case, *variant, options)
+        };
         on_done(&result);
         result
     };
@@ -112,7 +126,7 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
                     stem: &stem,
                     fields: false,
                     time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
-                    stop: None,
+                    stop: options.stop.clone(),
                 };
                 execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
             });
@@ -125,6 +139,14 @@ pub fn run_case(case: &LoadedCase, variant: Option<&Variant>, options: &RunOptio
         .collect();
     result.wall_s = started.elapsed().as_secs_f64();
 
+    if let Some(e) = runs.iter().find_map(|r| match &r.outcome {
+        Err(e @ SolverError::Interrupted { .. }) => Some(e),
+        _ => None,
+    }) {
+        result.status = Status::Interrupted;
+        result.message = Some(e.to_string());
+        return result;
+    }
     // Per-run metrics are judged at the last level that completed (the finest mesh).
     let judged = runs.iter().rposition(|r| r.outcome.is_ok());
     let Some(judged) = judged else {

@@ -617,3 +617,77 @@ fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
         assert!(out.join(f).is_file(), "{f} listed in the PVD is missing");
     }
 }
+
+/// A catalogue run sent SIGINT while its second case runs: exit status 130; `results.json` and
+/// `index.html` are written; the first case is judged and is the only one in the history; the
+/// second (stopped mid-run) and the third (never started) are `interrupted`.
+#[test]
+fn a_catalogue_run_interrupted_by_sigint_reports_the_finished_cases() {
+    let dir = temp_dir("sigint-run");
+    let cases = dir.join("cases");
+    let wave = confined_wave();
+    for (folder, id, text) in [
+        ("a", "a/first", wave.clone()),
+        // Forty seconds of simulated time: hours of steps.
+        (
+            "b",
+            "b/second",
+            wave.replace("end_time: 2.36e-4", "end_time: 40.0"),
+        ),
+        ("c", "c/third", wave.clone()),
+    ] {
+        std::fs::create_dir_all(cases.join(folder)).unwrap();
+        std::fs::write(
+            cases.join(folder).join("case.yaml"),
+            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
+        )
+        .unwrap();
+    }
+    let reports = dir.join("reports");
+    let child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
+        .args([
+            "run",
+            "--tier",
+            "quick",
+            "--serial",
+            "--catalogue",
+            cases.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ])
+        .current_dir(repo())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
+    let json = results(&reports);
+    let run_dir = only_run_dir(&reports);
+    assert!(run_dir.join("index.html").is_file());
+    for case in json["cases"].as_array().unwrap() {
+        let expected = if case["id"] == "a/first" {
+            "pass"
+        } else {
+            "interrupted"
+        };
+        assert_eq!(
+            case["status"], expected,
+            "{}: {}",
+            case["id"], case["message"]
+        );
+    }
+    let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
+    let lines: Vec<&str> = history.lines().collect();
+    assert!(!lines.is_empty());
+    assert!(
+        lines.iter().all(|l| l.contains("\"case\":\"a/first\"")),
+        "{history}"
+    );
+}

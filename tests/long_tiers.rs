@@ -32,6 +32,7 @@ fn nightly_and_stress_cases_pass() {
             output_dir: None,
             time_limit_s: 600.0,
             parallel: true,
+            stop: None,
         },
         &|_| {},
     );

@@ -19,6 +19,7 @@ fn options() -> RunOptions {
         output_dir: None,
         time_limit_s: 600.0,
         parallel: true,
+        stop: None,
     }
 }
 

@@ -61,6 +61,7 @@ fn quick_tier_passes_and_matches_snapshots() {
         output_dir: None,
         time_limit_s: 600.0,
         parallel: true,
+        stop: None,
     };
     let results = run_cases(&quick, &options, &|_| {});
     let mut failures = Vec::new();

@@ -369,6 +369,7 @@ mod tests {
             output_dir: None,
             time_limit_s: 1.0,
             parallel: false,
+            stop: None,
         };
         let r = crate::runner::run_case(&case, None, &options);
         assert_eq!(r.status, Status::Skipped);
@@ -473,6 +474,7 @@ mod tests {
             output_dir: None,
             time_limit_s: 1.0,
             parallel: false,
+            stop: None,
         };
         let r = run_case(&case, &options);
         assert_eq!(r.status, Status::Pass, "{:?}", r.message);

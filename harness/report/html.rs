@@ -292,6 +292,7 @@ fn message(c: &CaseResult) -> String {
             let title = match status {
                 Status::Fail => "Why it failed",
                 Status::Error => "Why it could not be evaluated",
+                Status::Interrupted => "Interrupted",
                 _ => "Why it was skipped",
             };
             let body = if msg.is_empty() {

@@ -4,7 +4,13 @@
 use crate::results::{CaseResult, MetricResult, RunResults, Status};
 
 /// Statuses in the order the page lists them.
-pub const STATUSES: [Status; 4] = [Status::Pass, Status::Fail, Status::Error, Status::Skipped];
+pub const STATUSES: [Status; 5] = [
+    Status::Pass,
+    Status::Fail,
+    Status::Error,
+    Status::Skipped,
+    Status::Interrupted,
+];
 
 /// The lowercase name of a status, as in `results.json`; also the CSS class of its badge.
 pub fn status_name(status: Status) -> &'static str {
@@ -13,6 +19,7 @@ pub fn status_name(status: Status) -> &'static str {
         Status::Fail => "fail",
         Status::Skipped => "skipped",
         Status::Error => "error",
+        Status::Interrupted => "interrupted",
     }
 }
 
@@ -122,6 +129,19 @@ pub struct Verdict {
 pub fn verdict(results: &RunResults) -> Verdict {
     let (failed, errors) = (count(results, Status::Fail), count(results, Status::Error));
     let skipped = count(results, Status::Skipped);
+    let interrupted = count(results, Status::Interrupted);
+    if interrupted > 0 {
+        let finished = results.cases.len() - interrupted;
+        return Verdict {
+            text: format!(
+                "Interrupted: {finished} of {} {} finished ({} passed)",
+                results.cases.len(),
+                plural(results.cases.len(), "case", "cases"),
+                count(results, Status::Pass)
+            ),
+            ok: false,
+        };
+    }
     if results.cases.is_empty() {
         return Verdict {
             text: "No cases were run".to_string(),
