@@ -691,3 +691,43 @@ fn a_catalogue_run_interrupted_by_sigint_reports_the_finished_cases() {
         "{history}"
     );
 }
+
+/// A scene run killed outright (SIGKILL: no handler runs) still leaves its history CSV up to the
+/// last flush: the header, and whole rows of consecutive steps from the start.
+#[test]
+fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
+    let dir = temp_dir("sigkill");
+    let scene = std::fs::read_to_string(repo().join("cases/examples/confined-column.yaml"))
+        .unwrap()
+        .replace("end_time: 3.0e-4", "end_time: 10.0");
+    let file = dir.join("long-column.yaml");
+    std::fs::write(&file, scene).unwrap();
+    let out = dir.join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
+        .args([
+            "scene",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(repo())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Past two flush intervals.
+    std::thread::sleep(std::time::Duration::from_secs(5));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let history = std::fs::read_to_string(out.join("confined-column_history.csv")).unwrap();
+    let mut lines = history.lines();
+    let width = lines.next().expect("a header").split(',').count();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 10, "{} rows", rows.len());
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), width, "row {k} is cut");
+        assert_eq!(r[1], k as f64, "row {k}");
+    }
+}

@@ -10,7 +10,7 @@ use super::{EnergyLedger, InstabilityReport};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
 use crate::model::{field_frame_with_history, MaterialHistory, Motion, ProbeQuantity, Problem};
-use crate::output::history::HistoryTable;
+use crate::output::history::{HistoryStream, HistoryTable};
 use crate::output::vtu::PvdWriter;
 
 /// Settings of an explicit run. Defaults follow FORMULATION section 2.
@@ -419,6 +419,12 @@ impl<'p> ExplicitSolver<'p> {
             .unwrap_or(self.settings.end_time / 500.0)
             .max(0.0);
         let mut history = HistoryTable::new(self.history_columns());
+        // The CSV grows as the run goes (a killed run leaves it up to the last flush); the whole
+        // table is written again at the end, the same text.
+        let mut stream = match self.history_path() {
+            Some(path) => Some(HistoryStream::create(&path, history.columns())?),
+            None => None,
+        };
         let mut next_history = 0.0;
         let mut pvd = match (&self.output.dir, self.output.fields) {
             (Some(dir), true) => Some(PvdWriter::new(dir, &self.output.stem)?),
@@ -438,6 +444,7 @@ impl<'p> ExplicitSolver<'p> {
             match self.advance() {
                 Ok(moved_too_far) => flags += moved_too_far as usize,
                 Err(reason_element) => {
+                    drop(stream.take());
                     return Err(self.stop(
                         reason_element,
                         &mut history,
@@ -457,10 +464,15 @@ impl<'p> ExplicitSolver<'p> {
                     error, self.settings.instability_energy_tolerance, max_scale
                 );
                 let element = self.most_strained_element();
+                drop(stream.take());
                 return Err(self.stop((reason, element), &mut history, pvd.as_mut(), &mut written));
             }
             if n == 0 || last || self.time >= next_history - 1e-9 * self.dt {
-                history.push(self.history_row(&e));
+                let row = self.history_row(&e);
+                if let Some(stream) = stream.as_mut() {
+                    stream.append(&row)?;
+                }
+                history.push(row);
                 next_history += history_interval;
             }
             if let Some(writer) = pvd.as_mut() {
@@ -488,6 +500,7 @@ impl<'p> ExplicitSolver<'p> {
                 progress(n as f64 / steps.max(1) as f64);
                 if let Some((deadline, limit_s)) = self.deadline {
                     if Instant::now() > deadline {
+                        drop(stream.take());
                         if let Some(path) = self.history_path() {
                             if history.write_csv(&path).is_ok() {
                                 written.push(path);
@@ -509,6 +522,7 @@ impl<'p> ExplicitSolver<'p> {
                 .as_ref()
                 .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
             {
+                drop(stream.take());
                 if let Some(path) = self.history_path() {
                     history.write_csv(&path)?;
                     written.push(path);
@@ -521,6 +535,10 @@ impl<'p> ExplicitSolver<'p> {
             self.finish_step();
         }
         progress(1.0);
+        // Closed before the table is written whole, so that nothing buffered lands after it.
+        if let Some(mut stream) = stream.take() {
+            stream.flush()?;
+        }
         if let Some(path) = self.history_path() {
             history.write_csv(&path)?;
             written.push(path);

@@ -63,17 +63,9 @@ impl HistoryTable {
     /// of zero aside).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let mut text = String::new();
-        let header: Vec<String> = self.columns.iter().map(|c| quote_field(c)).collect();
-        text.push_str(&header.join(","));
-        text.push('\n');
+        push_header(&mut text, &self.columns);
         for row in &self.rows {
-            for (i, &value) in row.iter().enumerate() {
-                if i > 0 {
-                    text.push(',');
-                }
-                write_f64(&mut text, value);
-            }
-            text.push('\n');
+            push_row(&mut text, row);
         }
         create_parent(path)?;
         std::fs::write(path, text).map_err(|source| SolverError::Write {
@@ -114,6 +106,90 @@ impl HistoryTable {
             table.rows.push(row);
         }
         Ok(table)
+    }
+}
+
+/// The header line of a history CSV: the column names, quoted where needed.
+fn push_header(text: &mut String, columns: &[String]) {
+    let header: Vec<String> = columns.iter().map(|c| quote_field(c)).collect();
+    text.push_str(&header.join(","));
+    text.push('\n');
+}
+
+/// One data line of a history CSV.
+fn push_row(text: &mut String, row: &[f64]) {
+    for (i, &value) in row.iter().enumerate() {
+        if i > 0 {
+            text.push(',');
+        }
+        write_f64(text, value);
+    }
+    text.push('\n');
+}
+
+/// A history CSV written as the rows come, in the format of [`HistoryTable::write_csv`]: rows are
+/// buffered and flushed at least every [`HistoryStream::FLUSH_EVERY`] of wall time (and whole
+/// rows only), so a run that is killed outright still leaves every row up to the last flush.
+#[derive(Debug)]
+pub struct HistoryStream {
+    path: std::path::PathBuf,
+    writer: std::io::BufWriter<std::fs::File>,
+    last_flush: std::time::Instant,
+    line: String,
+}
+
+impl HistoryStream {
+    /// Wall time between flushes.
+    pub const FLUSH_EVERY: std::time::Duration = std::time::Duration::from_secs(2);
+
+    /// Creates (or truncates) `path` and writes the header line.
+    pub fn create(path: &Path, columns: &[String]) -> Result<Self> {
+        create_parent(path)?;
+        let io = |source| SolverError::Write {
+            path: path.to_path_buf(),
+            source,
+        };
+        let file = std::fs::File::create(path).map_err(io)?;
+        let mut stream = Self {
+            path: path.to_path_buf(),
+            writer: std::io::BufWriter::new(file),
+            last_flush: std::time::Instant::now(),
+            line: String::new(),
+        };
+        push_header(&mut stream.line, columns);
+        stream.write_line()?;
+        stream.flush()?;
+        Ok(stream)
+    }
+
+    /// Appends one row; flushes if the last flush is older than [`Self::FLUSH_EVERY`].
+    pub fn append(&mut self, row: &[f64]) -> Result<()> {
+        push_row(&mut self.line, row);
+        self.write_line()?;
+        if self.last_flush.elapsed() >= Self::FLUSH_EVERY {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Writes out everything buffered.
+    pub fn flush(&mut self) -> Result<()> {
+        use std::io::Write as _;
+        self.last_flush = std::time::Instant::now();
+        self.writer.flush().map_err(|source| SolverError::Write {
+            path: self.path.clone(),
+            source,
+        })
+    }
+
+    fn write_line(&mut self) -> Result<()> {
+        use std::io::Write as _;
+        let result = self.writer.write_all(self.line.as_bytes());
+        self.line.clear();
+        result.map_err(|source| SolverError::Write {
+            path: self.path.clone(),
+            source,
+        })
     }
 }
 

@@ -5,5 +5,5 @@
 pub mod history;
 pub mod vtu;
 
-pub use history::HistoryTable;
+pub use history::{HistoryStream, HistoryTable};
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};
