@@ -19,5 +19,6 @@ pub mod reference;
 pub mod replay;
 pub mod report;
 pub mod results;
+pub mod run_log;
 pub mod runner;
 pub mod scene_run;

@@ -9,6 +9,7 @@ use std::time::Instant;
 use clap::{Parser, Subcommand};
 use impact_vv::catalogue::{load_case, load_catalogue, matches, LoadedCase, Tier};
 use impact_vv::results::{RunResults, Status};
+use impact_vv::run_log::{self, RunLog};
 use impact_vv::runner::{run_cases, RunOptions};
 use impact_vv::{metadata, report};
 
@@ -182,6 +183,25 @@ fn case_files_outside(
     Ok(outside)
 }
 
+/// Writes `<run>/results.json` from `run.json` and `cases.jsonl` of a run that was killed before
+/// it wrote it, and appends its cases to the history.
+fn rebuild_results(run: &Path, reports: &Path) -> Result<(), String> {
+    let results = run_log::rebuild(run)?;
+    let text = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
+    std::fs::write(run.join("results.json"), text)
+        .map_err(|e| format!("cannot write {}: {e}", run.join("results.json").display()))?;
+    let history = reports.join("history.jsonl");
+    report::append_history(&history, &results.history_records())
+        .map_err(|e| format!("cannot append to {}: {e}", history.display()))?;
+    eprintln!(
+        "rebuilt {} from {} ({} finished cases)",
+        run.join("results.json").display(),
+        run.join(run_log::CASES_FILE).display(),
+        results.cases.len()
+    );
+    Ok(())
+}
+
 /// A flag that the first SIGINT or SIGTERM sets (the run stops at the end of its step and writes
 /// what it has); a second signal exits at once with status 130.
 fn stop_on_signal() -> Arc<AtomicBool> {
@@ -282,6 +302,13 @@ fn main() -> ExitCode {
             }
         },
         Command::Report { run, reports } => {
+            if !run.join("results.json").exists() && run.join(run_log::CASES_FILE).exists() {
+                // A run that was killed outright: its finished cases are in cases.jsonl.
+                if let Err(e) = rebuild_results(&run, &reports) {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            }
             let text = match std::fs::read_to_string(run.join("results.json")) {
                 Ok(t) => t,
                 Err(e) => {
@@ -413,6 +440,27 @@ fn run(
     );
     bar.set_prefix("running");
     let stop = stop_on_signal();
+    let facts = RunResults {
+        run_id: run_id.clone(),
+        commit: metadata::commit(),
+        tier: tier.name().into(),
+        cases: Vec::new(),
+        date,
+        machine: metadata::machine(),
+        threads,
+        versions: metadata::versions(),
+        wall_s: f64::NAN,
+    };
+    let log = match RunLog::start(&dir, &facts) {
+        Ok(log) => Some(log),
+        Err(e) => {
+            eprintln!(
+                "warning: cannot start {}: {e}; a killed run would lose its results",
+                dir.join(impact_vv::run_log::CASES_FILE).display()
+            );
+            None
+        }
+    };
     let results = run_cases(
         &cases,
         &RunOptions {
@@ -422,6 +470,11 @@ fn run(
             stop: Some(stop.clone()),
         },
         &|r| {
+            if let Some(log) = &log {
+                if let Err(e) = log.append(r) {
+                    eprintln!("warning: cannot append to {}: {e}", log.path().display());
+                }
+            }
             bar.inc(1);
             bar.set_message(format!("{} {:?}", r.id, r.status));
             let line = format!(
@@ -439,15 +492,9 @@ fn run(
     );
     bar.finish_and_clear();
     let results = RunResults {
-        run_id: run_id.clone(),
-        commit: metadata::commit(),
-        tier: tier.name().into(),
         cases: results,
-        date,
-        machine: metadata::machine(),
-        threads,
-        versions: metadata::versions(),
         wall_s: started.elapsed().as_secs_f64(),
+        ..facts
     };
     let history_path = reports.join("history.jsonl");
     if let Err(e) = report::append_history(&history_path, &results.history_records()) {

@@ -731,3 +731,69 @@ fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
         assert_eq!(r[1], k as f64, "row {k}");
     }
 }
+
+/// A catalogue run killed outright (SIGKILL) while its second case runs leaves `run.json` and the
+/// first case's lines in `cases.jsonl`; `impact-vv report` rebuilds `results.json`, the page and
+/// the history lines from them, with exactly the cases that finished.
+#[test]
+fn a_catalogue_run_killed_outright_is_rebuilt_from_its_case_lines() {
+    let dir = temp_dir("sigkill-run");
+    let cases = dir.join("cases");
+    let wave = confined_wave();
+    for (folder, id, text) in [
+        ("a", "a/first", wave.clone()),
+        (
+            "b",
+            "b/second",
+            wave.replace("end_time: 2.36e-4", "end_time: 40.0"),
+        ),
+    ] {
+        std::fs::create_dir_all(cases.join(folder)).unwrap();
+        std::fs::write(
+            cases.join(folder).join("case.yaml"),
+            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
+        )
+        .unwrap();
+    }
+    let reports = dir.join("reports");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
+        .args([
+            "run",
+            "--tier",
+            "quick",
+            "--serial",
+            "--catalogue",
+            cases.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ])
+        .current_dir(repo())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let run = only_run_dir(&reports);
+    assert!(!run.join("results.json").exists());
+    let out = impact_vv(
+        &[
+            "report",
+            run.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(text(&out).contains("rebuilt"), "{}", text(&out));
+    let json = results(&reports);
+    let finished = json["cases"].as_array().unwrap();
+    assert!(!finished.is_empty());
+    assert!(finished
+        .iter()
+        .all(|c| c["id"] == "a/first" && c["status"] == "pass"));
+    assert!(run.join("index.html").is_file());
+    let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
+    assert_eq!(history.lines().count(), finished.len(), "{history}");
+}
