@@ -1,7 +1,7 @@
 //! Judgement: a measured value against its reference and tolerance.
 
 use crate::catalogue::{MetricSpec, Tolerance};
-use crate::results::MetricResult;
+use crate::results::{MetricResult, ToleranceKind};
 
 /// Judges `value` for `spec` against the evaluated `reference` (value and source). `peak` gives
 /// `max |column|` of the run's history for `relative_to_peak` tolerances.
@@ -15,23 +15,23 @@ pub fn judge(
     let (error, tolerance, pass, kind) = match &spec.tolerance {
         Tolerance::Absolute(t) => {
             let e = (value - reference).abs();
-            (e, *t, e <= *t, "absolute")
+            (e, *t, e <= *t, ToleranceKind::Absolute)
         }
         Tolerance::Relative(t) => {
             let e = (value - reference).abs() / reference.abs();
-            (e, *t, e <= *t, "relative")
+            (e, *t, e <= *t, ToleranceKind::Relative)
         }
-        Tolerance::AtMost(t) => (value, *t, value <= *t, "at_most"),
-        Tolerance::AtLeast(t) => (value, *t, value >= *t, "at_least"),
+        Tolerance::AtMost(t) => (value, *t, value <= *t, ToleranceKind::AtMost),
+        Tolerance::AtLeast(t) => (value, *t, value >= *t, ToleranceKind::AtLeast),
         Tolerance::AtLeastRatio(t) => {
             let e = value / reference;
-            (e, *t, e >= *t, "at_least_ratio")
+            (e, *t, e >= *t, ToleranceKind::AtLeastRatio)
         }
         Tolerance::RelativeToPeak { fraction, column } => {
             // A missing column leaves the scale NaN, and a NaN never passes.
             let scale = peak(column).unwrap_or(f64::NAN);
             let e = (value - reference).abs() / scale;
-            (e, *fraction, e <= *fraction, "relative_to_peak")
+            (e, *fraction, e <= *fraction, ToleranceKind::RelativeToPeak)
         }
     };
     MetricResult {
@@ -43,7 +43,7 @@ pub fn judge(
         unit: spec.unit.clone(),
         // NaN compares false: a NaN value never passes.
         pass: pass && value.is_finite(),
-        tolerance_kind: kind.to_string(),
+        tolerance_kind: kind,
         reference_source: source.to_string(),
     }
 }

@@ -37,6 +37,60 @@ pub enum Status {
     Interrupted,
 }
 
+/// How a metric's error is measured and bounded, as `results.json` spells it: the one place the
+/// judge, the runner's plots and the report read it from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceKind {
+    /// `|value - reference| <= tolerance`.
+    Absolute,
+    /// `|value - reference| / |reference| <= tolerance`.
+    Relative,
+    /// `value <= tolerance` (the error is the value).
+    AtMost,
+    /// `value >= tolerance` (the error is the value).
+    AtLeast,
+    /// `value / reference >= tolerance`.
+    AtLeastRatio,
+    /// `|value - reference| / max |column| <= tolerance`, the column's peak unknown here.
+    RelativeToPeak,
+    /// A kind this version does not know (a `results.json` written by another one).
+    #[default]
+    #[serde(other)]
+    Unknown,
+}
+
+impl ToleranceKind {
+    /// The name in `results.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToleranceKind::Absolute => "absolute",
+            ToleranceKind::Relative => "relative",
+            ToleranceKind::AtMost => "at_most",
+            ToleranceKind::AtLeast => "at_least",
+            ToleranceKind::AtLeastRatio => "at_least_ratio",
+            ToleranceKind::RelativeToPeak => "relative_to_peak",
+            ToleranceKind::Unknown => "unknown",
+        }
+    }
+
+    /// The acceptance band around `reference` in the metric's own units, where the kind says how
+    /// wide it is (absolute and relative tolerances).
+    pub fn band(self, reference: f64, tolerance: f64) -> Option<[f64; 2]> {
+        let half_width = match self {
+            ToleranceKind::Absolute => tolerance,
+            ToleranceKind::Relative => tolerance * reference.abs(),
+            _ => return None,
+        };
+        Some([reference - half_width, reference + half_width])
+    }
+
+    /// Whether passing means staying above the bound (a floor) rather than below it.
+    pub fn is_floor(self) -> bool {
+        matches!(self, ToleranceKind::AtLeast | ToleranceKind::AtLeastRatio)
+    }
+}
+
 /// One measured quantity against its reference.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricResult {
@@ -52,9 +106,9 @@ pub struct MetricResult {
     pub tolerance: f64,
     pub unit: String,
     pub pass: bool,
-    /// `absolute`, `relative` or `relative_to_scale`.
+    /// How `error` and `tolerance` are to be read.
     #[serde(default)]
-    pub tolerance_kind: String,
+    pub tolerance_kind: ToleranceKind,
     /// Where the reference comes from (formula and source, or data file).
     #[serde(default)]
     pub reference_source: String,
@@ -251,5 +305,50 @@ impl RunResults {
         } else {
             1
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ToleranceKind;
+
+    const KINDS: [ToleranceKind; 6] = [
+        ToleranceKind::Absolute,
+        ToleranceKind::Relative,
+        ToleranceKind::AtMost,
+        ToleranceKind::AtLeast,
+        ToleranceKind::AtLeastRatio,
+        ToleranceKind::RelativeToPeak,
+    ];
+
+    /// Each kind is written and read back under its `name()`, and a name this version does not
+    /// know reads as `Unknown` instead of failing the whole `results.json`.
+    #[test]
+    fn tolerance_kinds_round_trip_under_their_names() {
+        for kind in KINDS {
+            let json = serde_json::to_string(&kind).unwrap();
+            assert_eq!(json, format!("\"{}\"", kind.name()));
+            assert_eq!(serde_json::from_str::<ToleranceKind>(&json).unwrap(), kind);
+        }
+        let future: ToleranceKind = serde_json::from_str("\"relative_to_scale\"").unwrap();
+        assert_eq!(future, ToleranceKind::Unknown);
+    }
+
+    /// Bands exist for absolute and relative tolerances only; floors are the two `at_least`s.
+    #[test]
+    fn bands_and_floors() {
+        assert_eq!(ToleranceKind::Absolute.band(10.0, 2.0), Some([8.0, 12.0]));
+        assert_eq!(
+            ToleranceKind::Relative.band(-10.0, 0.1),
+            Some([-11.0, -9.0])
+        );
+        for kind in KINDS.into_iter().skip(2) {
+            assert_eq!(kind.band(10.0, 2.0), None, "{kind:?}");
+        }
+        let floors: Vec<_> = KINDS.into_iter().filter(|k| k.is_floor()).collect();
+        assert_eq!(
+            floors,
+            [ToleranceKind::AtLeast, ToleranceKind::AtLeastRatio]
+        );
     }
 }

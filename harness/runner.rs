@@ -447,14 +447,7 @@ fn plots(
 }
 
 fn band(m: &MetricResult) -> Option<[f64; 2]> {
-    match m.tolerance_kind.as_str() {
-        "relative" => Some([
-            m.reference - m.tolerance * m.reference.abs(),
-            m.reference + m.tolerance * m.reference.abs(),
-        ]),
-        "absolute" => Some([m.reference - m.tolerance, m.reference + m.tolerance]),
-        _ => None,
-    }
+    m.tolerance_kind.band(m.reference, m.tolerance)
 }
 
 /// Path helpers for a run folder.

@@ -29,7 +29,7 @@ fn significant(x: f64, digits: i32) -> f64 {
 /// noise (for example the centrifugal stress oscillation of the free spin) that moves with any
 /// change of rounding. Everything else to six significant figures.
 fn snapshot_value(m: &impact_vv::results::MetricResult) -> String {
-    if m.tolerance_kind == "at_most" {
+    if m.tolerance_kind == impact_vv::results::ToleranceKind::AtMost {
         if m.value.abs() < 1e-3 * m.tolerance {
             "below 1e-3 of its bound".to_string()
         } else {

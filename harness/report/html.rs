@@ -351,7 +351,7 @@ fn metric_row(m: &MetricResult, is_worst: bool) -> Row {
             number(m.error),
             number(m.tolerance),
             number(tolerance_ratio(m)),
-            text(&m.tolerance_kind),
+            text(m.tolerance_kind.name()),
             text(&m.unit),
             Cell::Html(verdict),
             Cell::Html(element(

@@ -6,7 +6,7 @@ use super::format::num;
 use super::plot::{render_plot_with, PlotExtras, PLOT_SIZE};
 use super::summary::status_name;
 use crate::material_point::{MaterialPlot, MaterialRecord};
-use crate::results::{CaseResult, MetricResult, RunResults};
+use crate::results::{CaseResult, MetricResult, RunResults, ToleranceKind};
 
 /// Cases carrying a material record, in run order.
 pub fn cases(results: &RunResults) -> Vec<(usize, &CaseResult, &MaterialRecord)> {
@@ -20,15 +20,17 @@ pub fn cases(results: &RunResults) -> Vec<(usize, &CaseResult, &MaterialRecord)>
 
 /// A metric's target in words: `2.7 ± 3 %`, `[1e-4, 1.5e-4]`, `<= 1e-10`, `>= 0.5`.
 pub fn target(m: &MetricResult) -> String {
-    match m.tolerance_kind.as_str() {
-        "relative" => format!("{} ± {} %", num(m.reference), num(100.0 * m.tolerance)),
-        "absolute" => format!(
+    match m.tolerance_kind {
+        ToleranceKind::Relative => {
+            format!("{} ± {} %", num(m.reference), num(100.0 * m.tolerance))
+        }
+        ToleranceKind::Absolute => format!(
             "[{}, {}]",
             num(m.reference - m.tolerance),
             num(m.reference + m.tolerance)
         ),
-        "at_most" => format!("≤ {}", num(m.tolerance)),
-        "at_least" => format!("≥ {}", num(m.tolerance)),
+        ToleranceKind::AtMost => format!("≤ {}", num(m.tolerance)),
+        ToleranceKind::AtLeast => format!("≥ {}", num(m.tolerance)),
         _ => format!("{} (tolerance {})", num(m.reference), num(m.tolerance)),
     }
 }
@@ -112,7 +114,7 @@ pub fn markdown(results: &RunResults) -> String {
 mod tests {
     use super::*;
 
-    fn metric(kind: &str, reference: f64, tolerance: f64) -> MetricResult {
+    fn metric(kind: ToleranceKind, reference: f64, tolerance: f64) -> MetricResult {
         MetricResult {
             name: "m".into(),
             value: 1.0,
@@ -121,19 +123,25 @@ mod tests {
             tolerance,
             unit: String::new(),
             pass: true,
-            tolerance_kind: kind.into(),
+            tolerance_kind: kind,
             reference_source: String::new(),
         }
     }
 
     #[test]
     fn targets_read_as_bands() {
-        assert_eq!(target(&metric("relative", 2.7, 0.03)), "2.7 ± 3 %");
         assert_eq!(
-            target(&metric("absolute", 1.25e-4, 0.25e-4)),
+            target(&metric(ToleranceKind::Relative, 2.7, 0.03)),
+            "2.7 ± 3 %"
+        );
+        assert_eq!(
+            target(&metric(ToleranceKind::Absolute, 1.25e-4, 0.25e-4)),
             "[1e-4, 1.5e-4]"
         );
-        assert_eq!(target(&metric("at_most", 0.0, 1e-10)), "≤ 1e-10");
-        assert_eq!(target(&metric("at_least", 0.5, 0.5)), "≥ 0.5");
+        assert_eq!(
+            target(&metric(ToleranceKind::AtMost, 0.0, 1e-10)),
+            "≤ 1e-10"
+        );
+        assert_eq!(target(&metric(ToleranceKind::AtLeast, 0.5, 0.5)), "≥ 0.5");
     }
 }

@@ -24,10 +24,10 @@ pub fn status_name(status: Status) -> &'static str {
 }
 
 /// How far a metric is from failing: error over tolerance, above 1 when it fails (for a floor,
-/// `at_least`, the bound over the value). A NaN error counts as infinitely bad, so that a
+/// `at_least` or `at_least_ratio`, the bound over the value). A NaN error counts as infinitely bad, so that a
 /// broken metric is never hidden behind a passing one.
 pub fn tolerance_ratio(m: &MetricResult) -> f64 {
-    let ratio = if m.tolerance_kind == "at_least" {
+    let ratio = if m.tolerance_kind.is_floor() {
         m.tolerance.abs() / m.error.abs()
     } else {
         m.error.abs() / m.tolerance.abs()
@@ -58,12 +58,7 @@ pub fn worst_text(m: &MetricResult) -> String {
 /// The acceptance band of a metric around its reference, where the tolerance kind says how
 /// wide it is in the metric's own units (not for `relative_to_scale`, whose scale is unknown).
 pub fn acceptance_band(m: &MetricResult) -> Option<[f64; 2]> {
-    let half_width = match m.tolerance_kind.as_str() {
-        "absolute" => m.tolerance,
-        "relative" => m.tolerance * m.reference.abs(),
-        _ => return None,
-    };
-    Some([m.reference - half_width, m.reference + half_width])
+    m.tolerance_kind.band(m.reference, m.tolerance)
 }
 
 /// One row of the summary table.
