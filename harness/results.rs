@@ -208,6 +208,23 @@ pub struct CaseResult {
     /// was fresh or cached), for the report's "Independent cross-checks" section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crosscheck: Option<crate::crosscheck::CrosscheckRecord>,
+    /// The case's `known_failure` (the debt it records, from its YAML): a failure so described
+    /// does not fail the run (see [`RunResults::exit_code`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub known_failure: Option<String>,
+}
+
+impl CaseResult {
+    /// Whether this result fails the run: a failure or an error, unless it is a failure the
+    /// case records as known. Passed, skipped and interrupted cases do not (an interrupted run
+    /// has a status of its own).
+    pub fn fails_the_run(&self) -> bool {
+        match self.status {
+            Status::Fail => self.known_failure.is_none(),
+            Status::Error => true,
+            Status::Pass | Status::Skipped | Status::Interrupted => false,
+        }
+    }
 }
 
 /// Contact-solver statistics of one scene run (summed over pairs and passes).
@@ -294,23 +311,53 @@ impl RunResults {
             .collect()
     }
 
-    /// Exit status of the run: 0 when every case passed or was skipped, 1 otherwise.
+    /// Exit status of the run, the one policy of `run` and `report`: 1 when a case fails the run
+    /// ([`CaseResult::fails_the_run`]), 0 otherwise.
     pub fn exit_code(&self) -> u8 {
-        if self
-            .cases
-            .iter()
-            .all(|c| matches!(c.status, Status::Pass | Status::Skipped))
-        {
-            0
-        } else {
-            1
-        }
+        u8::from(self.cases.iter().any(CaseResult::fails_the_run))
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::ToleranceKind;
+    use super::{CaseResult, RunResults, ToleranceKind};
+
+    fn case(status: &str, known_failure: Option<&str>) -> CaseResult {
+        let mut json = serde_json::json!({
+            "id": "x", "variant": "default", "status": status, "wall_s": 0.0, "metrics": []
+        });
+        if let Some(k) = known_failure {
+            json["known_failure"] = k.into();
+        }
+        serde_json::from_value(json).unwrap()
+    }
+
+    fn exit_code(cases: Vec<CaseResult>) -> u8 {
+        let run: RunResults = serde_json::from_value(serde_json::json!({
+            "run_id": "r", "commit": "c", "tier": "quick", "cases": []
+        }))
+        .unwrap();
+        RunResults { cases, ..run }.exit_code()
+    }
+
+    /// One exit policy: a failure the case records as known does not fail the run; an unknown
+    /// failure or an error does, known or not; skipped and interrupted cases do not.
+    #[test]
+    fn known_failures_alone_do_not_fail_the_run() {
+        assert_eq!(
+            exit_code(vec![case("pass", None), case("fail", Some("debt"))]),
+            0
+        );
+        assert_eq!(
+            exit_code(vec![case("fail", Some("debt")), case("fail", None)]),
+            1
+        );
+        assert_eq!(exit_code(vec![case("error", Some("debt"))]), 1);
+        assert_eq!(
+            exit_code(vec![case("skipped", None), case("interrupted", None)]),
+            0
+        );
+    }
 
     const KINDS: [ToleranceKind; 6] = [
         ToleranceKind::Absolute,

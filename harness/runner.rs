@@ -62,6 +62,10 @@ pub fn run_cases(
         } else {
             run_case(case, *variant, options)
         };
+        let result = CaseResult {
+            known_failure: case.spec.known_failure.clone(),
+            ..result
+        };
         on_done(&result);
         result
     };
@@ -492,5 +496,6 @@ pub(crate) fn unfinished_result(spec: &crate::catalogue::CaseSpec, variant: &str
         contact_comparison: None,
         material: None,
         crosscheck: None,
+        known_failure: None,
     }
 }

@@ -88,6 +88,7 @@ fn pass_case() -> CaseResult {
         contact_comparison: None,
         material: None,
         crosscheck: None,
+        known_failure: None,
     }
 }
 
@@ -137,6 +138,7 @@ fn fail_case() -> CaseResult {
         contact_comparison: None,
         material: None,
         crosscheck: None,
+        known_failure: None,
     }
 }
 
@@ -157,6 +159,7 @@ fn error_case() -> CaseResult {
         contact_comparison: None,
         material: None,
         crosscheck: None,
+        known_failure: None,
     }
 }
 

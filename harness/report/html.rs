@@ -295,11 +295,18 @@ fn message(c: &CaseResult) -> String {
                 Status::Interrupted => "Interrupted",
                 _ => "Why it was skipped",
             };
-            let body = if msg.is_empty() {
+            let mut body = if msg.is_empty() {
                 note("no reason given")
             } else {
                 pre
             };
+            if let (Status::Fail, Some(known)) = (status, &c.known_failure) {
+                // The debt the case records: why this failure does not fail the run.
+                body.push_str(&format!(
+                    "\n<div class=\"callout-title\">Known failure (does not fail the run)</div>\n{}",
+                    element("pre", "", &format::html(known))
+                ));
+            }
             element(
                 "div",
                 &format!("callout {}", status_name(status)),
