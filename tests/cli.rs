@@ -560,49 +560,120 @@ fn a_case_file_outside_the_catalogue_with_an_unknown_key_names_it() {
     );
 }
 
-/// A scene run stopped by SIGINT after a few seconds exits with status 130 and leaves the history
-/// CSV with every record up to the stop (consecutive steps, nothing after the last) and a PVD
-/// collection whose every frame file exists.
-#[test]
-fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
-    let dir = temp_dir("sigint");
+/// The confined column of `cases/examples/` run for 10 s of simulated time (millions of steps:
+/// it runs until stopped), written into `dir`.
+fn endless_column(dir: &Path) -> PathBuf {
     let scene = std::fs::read_to_string(repo().join("cases/examples/confined-column.yaml"))
         .unwrap()
         .replace("end_time: 3.0e-4", "end_time: 10.0");
     assert!(scene.contains("end_time: 10.0"));
     let file = dir.join("long-column.yaml");
     std::fs::write(&file, scene).unwrap();
-    let out = dir.join("out");
-    let child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
-        .args([
-            "scene",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
+    file
+}
+
+/// A catalogue folder in `dir` of the confined-wave case under each id, in order; the case
+/// marked `endless` runs 40 s of simulated time (hours of steps).
+fn catalogue_of(dir: &Path, cases: &[(&str, bool)]) -> PathBuf {
+    let folder = dir.join("cases");
+    let wave = confined_wave();
+    for (id, endless) in cases {
+        let text = if *endless {
+            wave.replace("end_time: 2.36e-4", "end_time: 40.0")
+        } else {
+            wave.clone()
+        };
+        let sub = folder.join(id.replace('/', "_"));
+        std::fs::create_dir_all(&sub).unwrap();
+        std::fs::write(
+            sub.join("case.yaml"),
+            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
+        )
+        .unwrap();
+    }
+    folder
+}
+
+/// `impact-vv` with `args` started in the background, its output captured.
+fn spawn_impact_vv(args: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_impact-vv"))
+        .args(args)
         .current_dir(repo())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs(3));
-    let killed = Command::new("kill")
+        .unwrap()
+}
+
+/// A serial run of the quick tier of `cases`, reporting into `reports`, started in the
+/// background.
+fn spawn_serial_run(cases: &Path, reports: &Path) -> std::process::Child {
+    spawn_impact_vv(&[
+        "run",
+        "--tier",
+        "quick",
+        "--serial",
+        "--catalogue",
+        cases.to_str().unwrap(),
+        "--reports",
+        reports.to_str().unwrap(),
+    ])
+}
+
+/// Sends SIGINT to `child` after `seconds` and waits for it.
+fn interrupt_after(child: std::process::Child, seconds: u64) -> Output {
+    std::thread::sleep(std::time::Duration::from_secs(seconds));
+    let sent = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
-    assert!(killed.success());
-    let output = child.wait_with_output().unwrap();
+    assert!(sent.success());
+    child.wait_with_output().unwrap()
+}
+
+/// Kills `child` outright (SIGKILL: no handler runs) after `seconds`.
+fn kill_after(mut child: std::process::Child, seconds: u64) {
+    std::thread::sleep(std::time::Duration::from_secs(seconds));
+    child.kill().unwrap();
+    child.wait().unwrap();
+}
+
+/// The data rows of a history CSV, each checked to be whole; column 1 is the step.
+fn history_rows(path: &Path) -> Vec<Vec<f64>> {
+    let history = std::fs::read_to_string(path).unwrap();
+    let mut lines = history.lines();
+    let width = lines.next().expect("a header").split(',').count();
+    lines
+        .enumerate()
+        .map(|(k, l)| {
+            let row: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            assert_eq!(row.len(), width, "row {k} is cut");
+            row
+        })
+        .collect()
+}
+
+/// A scene run stopped by SIGINT after a few seconds exits with status 130 and leaves the history
+/// CSV with every record up to the stop (consecutive steps, nothing after the last) and a PVD
+/// collection whose every frame file exists.
+#[test]
+fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
+    let dir = temp_dir("sigint");
+    let file = endless_column(&dir);
+    let out = dir.join("out");
+    let child = spawn_impact_vv(&[
+        "scene",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let output = interrupt_after(child, 3);
     assert_eq!(output.status.code(), Some(130), "{}", text(&output));
     assert!(text(&output).contains("interrupted"), "{}", text(&output));
-    let history = std::fs::read_to_string(out.join("confined-column_history.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = history
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    let rows = history_rows(&out.join("confined-column_history.csv"));
     assert!(rows.len() > 10, "{} rows", rows.len());
-    // Column 1 is the step: every record from the start, one per step (history_interval 1e-6 s
-    // is below the time step here), none missing.
+    // Every record from the start, one per step (history_interval 1e-6 s is below the time step
+    // here), none missing.
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(r[1], k as f64, "row {k}");
     }
@@ -624,53 +695,15 @@ fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
 #[test]
 fn a_catalogue_run_interrupted_by_sigint_reports_the_finished_cases() {
     let dir = temp_dir("sigint-run");
-    let cases = dir.join("cases");
-    let wave = confined_wave();
-    for (folder, id, text) in [
-        ("a", "a/first", wave.clone()),
-        // Forty seconds of simulated time: hours of steps.
-        (
-            "b",
-            "b/second",
-            wave.replace("end_time: 2.36e-4", "end_time: 40.0"),
-        ),
-        ("c", "c/third", wave.clone()),
-    ] {
-        std::fs::create_dir_all(cases.join(folder)).unwrap();
-        std::fs::write(
-            cases.join(folder).join("case.yaml"),
-            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
-        )
-        .unwrap();
-    }
+    let cases = catalogue_of(
+        &dir,
+        &[("a/first", false), ("b/second", true), ("c/third", false)],
+    );
     let reports = dir.join("reports");
-    let child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
-        .args([
-            "run",
-            "--tier",
-            "quick",
-            "--serial",
-            "--catalogue",
-            cases.to_str().unwrap(),
-            "--reports",
-            reports.to_str().unwrap(),
-        ])
-        .current_dir(repo())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs(4));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let output = child.wait_with_output().unwrap();
+    let output = interrupt_after(spawn_serial_run(&cases, &reports), 4);
     assert_eq!(output.status.code(), Some(130), "{}", text(&output));
     let json = results(&reports);
-    let run_dir = only_run_dir(&reports);
-    assert!(run_dir.join("index.html").is_file());
+    assert!(only_run_dir(&reports).join("index.html").is_file());
     for case in json["cases"].as_array().unwrap() {
         let expected = if case["id"] == "a/first" {
             "pass"
@@ -697,37 +730,19 @@ fn a_catalogue_run_interrupted_by_sigint_reports_the_finished_cases() {
 #[test]
 fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
     let dir = temp_dir("sigkill");
-    let scene = std::fs::read_to_string(repo().join("cases/examples/confined-column.yaml"))
-        .unwrap()
-        .replace("end_time: 3.0e-4", "end_time: 10.0");
-    let file = dir.join("long-column.yaml");
-    std::fs::write(&file, scene).unwrap();
+    let file = endless_column(&dir);
     let out = dir.join("out");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
-        .args([
-            "scene",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .current_dir(repo())
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
+    let child = spawn_impact_vv(&[
+        "scene",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     // Past two flush intervals.
-    std::thread::sleep(std::time::Duration::from_secs(5));
-    child.kill().unwrap();
-    child.wait().unwrap();
-    let history = std::fs::read_to_string(out.join("confined-column_history.csv")).unwrap();
-    let mut lines = history.lines();
-    let width = lines.next().expect("a header").split(',').count();
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    kill_after(child, 5);
+    let rows = history_rows(&out.join("confined-column_history.csv"));
     assert!(rows.len() > 10, "{} rows", rows.len());
     for (k, r) in rows.iter().enumerate() {
-        assert_eq!(r.len(), width, "row {k} is cut");
         assert_eq!(r[1], k as f64, "row {k}");
     }
 }
@@ -738,43 +753,9 @@ fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
 #[test]
 fn a_catalogue_run_killed_outright_is_rebuilt_from_its_case_lines() {
     let dir = temp_dir("sigkill-run");
-    let cases = dir.join("cases");
-    let wave = confined_wave();
-    for (folder, id, text) in [
-        ("a", "a/first", wave.clone()),
-        (
-            "b",
-            "b/second",
-            wave.replace("end_time: 2.36e-4", "end_time: 40.0"),
-        ),
-    ] {
-        std::fs::create_dir_all(cases.join(folder)).unwrap();
-        std::fs::write(
-            cases.join(folder).join("case.yaml"),
-            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
-        )
-        .unwrap();
-    }
+    let cases = catalogue_of(&dir, &[("a/first", false), ("b/second", true)]);
     let reports = dir.join("reports");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
-        .args([
-            "run",
-            "--tier",
-            "quick",
-            "--serial",
-            "--catalogue",
-            cases.to_str().unwrap(),
-            "--reports",
-            reports.to_str().unwrap(),
-        ])
-        .current_dir(repo())
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs(4));
-    child.kill().unwrap();
-    child.wait().unwrap();
+    kill_after(spawn_serial_run(&cases, &reports), 4);
     let run = only_run_dir(&reports);
     assert!(!run.join("results.json").exists());
     let out = impact_vv(

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::{EnergyLedger, InstabilityReport};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
-use crate::model::{field_frame_with_history, MaterialHistory, Motion, ProbeQuantity, Problem};
+use crate::model::{field_frame_with_history, MaterialHistory, Motion, Problem};
 use crate::output::history::{HistoryStream, HistoryTable};
 use crate::output::vtu::PvdWriter;
 
@@ -759,12 +759,7 @@ impl<'p> ExplicitSolver<'p> {
                 c.extend(["x", "y", "z"].map(|a| format!("{}_momentum_{a}", b.name)));
             }
         }
-        for p in &self.problem.probes {
-            c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
-        }
-        for k in &self.problem.constraints {
-            c.extend(["x", "y", "z"].map(|a| format!("{}_reaction_{a}", k.name)));
-        }
+        c.extend(self.problem.probe_columns());
         for p in &self.problem.contact {
             c.extend(
                 [
@@ -821,36 +816,13 @@ impl<'p> ExplicitSolver<'p> {
                 row.extend(momentum.iter());
             }
         }
-        for p in &self.problem.probes {
-            let (field, mean) = match p.quantity {
-                ProbeQuantity::Displacement => (&self.u, true),
-                ProbeQuantity::Velocity => (&self.v_full, true),
-                ProbeQuantity::Reaction => (&self.reaction, false),
-            };
-            let sum = p
-                .nodes
-                .iter()
-                .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
-            let count = if mean {
-                p.nodes.len().max(1) as f64
-            } else {
-                1.0
-            };
-            row.extend((sum / count).iter());
-        }
-        // Each constraint reports only the components it owns (a later constraint on the same
-        // node component takes it over).
-        for (c, k) in self.problem.constraints.iter().enumerate() {
-            let mut sum = Vector3::zeros();
-            for &n in &k.nodes {
-                for d in 0..3 {
-                    if self.constraint_of[n as usize][d] == Some(c as u16) {
-                        sum[d] += self.reaction[n as usize][d];
-                    }
-                }
-            }
-            row.extend(sum.iter());
-        }
+        self.problem.push_probe_values(
+            &mut row,
+            &self.u,
+            Some(&self.v_full),
+            &self.reaction,
+            &self.constraint_of,
+        );
         for (i, pair) in self.problem.contact.iter().enumerate() {
             let s = self.contact_steps.get(i).copied().unwrap_or_default();
             // The force the first body exerts on the second: the rate of the momentum that

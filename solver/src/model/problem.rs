@@ -72,6 +72,65 @@ impl Problem {
         map
     }
 
+    /// History columns of the probes and the conditions, in the order of
+    /// [`Self::push_probe_values`]: `<probe>_<x|y|z>`, then `<condition>_reaction_<x|y|z>`.
+    pub fn probe_columns(&self) -> Vec<String> {
+        let mut c = Vec::with_capacity(3 * (self.probes.len() + self.constraints.len()));
+        for p in &self.probes {
+            c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
+        }
+        for k in &self.constraints {
+            c.extend(["x", "y", "z"].map(|a| format!("{}_reaction_{a}", k.name)));
+        }
+        c
+    }
+
+    /// Appends the probes' values (the mean displacement or velocity of their nodes, or the sum
+    /// of their reactions; velocities are zero where `v` is `None`, a static state) and each
+    /// condition's reaction over the components it owns (`constraint_of`, from
+    /// [`Self::constraint_map`]: a later condition on the same node component takes it over).
+    pub fn push_probe_values(
+        &self,
+        row: &mut Vec<f64>,
+        u: &[Vector3<f64>],
+        v: Option<&[Vector3<f64>]>,
+        reaction: &[Vector3<f64>],
+        constraint_of: &[[Option<u16>; 3]],
+    ) {
+        for p in &self.probes {
+            let (field, mean) = match (p.quantity, v) {
+                (ProbeQuantity::Displacement, _) => (u, true),
+                (ProbeQuantity::Velocity, Some(v)) => (v, true),
+                (ProbeQuantity::Velocity, None) => {
+                    row.extend([0.0; 3]);
+                    continue;
+                }
+                (ProbeQuantity::Reaction, _) => (reaction, false),
+            };
+            let sum = p
+                .nodes
+                .iter()
+                .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
+            let count = if mean {
+                p.nodes.len().max(1) as f64
+            } else {
+                1.0
+            };
+            row.extend((sum / count).iter());
+        }
+        for (c, k) in self.constraints.iter().enumerate() {
+            let mut sum = Vector3::zeros();
+            for &n in &k.nodes {
+                for d in 0..3 {
+                    if constraint_of[n as usize][d] == Some(c as u16) {
+                        sum[d] += reaction[n as usize][d];
+                    }
+                }
+            }
+            row.extend(sum.iter());
+        }
+    }
+
     /// External nodal forces at time `t` (loads and gravity) into `f`; `false` when the problem
     /// has none, so the caller can skip the term.
     pub fn external_forces(&self, t: f64, f: &mut [Vector3<f64>]) -> bool {

@@ -41,9 +41,7 @@ use super::opening_control::Control;
 use super::{prescribe, solve_tangent, ElementTangent, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
 use crate::material::MaterialModel;
-use crate::model::{
-    element_internal_forces, microplane_element_forces, MaterialHistory, ProbeQuantity, Problem,
-};
+use crate::model::{element_internal_forces, microplane_element_forces, MaterialHistory, Problem};
 use crate::output::HistoryTable;
 use crate::with_material;
 
@@ -75,6 +73,7 @@ pub(super) fn solve_path(
     };
     table.push(history_row(
         problem,
+        &constraint_of,
         &committed,
         control.as_ref(),
         0.0,
@@ -143,6 +142,7 @@ pub(super) fn solve_path(
                 let time = lambda * settings.end_time;
                 table.push(history_row(
                     problem,
+                    &constraint_of,
                     &committed,
                     control.as_ref(),
                     time,
@@ -407,38 +407,41 @@ fn history_tangents(
             body.elements
                 .clone()
                 .into_par_iter()
-                .map(|e| {
-                    let local = e - body.elements.start;
-                    let mut state = history.element(local).to_vec();
-                    let forces = |state: &mut Vec<f32>, ue: &[Vector3<f64>; 4]| {
-                        state.copy_from_slice(history.element(local));
-                        microplane_element_forces(
-                            &microplane.model,
-                            &microplane.bands[local],
-                            state,
-                            &model.grad_n[e],
-                            model.volume[e],
-                            ue,
-                            &[Vector3::zeros(); 4],
-                            0.0,
-                        )
-                        .forces
-                    };
-                    let ue = model.element_displacements(e, u);
-                    let base = forces(&mut state, &ue);
-                    let delta = DIFFERENCE_STEP * model.element_size(e);
-                    let mut k = [0.0; 144];
-                    for col in 0..12 {
-                        let mut moved = ue;
-                        moved[col / 3][col % 3] += delta;
-                        let f = forces(&mut state, &moved);
-                        for row in 0..12 {
-                            k[col * 12 + row] =
-                                (f[row / 3][row % 3] - base[row / 3][row % 3]) / delta;
+                // One scratch history per worker, not one allocation per element.
+                .map_init(
+                    || vec![0.0_f32; history.state_len],
+                    |state, e| {
+                        let local = e - body.elements.start;
+                        let forces = |state: &mut Vec<f32>, ue: &[Vector3<f64>; 4]| {
+                            state.copy_from_slice(history.element(local));
+                            microplane_element_forces(
+                                &microplane.model,
+                                &microplane.bands[local],
+                                state,
+                                &model.grad_n[e],
+                                model.volume[e],
+                                ue,
+                                &[Vector3::zeros(); 4],
+                                0.0,
+                            )
+                            .forces
+                        };
+                        let ue = model.element_displacements(e, u);
+                        let base = forces(state, &ue);
+                        let delta = DIFFERENCE_STEP * model.element_size(e);
+                        let mut k = [0.0; 144];
+                        for col in 0..12 {
+                            let mut moved = ue;
+                            moved[col / 3][col % 3] += delta;
+                            let f = forces(state, &moved);
+                            for row in 0..12 {
+                                k[col * 12 + row] =
+                                    (f[row / 3][row % 3] - base[row / 3][row % 3]) / delta;
+                            }
                         }
-                    }
-                    k
-                })
+                        k
+                    },
+                )
                 .collect()
         })
         .collect()
@@ -456,17 +459,14 @@ fn history_columns(problem: &Problem, controlled: bool) -> Vec<String> {
     if controlled {
         c.extend(["control_opening", "control_displacement"].map(String::from));
     }
-    for p in &problem.probes {
-        c.extend(["x", "y", "z"].map(|a| format!("{}_{a}", p.name)));
-    }
-    for k in &problem.constraints {
-        c.extend(["x", "y", "z"].map(|a| format!("{}_reaction_{a}", k.name)));
-    }
+    c.extend(problem.probe_columns());
     c
 }
 
+#[allow(clippy::too_many_arguments)]
 fn history_row(
     problem: &Problem,
+    constraint_of: &[[Option<u16>; 3]],
     state: &Committed,
     control: Option<&Control>,
     time: f64,
@@ -478,38 +478,6 @@ fn history_row(
     if let Some(c) = control {
         row.extend([c.opening_of(&state.u), c.delta(&state.u)]);
     }
-    for p in &problem.probes {
-        let (field, mean) = match p.quantity {
-            ProbeQuantity::Displacement => (&state.u, true),
-            // A static path has no velocity.
-            ProbeQuantity::Velocity => {
-                row.extend([0.0; 3]);
-                continue;
-            }
-            ProbeQuantity::Reaction => (&state.reaction, false),
-        };
-        let sum = p
-            .nodes
-            .iter()
-            .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
-        let count = if mean {
-            p.nodes.len().max(1) as f64
-        } else {
-            1.0
-        };
-        row.extend((sum / count).iter());
-    }
-    let constraint_of = problem.constraint_map();
-    for (c, k) in problem.constraints.iter().enumerate() {
-        let mut sum = Vector3::zeros();
-        for &n in &k.nodes {
-            for d in 0..3 {
-                if constraint_of[n as usize][d] == Some(c as u16) {
-                    sum[d] += state.reaction[n as usize][d];
-                }
-            }
-        }
-        row.extend(sum.iter());
-    }
+    problem.push_probe_values(&mut row, &state.u, None, &state.reaction, constraint_of);
     row
 }
