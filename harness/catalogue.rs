@@ -1,11 +1,12 @@
-//! The benchmark catalogue: one YAML case per file under `cases/`, strictly parsed.
+//! The benchmark catalogue's schema: the part of a case file every kind of case shares (id,
+//! tier, metrics with their references and tolerances, plots, sweeps, variants). Reading the
+//! files is `crate::case_file`; the kinds' own blocks are `crate::case_kind`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use impact_solver::scene::Scene;
 use serde::{Deserialize, Serialize};
 
-use crate::measure::Measure;
 use crate::reference::Reference;
 
 /// How often a case runs.
@@ -55,22 +56,10 @@ pub struct CaseSpec {
     pub tier: Tier,
     #[serde(default)]
     pub tags: Vec<String>,
-    /// The scene the case runs. Exactly one of `scene`, `contact_problems` and
-    /// `material_point` is given.
+    /// The scene: what a scene case runs, and what kinds that compare with it (a cross-check)
+    /// read. Its kind (`crate::case_kind`) says whether it needs one.
     #[serde(default)]
     pub scene: Option<Scene>,
-    /// Instead of a scene: a comparison of the contact solvers on stored contact problems
-    /// (`crate::contact_compare`); its metrics measure that comparison.
-    #[serde(default)]
-    pub contact_problems: Option<crate::contact_compare::ContactProblemsSpec>,
-    /// Instead of a scene: a virtual experiment on one material point of the microplane
-    /// concrete model (`crate::material_point`); its metrics measure that experiment.
-    #[serde(default)]
-    pub material_point: Option<crate::material_point::MaterialPointSpec>,
-    /// A comparison with independent code (`crate::crosscheck`): scikit-fem on the case's
-    /// scene, or ipctk on recorded CCD queries; its metrics measure that comparison.
-    #[serde(default)]
-    pub crosscheck: Option<crate::crosscheck::CrosscheckSpec>,
     #[serde(default)]
     pub sweep: Option<Sweep>,
     /// Solver configurations to compare on the same scene; each runs and is judged on its own.
@@ -171,7 +160,9 @@ pub struct MetricSpec {
     pub name: String,
     #[serde(default)]
     pub unit: String,
-    pub measure: Measure,
+    /// What to measure, in the terms of the case's kind, which reads it
+    /// (`crate::case_kind::parse_measures`).
+    pub measure: serde_norway::Value,
     /// Required: a metric without a reference fails the case (never skipped).
     #[serde(default)]
     pub reference: Option<Reference>,
@@ -267,189 +258,6 @@ impl ReferenceCurve {
         }
         Ok((xs, ys))
     }
-}
-
-/// A case with the file it came from.
-#[derive(Debug, Clone)]
-pub struct LoadedCase {
-    pub path: PathBuf,
-    pub spec: CaseSpec,
-}
-
-/// An error in the catalogue: names the file, the line when known, and the problem.
-#[derive(Debug, thiserror::Error)]
-#[error("{path}: {message}")]
-pub struct CatalogueError {
-    pub path: String,
-    pub message: String,
-}
-
-/// Parses one case file. Mesh paths in its scene are resolved against the file's folder.
-pub fn load_case(path: &Path) -> Result<LoadedCase, CatalogueError> {
-    let fail = |message: String| CatalogueError {
-        path: path.display().to_string(),
-        message,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| fail(format!("cannot read: {e}")))?;
-    let de = serde_norway::Deserializer::from_str(&text);
-    let mut spec: CaseSpec = serde_norway::with::singleton_map_recursive::deserialize(de)
-        .map_err(|e| fail(e.to_string()))?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let resolve = |p: &mut PathBuf| {
-        if p.is_relative() {
-            *p = base.join(&*p);
-        }
-    };
-    for body in spec.scene.iter_mut().flat_map(|s| s.bodies.iter_mut()) {
-        if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
-            resolve(p);
-        }
-        if let impact_solver::scene::MaterialSpec::Microplane(
-            impact_solver::scene::MicroplaneSpec { file: Some(p), .. },
-        ) = &mut body.material
-        {
-            resolve(p);
-        }
-        for p in body
-            .regions
-            .iter_mut()
-            .filter_map(|r| r.material.file_mut())
-        {
-            resolve(p);
-        }
-    }
-    if let Some(problems) = &mut spec.contact_problems {
-        resolve(&mut problems.folder);
-    }
-    if let Some(mp) = &mut spec.material_point {
-        resolve(&mut mp.material);
-    }
-    for curve in spec
-        .plots
-        .iter_mut()
-        .flat_map(|p| p.reference_curves.iter_mut())
-    {
-        resolve(&mut curve.file);
-        curve.read().map_err(&fail)?;
-    }
-    crate::material_point::validate(&spec).map_err(fail)?;
-    crate::crosscheck::validate(&spec).map_err(fail)?;
-    if spec.material_point.is_none() && spec.crosscheck.is_none() {
-        crate::contact_compare::case::validate(&spec).map_err(fail)?;
-    }
-    if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {
-        levels.iter_mut().for_each(|l| resolve(&mut l.file));
-    }
-    if spec.metrics.is_empty() {
-        return Err(fail(
-            "the case has no metrics: every case measures something against a reference".into(),
-        ));
-    }
-    for v in &spec.variants {
-        if spec.variants.iter().filter(|w| w.name == v.name).count() > 1 {
-            return Err(fail(format!("variant `{}` appears twice", v.name)));
-        }
-    }
-    for m in &spec.metrics {
-        if spec.metrics.iter().filter(|n| n.name == m.name).count() > 1 {
-            return Err(fail(format!("metric `{}` appears twice", m.name)));
-        }
-    }
-    Ok(LoadedCase {
-        path: path.to_path_buf(),
-        spec,
-    })
-}
-
-/// Every `*.yaml` case under `dir` (recursively, sorted by path), skipping `dir/examples` and
-/// `dir/materials` (scenes and material data, not cases). All errors are collected.
-pub fn load_catalogue(dir: &Path) -> Result<Vec<LoadedCase>, Vec<CatalogueError>> {
-    let mut files = Vec::new();
-    collect_yaml(dir, dir, &mut files);
-    files.sort();
-    let mut cases = Vec::new();
-    let mut errors = Vec::new();
-    for f in files {
-        match load_case(&f) {
-            Ok(c) => cases.push(c),
-            Err(e) => errors.push(e),
-        }
-    }
-    for (i, c) in cases.iter().enumerate() {
-        if let Some(other) = cases[..i].iter().find(|o| o.spec.id == c.spec.id) {
-            errors.push(CatalogueError {
-                path: c.path.display().to_string(),
-                message: format!(
-                    "case id `{}` is also used by {}",
-                    c.spec.id,
-                    other.path.display()
-                ),
-            });
-        }
-    }
-    if errors.is_empty() {
-        Ok(cases)
-    } else {
-        Err(errors)
-    }
-}
-
-fn collect_yaml(root: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            let skip = path.parent() == Some(root)
-                && matches!(
-                    path.file_name().and_then(|n| n.to_str()),
-                    Some("examples" | "materials" | "meshes")
-                );
-            if !skip {
-                collect_yaml(root, &path, out);
-            }
-        } else if path.extension().is_some_and(|e| e == "yaml" || e == "yml") {
-            out.push(path);
-        }
-    }
-}
-
-/// Whether a case is selected by a pattern: its id, a glob with `*`, a tag `tag:<name>`, or the
-/// path of its file.
-pub fn matches(case: &LoadedCase, pattern: &str) -> bool {
-    if let Some(tag) = pattern.strip_prefix("tag:") {
-        return case.spec.tags.iter().any(|t| t == tag);
-    }
-    if Path::new(pattern) == case.path || case.path.ends_with(pattern) {
-        return true;
-    }
-    glob_match(pattern, &case.spec.id)
-}
-
-/// `*` matches any run of characters; everything else literally.
-fn glob_match(pattern: &str, text: &str) -> bool {
-    let parts: Vec<&str> = pattern.split('*').collect();
-    if parts.len() == 1 {
-        return pattern == text;
-    }
-    let mut rest = text;
-    for (i, part) in parts.iter().enumerate() {
-        if i == 0 {
-            let Some(r) = rest.strip_prefix(part) else {
-                return false;
-            };
-            rest = r;
-        } else if i == parts.len() - 1 {
-            return rest.ends_with(part);
-        } else {
-            let Some(pos) = rest.find(part) else {
-                return false;
-            };
-            rest = &rest[pos + part.len()..];
-        }
-    }
-    true
 }
 
 #[cfg(test)]

@@ -18,16 +18,16 @@ pub mod elastic_beam;
 pub mod python;
 
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::catalogue::{CaseSpec, LoadedCase};
-use crate::judge::judge;
+use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::catalogue::{CaseSpec, Variant};
+use crate::judge::judge_metrics;
 use crate::material_point::{MaterialPlot, RecordTable};
-use crate::measure::Measure;
-use crate::results::{CaseResult, Status};
-use crate::runner::RunOptions;
+use crate::results::{case_dir, CaseResult};
 pub use cache::Provenance;
 
 /// The `crosscheck:` entry of a case: which independent comparison it runs.
@@ -74,22 +74,50 @@ pub struct CrosscheckRecord {
     pub notes: Vec<String>,
 }
 
-/// Checks a `crosscheck` case: the scene it needs (elastic_beam) or none (ccd), no sweep,
-/// variants or plots, and metrics that measure its quantities. The message says what to change.
-pub fn validate(spec: &CaseSpec) -> Result<(), String> {
-    let Some(c) = &spec.crosscheck else {
-        if let Some(m) = spec
-            .metrics
-            .iter()
-            .find(|m| matches!(m.measure, Measure::Crosscheck(_)))
-        {
-            return Err(format!(
-                "metric `{}` measures a cross-check: it needs a case with `crosscheck`",
-                m.name
-            ));
-        }
-        return Ok(());
-    };
+/// What a `crosscheck` case measures: `{ crosscheck: <quantity> }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum CrosscheckMeasure {
+    Crosscheck(String),
+}
+
+/// A case that compares the solver with independent code.
+#[derive(Debug)]
+pub struct CrosscheckCase {
+    pub spec: CrosscheckSpec,
+    /// The quantity each metric measures.
+    quantities: Vec<String>,
+}
+
+impl CaseKind for CrosscheckCase {
+    fn name(&self) -> &'static str {
+        "crosscheck"
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn run(&self, case: &LoadedCase, _: Option<&Variant>, options: &RunOptions) -> CaseResult {
+        run_case(self, case, options)
+    }
+
+    fn refresh(&self, case: &LoadedCase) -> Option<Result<String, String>> {
+        Some(refresh(self, case).map(|p| p.line()))
+    }
+}
+
+/// Reads a `crosscheck` case: the scene it needs (elastic_beam) or none (ccd), no sweep,
+/// variants or plots, and metrics that measure its quantities. The message says what to
+/// change.
+pub fn parse(
+    block: Option<&Block>,
+    spec: &CaseSpec,
+    _base: &Path,
+) -> Result<Arc<dyn CaseKind>, String> {
+    let c: CrosscheckSpec = block
+        .ok_or("a crosscheck case needs its `crosscheck` block")?
+        .parse()?;
     let needs_scene = matches!(c, CrosscheckSpec::ElasticBeam(_));
     if needs_scene != spec.scene.is_some() {
         return Err(if needs_scene {
@@ -101,8 +129,6 @@ pub fn validate(spec: &CaseSpec) -> Result<(), String> {
         });
     }
     let others = [
-        ("contact_problems", spec.contact_problems.is_some()),
-        ("material_point", spec.material_point.is_some()),
         ("sweep", spec.sweep.is_some()),
         ("variants", !spec.variants.is_empty()),
         ("plots", !spec.plots.is_empty()),
@@ -113,13 +139,9 @@ pub fn validate(spec: &CaseSpec) -> Result<(), String> {
              come with the comparison)"
         ));
     }
-    for m in &spec.metrics {
-        let Measure::Crosscheck(q) = &m.measure else {
-            return Err(format!(
-                "metric `{}`: a `crosscheck` case takes `crosscheck: <quantity>` measures only",
-                m.name
-            ));
-        };
+    let measures: Vec<CrosscheckMeasure> = parse_measures(spec, "crosscheck")?;
+    let mut quantities = Vec::new();
+    for (m, CrosscheckMeasure::Crosscheck(q)) in spec.metrics.iter().zip(measures) {
         if !c.quantities().contains(&q.as_str()) {
             return Err(format!(
                 "metric `{}` measures `{q}`, which crosscheck {} does not give; it gives {}",
@@ -128,20 +150,21 @@ pub fn validate(spec: &CaseSpec) -> Result<(), String> {
                 c.quantities().join(", ")
             ));
         }
+        quantities.push(q);
     }
-    Ok(())
+    Ok(Arc::new(CrosscheckCase {
+        spec: c,
+        quantities,
+    }))
 }
 
 /// Runs a `crosscheck` case and judges its metrics.
-pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
+fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
-    let mut result = crate::runner::unfinished_result(spec, "default");
-    let Some(c) = &spec.crosscheck else {
-        result.message = Some("the case has no crosscheck".into());
-        return result;
-    };
-    let case_dir = case.path.parent().unwrap_or(Path::new("."));
+    let mut result = CaseResult::unfinished(spec, "default");
+    let c = &kind.spec;
+    let case_folder = case.path.parent().unwrap_or(Path::new("."));
     let time_limit = spec.time_limit_s.unwrap_or(options.time_limit_s);
     let outcome = match c {
         CrosscheckSpec::ElasticBeam(b) => spec
@@ -160,13 +183,14 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
                 )
             }),
         CrosscheckSpec::Ccd(ccd) => {
-            let scratch = options
-                .output_dir
-                .clone()
-                .unwrap_or_else(std::env::temp_dir)
-                .join("cases")
-                .join(spec.id.replace('/', "__"));
-            ccd::run(ccd, case_dir, &scratch).map(|o| {
+            let scratch = case_dir(
+                &options
+                    .output_dir
+                    .clone()
+                    .unwrap_or_else(std::env::temp_dir),
+                &spec.id,
+            );
+            ccd::run(ccd, case_folder, &scratch).map(|o| {
                 (
                     o.quantities,
                     o.provenance,
@@ -190,50 +214,28 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
         "cached" => format!("{} (cached {})", provenance.script, provenance.date),
         _ => format!("{} (fresh)", provenance.script),
     };
-    let mut failures = Vec::new();
-    for m in &spec.metrics {
-        let Measure::Crosscheck(q) = &m.measure else {
-            continue;
-        };
-        let Some(reference) = &m.reference else {
-            failures.push(format!(
-                "metric `{}` has no reference: every metric needs one",
-                m.name
-            ));
-            continue;
-        };
-        let judged = reference
-            .evaluate_for(spec.scene.as_ref())
-            .map_err(|e| format!("metric `{}`: reference: {e}", m.name))
-            .and_then(|(r, s)| {
-                quantities
-                    .get(q)
-                    .map(|v| (*v, r, s))
-                    .ok_or_else(|| format!("metric `{}`: `{q}` was not measured", m.name))
-            });
-        match judged {
-            Ok((value, r, s)) => {
-                let s = format!("{s}; against {source}");
-                result.metrics.push(judge(m, value, r, &s, &|_| None));
-            }
-            Err(e) => failures.push(e),
-        }
+    let mut judgement = judge_metrics(
+        &spec.metrics,
+        spec.scene.as_ref(),
+        &mut |i, _, _| {
+            let q = &kind.quantities[i];
+            quantities
+                .get(q)
+                .copied()
+                .ok_or_else(|| format!("`{q}` was not measured"))
+        },
+        &|_| None,
+    );
+    for m in &mut judgement.metrics {
+        m.reference_source = format!("{}; against {source}", m.reference_source);
     }
-    failures.extend(result.metrics.iter().filter(|m| !m.pass).map(|m| {
-        format!(
-            "failed: `{}` = {:.6e} against {:.6e} (tolerance {:.3e})",
-            m.name, m.value, m.reference, m.tolerance
-        )
-    }));
-    result.status = if failures.is_empty() {
-        Status::Pass
-    } else {
-        Status::Fail
-    };
-    let mut message = failures;
-    message.push(provenance.line());
-    message.extend(notes.iter().cloned());
-    result.message = Some(message.join("; "));
+    let notes: Vec<String> = std::iter::once(provenance.line())
+        .chain(notes.iter().cloned())
+        .collect();
+    let (status, message) = judgement.verdict(&notes);
+    result.status = status;
+    result.message = Some(message);
+    result.metrics = judgement.metrics;
     result.crosscheck = Some(CrosscheckRecord {
         kind: c.name().into(),
         provenance: Some(provenance),
@@ -248,10 +250,10 @@ pub fn run_case(case: &LoadedCase, options: &RunOptions) -> CaseResult {
 
 /// Recomputes the independent answers of the cases and writes them to the cache
 /// (`impact-vv crosscheck-refresh`; needs the `python` feature).
-pub fn refresh(case: &LoadedCase) -> Result<Provenance, String> {
-    let case_dir = case.path.parent().unwrap_or(Path::new("."));
-    match &case.spec.crosscheck {
-        Some(CrosscheckSpec::ElasticBeam(b)) => {
+fn refresh(kind: &CrosscheckCase, case: &LoadedCase) -> Result<Provenance, String> {
+    let case_folder = case.path.parent().unwrap_or(Path::new("."));
+    match &kind.spec {
+        CrosscheckSpec::ElasticBeam(b) => {
             let scene = case
                 .spec
                 .scene
@@ -260,7 +262,6 @@ pub fn refresh(case: &LoadedCase) -> Result<Provenance, String> {
             let request = elastic_beam::request(b, scene)?;
             cache::refresh("skfem_beam.py", &request, &cache::cache_path(&b.cache))
         }
-        Some(CrosscheckSpec::Ccd(c)) => ccd::refresh(c, case_dir),
-        None => Err(format!("case `{}` has no crosscheck", case.spec.id)),
+        CrosscheckSpec::Ccd(c) => ccd::refresh(c, case_folder),
     }
 }

@@ -1,7 +1,86 @@
 //! Judgement: a measured value against its reference and tolerance.
 
+use impact_solver::scene::Scene;
+
 use crate::catalogue::{MetricSpec, Tolerance};
-use crate::results::{MetricResult, ToleranceKind};
+use crate::results::{MetricResult, Status, ToleranceKind};
+
+/// The metrics of one case, judged, and why any could not be.
+#[derive(Debug, Default)]
+pub struct Judgement {
+    pub metrics: Vec<MetricResult>,
+    /// Metrics that could not be judged: no reference, a reference or a measurement that failed.
+    pub failures: Vec<String>,
+}
+
+/// The one judging loop of every case kind. For each metric: its reference (evaluated on
+/// `scene` where the case has one), the value the kind measures for it (`measure` gets the
+/// metric's index and spec and the reference value, for kinds that also record errors per sweep
+/// level), and the
+/// verdict of `judge`. A metric without a reference is a failure, never skipped.
+pub fn judge_metrics(
+    metrics: &[MetricSpec],
+    scene: Option<&Scene>,
+    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<f64, String>,
+    peak: &dyn Fn(&str) -> Option<f64>,
+) -> Judgement {
+    let mut judgement = Judgement::default();
+    for (i, m) in metrics.iter().enumerate() {
+        let Some(reference) = &m.reference else {
+            judgement.failures.push(format!(
+                "metric `{}` has no reference: every metric needs one",
+                m.name
+            ));
+            continue;
+        };
+        let judged = reference
+            .evaluate_for(scene)
+            .map_err(|e| format!("metric `{}`: reference: {e}", m.name))
+            .and_then(|(r, source)| {
+                measure(i, m, r)
+                    .map(|v| (v, r, source))
+                    .map_err(|e| format!("metric `{}`: {e}", m.name))
+            });
+        match judged {
+            Ok((value, r, source)) => judgement.metrics.push(judge(m, value, r, &source, peak)),
+            Err(e) => judgement.failures.push(e),
+        }
+    }
+    judgement
+}
+
+impl Judgement {
+    /// The case's status and message, in the one format of every kind: the metrics that could
+    /// not be judged, then `failed:` with each failed metric (`failure_line`), then the kind's
+    /// `notes` (its setup, provenance or plan).
+    pub fn verdict(&self, notes: &[String]) -> (Status, String) {
+        let failed: Vec<String> = self
+            .metrics
+            .iter()
+            .filter(|m| !m.pass)
+            .map(failure_line)
+            .collect();
+        let mut lines = self.failures.clone();
+        if !failed.is_empty() {
+            lines.push(format!("failed: {}", failed.join("; ")));
+        }
+        let status = if lines.is_empty() {
+            Status::Pass
+        } else {
+            Status::Fail
+        };
+        lines.extend(notes.iter().cloned());
+        (status, lines.join("; "))
+    }
+}
+
+/// One failed metric: its value against the reference, the error and the tolerance.
+pub fn failure_line(m: &MetricResult) -> String {
+    format!(
+        "`{}` = {:.6e} against {:.6e} (error {:.3e}, tolerance {:.3e})",
+        m.name, m.value, m.reference, m.error, m.tolerance
+    )
+}
 
 /// Judges `value` for `spec` against the evaluated `reference` (value and source). `peak` gives
 /// `max |column|` of the run's history for `relative_to_peak` tolerances.

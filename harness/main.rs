@@ -7,10 +7,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
-use impact_vv::catalogue::{load_case, load_catalogue, matches, LoadedCase, Tier};
+use impact_vv::case_file::{load_case, load_catalogue, matches};
+use impact_vv::case_kind::{LoadedCase, RunOptions};
+use impact_vv::catalogue::Tier;
+use impact_vv::registry::KINDS;
 use impact_vv::results::{RunResults, Status};
 use impact_vv::run_log::{self, RunLog};
-use impact_vv::runner::{run_cases, RunOptions};
+use impact_vv::runner::run_cases;
 use impact_vv::{metadata, report};
 
 #[derive(Parser)]
@@ -131,7 +134,7 @@ fn parse_tier(s: &str) -> Result<Tier, String> {
 
 /// Loads the catalogue or prints every error (file and line) and gives exit status 2.
 fn catalogue(dir: &Path) -> Result<Vec<LoadedCase>, ExitCode> {
-    load_catalogue(dir).map_err(|errors| {
+    load_catalogue(dir, &KINDS).map_err(|errors| {
         for e in &errors {
             eprintln!("error: {e}");
         }
@@ -171,7 +174,7 @@ fn case_files_outside(
         if !is_case_file || canonical(path).is_some_and(|c| known.contains(&c)) {
             continue;
         }
-        match load_case(path) {
+        match load_case(path, &KINDS) {
             Ok(case) => outside.push(case),
             Err(e) => {
                 eprintln!("error: {e}");
@@ -363,27 +366,32 @@ fn main() -> ExitCode {
             };
             let chosen: Vec<&LoadedCase> = cases
                 .iter()
-                .filter(|c| c.spec.crosscheck.is_some())
                 .filter(|c| patterns.is_empty() || patterns.iter().any(|p| matches(c, p)))
                 .collect();
-            if chosen.is_empty() {
-                eprintln!("error: no crosscheck case matches {patterns:?}");
-                return ExitCode::from(2);
-            }
+            let mut refreshed = 0;
             let mut code = ExitCode::SUCCESS;
             for case in chosen {
-                eprintln!("{}: computing the independent answer ...", case.spec.id);
-                match impact_vv::crosscheck::refresh(case) {
-                    Ok(p) => println!(
+                let Some(outcome) = case.kind.refresh(case) else {
+                    continue;
+                };
+                refreshed += 1;
+                match outcome {
+                    Ok(line) => println!(
                         "{}: {}",
                         case.spec.id,
-                        p.line().replace("fresh answer", "cached answer")
+                        line.replace("fresh answer", "cached answer")
                     ),
                     Err(e) => {
                         eprintln!("error: {}: {e}", case.spec.id);
                         code = ExitCode::from(2);
                     }
                 }
+            }
+            if refreshed == 0 {
+                eprintln!(
+                    "error: no case with a cache of independent answers matches {patterns:?}"
+                );
+                return ExitCode::from(2);
             }
             code
         }

@@ -28,16 +28,17 @@ pub mod plots;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use impact_solver::material::microplane::experiments::FracturePath;
 use impact_solver::material::microplane::{MicroplaneParameters, SphereRule};
 use serde::{Deserialize, Serialize};
 
-use crate::catalogue::{CaseSpec, LoadedCase, Tolerance};
-use crate::judge::judge;
-use crate::measure::Measure;
-use crate::results::{lenient, CaseResult, PlotData, Status};
+use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::catalogue::{CaseSpec, Tolerance, Variant};
+use crate::judge::judge_metrics;
+use crate::results::{lenient, CaseResult, PlotData};
 
 /// The `material_point` entry of a case: a parameter file, an experiment and its options. Each
 /// experiment accepts the options listed in [`Experiment::options`]; any other is an error.
@@ -618,28 +619,55 @@ fn positive(name: &str, v: f64) -> Result<(), String> {
     }
 }
 
-/// Checks a case for `material_point` (when it has one): no scene nor comparison beside it, no
-/// sweep, variants or plots, options that belong to the experiment, and metrics that measure a
-/// quantity of it. A case without `material_point` may not use `material_point` measures. The
+/// What a `material_point` case measures: `{ material_point: { quantity, at } }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PointMeasure {
+    MaterialPoint(MaterialMeasure),
+}
+
+/// A case that runs a virtual experiment on one material point.
+#[derive(Debug)]
+pub struct MaterialPointCase {
+    pub spec: MaterialPointSpec,
+    measures: Vec<MaterialMeasure>,
+}
+
+impl CaseKind for MaterialPointCase {
+    fn name(&self) -> &'static str {
+        "material_point"
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn run(&self, case: &LoadedCase, _: Option<&Variant>, _: &RunOptions) -> CaseResult {
+        run_case(self, case)
+    }
+}
+
+/// Reads a `material_point` case: its block, no scene, sweep, variants or plots beside it,
+/// options that belong to the experiment, and metrics that measure a quantity of it. The
 /// message says what to change.
-pub fn validate(spec: &CaseSpec) -> Result<(), String> {
-    let Some(mp) = &spec.material_point else {
-        if let Some(m) = spec
-            .metrics
-            .iter()
-            .find(|m| matches!(m.measure, Measure::MaterialPoint(_)))
-        {
-            return Err(format!(
-                "metric `{}` measures a material-point experiment: it needs a case with \
-                 `material_point` instead of a scene",
-                m.name
-            ));
-        }
-        return Ok(());
-    };
+pub fn parse(
+    block: Option<&Block>,
+    spec: &CaseSpec,
+    base: &Path,
+) -> Result<Arc<dyn CaseKind>, String> {
+    let mut mp: MaterialPointSpec = block
+        .ok_or("a material_point case needs its `material_point` block")?
+        .parse()?;
+    if mp.material.is_relative() {
+        mp.material = base.join(&mp.material);
+    }
+    let measures = validate(&mp, spec)?;
+    Ok(Arc::new(MaterialPointCase { spec: mp, measures }))
+}
+
+fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasure>, String> {
     let others = [
         ("scene", spec.scene.is_some()),
-        ("contact_problems", spec.contact_problems.is_some()),
         ("sweep", spec.sweep.is_some()),
         ("variants", !spec.variants.is_empty()),
         ("plots", !spec.plots.is_empty()),
@@ -713,14 +741,12 @@ pub fn validate(spec: &CaseSpec) -> Result<(), String> {
         }
     }
     let quantities = mp.experiment.quantities();
-    for m in &spec.metrics {
-        let Measure::MaterialPoint(measure) = &m.measure else {
-            return Err(format!(
-                "metric `{}` measures a scene run; a `material_point` case takes \
-                 `material_point` metrics only",
-                m.name
-            ));
-        };
+    let measures: Vec<PointMeasure> = parse_measures(spec, "material_point")?;
+    let measures: Vec<MaterialMeasure> = measures
+        .into_iter()
+        .map(|PointMeasure::MaterialPoint(m)| m)
+        .collect();
+    for (m, measure) in spec.metrics.iter().zip(&measures) {
         if !quantities.contains(&measure.quantity) {
             return Err(format!(
                 "metric `{}`: experiment `{}` does not measure `{}`; it measures {}",
@@ -735,7 +761,7 @@ pub fn validate(spec: &CaseSpec) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    Ok(measures)
 }
 
 /// `path` with `a/../` pairs removed (for display: `cases/material/../materials/x.yaml` reads
@@ -801,14 +827,12 @@ pub struct Targets {
 }
 
 impl Targets {
-    fn new(spec: &CaseSpec) -> Self {
+    fn new(spec: &CaseSpec, measures: &[MaterialMeasure]) -> Self {
         let entries = spec
             .metrics
             .iter()
-            .filter_map(|m| {
-                let Measure::MaterialPoint(measure) = &m.measure else {
-                    return None;
-                };
+            .zip(measures)
+            .filter_map(|(m, measure)| {
                 let (r, _) = m.reference.as_ref()?.evaluate_for(None).ok()?;
                 let band = match &m.tolerance {
                     Tolerance::Relative(t) => [r - t * r.abs(), r + t * r.abs()],
@@ -853,14 +877,11 @@ pub struct Outcome {
 
 /// Runs a `material_point` case: the experiment, its metrics, and the record for the report. A
 /// panic inside the model is caught and reported as an error of this case alone.
-pub fn run_case(case: &LoadedCase) -> CaseResult {
+fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
-    let mut result = crate::runner::unfinished_result(spec, "default");
-    let Some(mp) = &spec.material_point else {
-        result.message = Some("the case has no material_point".into());
-        return result;
-    };
+    let mut result = CaseResult::unfinished(spec, "default");
+    let mp = &kind.spec;
     let parameters = match read_parameters(&mp.material) {
         Ok(p) => p,
         Err(e) => {
@@ -868,7 +889,7 @@ pub fn run_case(case: &LoadedCase) -> CaseResult {
             return result;
         }
     };
-    let targets = Targets::new(spec);
+    let targets = Targets::new(spec, &kind.measures);
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         experiments::run(mp, &parameters, &targets)
     }));
@@ -889,66 +910,32 @@ pub fn run_case(case: &LoadedCase) -> CaseResult {
             return result;
         }
     };
-    let mut failures = Vec::new();
     let mut judged_by: Vec<Vec<String>> = vec![Vec::new(); outcome.values.len()];
-    for m in &spec.metrics {
-        let Measure::MaterialPoint(measure) = &m.measure else {
-            failures.push(format!(
-                "metric `{}` is not a material_point measure",
-                m.name
-            ));
-            continue;
-        };
-        let Some(reference) = &m.reference else {
-            failures.push(format!(
-                "metric `{}` has no reference: every metric needs one",
-                m.name
-            ));
-            continue;
-        };
-        let judged = reference
-            .evaluate_for(None)
-            .map_err(|e| format!("metric `{}`: reference: {e}", m.name))
-            .and_then(|(r, source)| {
-                select(measure, &outcome.values)
-                    .map(|v| (v, r, source))
-                    .map_err(|e| format!("metric `{}`: {e}", m.name))
-            });
-        match judged {
-            Ok((value, r, source)) => {
-                for (i, v) in outcome.values.iter().enumerate() {
-                    if v.quantity == measure.quantity && measure.at().selects(&v.at) {
-                        judged_by[i].push(m.name.clone());
-                    }
+    let judgement = judge_metrics(
+        &spec.metrics,
+        None,
+        &mut |i, m, _| {
+            let measure = &kind.measures[i];
+            let value = select(measure, &outcome.values)?;
+            for (i, v) in outcome.values.iter().enumerate() {
+                if v.quantity == measure.quantity && measure.at().selects(&v.at) {
+                    judged_by[i].push(m.name.clone());
                 }
-                result.metrics.push(judge(m, value, r, &source, &|_| None));
             }
-            Err(e) => failures.push(e),
-        }
-    }
-    let failed: Vec<String> = result
-        .metrics
+            Ok(value)
+        },
+        &|_| None,
+    );
+    let notes: Vec<String> = outcome
+        .notes
         .iter()
-        .filter(|m| !m.pass)
-        .map(|m| {
-            format!(
-                "`{}` = {:.6e} against {:.6e} (error {:.3e}, tolerance {:.3e})",
-                m.name, m.value, m.reference, m.error, m.tolerance
-            )
-        })
+        .chain(&outcome.setup)
+        .cloned()
         .collect();
-    if !failed.is_empty() {
-        failures.push(format!("failed: {}", failed.join("; ")));
-    }
-    result.status = if failures.is_empty() {
-        Status::Pass
-    } else {
-        Status::Fail
-    };
-    let mut message = failures;
-    message.extend(outcome.notes.iter().cloned());
-    message.extend(outcome.setup.iter().cloned());
-    result.message = Some(message.join("; "));
+    let (status, message) = judgement.verdict(&notes);
+    result.status = status;
+    result.message = Some(message);
+    result.metrics = judgement.metrics;
     result.material = Some(MaterialRecord {
         material: lexically_normal(&mp.material).display().to_string(),
         experiment: mp.experiment.name().to_string(),

@@ -157,24 +157,6 @@ pub enum Measure {
         #[serde(default)]
         only_converged: bool,
     },
-    /// The natural-map error (Acary, Bremond & Huber 2018, `||F(r)|| / ||q||`, computed by the
-    /// harness) that contact solver `solver` reached at `tolerance` on the named problems of a
-    /// `contact_problems` case (all of them when `problems` is empty), reduced by `statistic`.
-    /// A failed solve counts as an infinite error. See `crate::contact_compare::case`.
-    ContactProblemError {
-        solver: String,
-        #[serde(default)]
-        problems: Vec<String>,
-        tolerance: f64,
-        #[serde(default)]
-        statistic: Statistic,
-    },
-    /// A quantity of the virtual experiment of a `material_point` case (see
-    /// `crate::material_point`).
-    MaterialPoint(crate::material_point::MaterialMeasure),
-    /// A quantity of the comparison of a `crosscheck` case (see `crate::crosscheck`), by name:
-    /// `{ crosscheck: implicit_deflection_difference }`.
-    Crosscheck(String),
     /// Failure mode of a beam in the final state (FORMULATION 5, thesis 10.3.2), as its code:
     /// 0 none, 1 bending, 2 mixed, 3 shear (`crate::beam::classify`). Judged against
     /// `{ failure_mode: <mode> }` with `absolute: 0`.
@@ -719,27 +701,6 @@ impl Measure {
             }
             Measure::CrackBand(m) => m.evaluate(&problem.model, &|c| column(c))?,
             Measure::CrackBandPoint(m) => m.evaluate(&problem.model)?,
-            Measure::MaterialPoint(_) => {
-                return Err(
-                    "material_point measures a material-point experiment: the case needs \
-                     `material_point` instead of a scene"
-                        .into(),
-                )
-            }
-            Measure::Crosscheck(_) => {
-                return Err(
-                    "crosscheck measures a comparison with independent code: the case needs \
-                     `crosscheck`"
-                        .into(),
-                )
-            }
-            Measure::ContactProblemError { .. } => {
-                return Err(
-                    "contact_problem_error measures a contact-solver comparison: the case \
-                            needs `contact_problems` instead of a scene"
-                        .into(),
-                )
-            }
             sweep => {
                 return Err(format!(
                     "{sweep:?} is a sweep measure: the case needs a sweep"

@@ -6,6 +6,12 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+/// The one rule for a case's output folder in a run folder: `<run>/cases/<id, / as __>/`.
+/// Kinds write there; the report reads from there.
+pub fn case_dir(run_dir: &std::path::Path, id: &str) -> std::path::PathBuf {
+    run_dir.join("cases").join(id.replace('/', "__"))
+}
+
 /// JSON has no NaN or infinity: serde_json writes them as `null`. These read `null` back as
 /// NaN so that a run with a non-finite value can still be reloaded by `impact-vv report`.
 pub(crate) mod lenient {
@@ -215,6 +221,28 @@ pub struct CaseResult {
 }
 
 impl CaseResult {
+    /// The result of a case before it has run: an error until something better is known.
+    pub fn unfinished(spec: &crate::catalogue::CaseSpec, variant: &str) -> CaseResult {
+        CaseResult {
+            id: spec.id.clone(),
+            variant: variant.into(),
+            status: Status::Error,
+            wall_s: 0.0,
+            metrics: Vec::new(),
+            description: spec.description.clone(),
+            tier: spec.tier.name().into(),
+            tags: spec.tags.clone(),
+            message: None,
+            plots: Vec::new(),
+            sweep: None,
+            contact: None,
+            contact_comparison: None,
+            material: None,
+            crosscheck: None,
+            known_failure: None,
+        }
+    }
+
     /// Whether this result fails the run: a failure or an error, unless it is a failure the
     /// case records as known. Passed, skipped and interrupted cases do not (an interrupted run
     /// has a status of its own).

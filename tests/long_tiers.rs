@@ -9,19 +9,21 @@
 
 use std::path::Path;
 
-use impact_vv::catalogue::{load_catalogue, Tier};
+use impact_vv::case_file::load_catalogue;
+use impact_vv::catalogue::Tier;
+use impact_vv::registry::KINDS;
 use impact_vv::results::Status;
 use impact_vv::runner::{run_cases, RunOptions};
 
 #[test]
 fn nightly_and_stress_cases_pass() {
-    let cases = load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"))
+    let cases = load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"), &KINDS)
         .expect("catalogue loads");
     let stress: Vec<_> = cases
         .into_iter()
         .filter(|c| {
             c.spec.tier != Tier::Quick
-                && c.spec.material_point.is_none()
+                && c.kind.name() != "material_point"
                 && !c.spec.tags.iter().any(|t| t == "beam")
         })
         .collect();

@@ -9,7 +9,11 @@
 
 use std::path::{Path, PathBuf};
 
-use impact_vv::catalogue::{load_case, load_catalogue, LoadedCase, Tier};
+use impact_vv::case_file::{load_case, load_catalogue};
+use impact_vv::case_kind::LoadedCase;
+use impact_vv::catalogue::Tier;
+use impact_vv::material_point::MaterialPointCase;
+use impact_vv::registry::KINDS;
 use impact_vv::report::write_report;
 use impact_vv::results::{CaseResult, RunResults, Status};
 use impact_vv::runner::{run_cases, RunOptions};
@@ -24,10 +28,10 @@ fn options() -> RunOptions {
 }
 
 fn material_cases() -> Vec<LoadedCase> {
-    load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"))
+    load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"), &KINDS)
         .expect("catalogue loads")
         .into_iter()
-        .filter(|c| c.spec.material_point.is_some())
+        .filter(|c| c.kind.name() == "material_point")
         .collect()
 }
 
@@ -154,8 +158,8 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
     let cycles = cases
         .iter()
         .find(|c| c.spec.id == "material/cyclic")
-        .and_then(|c| c.spec.material_point.as_ref())
-        .map(|m| m.cycles.len())
+        .and_then(|c| c.kind.as_any().downcast_ref::<MaterialPointCase>())
+        .map(|m| m.spec.cycles.len())
         .unwrap();
     let record = cyclic.material.as_ref().unwrap();
     for setting in ["default (no trace term)", "with trace term"] {
@@ -291,7 +295,7 @@ fn a_calibration_record_is_ignored_and_other_keys_are_refused() {
     )
     .unwrap();
     std::fs::write(dir.join("case.yaml"), TENSION_CASE).unwrap();
-    let case = load_case(&dir.join("case.yaml")).unwrap();
+    let case = load_case(&dir.join("case.yaml"), &KINDS).unwrap();
     let r = &run_cases(std::slice::from_ref(&case), &options(), &|_| {})[0];
     assert!(matches!(r.status, Status::Pass | Status::Fail), "{r:?}");
     assert_eq!(r.metrics.len(), 1);
@@ -314,7 +318,9 @@ fn the_catalogue_says_what_is_wrong_with_a_material_case() {
     let dir = scratch("validate");
     let check = |body: &str, expected: &[&str]| {
         std::fs::write(dir.join("case.yaml"), body).unwrap();
-        let e = load_case(&dir.join("case.yaml")).unwrap_err().to_string();
+        let e = load_case(&dir.join("case.yaml"), &KINDS)
+            .unwrap_err()
+            .to_string();
         for x in expected {
             assert!(e.contains(x), "`{x}` not in: {e}");
         }
@@ -338,14 +344,14 @@ fn the_catalogue_says_what_is_wrong_with_a_material_case() {
             "{ material_point: { quantity: peak_stress } }",
             "energy_balance_error",
         ),
-        &["material_point` metrics only"],
+        &["metric `peak`", "not a measure of a material_point case"],
     );
     check(
         &TENSION_CASE.replace(
             "material_point: { material: concrete.yaml, experiment: uniaxial_tension }",
             "scene: { name: s, bodies: [], analysis: { static: {} } }",
         ),
-        &["needs a case with `material_point`"],
+        &["not a measure of a scene case", "`material_point`"],
     );
     // Required options.
     check(
@@ -393,7 +399,7 @@ fn a_broken_material_case_is_an_error_of_its_own_and_the_others_still_run() {
     .unwrap();
     let cases: Vec<LoadedCase> = ["huge", "missing", "fine"]
         .iter()
-        .map(|n| load_case(&dir.join(format!("{n}.yaml"))).unwrap())
+        .map(|n| load_case(&dir.join(format!("{n}.yaml")), &KINDS).unwrap())
         .collect();
     let results = run_cases(&cases, &options(), &|_| {});
     assert_eq!(results[0].status, Status::Error);

@@ -719,9 +719,9 @@ mod case_run {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
         let case =
-            crate::catalogue::load_case(&root.join("cases/beam").join(format!("{name}.yaml")))
+            crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml")))
                 .unwrap();
-        let scene = case.spec.scene.clone().unwrap();
+        let scene = case.scene.clone().unwrap();
         // The microplane file is named relative to the case's folder.
         std::env::set_current_dir(root.join("cases/beam")).unwrap();
         let mut problem = impact_solver::scene::build_problem(&scene).unwrap();

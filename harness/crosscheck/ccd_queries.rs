@@ -184,9 +184,8 @@ pub fn record_case(
     if end_time.is_nan() || end_time <= 0.0 {
         return Err(format!("{name}: end time {end_time} s must be positive"));
     }
-    let case = crate::catalogue::load_case(case_file).map_err(|e| e.to_string())?;
-    let mut scene = case
-        .spec
+    let spec = crate::case_file::load_spec(case_file).map_err(|e| e.to_string())?;
+    let mut scene = spec
         .scene
         .ok_or_else(|| format!("{name}: the case has no scene to record CCD queries from"))?;
     let mut settings = match &scene.analysis {

@@ -298,11 +298,6 @@ pub fn record_path(case_dir: &Path, variant: &str) -> PathBuf {
     case_dir.join(format!("beam-{}.json", file_safe(variant)))
 }
 
-/// The output folder of a case in a run folder (as the runner names it).
-pub fn case_dir(run_dir: &Path, case_id: &str) -> PathBuf {
-    run_dir.join("cases").join(case_id.replace('/', "__"))
-}
-
 fn file_safe(s: &str) -> String {
     s.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_")
 }
@@ -330,7 +325,7 @@ pub fn load(run_dir: &Path, results: &RunResults) -> Vec<(usize, BeamRecord)> {
         .iter()
         .enumerate()
         .filter_map(|(i, c)| {
-            let path = record_path(&case_dir(run_dir, &c.id), &c.variant);
+            let path = record_path(&crate::results::case_dir(run_dir, &c.id), &c.variant);
             let text = std::fs::read_to_string(path).ok()?;
             let record: BeamRecord = serde_json::from_str(&text).ok()?;
             Some((i, record))

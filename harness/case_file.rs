@@ -1,0 +1,292 @@
+//! Reading case files: one YAML case per file under `cases/` (or any file named on the command
+//! line), strictly parsed in two passes (the common part, then the kind's block), with paths
+//! resolved against the file's folder; and selecting cases by id, glob, tag or path.
+
+use std::path::{Path, PathBuf};
+
+use crate::case_kind::{Block, LoadedCase, Registry};
+use crate::catalogue::{CaseSpec, Sweep};
+
+/// An error in the catalogue: names the file, the line when known, and the problem.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct CatalogueError {
+    pub path: String,
+    pub message: String,
+}
+
+/// Parses one case file in two passes: the top-level key of its kind (one of `kinds`, or none
+/// for the default kind) picks the kind; the rest of the file is read strictly as the common
+/// part (`CaseSpec`), then the kind's block by the kind (`crate::case_kind::ParseKind`). Both
+/// keep the file's line numbers in their errors. Paths are resolved against the file's folder.
+pub fn load_case(path: &Path, kinds: &Registry) -> Result<LoadedCase, CatalogueError> {
+    let fail = |message: String| CatalogueError {
+        path: path.display().to_string(),
+        message,
+    };
+    let (spec, block) = read(path, kinds.keyed.iter().map(|k| k.key))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let kind = match &block {
+        Some(block) => {
+            let entry = kinds
+                .keyed
+                .iter()
+                .find(|k| k.key == block.key)
+                .expect("the block's key is registered");
+            (entry.parse)(Some(block), &spec, base)
+        }
+        None => (kinds.default)(None, &spec, base),
+    }
+    .map_err(fail)?;
+    Ok(LoadedCase {
+        path: path.to_path_buf(),
+        spec,
+        kind,
+    })
+}
+
+/// The common part of a case file whose kind does not matter to the caller (a scene case read
+/// for its scene): the file must have no kind's block.
+pub fn load_spec(path: &Path) -> Result<CaseSpec, CatalogueError> {
+    read(path, std::iter::empty()).map(|(spec, _)| spec)
+}
+
+/// The first pass: the common part, checked and with its paths resolved, and the block of the
+/// one kind among `keys` that the file names, if any.
+fn read<'k>(
+    path: &Path,
+    keys: impl Iterator<Item = &'k str>,
+) -> Result<(CaseSpec, Option<Block>), CatalogueError> {
+    let fail = |message: String| CatalogueError {
+        path: path.display().to_string(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let top = top_level_keys(&text);
+    let given: Vec<&str> = keys
+        .filter(|k| top.iter().any(|(key, _)| key == k))
+        .collect();
+    if given.len() > 1 {
+        let names: Vec<String> = given.iter().map(|k| format!("`{k}`")).collect();
+        return Err(fail(format!(
+            "a case is of one kind, but {} are all given: keep one",
+            names.join(" and ")
+        )));
+    }
+    let (common, block) = match given.first() {
+        Some(key) => {
+            let (common, block) = split_block(&text, key);
+            (common, Some(block))
+        }
+        None => (text, None),
+    };
+    let de = serde_norway::Deserializer::from_str(&common);
+    let mut spec: CaseSpec = serde_norway::with::singleton_map_recursive::deserialize(de)
+        .map_err(|e| fail(e.to_string()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    resolve_paths(&mut spec, base);
+    for curve in spec.plots.iter().flat_map(|p| p.reference_curves.iter()) {
+        curve.read().map_err(&fail)?;
+    }
+    if spec.metrics.is_empty() {
+        return Err(fail(
+            "the case has no metrics: every case measures something against a reference".into(),
+        ));
+    }
+    for v in &spec.variants {
+        if spec.variants.iter().filter(|w| w.name == v.name).count() > 1 {
+            return Err(fail(format!("variant `{}` appears twice", v.name)));
+        }
+    }
+    for m in &spec.metrics {
+        if spec.metrics.iter().filter(|n| n.name == m.name).count() > 1 {
+            return Err(fail(format!("metric `{}` appears twice", m.name)));
+        }
+    }
+    Ok((spec, block))
+}
+
+/// Resolves the common part's paths (meshes, material files, measured curves, sweep meshes)
+/// against the case file's folder.
+fn resolve_paths(spec: &mut CaseSpec, base: &Path) {
+    let resolve = |p: &mut PathBuf| {
+        if p.is_relative() {
+            *p = base.join(&*p);
+        }
+    };
+    for body in spec.scene.iter_mut().flat_map(|s| s.bodies.iter_mut()) {
+        if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
+            resolve(p);
+        }
+        if let impact_solver::scene::MaterialSpec::Microplane(
+            impact_solver::scene::MicroplaneSpec { file: Some(p), .. },
+        ) = &mut body.material
+        {
+            resolve(p);
+        }
+        for p in body
+            .regions
+            .iter_mut()
+            .filter_map(|r| r.material.file_mut())
+        {
+            resolve(p);
+        }
+    }
+    for curve in spec
+        .plots
+        .iter_mut()
+        .flat_map(|p| p.reference_curves.iter_mut())
+    {
+        resolve(&mut curve.file);
+    }
+    if let Some(Sweep::MeshFiles(levels)) = &mut spec.sweep {
+        levels.iter_mut().for_each(|l| resolve(&mut l.file));
+    }
+}
+
+/// The keys at the top level of a YAML mapping, with their line index (0-based).
+fn top_level_keys(text: &str) -> Vec<(String, usize)> {
+    text.lines()
+        .enumerate()
+        .filter_map(|(i, line)| {
+            let first = line.chars().next()?;
+            if !(first.is_ascii_alphabetic() || first == '_') {
+                return None;
+            }
+            let (key, _) = line.split_once(':')?;
+            Some((key.trim().to_string(), i))
+        })
+        .collect()
+}
+
+/// Splits `text` at the top-level `key`: the text without the block (its lines blanked) and
+/// the block (every other line blanked), both keeping the line numbers of the file.
+fn split_block(text: &str, key: &str) -> (String, Block) {
+    let lines: Vec<&str> = text.lines().collect();
+    let start = top_level_keys(text)
+        .into_iter()
+        .find(|(k, _)| k == key)
+        .map_or(lines.len(), |(_, i)| i);
+    // The block runs until the next line that starts at column 0 with anything but a comment.
+    let end = (start + 1..lines.len())
+        .find(|&i| {
+            let l = lines[i];
+            l.chars()
+                .next()
+                .is_some_and(|c| !c.is_whitespace() && c != '#')
+        })
+        .unwrap_or(lines.len());
+    let mut common = String::with_capacity(text.len());
+    let mut block = String::with_capacity(text.len());
+    for (i, line) in lines.iter().enumerate() {
+        let (to, blank) = if (start..end).contains(&i) {
+            (&mut block, &mut common)
+        } else {
+            (&mut common, &mut block)
+        };
+        to.push_str(line);
+        to.push('\n');
+        blank.push('\n');
+    }
+    (
+        common,
+        Block {
+            key: key.to_string(),
+            text: block,
+        },
+    )
+}
+
+/// Every `*.yaml` case under `dir` (recursively, sorted by path), skipping `dir/examples` and
+/// `dir/materials` (scenes and material data, not cases). All errors are collected.
+pub fn load_catalogue(
+    dir: &Path,
+    kinds: &Registry,
+) -> Result<Vec<LoadedCase>, Vec<CatalogueError>> {
+    let mut files = Vec::new();
+    collect_yaml(dir, dir, &mut files);
+    files.sort();
+    let mut cases = Vec::new();
+    let mut errors = Vec::new();
+    for f in files {
+        match load_case(&f, kinds) {
+            Ok(c) => cases.push(c),
+            Err(e) => errors.push(e),
+        }
+    }
+    for (i, c) in cases.iter().enumerate() {
+        if let Some(other) = cases[..i].iter().find(|o| o.spec.id == c.spec.id) {
+            errors.push(CatalogueError {
+                path: c.path.display().to_string(),
+                message: format!(
+                    "case id `{}` is also used by {}",
+                    c.spec.id,
+                    other.path.display()
+                ),
+            });
+        }
+    }
+    if errors.is_empty() {
+        Ok(cases)
+    } else {
+        Err(errors)
+    }
+}
+
+fn collect_yaml(root: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            let skip = path.parent() == Some(root)
+                && matches!(
+                    path.file_name().and_then(|n| n.to_str()),
+                    Some("examples" | "materials" | "meshes")
+                );
+            if !skip {
+                collect_yaml(root, &path, out);
+            }
+        } else if path.extension().is_some_and(|e| e == "yaml" || e == "yml") {
+            out.push(path);
+        }
+    }
+}
+
+/// Whether a case is selected by a pattern: its id, a glob with `*`, a tag `tag:<name>`, or the
+/// path of its file.
+pub fn matches(case: &LoadedCase, pattern: &str) -> bool {
+    if let Some(tag) = pattern.strip_prefix("tag:") {
+        return case.spec.tags.iter().any(|t| t == tag);
+    }
+    if Path::new(pattern) == case.path || case.path.ends_with(pattern) {
+        return true;
+    }
+    glob_match(pattern, &case.spec.id)
+}
+
+/// `*` matches any run of characters; everything else literally.
+fn glob_match(pattern: &str, text: &str) -> bool {
+    let parts: Vec<&str> = pattern.split('*').collect();
+    if parts.len() == 1 {
+        return pattern == text;
+    }
+    let mut rest = text;
+    for (i, part) in parts.iter().enumerate() {
+        if i == 0 {
+            let Some(r) = rest.strip_prefix(part) else {
+                return false;
+            };
+            rest = r;
+        } else if i == parts.len() - 1 {
+            return rest.ends_with(part);
+        } else {
+            let Some(pos) = rest.find(part) else {
+                return false;
+            };
+            rest = &rest[pos + part.len()..];
+        }
+    }
+    true
+}

@@ -1,0 +1,121 @@
+//! The interface every kind of case implements (a scene, a material-point experiment, a
+//! comparison of contact solvers on stored problems, a cross-check with independent code), and
+//! the registry that names them.
+//!
+//! A case file is read in two passes (`crate::catalogue::load_case`): the parts every case has
+//! (id, tier, metrics, plots, ...) and, under one top-level key, the kind's own block. The
+//! registry maps that key to the kind's `parse` function; a file with none of the keys is a
+//! case of the registry's default kind. The catalogue, runner, judge and report know no kind by
+//! name: they see `dyn CaseKind`. The list itself lives in `crate::registry`, the one module
+//! that imports the kinds.
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+use serde::de::DeserializeOwned;
+
+use crate::catalogue::{CaseSpec, Variant};
+use crate::results::CaseResult;
+
+/// Options of a harness run, as each case sees them.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Where the cases' solver output goes (`crate::results::case_dir`); `None`
+    /// keeps it in memory.
+    pub output_dir: Option<PathBuf>,
+    /// Wall-time limit per solver run unless the case sets its own (s).
+    pub time_limit_s: f64,
+    /// Run cases in parallel.
+    pub parallel: bool,
+    /// Set by a signal: running explicit analyses stop at the end of their step and cases not
+    /// started are not run; both are recorded as interrupted.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// A case with the file it came from and its kind.
+#[derive(Debug, Clone)]
+pub struct LoadedCase {
+    pub path: PathBuf,
+    pub spec: CaseSpec,
+    pub kind: Arc<dyn CaseKind>,
+}
+
+/// A kind of case: what it runs and how it measures each of the case's metrics. Judging is
+/// the same for every kind (`crate::judge::judge_metrics`).
+pub trait CaseKind: std::fmt::Debug + Send + Sync {
+    /// The kind's name: its key in a case file, or the default kind's name.
+    fn name(&self) -> &'static str;
+
+    /// Runs `case` under `variant` (`None`: as the file says), measures and judges its
+    /// metrics. A kind without variants is only called with `None`.
+    fn run(&self, case: &LoadedCase, variant: Option<&Variant>, options: &RunOptions)
+        -> CaseResult;
+
+    /// The kind itself, for tools and tests that read its block (`downcast_ref`).
+    fn as_any(&self) -> &dyn std::any::Any;
+
+    /// Recomputes the independent answers a case keeps in a cache (`impact-vv
+    /// crosscheck-refresh`): a line saying what was written, or why not. `None`: this kind keeps
+    /// no cache.
+    fn refresh(&self, _case: &LoadedCase) -> Option<Result<String, String>> {
+        None
+    }
+}
+
+/// A kind's block of a case file: its key, and the file's text with every line outside the
+/// block blanked, so that errors inside it give the file's own line numbers.
+#[derive(Debug, Clone)]
+pub struct Block {
+    pub key: String,
+    pub text: String,
+}
+
+impl Block {
+    /// The block's value, read strictly (the kind's types deny unknown fields).
+    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, String> {
+        let de = serde_norway::Deserializer::from_str(&self.text);
+        let mut map: std::collections::BTreeMap<String, T> =
+            serde_norway::with::singleton_map_recursive::deserialize(de)
+                .map_err(|e| format!("`{}`: {e}", self.key))?;
+        map.remove(&self.key)
+            .ok_or_else(|| format!("`{}`: the block is empty", self.key))
+    }
+}
+
+/// Reads a kind from its block (`None` for the default kind, which has no key) and the common
+/// part of the case, already read with its paths resolved against the case file's folder
+/// (`base`). It checks everything the kind needs of the case (a scene or none, the metrics'
+/// measures, sweeps, variants) and says what to change.
+pub type ParseKind = fn(
+    block: Option<&Block>,
+    case: &CaseSpec,
+    base: &std::path::Path,
+) -> Result<Arc<dyn CaseKind>, String>;
+
+/// A kind registered under its key in a case file.
+#[derive(Debug, Clone, Copy)]
+pub struct KindEntry {
+    pub key: &'static str,
+    pub parse: ParseKind,
+}
+
+/// The kinds a catalogue is read with: those named by a key, and the kind of a case that names
+/// none.
+#[derive(Debug, Clone, Copy)]
+pub struct Registry {
+    pub keyed: &'static [KindEntry],
+    pub default: ParseKind,
+}
+
+/// The metrics' measures of `case` read as the kind's measure type `M`, in the metrics' order.
+/// The error names the metric.
+pub fn parse_measures<M: DeserializeOwned>(case: &CaseSpec, kind: &str) -> Result<Vec<M>, String> {
+    case.metrics
+        .iter()
+        .map(|m| {
+            serde_norway::with::singleton_map_recursive::deserialize(m.measure.clone())
+                .map_err(|e| format!("metric `{}`: not a measure of a {kind} case: {e}", m.name))
+        })
+        .collect()
+}

@@ -1,0 +1,430 @@
+//! The default kind of case: a scene (`scene:` in the case file), run by the solver once or
+//! once per level of a sweep, and measured from its histories and fields (`crate::measure`).
+//! Several variants (integrators, contact solvers) may run the same scene.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
+use impact_solver::SolverError;
+
+use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::catalogue::{CaseSpec, Sweep, Variant};
+use crate::execute::{execute, ExecuteOptions, Execution};
+use crate::judge::{error_for_sweep, judge_metrics, observed_order};
+use crate::measure::Measure;
+use crate::results::{
+    case_dir, CaseResult, MetricResult, PlotData, ReferenceLine, Series, Status, SweepLevel,
+    SweepResult,
+};
+
+/// A case that runs its scene.
+#[derive(Debug)]
+pub struct SceneCase {
+    measures: Vec<Measure>,
+}
+
+/// Reads a scene case: it needs a scene, and its metrics measure scene runs.
+pub fn parse(
+    block: Option<&Block>,
+    spec: &CaseSpec,
+    _base: &Path,
+) -> Result<Arc<dyn CaseKind>, String> {
+    if let Some(b) = block {
+        return Err(format!("a scene case has no `{}` block", b.key));
+    }
+    if spec.scene.is_none() {
+        return Err(
+            "the case has no `scene`: add one, or the block of another kind of case \
+             (see cases/README.md)"
+                .into(),
+        );
+    }
+    let measures = parse_measures(spec, "scene")?;
+    Ok(Arc::new(SceneCase { measures }))
+}
+
+impl CaseKind for SceneCase {
+    fn name(&self) -> &'static str {
+        "scene"
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn run(
+        &self,
+        case: &LoadedCase,
+        variant: Option<&Variant>,
+        options: &RunOptions,
+    ) -> CaseResult {
+        run_case(self, case, variant, options)
+    }
+}
+
+/// One solver run of a case (one sweep level).
+struct LevelRun {
+    parameter: f64,
+    wall_s: f64,
+    outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
+}
+
+/// Runs one case under one variant (or the scene's own analysis): every level of its sweep (or
+/// the scene once), then judges its metrics.
+fn run_case(
+    kind: &SceneCase,
+    case: &LoadedCase,
+    variant: Option<&Variant>,
+    options: &RunOptions,
+) -> CaseResult {
+    let spec = &case.spec;
+    let mut result = CaseResult::unfinished(spec, variant.map_or("default", |v| v.name.as_str()));
+    let Some(scene) = &spec.scene else {
+        result.message = Some("the case has no scene".into());
+        return result;
+    };
+    let started = Instant::now();
+    let mut scene = scene.clone();
+    if let Some(v) = variant {
+        v.apply(&mut scene);
+    }
+    let levels = match level_scenes(&scene, spec.sweep.as_ref()) {
+        Ok(l) => l,
+        Err(message) => {
+            result.message = Some(message);
+            return result;
+        }
+    };
+    let case_dir = options.output_dir.as_ref().map(|d| case_dir(d, &spec.id));
+    let runs: Vec<LevelRun> = levels
+        .iter()
+        .enumerate()
+        .map(|(i, (parameter, scene))| {
+            let t0 = Instant::now();
+            let stem = if levels.len() > 1 {
+                format!("level{i}")
+            } else {
+                "run".to_string()
+            };
+            let outcome = build_problem(scene).and_then(|mut problem| {
+                let opts = ExecuteOptions {
+                    out: case_dir.as_deref(),
+                    stem: &stem,
+                    fields: false,
+                    time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
+                    stop: options.stop.clone(),
+                };
+                execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
+            });
+            LevelRun {
+                parameter: *parameter,
+                wall_s: t0.elapsed().as_secs_f64(),
+                outcome,
+            }
+        })
+        .collect();
+    result.wall_s = started.elapsed().as_secs_f64();
+
+    if let Some(e) = runs.iter().find_map(|r| match &r.outcome {
+        Err(e @ SolverError::Interrupted { .. }) => Some(e),
+        _ => None,
+    }) {
+        result.status = Status::Interrupted;
+        result.message = Some(e.to_string());
+        return result;
+    }
+    // Per-run metrics are judged at the last level that completed (the finest mesh).
+    let judged = runs.iter().rposition(|r| r.outcome.is_ok());
+    let Some(judged) = judged else {
+        let e = runs
+            .last()
+            .and_then(|r| r.outcome.as_ref().err())
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        result.message = Some(format!("the solver run failed: {e}"));
+        return result;
+    };
+    if matches!(spec.sweep, Some(Sweep::Mesh(_) | Sweep::MeshFiles(_))) {
+        if let Some((i, e)) = runs
+            .iter()
+            .enumerate()
+            .find_map(|(i, r)| r.outcome.as_ref().err().map(|e| (i, e)))
+        {
+            result.message = Some(format!("sweep level {i} failed: {e}"));
+            return result;
+        }
+    }
+    let (problem, run) = runs[judged]
+        .outcome
+        .as_ref()
+        .expect("judged level completed");
+    result.contact = contact_stats(problem, run);
+    let mut sweep_levels: Vec<SweepLevel> = runs
+        .iter()
+        .map(|r| SweepLevel {
+            parameter: r.parameter,
+            wall_s: r.wall_s,
+            errors: BTreeMap::new(),
+            values: BTreeMap::new(),
+            status: match &r.outcome {
+                Ok(_) => "completed".into(),
+                Err(SolverError::Unstable(_)) => "unstable".into(),
+                Err(e) => format!("error: {e}"),
+            },
+        })
+        .collect();
+    let peak = |column: &str| {
+        run.history
+            .as_ref()?
+            .column(column)
+            .map(|y| y.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+    };
+    let judgement = judge_metrics(
+        &spec.metrics,
+        Some(&scene),
+        &mut |i, m, ref_value| {
+            let measure = &kind.measures[i];
+            if measure.is_sweep_measure() {
+                return sweep_measure(measure, spec, &runs, &sweep_levels);
+            }
+            for (level, r) in sweep_levels.iter_mut().zip(&runs) {
+                if let Ok((p, e)) = &r.outcome {
+                    if let Ok(v) = measure.evaluate(p, e) {
+                        level.values.insert(m.name.clone(), v);
+                        level
+                            .errors
+                            .insert(m.name.clone(), error_for_sweep(m, v, ref_value));
+                    }
+                }
+            }
+            measure.evaluate(problem, run)
+        },
+        &peak,
+    );
+    let (status, message) = judgement.verdict(&[run.plan.clone()]);
+    result.metrics = judgement.metrics;
+    if spec.sweep.is_some() {
+        let observed = spec
+            .metrics
+            .iter()
+            .zip(&kind.measures)
+            .filter(|(_, measure)| !measure.is_sweep_measure())
+            .filter_map(|(m, _)| {
+                let pts: Vec<(f64, f64)> = sweep_levels
+                    .iter()
+                    .filter_map(|l| l.errors.get(&m.name).map(|e| (l.parameter, *e)))
+                    .collect();
+                observed_order(&pts).map(|o| (m.name.clone(), o))
+            })
+            .collect();
+        result.sweep = Some(SweepResult {
+            parameter: match spec.sweep {
+                Some(Sweep::Mesh(_) | Sweep::MeshFiles(_)) => "element size (m)".into(),
+                _ => "time step / stable estimate".into(),
+            },
+            levels: sweep_levels,
+            observed_order: observed,
+        });
+    }
+    result.plots = plots(spec, run, &result.metrics);
+    let beam_plots = crate::report::beam::record(
+        &result,
+        &levels[judged].1,
+        problem,
+        run,
+        case_dir.as_deref(),
+        &result.plots,
+    );
+    result.plots.extend(beam_plots);
+    result.status = status;
+    result.message = Some(message);
+    result
+}
+
+/// The scene of every level: the case's scene with the sweep's parameter applied.
+fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)>, String> {
+    match sweep {
+        None => Ok(vec![(1.0, scene.clone())]),
+        Some(Sweep::Mesh(divisions)) => divisions
+            .iter()
+            .map(|d| {
+                let mut s = scene.clone();
+                let MeshSource::Box(b) = &mut s.bodies[0].mesh else {
+                    return Err("a mesh sweep needs a box mesh on the first body".to_string());
+                };
+                b.divisions = *d;
+                Ok((b.size[0] / d[0] as f64, s))
+            })
+            .collect(),
+        Some(Sweep::MeshFiles(levels)) => levels
+            .iter()
+            .map(|level| {
+                let mut s = scene.clone();
+                let mut replaced = 0;
+                for body in &mut s.bodies {
+                    if let MeshSource::Gmsh(p) = &mut body.mesh {
+                        p.clone_from(&level.file);
+                        replaced += 1;
+                    }
+                }
+                if replaced == 0 {
+                    return Err("a mesh_files sweep needs a body meshed from a Gmsh file".into());
+                }
+                Ok((level.size, s))
+            })
+            .collect(),
+        Some(Sweep::TimeStepFactor(factors)) => {
+            let problem = build_problem(scene).map_err(|e| e.to_string())?;
+            let (dt_cr, _) = problem.model.critical_time_step();
+            factors
+                .iter()
+                .map(|f| {
+                    let mut s = scene.clone();
+                    let Analysis::Explicit(settings) = &mut s.analysis else {
+                        return Err("a time-step sweep needs an explicit analysis".to_string());
+                    };
+                    settings.time_step = Some(f * dt_cr);
+                    settings.allow_unstable_time_step = *f > 1.0;
+                    Ok((*f, s))
+                })
+                .collect()
+        }
+    }
+}
+
+fn sweep_measure(
+    measure: &Measure,
+    spec: &crate::catalogue::CaseSpec,
+    runs: &[LevelRun],
+    levels: &[SweepLevel],
+) -> Result<f64, String> {
+    let Some(sweep) = &spec.sweep else {
+        return Err("this measure needs a sweep in the case".into());
+    };
+    let unstable = |r: &LevelRun| matches!(r.outcome, Err(SolverError::Unstable(_)));
+    match measure {
+        Measure::ObservedOrder { metric } => {
+            let pts: Vec<(f64, f64)> = levels
+                .iter()
+                .filter_map(|l| l.errors.get(metric).map(|e| (l.parameter, *e)))
+                .collect();
+            observed_order(&pts).ok_or_else(|| {
+                format!("metric `{metric}` has fewer than two levels with a positive error")
+            })
+        }
+        Measure::StableUpToEstimate => Ok(runs
+            .iter()
+            .filter(|r| r.parameter <= 1.0)
+            .all(|r| r.outcome.is_ok()) as u8 as f64),
+        Measure::MeasuredStabilityLimit => {
+            let Sweep::TimeStepFactor(factors) = sweep else {
+                return Err("needs a time-step sweep".into());
+            };
+            Ok(runs.iter().find(|r| unstable(r)).map_or_else(
+                || factors.iter().cloned().fold(0.0, f64::max) + 0.1,
+                |r| r.parameter,
+            ))
+        }
+        Measure::UnstableRunsReported => {
+            Ok(runs.iter().all(|r| r.outcome.is_ok() || unstable(r)) as u8 as f64)
+        }
+        _ => unreachable!("not a sweep measure"),
+    }
+}
+
+/// The case's plots of history columns, with reference lines and bands from their metrics.
+fn plots(
+    spec: &crate::catalogue::CaseSpec,
+    run: &Execution,
+    metrics: &[MetricResult],
+) -> Vec<PlotData> {
+    let Some(history) = &run.history else {
+        return Vec::new();
+    };
+    spec.plots
+        .iter()
+        .map(|p| PlotData {
+            title: p.title.clone(),
+            x_label: match p.x_column.as_deref() {
+                _ if p.crack_band.is_some() => "crack opening w (mm)".into(),
+                None | Some("time") => "time (s)".into(),
+                Some(c) => match &p.x_minus {
+                    Some(m) => format!("{c} - {m}"),
+                    None => c.to_string(),
+                },
+            },
+            y_label: p.y_label.clone(),
+            series: match (&p.crack_band, &spec.scene) {
+                (Some(band), Some(scene)) => crate::band::plot_series(band, scene, &|c| {
+                    history
+                        .column(c)
+                        .ok_or_else(|| format!("the history has no column `{c}`"))
+                })
+                .unwrap_or_else(|e| {
+                    eprintln!("plot `{}`: {e}", p.title);
+                    Vec::new()
+                }),
+                _ => Vec::new(),
+            }
+            .into_iter()
+            .chain(p.columns.iter().filter_map(|c| {
+                let mut x = history.column(p.x_column.as_deref().unwrap_or("time"))?;
+                if let Some(minus) = &p.x_minus {
+                    let m = history.column(minus)?;
+                    x.iter_mut().zip(m).for_each(|(a, b)| *a -= b);
+                }
+                let scale = p.y_scale.unwrap_or(1.0);
+                history.column(c).map(|y| Series {
+                    name: c.clone(),
+                    x,
+                    y: y.into_iter().map(|v| scale * v).collect(),
+                })
+            }))
+            .chain(p.reference_curves.iter().filter_map(|r| {
+                r.read().ok().map(|(x, y)| Series {
+                    name: r.label.clone(),
+                    x,
+                    y,
+                })
+            }))
+            .collect(),
+            reference_lines: p
+                .reference_metric
+                .iter()
+                .filter_map(|name| metrics.iter().find(|m| &m.name == name))
+                .map(|m| ReferenceLine {
+                    label: format!("{} reference", m.name),
+                    y: m.reference,
+                    band: band(m),
+                })
+                .collect(),
+            log_log: false,
+        })
+        .collect()
+}
+
+fn band(m: &MetricResult) -> Option<[f64; 2]> {
+    m.tolerance_kind.band(m.reference, m.tolerance)
+}
+
+/// The contact solver's record over a run of a scene with contact.
+fn contact_stats(
+    problem: &impact_solver::model::Problem,
+    run: &Execution,
+) -> Option<crate::results::ContactSolverStats> {
+    let pair = problem.contact.first()?;
+    let summary = run.summary.as_ref()?;
+    let t = summary.contact_totals;
+    Some(crate::results::ContactSolverStats {
+        solver: pair.algorithm.name(),
+        steps_with_contact: t.steps_with_contact,
+        solves: t.solves,
+        not_converged: t.not_converged,
+        unresolved: t.unresolved,
+        iterations: t.iterations,
+        contact_seconds: summary.contact_seconds,
+    })
+}

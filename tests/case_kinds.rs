@@ -1,0 +1,169 @@
+//! Reading case files of every kind through the registry: the two passes, the errors that name
+//! the key to change, and a `contact_problems` case run and judged end to end.
+
+use impact_vv::case_file::load_case as load;
+use impact_vv::case_kind::{LoadedCase, RunOptions};
+use impact_vv::registry::KINDS;
+use impact_vv::results::Status;
+
+fn load_case(path: &std::path::Path) -> Result<LoadedCase, impact_vv::case_file::CatalogueError> {
+    load(path, &KINDS)
+}
+
+fn run(case: &LoadedCase) -> impact_vv::results::CaseResult {
+    let options = RunOptions {
+        output_dir: None,
+        time_limit_s: 1.0,
+        parallel: false,
+        stop: None,
+    };
+    case.kind.run(case, None, &options)
+}
+
+fn write_case(name: &str, body: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "impact-vv-case-kinds-{name}-{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("case.yaml");
+    std::fs::write(&path, body).unwrap();
+    path
+}
+
+const HEAD: &str = "id: x\ndescription: d\ntier: nightly\n";
+
+const METRIC: &str = "metrics:
+  - name: gs_error
+    measure: { contact_problem_error: { solver: gauss-seidel/exact, problems: [a], tolerance: 1.0e-8 } }
+    reference: { analytic: zero }
+    tolerance: { at_most: 1.0e-8 }
+";
+
+/// Without a kind's key a case runs its scene, so it needs one; with `contact_problems` its
+/// block is read strictly (paths from the case's folder, defaults, unknown fields named with
+/// their line) and its metrics are checked against what the comparison runs.
+#[test]
+fn a_case_is_of_one_kind_and_each_kind_reads_its_block_strictly() {
+    let none = write_case("none", &format!("{HEAD}{METRIC}"));
+    let e = load_case(&none).unwrap_err().to_string();
+    assert!(e.contains("case.yaml") && e.contains("no `scene`"), "{e}");
+
+    let ok = write_case(
+        "ok",
+        &format!("{HEAD}contact_problems: {{ folder: data }}\n{METRIC}"),
+    );
+    let case = load_case(&ok).unwrap();
+    assert_eq!(case.kind.name(), "contact_problems");
+    let kind = format!("{:?}", case.kind);
+    let folder = format!("{:?}", ok.parent().unwrap().join("data"));
+    assert!(kind.contains(&folder), "relative to the case file: {kind}");
+    assert!(kind.contains("tolerances: [0.0001, 1e-6, 1e-8]"), "{kind}");
+
+    let bad_tol = write_case(
+        "tol",
+        &format!("{HEAD}contact_problems: {{ folder: d, tolerances: [1.0e-4] }}\n{METRIC}"),
+    );
+    let e = load_case(&bad_tol).unwrap_err().to_string();
+    assert!(
+        e.contains("tolerance 1e-8") && e.contains("gs_error"),
+        "{e}"
+    );
+
+    let typo = write_case(
+        "typo",
+        &format!("{HEAD}contact_problems:\n  folder: d\n  time_limit: 3\n{METRIC}"),
+    );
+    let e = load_case(&typo).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown field `time_limit`") && e.contains("line 6"),
+        "the key and its line in the file: {e}"
+    );
+
+    let with_scene = write_case(
+        "both",
+        &format!(
+            "{HEAD}contact_problems: {{ folder: d }}\n\
+             scene: {{ name: s, bodies: [], analysis: {{ static: {{}} }} }}\n{METRIC}"
+        ),
+    );
+    let e = load_case(&with_scene).unwrap_err().to_string();
+    assert!(e.contains("remove `scene`"), "{e}");
+
+    let two_kinds = write_case(
+        "two",
+        &format!(
+            "{HEAD}contact_problems: {{ folder: d }}\n\
+             material_point: {{ material: m.yaml, experiment: uniaxial_tension }}\n{METRIC}"
+        ),
+    );
+    let e = load_case(&two_kinds).unwrap_err().to_string();
+    assert!(
+        e.contains("`material_point` and `contact_problems`") && e.contains("keep one"),
+        "{e}"
+    );
+
+    let scene_measure = write_case(
+        "measure",
+        &format!(
+            "{HEAD}contact_problems: {{ folder: d }}\nmetrics:\n  - name: k\n    \
+             measure: {{ history_final: {{ column: kinetic }} }}\n    \
+             reference: {{ analytic: zero }}\n    tolerance: {{ at_most: 1.0 }}\n"
+        ),
+    );
+    let e = load_case(&scene_measure).unwrap_err().to_string();
+    assert!(
+        e.contains("metric `k`") && e.contains("contact_problems"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_missing_folder_skips_the_case_saying_where_the_data_belongs() {
+    let path = write_case(
+        "missing",
+        &format!("{HEAD}contact_problems: {{ folder: no/such/folder }}\n{METRIC}"),
+    );
+    let r = run(&load_case(&path).unwrap());
+    assert_eq!(r.status, Status::Skipped);
+    let m = r.message.unwrap();
+    assert!(
+        m.contains("no/such/folder") && m.contains("shared/data/contact-problems"),
+        "{m}"
+    );
+}
+
+#[test]
+fn a_case_on_a_folder_is_judged_and_an_unreadable_file_fails_it() {
+    let path = write_case(
+        "folder",
+        "id: x\ndescription: d\ntier: nightly\n\
+         contact_problems: { folder: data, tolerances: [1.0e-8], time_limit_s: 5, solvers: [gauss-seidel/exact] }\n\
+         metrics:\n  - name: e\n    measure: { contact_problem_error: { solver: gauss-seidel/exact, tolerance: 1.0e-8 } }\n\
+         \x20   reference: { analytic: zero }\n    tolerance: { at_most: 1.0e-8 }\n",
+    );
+    let data = path.parent().unwrap().join("data");
+    std::fs::create_dir_all(&data).unwrap();
+    // W = 2 I, q = (-1, 0.1, 0), mu = 0.5: the contact sticks with r = (0.5, -0.05, 0).
+    let problem = serde_json::json!({
+        "format": "contact-problem/1",
+        "dimension": 3,
+        "contacts": 1,
+        "mu": [0.5],
+        "q": [-1.0, 0.1, 0.0],
+        "W": { "rows": 3, "cols": 3, "triplets": [[0, 0, 2.0], [1, 1, 2.0], [2, 2, 2.0]] },
+    });
+    std::fs::write(data.join("one.json"), problem.to_string()).unwrap();
+    let case = load_case(&path).unwrap();
+    let r = run(&case);
+    assert_eq!(r.status, Status::Pass, "{:?}", r.message);
+    assert!(r.metrics[0].value <= 1e-8);
+    let c = r.contact_comparison.as_ref().unwrap();
+    assert_eq!((c.problems.len(), c.rows.len()), (1, 1));
+
+    std::fs::write(data.join("zz-broken.json"), "[]").unwrap();
+    let r = run(&case);
+    assert_eq!(r.status, Status::Fail);
+    assert!(r.message.unwrap().contains("zz-broken.json"));
+    std::fs::remove_dir_all(data).ok();
+}
