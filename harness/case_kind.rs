@@ -83,6 +83,26 @@ impl Block {
     }
 }
 
+/// The result of a case before it has run: an error until something better is known.
+pub fn unfinished_result(spec: &CaseSpec, variant: &str) -> CaseResult {
+    CaseResult {
+        id: spec.id.clone(),
+        variant: variant.into(),
+        status: crate::results::Status::Error,
+        wall_s: 0.0,
+        metrics: Vec::new(),
+        description: spec.description.clone(),
+        tier: spec.tier.name().into(),
+        tags: spec.tags.clone(),
+        message: None,
+        plots: Vec::new(),
+        sweep: None,
+        contact: None,
+        records: Default::default(),
+        known_failure: None,
+    }
+}
+
 /// Reads a kind from its block (`None` for the default kind, which has no key) and the common
 /// part of the case, already read with its paths resolved against the case file's folder
 /// (`base`). It checks everything the kind needs of the case (a scene or none, the metrics'

@@ -20,11 +20,11 @@
 //! QP; both still run, and their rows say so in a note. Timings are wall times on whatever else
 //! the machine runs: inside `impact-vv run` other cases may run beside the comparison.
 
-pub mod case;
 pub mod command;
 pub mod descriptors;
 pub mod output;
 pub mod profile;
+pub mod report;
 pub mod run;
 pub mod tables;
 
@@ -138,6 +138,9 @@ pub struct Comparison {
 }
 
 impl Comparison {
+    /// Its key among a case result's records.
+    pub const KEY: &'static str = "contact_comparison";
+
     /// The row of `problem`, `solver` at `tolerance`, if it ran.
     pub fn row(&self, problem: &str, solver: &str, tolerance: f64) -> Option<&ComparisonRow> {
         self.rows.iter().find(|r| {

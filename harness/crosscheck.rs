@@ -16,6 +16,7 @@ pub mod ccd;
 pub mod ccd_queries;
 pub mod elastic_beam;
 pub mod python;
+pub mod report;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -23,11 +24,13 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::case_kind::{
+    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+};
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
-use crate::material_point::{MaterialPlot, RecordTable};
 use crate::results::{case_dir, CaseResult};
+use crate::results::{MaterialPlot, RecordTable};
 pub use cache::Provenance;
 
 /// The `crosscheck:` entry of a case: which independent comparison it runs.
@@ -72,6 +75,11 @@ pub struct CrosscheckRecord {
     pub plots: Vec<MaterialPlot>,
     #[serde(default)]
     pub notes: Vec<String>,
+}
+
+impl CrosscheckRecord {
+    /// Its key among a case result's records.
+    pub const KEY: &'static str = "crosscheck";
 }
 
 /// What a `crosscheck` case measures: `{ crosscheck: <quantity> }`.
@@ -162,7 +170,7 @@ pub fn parse(
 fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
-    let mut result = CaseResult::unfinished(spec, "default");
+    let mut result = unfinished_result(spec, "default");
     let c = &kind.spec;
     let case_folder = case.path.parent().unwrap_or(Path::new("."));
     let time_limit = spec.time_limit_s.unwrap_or(options.time_limit_s);
@@ -236,7 +244,7 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
     result.status = status;
     result.message = Some(message);
     result.metrics = judgement.metrics;
-    result.crosscheck = Some(CrosscheckRecord {
+    let record = CrosscheckRecord {
         kind: c.name().into(),
         provenance: Some(provenance),
         setup,
@@ -244,7 +252,8 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
         tables,
         plots,
         notes,
-    });
+    };
+    result.set_record(CrosscheckRecord::KEY, &record);
     result
 }
 

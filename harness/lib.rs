@@ -10,6 +10,7 @@ pub mod case_file;
 pub mod case_kind;
 pub mod catalogue;
 pub mod contact_compare;
+pub mod contact_problems;
 pub mod crosscheck;
 pub mod execute;
 pub mod judge;

@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 use impact_vv::case_file::{load_case, load_catalogue, matches};
 use impact_vv::case_kind::{LoadedCase, RunOptions};
 use impact_vv::catalogue::Tier;
-use impact_vv::registry::KINDS;
+use impact_vv::registry::{KINDS, SECTIONS};
 use impact_vv::results::{RunResults, Status};
 use impact_vv::run_log::{self, RunLog};
 use impact_vv::runner::run_cases;
@@ -330,7 +330,7 @@ fn main() -> ExitCode {
                 }
             };
             let history = report::read_history(&reports.join("history.jsonl")).unwrap_or_default();
-            match report::write_report(&run, &results, &history) {
+            match report::write_report(&run, &results, &history, &SECTIONS) {
                 Ok(index) => {
                     println!("report: {}", index.display());
                     ExitCode::from(results.exit_code())
@@ -513,7 +513,7 @@ fn run(
     let _ = std::fs::create_dir_all(reports);
     let _ = std::fs::write(reports.join("last-failed.txt"), failed.join("\n"));
     let history = report::read_history(&history_path).unwrap_or_default();
-    match report::write_report(&dir, &results, &history) {
+    match report::write_report(&dir, &results, &history, &SECTIONS) {
         Ok(index) => println!("report: {}", index.display()),
         Err(e) => {
             eprintln!("error: cannot write the report: {e}");

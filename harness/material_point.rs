@@ -25,6 +25,7 @@
 
 pub mod experiments;
 pub mod plots;
+pub mod report;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -35,10 +36,12 @@ use impact_solver::material::microplane::experiments::FracturePath;
 use impact_solver::material::microplane::{MicroplaneParameters, SphereRule};
 use serde::{Deserialize, Serialize};
 
-use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::case_kind::{
+    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+};
 use crate::catalogue::{CaseSpec, Tolerance, Variant};
 use crate::judge::judge_metrics;
-use crate::results::{lenient, CaseResult, PlotData};
+use crate::results::{lenient, CaseResult};
 
 /// The `material_point` entry of a case: a parameter file, an experiment and its options. Each
 /// experiment accepts the options listed in [`Experiment::options`]; any other is an error.
@@ -529,6 +532,11 @@ pub struct MaterialRecord {
     pub notes: Vec<String>,
 }
 
+impl MaterialRecord {
+    /// Its key among a case result's records.
+    pub const KEY: &'static str = "material";
+}
+
 /// A measured value in the record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RecordedValue {
@@ -544,42 +552,7 @@ pub struct RecordedValue {
     pub judged_by: Vec<String>,
 }
 
-/// A table of the record.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RecordTable {
-    pub title: String,
-    pub head: Vec<String>,
-    pub rows: Vec<Vec<String>>,
-    /// What the table shows and how to read it.
-    #[serde(default)]
-    pub note: String,
-}
-
-/// A plot of the record: a [`PlotData`] with a logarithmic x axis, target windows and dashed
-/// reference curves where it needs them.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MaterialPlot {
-    pub plot: PlotData,
-    #[serde(default)]
-    pub log_x: bool,
-    #[serde(default)]
-    pub log_y: bool,
-    #[serde(default)]
-    pub boxes: Vec<TargetBox>,
-    /// Names of the series that are references (drawn dashed).
-    #[serde(default)]
-    pub dashed: Vec<String>,
-}
-
-/// A target window `[x_lo, x_hi] x [y_lo, y_hi]` in the plot's units.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TargetBox {
-    pub label: String,
-    #[serde(deserialize_with = "lenient::vec")]
-    pub x: Vec<f64>,
-    #[serde(deserialize_with = "lenient::vec")]
-    pub y: Vec<f64>,
-}
+pub use crate::results::{MaterialPlot, RecordTable, TargetBox};
 
 /// Reads the parameters of a parameter file with the solver's loader
 /// ([`impact_solver::material::read_microplane_file`]: `parameters:` checked, an optional
@@ -880,7 +853,7 @@ pub struct Outcome {
 fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
-    let mut result = CaseResult::unfinished(spec, "default");
+    let mut result = unfinished_result(spec, "default");
     let mp = &kind.spec;
     let parameters = match read_parameters(&mp.material) {
         Ok(p) => p,
@@ -936,7 +909,7 @@ fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
     result.status = status;
     result.message = Some(message);
     result.metrics = judgement.metrics;
-    result.material = Some(MaterialRecord {
+    let record = MaterialRecord {
         material: lexically_normal(&mp.material).display().to_string(),
         experiment: mp.experiment.name().to_string(),
         setup: outcome.setup,
@@ -955,6 +928,7 @@ fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
         tables: outcome.tables,
         plots: outcome.plots,
         notes: outcome.notes,
-    });
+    };
+    result.set_record(MaterialRecord::KEY, &record);
     result
 }

@@ -249,35 +249,6 @@ fn replay_tolerance() -> f64 {
     1e-10
 }
 
-/// How several values reduce to one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Statistic {
-    /// The largest (the worst error).
-    #[default]
-    Max,
-    Min,
-    /// The arithmetic mean.
-    Mean,
-}
-
-impl Statistic {
-    /// The statistic of `values`; NaN when there are none, and NaN (or infinity) propagates.
-    pub fn of(self, values: &[f64]) -> f64 {
-        if values.is_empty() {
-            return f64::NAN;
-        }
-        if values.iter().any(|v| v.is_nan()) {
-            return f64::NAN;
-        }
-        match self {
-            Statistic::Max => values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            Statistic::Min => values.iter().copied().fold(f64::INFINITY, f64::min),
-            Statistic::Mean => values.iter().sum::<f64>() / values.len() as f64,
-        }
-    }
-}
-
 /// A displacement axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -1,7 +1,13 @@
-//! The kinds of case the catalogue knows, in one place: the only module that imports them.
-//! Adding a kind is its folder and one line here.
+//! The kinds of case the catalogue knows and the report sections they contribute, in one
+//! place: the only module that imports them. Adding a kind is its folder and one line here
+//! (two when it brings a section of its own).
 
 use crate::case_kind::{KindEntry, Registry};
+use crate::contact_compare::report::ContactSection;
+use crate::crosscheck::report::CrosscheckSection;
+use crate::material_point::report::MaterialSection;
+use crate::report::beam::section::BeamSection;
+use crate::report::section::Section;
 
 /// Every kind, under its key in a case file; a case without any of the keys runs its scene.
 pub static KINDS: Registry = Registry {
@@ -12,7 +18,7 @@ pub static KINDS: Registry = Registry {
         },
         KindEntry {
             key: "contact_problems",
-            parse: crate::contact_compare::case::parse,
+            parse: crate::contact_problems::parse,
         },
         KindEntry {
             key: "crosscheck",
@@ -21,3 +27,11 @@ pub static KINDS: Registry = Registry {
     ],
     default: crate::scene_case::parse,
 };
+
+/// The sections the kinds contribute to the report, in page order.
+pub static SECTIONS: [&dyn Section; 4] = [
+    &ContactSection,
+    &MaterialSection,
+    &CrosscheckSection,
+    &BeamSection,
+];

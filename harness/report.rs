@@ -6,23 +6,24 @@
 //! it opens from a CI artifact or a mail attachment without network access or fonts.
 
 mod axis;
-pub(crate) mod beam;
-mod contact;
-mod crosscheck;
-mod diagrams;
-pub(crate) mod format;
+pub mod beam;
+pub mod blocks;
+pub(crate) mod diagrams;
+pub mod format;
 mod history;
 mod html;
 mod markdown;
-mod material;
-mod plot;
-mod summary;
+pub mod plot;
+pub mod records;
+pub mod section;
+pub mod summary;
 
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
 use crate::results::{HistoryRecord, RunResults};
+use section::{Page, Section};
 
 pub use history::{append_history, read_history};
 pub use plot::render_plot;
@@ -31,18 +32,25 @@ pub use plot::render_plot;
 /// `<dir>/results.json`, creating `dir` if needed; returns the index path.
 ///
 /// `history` should already contain this run's records (see [`RunResults::history_records`]),
-/// so that each trend ends with the run being reported.
+/// so that each trend ends with the run being reported. `sections` are the sections the kinds
+/// of case contribute (`crate::registry::SECTIONS`), in page order.
 pub fn write_report(
     dir: &Path,
     results: &RunResults,
     history: &[HistoryRecord],
+    sections: &[&dyn Section],
 ) -> io::Result<PathBuf> {
     fs::create_dir_all(dir)?;
     let json = serde_json::to_string_pretty(results).map_err(io::Error::other)?;
     fs::write(dir.join("results.json"), json + "\n")?;
-    let beams = beam::load(dir, results);
-    fs::write(dir.join("summary.md"), markdown::summary(results, &beams))?;
+    let summaries = summary::summaries(results);
+    let page = Page {
+        results,
+        summaries: &summaries,
+        run_dir: dir,
+    };
+    fs::write(dir.join("summary.md"), markdown::summary(&page, sections))?;
     let index = dir.join("index.html");
-    fs::write(&index, html::page(results, history, &beams))?;
+    fs::write(&index, html::page(&page, history, sections))?;
     Ok(index)
 }

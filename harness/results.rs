@@ -202,18 +202,11 @@ pub struct CaseResult {
     /// How the contact solver fared over the judged run, for scenes with contact.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSolverStats>,
-    /// The contact-solver comparison of a `contact_problems` case (no scene): problems, their
-    /// descriptors and one row per problem, solver and tolerance.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact_comparison: Option<crate::contact_compare::Comparison>,
-    /// What the experiment of a `material_point` case measured and drew (values, tables,
-    /// plots with targets), for the report's "Concrete material" section.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub material: Option<crate::material_point::MaterialRecord>,
-    /// What a `crosscheck` case compared (tables, plots, and whether the independent answer
-    /// was fresh or cached), for the report's "Independent cross-checks" section.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub crosscheck: Option<crate::crosscheck::CrosscheckRecord>,
+    /// What the case's kind recorded for its part of the report, under the kind's key
+    /// (`contact_comparison`, `material`, `crosscheck`, ...): written and read by the kind
+    /// ([`CaseResult::record`], [`CaseResult::set_record`]), carried as JSON by everything else.
+    #[serde(flatten, default)]
+    pub records: BTreeMap<String, serde_json::Value>,
     /// The case's `known_failure` (the debt it records, from its YAML): a failure so described
     /// does not fail the run (see [`RunResults::exit_code`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -221,25 +214,19 @@ pub struct CaseResult {
 }
 
 impl CaseResult {
-    /// The result of a case before it has run: an error until something better is known.
-    pub fn unfinished(spec: &crate::catalogue::CaseSpec, variant: &str) -> CaseResult {
-        CaseResult {
-            id: spec.id.clone(),
-            variant: variant.into(),
-            status: Status::Error,
-            wall_s: 0.0,
-            metrics: Vec::new(),
-            description: spec.description.clone(),
-            tier: spec.tier.name().into(),
-            tags: spec.tags.clone(),
-            message: None,
-            plots: Vec::new(),
-            sweep: None,
-            contact: None,
-            contact_comparison: None,
-            material: None,
-            crosscheck: None,
-            known_failure: None,
+    /// The record a kind stored under `key`, read back as its type; `None` when there is none
+    /// or it does not read (a results file of another version).
+    pub fn record<T: serde::de::DeserializeOwned>(&self, key: &str) -> Option<T> {
+        serde_json::from_value(self.records.get(key)?.clone()).ok()
+    }
+
+    /// Stores a kind's record under `key`.
+    pub fn set_record<T: Serialize>(&mut self, key: &str, record: &T) {
+        match serde_json::to_value(record) {
+            Ok(v) => {
+                self.records.insert(key.to_string(), v);
+            }
+            Err(e) => eprintln!("{}: the `{key}` record could not be stored: {e}", self.id),
         }
     }
 
@@ -344,6 +331,44 @@ impl RunResults {
     pub fn exit_code(&self) -> u8 {
         u8::from(self.cases.iter().any(CaseResult::fails_the_run))
     }
+}
+
+/// A table a kind records for its part of the report (material-point experiments,
+/// cross-checks): title, head, rows of text, and how to read it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecordTable {
+    pub title: String,
+    pub head: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+    /// What the table shows and how to read it.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// A plot a kind records for its part of the report: a [`PlotData`] with a logarithmic x axis, target windows and dashed
+/// reference curves where it needs them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MaterialPlot {
+    pub plot: PlotData,
+    #[serde(default)]
+    pub log_x: bool,
+    #[serde(default)]
+    pub log_y: bool,
+    #[serde(default)]
+    pub boxes: Vec<TargetBox>,
+    /// Names of the series that are references (drawn dashed).
+    #[serde(default)]
+    pub dashed: Vec<String>,
+}
+
+/// A target window `[x_lo, x_hi] x [y_lo, y_hi]` in the plot's units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TargetBox {
+    pub label: String,
+    #[serde(deserialize_with = "lenient::vec")]
+    pub x: Vec<f64>,
+    #[serde(deserialize_with = "lenient::vec")]
+    pub y: Vec<f64>,
 }
 
 #[cfg(test)]

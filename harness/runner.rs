@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::case_kind::LoadedCase;
 pub use crate::case_kind::RunOptions;
+use crate::case_kind::{unfinished_result, LoadedCase};
 use crate::catalogue::Variant;
 use crate::results::{CaseResult, Status};
 
@@ -34,7 +34,7 @@ pub fn run_cases(
             .as_ref()
             .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed));
         let result = if stopped {
-            let mut r = CaseResult::unfinished(&case.spec, variant.map_or("default", |v| &v.name));
+            let mut r = unfinished_result(&case.spec, variant.map_or("default", |v| &v.name));
             r.status = Status::Interrupted;
             r.message = Some("interrupted before it started".into());
             r

@@ -10,7 +10,9 @@ use std::time::Instant;
 use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::SolverError;
 
-use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
+use crate::case_kind::{
+    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+};
 use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
@@ -81,7 +83,7 @@ fn run_case(
     options: &RunOptions,
 ) -> CaseResult {
     let spec = &case.spec;
-    let mut result = CaseResult::unfinished(spec, variant.map_or("default", |v| v.name.as_str()));
+    let mut result = unfinished_result(spec, variant.map_or("default", |v| v.name.as_str()));
     let Some(scene) = &spec.scene else {
         result.message = Some("the case has no scene".into());
         return result;

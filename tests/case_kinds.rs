@@ -3,6 +3,7 @@
 
 use impact_vv::case_file::load_case as load;
 use impact_vv::case_kind::{LoadedCase, RunOptions};
+use impact_vv::contact_compare::Comparison;
 use impact_vv::registry::KINDS;
 use impact_vv::results::Status;
 
@@ -158,7 +159,7 @@ fn a_case_on_a_folder_is_judged_and_an_unreadable_file_fails_it() {
     let r = run(&case);
     assert_eq!(r.status, Status::Pass, "{:?}", r.message);
     assert!(r.metrics[0].value <= 1e-8);
-    let c = r.contact_comparison.as_ref().unwrap();
+    let c: Comparison = r.record(Comparison::KEY).unwrap();
     assert_eq!((c.problems.len(), c.rows.len()), (1, 1));
 
     std::fs::write(data.join("zz-broken.json"), "[]").unwrap();

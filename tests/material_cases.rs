@@ -12,8 +12,9 @@ use std::path::{Path, PathBuf};
 use impact_vv::case_file::{load_case, load_catalogue};
 use impact_vv::case_kind::LoadedCase;
 use impact_vv::catalogue::Tier;
-use impact_vv::material_point::MaterialPointCase;
+use impact_vv::material_point::{MaterialPointCase, MaterialRecord};
 use impact_vv::registry::KINDS;
+use impact_vv::registry::SECTIONS;
 use impact_vv::report::write_report;
 use impact_vv::results::{CaseResult, RunResults, Status};
 use impact_vv::runner::{run_cases, RunOptions};
@@ -87,7 +88,9 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
             r.id,
             r.message
         );
-        let record = r.material.as_ref().expect("a material record");
+        let record = r
+            .record::<MaterialRecord>(MaterialRecord::KEY)
+            .expect("a material record");
         assert!(
             !record.values.is_empty() && !record.plots.is_empty(),
             "{}",
@@ -161,7 +164,9 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
         .and_then(|c| c.kind.as_any().downcast_ref::<MaterialPointCase>())
         .map(|m| m.spec.cycles.len())
         .unwrap();
-    let record = cyclic.material.as_ref().unwrap();
+    let record = cyclic
+        .record::<MaterialRecord>(MaterialRecord::KEY)
+        .unwrap();
     for setting in ["default (no trace term)", "with trace term"] {
         let recorded = record
             .values
@@ -173,11 +178,12 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
 
     // Targets are drawn: the tension peak window, the crack-band GF band, the MC2010 curves.
     let tension = by_id("material/uniaxial-tension")
-        .material
-        .as_ref()
+        .record::<MaterialRecord>(MaterialRecord::KEY)
         .unwrap();
     assert!(tension.plots.iter().any(|p| !p.boxes.is_empty()));
-    let band = by_id("material/crack-band").material.as_ref().unwrap();
+    let band = by_id("material/crack-band")
+        .record::<MaterialRecord>(MaterialRecord::KEY)
+        .unwrap();
     assert_eq!(
         band.values
             .iter()
@@ -194,14 +200,13 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
         .iter()
         .any(|p| p.dashed.iter().any(|d| d.starts_with("MC2010 bilinear"))));
     let compression = by_id("material/uniaxial-compression")
-        .material
-        .as_ref()
+        .record::<MaterialRecord>(MaterialRecord::KEY)
         .unwrap();
     assert!(compression
         .values
         .iter()
         .any(|v| v.quantity == "mc2010_curve_misfit" && v.value.is_finite()));
-    let rate_record = rate.material.as_ref().unwrap();
+    let rate_record = rate.record::<MaterialRecord>(MaterialRecord::KEY).unwrap();
     let dif_plots: Vec<_> = rate_record.plots.iter().filter(|p| p.log_x).collect();
     assert_eq!(dif_plots.len(), 2, "tension and compression DIF plots");
     assert!(dif_plots
@@ -222,13 +227,13 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
     };
     let dir = std::env::temp_dir().join(format!("impact-vv-material-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let index = write_report(&dir, &run, &run.history_records()).expect("report");
+    let index = write_report(&dir, &run, &run.history_records(), &SECTIONS).expect("report");
     let html = std::fs::read_to_string(index).unwrap();
     let start = html.find("id=\"concrete-material\"").expect("section");
     let section = &html[start..start + html[start..].find("</section>").unwrap()];
     let plots: usize = results
         .iter()
-        .filter_map(|r| r.material.as_ref())
+        .filter_map(|r| r.record::<MaterialRecord>(MaterialRecord::KEY))
         .map(|m| m.plots.len())
         .sum();
     assert_eq!(section.matches("<svg").count(), plots);
@@ -240,7 +245,10 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
     let json = std::fs::read_to_string(dir.join("results.json")).unwrap();
     let back: RunResults = serde_json::from_str(&json).expect("results.json reads back");
     assert_eq!(back.cases.len(), results.len());
-    assert!(back.cases.iter().all(|c| c.material.is_some()));
+    assert!(back
+        .cases
+        .iter()
+        .all(|c| c.record::<MaterialRecord>(MaterialRecord::KEY).is_some()));
     std::fs::remove_dir_all(&dir).ok();
 }
 

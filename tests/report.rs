@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::PathBuf;
 
+use impact_vv::registry::SECTIONS;
 use impact_vv::report::{append_history, read_history, render_plot, write_report};
 use impact_vv::results::{
     CaseResult, HistoryRecord, MetricResult, PlotData, ReferenceLine, RunResults, Series, Status,
@@ -85,9 +86,7 @@ fn pass_case() -> CaseResult {
         plots: vec![history_plot()],
         sweep: None,
         contact: None,
-        contact_comparison: None,
-        material: None,
-        crosscheck: None,
+        records: Default::default(),
         known_failure: None,
     }
 }
@@ -135,9 +134,7 @@ fn fail_case() -> CaseResult {
         plots: vec![],
         sweep: Some(sweep),
         contact: None,
-        contact_comparison: None,
-        material: None,
-        crosscheck: None,
+        records: Default::default(),
         known_failure: None,
     }
 }
@@ -156,9 +153,7 @@ fn error_case() -> CaseResult {
         plots: vec![],
         sweep: None,
         contact: None,
-        contact_comparison: None,
-        material: None,
-        crosscheck: None,
+        records: Default::default(),
         known_failure: None,
     }
 }
@@ -233,7 +228,7 @@ fn assert_same_up_to_last_bit(a: &serde_json::Value, b: &serde_json::Value, path
 fn report_shows_every_case_and_escapes_messages() {
     let dir = scratch("full");
     let run = results("run-3");
-    let index = write_report(&dir, &run, &three_run_history(&run)).unwrap();
+    let index = write_report(&dir, &run, &three_run_history(&run), &SECTIONS).unwrap();
     assert_eq!(index, dir.join("index.html"));
     let page = fs::read_to_string(&index).unwrap();
     eprintln!("report written to {}", index.display());
@@ -290,7 +285,8 @@ fn first_run_has_no_trend() {
     let dir = scratch("first");
     let run = results("run-1");
     let page =
-        fs::read_to_string(write_report(&dir, &run, &run.history_records()).unwrap()).unwrap();
+        fs::read_to_string(write_report(&dir, &run, &run.history_records(), &SECTIONS).unwrap())
+            .unwrap();
     assert_eq!(page.matches("no trend yet (first run)").count(), 3);
     assert!(page.contains("3 failed") || page.contains("1 failed, 1 error"));
     let _ = fs::remove_dir_all(&dir);
@@ -451,7 +447,7 @@ fn comparison_case() -> CaseResult {
     case.variant = "default".into();
     case.status = Status::Pass;
     case.message = None;
-    case.contact_comparison = Some(Comparison {
+    let comparison = Comparison {
         normalisation: NORMALISATION.into(),
         tolerances: vec![1e-4, 1e-8],
         time_limit_s: 10.0,
@@ -462,7 +458,8 @@ fn comparison_case() -> CaseResult {
         ],
         unreadable: vec![],
         rows,
-    });
+    };
+    case.set_record(Comparison::KEY, &comparison);
     case
 }
 
@@ -510,7 +507,8 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
     let dir = scratch("contact");
     let run = contact_results();
     let page =
-        fs::read_to_string(write_report(&dir, &run, &run.history_records()).unwrap()).unwrap();
+        fs::read_to_string(write_report(&dir, &run, &run.history_records(), &SECTIONS).unwrap())
+            .unwrap();
     let start = page
         .find("<section id=\"contact-algorithms\">")
         .expect("the section");
@@ -576,8 +574,8 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
     let back: RunResults =
         serde_json::from_str(&fs::read_to_string(dir.join("results.json")).unwrap()).unwrap();
     assert_eq!(
-        back.cases[0].contact_comparison,
-        run.cases[0].contact_comparison
+        back.cases[0].records[Comparison::KEY],
+        run.cases[0].records[Comparison::KEY]
     );
     let _ = fs::remove_dir_all(&dir);
 }
@@ -586,7 +584,7 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
 fn a_run_without_contact_solvers_has_no_contact_section_and_old_results_load() {
     let dir = scratch("no-contact");
     let run = results("run-1");
-    let page = fs::read_to_string(write_report(&dir, &run, &[]).unwrap()).unwrap();
+    let page = fs::read_to_string(write_report(&dir, &run, &[], &SECTIONS).unwrap()).unwrap();
     assert!(!page.contains("contact-algorithms"));
     assert!(!fs::read_to_string(dir.join("summary.md"))
         .unwrap()
@@ -595,7 +593,7 @@ fn a_run_without_contact_solvers_has_no_contact_section_and_old_results_load() {
     let old = r#"{"run_id": "old", "commit": "abc", "tier": "quick", "cases": [
         {"id": "a", "variant": "default", "status": "pass", "wall_s": 1.0, "metrics": []}]}"#;
     let old: RunResults = serde_json::from_str(old).unwrap();
-    assert!(old.cases[0].contact.is_none() && old.cases[0].contact_comparison.is_none());
-    assert!(write_report(&dir, &old, &[]).is_ok());
+    assert!(old.cases[0].contact.is_none() && old.cases[0].records.is_empty());
+    assert!(write_report(&dir, &old, &[], &SECTIONS).is_ok());
     let _ = fs::remove_dir_all(&dir);
 }

@@ -24,7 +24,7 @@ use super::ccd_queries::{
     our_time_of_impact, random_queries, read_queries, record_from_case, write_queries, CcdQuery,
     QuerySource,
 };
-use crate::material_point::{MaterialPlot, RecordTable};
+use crate::results::{MaterialPlot, RecordTable};
 use crate::results::{PlotData, Series};
 
 /// The `crosscheck: { ccd: ... }` entry of a case.

@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use super::cache::{cache_path, obtain, Provenance};
-use crate::material_point::RecordTable;
+use crate::results::RecordTable;
 
 /// The `crosscheck: { elastic_beam: ... }` entry of a case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -19,6 +19,8 @@ use impact_solver::scene::{Analysis, MeshSource, Scene};
 use impact_solver::Vector3;
 use serde::{Deserialize, Serialize};
 
+pub mod section;
+
 use super::format::{self, num};
 use crate::execute::Execution;
 use crate::results::{CaseResult, PlotData, RunResults, Series};
@@ -324,13 +326,15 @@ pub fn load(run_dir: &Path, results: &RunResults) -> Vec<(usize, BeamRecord)> {
         .cases
         .iter()
         .enumerate()
-        .filter_map(|(i, c)| {
-            let path = record_path(&crate::results::case_dir(run_dir, &c.id), &c.variant);
-            let text = std::fs::read_to_string(path).ok()?;
-            let record: BeamRecord = serde_json::from_str(&text).ok()?;
-            Some((i, record))
-        })
+        .filter_map(|(i, c)| Some((i, load_one(run_dir, c)?)))
         .collect()
+}
+
+/// The record of one case, if it wrote one.
+pub fn load_one(run_dir: &Path, c: &CaseResult) -> Option<BeamRecord> {
+    let path = record_path(&crate::results::case_dir(run_dir, &c.id), &c.variant);
+    let text = std::fs::read_to_string(path).ok()?;
+    serde_json::from_str(&text).ok()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -865,13 +869,13 @@ fn code_name(text: &str, v: f64) -> Option<String> {
 }
 
 /// The failure-mode comparison in Markdown for `summary.md`; empty without beam pictures.
-pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> String {
+pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option<String> {
     let rows = failure_rows(results, records);
     if rows.is_empty() {
-        return String::new();
+        return None;
     }
     let mut md = String::from(
-        "\n## Beam: failure modes\n\n| case | velocity (m/s) | peak force (kN) | failure_mode |\n|---|---:|---:|---|\n",
+        "| case | velocity (m/s) | peak force (kN) | failure_mode |\n|---|---:|---:|---|\n",
     );
     for r in &rows {
         md.push_str(&format!(
@@ -886,7 +890,7 @@ pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> String
     if let Some(s) = monotonic_statement(&rows) {
         md.push_str(&format!("\n{s}\n"));
     }
-    md
+    Some(md)
 }
 
 #[cfg(test)]

@@ -2,14 +2,11 @@
 //! text from the results goes through [`format::html`]; the helpers below take either escaped
 //! fragments (`Cell::Html`, `inner`) or plain text, and say which.
 
-mod beam;
-mod contact;
-mod crosscheck;
-mod material;
-
+use super::blocks::{badge, element, note, number, plots, table, text, titles, Cell, Row};
 use super::diagrams::{self, Trend};
 use super::format;
 use super::plot::{render_plot, render_plot_sized, TREND_SIZE};
+use super::section::{self, Page, Section};
 use super::summary::{self, status_name, tolerance_ratio, CaseSummary, STATUSES};
 use crate::results::{CaseResult, HistoryRecord, MetricResult, RunResults, Status, SweepResult};
 
@@ -17,20 +14,15 @@ use crate::results::{CaseResult, HistoryRecord, MetricResult, RunResults, Status
 const STYLE: &str = include_str!("style.css");
 
 /// The whole page.
-pub fn page(
-    results: &RunResults,
-    history: &[HistoryRecord],
-    beams: &[(usize, crate::report::beam::BeamRecord)],
-) -> String {
-    let summaries = summary::summaries(results);
+pub fn page(page: &Page<'_>, history: &[HistoryRecord], sections: &[&dyn Section]) -> String {
+    let results = page.results;
     let mut body = header(results);
-    body.push_str(&summary_section(&summaries));
-    body.push_str(&contact::section(results));
-    body.push_str(&material::section(results, &summaries));
-    body.push_str(&crosscheck::section(results, &summaries));
-    body.push_str(&beam::section(results, &summaries, beams));
-    for s in &summaries {
-        body.push_str(&case_section(s, history, beams));
+    body.push_str(&summary_section(page.summaries));
+    for s in sections {
+        body.push_str(&section::html(*s, page));
+    }
+    for s in page.summaries {
+        body.push_str(&case_section(s, page, history, sections));
     }
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
@@ -38,99 +30,6 @@ pub fn page(
          <title>V&amp;V report {}</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n{body}</body>\n</html>\n",
         format::html(&results.run_id)
     )
-}
-
-/// `<tag class="class">inner</tag>`; `inner` must already be HTML.
-fn element(tag: &str, class: &str, inner: &str) -> String {
-    if class.is_empty() {
-        format!("<{tag}>{inner}</{tag}>\n")
-    } else {
-        format!("<{tag} class=\"{class}\">{inner}</{tag}>\n")
-    }
-}
-
-/// A coloured status badge.
-fn badge(status: Status) -> String {
-    let name = status_name(status);
-    format!("<span class=\"badge {name}\">{name}</span>")
-}
-
-/// A table cell: escaped HTML content, or a number (right-aligned, tabular figures).
-enum Cell {
-    Html(String),
-    Num(String),
-}
-
-/// A cell showing plain `text`.
-fn text(text: &str) -> Cell {
-    Cell::Html(format::html(text))
-}
-
-/// A cell showing the number `v`.
-fn number(v: f64) -> Cell {
-    Cell::Num(format::num(v))
-}
-
-/// A table row with an optional CSS class (`bad` for failing rows).
-struct Row {
-    class: &'static str,
-    cells: Vec<Cell>,
-}
-
-impl Row {
-    fn new(cells: Vec<Cell>) -> Self {
-        Row { class: "", cells }
-    }
-}
-
-/// A table with a header row of plain-text titles; wrapped so that wide tables scroll instead of
-/// widening the page.
-fn table(head: &[String], rows: &[Row]) -> String {
-    let head: String = head
-        .iter()
-        .map(|h| format!("<th>{}</th>", format::html(h)))
-        .collect();
-    let body: String = rows.iter().map(row_html).collect();
-    format!(
-        "<div class=\"table-wrap\"><table>\n<thead><tr>{head}</tr></thead>\n<tbody>\n{body}</tbody>\n</table></div>\n"
-    )
-}
-
-/// One `<tr>`.
-fn row_html(row: &Row) -> String {
-    let cells: String = row
-        .cells
-        .iter()
-        .map(|c| match c {
-            Cell::Html(h) => format!("<td>{h}</td>"),
-            Cell::Num(n) => format!("<td class=\"num\">{n}</td>"),
-        })
-        .collect();
-    if row.class.is_empty() {
-        format!("<tr>{cells}</tr>\n")
-    } else {
-        format!("<tr class=\"{}\">{cells}</tr>\n", row.class)
-    }
-}
-
-/// Owned header titles from string literals.
-fn titles(names: &[&str]) -> Vec<String> {
-    names.iter().map(|s| s.to_string()).collect()
-}
-
-/// SVG plots side by side, wrapping to the next line when the page is narrow; `class` is
-/// `plots`, or `plots small` for the trend plots.
-fn plots(class: &str, svgs: impl IntoIterator<Item = String>) -> String {
-    let figures: String = svgs
-        .into_iter()
-        .map(|svg| element("figure", "", &svg))
-        .collect();
-    element("div", class, &figures)
-}
-
-/// A greyed note, for absent content.
-fn note(text: &str) -> String {
-    element("p", "muted", &format::html(text))
 }
 
 /// Title, verdict banner, status counts and the run's provenance.
@@ -233,8 +132,9 @@ fn worst_html(m: &MetricResult) -> String {
 /// The section of one case: what it is, why it did not pass, its metrics, plots, sweep and trend.
 fn case_section(
     s: &CaseSummary<'_>,
+    page: &Page<'_>,
     history: &[HistoryRecord],
-    beams: &[(usize, crate::report::beam::BeamRecord)],
+    sections: &[&dyn Section],
 ) -> String {
     let c = s.case;
     let mut html = format!(
@@ -255,12 +155,12 @@ fn case_section(
         html.push_str(&element("h3", "", "Plots"));
         html.push_str(&plots("plots", c.plots.iter().map(render_plot)));
     }
-    html.push_str(&beam::case_pictures(c, beams));
     if let Some(sweep) = &c.sweep {
         html.push_str(&sweep_section(c, sweep));
     }
-    html.push_str(&material::case_link(s));
-    html.push_str(&crosscheck::case_link(s));
+    for section in sections {
+        html.push_str(&section.in_case(s, page));
+    }
     html.push_str(&trend_section(&diagrams::trend(c, history)));
     html.push_str("</section>\n");
     html

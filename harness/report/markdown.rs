@@ -1,15 +1,16 @@
 //! `summary.md`: the summary table and the failures, short enough to paste into a chat.
 
 use super::format;
+use super::section::{self, Page, Section};
 use super::summary::{self, status_name, worst_text, CaseSummary};
-use crate::results::{RunResults, Status};
+use crate::results::Status;
 
 /// How much of a failure message the summary quotes; the page has the rest.
 const MESSAGE_CHARS: usize = 160;
 
 /// The Markdown summary of a run.
-pub fn summary(results: &RunResults, beams: &[(usize, super::beam::BeamRecord)]) -> String {
-    let summaries = summary::summaries(results);
+pub fn summary(page: &Page<'_>, sections: &[&dyn Section]) -> String {
+    let results = page.results;
     let mut md = format!(
         "# V&V run {}: {}\n\ncommit `{}` · tier {} · {} · {} · {} threads · {}\n\n",
         results.run_id,
@@ -21,12 +22,11 @@ pub fn summary(results: &RunResults, beams: &[(usize, super::beam::BeamRecord)])
         results.threads,
         format::seconds(results.wall_s),
     );
-    md.push_str(&table(&summaries));
-    md.push_str(&failures(&summaries));
-    md.push_str(&super::contact::markdown(results));
-    md.push_str(&super::material::markdown(results));
-    md.push_str(&super::crosscheck::markdown(results));
-    md.push_str(&super::beam::markdown(results, beams));
+    md.push_str(&table(page.summaries));
+    md.push_str(&failures(page.summaries));
+    for s in sections {
+        md.push_str(&section::markdown(*s, page));
+    }
     md
 }
 

@@ -3,31 +3,47 @@
 //! section with the final crack patterns of all beam cases side by side, their impact velocity,
 //! peak force and `failure_mode` metric, and whether the peak contact force rises with velocity.
 
-use super::{element, note, plots, table, text, titles, Cell, Row};
-use crate::report::beam::{
-    self, failure_rows, metric_text, monotonic_statement, side_view_svg, BeamRecord,
-    FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
+use super::{
+    failure_rows, load, load_one, metric_text, monotonic_statement, side_view_svg, BeamRecord,
+    FAILURE_MODE_METRIC, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
 };
+use crate::report::blocks::{element, note, plots, table, text, titles, Cell, Row};
 use crate::report::format;
+use crate::report::section::{Page, Section};
 use crate::report::summary::CaseSummary;
 use crate::results::{CaseResult, RunResults};
 
 /// Anchor of the failure-mode section.
 pub const ANCHOR: &str = "beam-failure-modes";
 
-/// The record of a case, if it has one.
-fn record_of<'a>(c: &CaseResult, records: &'a [(usize, BeamRecord)]) -> Option<&'a BeamRecord> {
-    records
-        .iter()
-        .map(|(_, r)| r)
-        .find(|r| r.case == c.id && r.variant == c.variant)
+/// The "Beam: failure modes" section, and the crack pictures in each beam case's own section.
+pub struct BeamSection;
+
+impl Section for BeamSection {
+    fn anchor(&self) -> &'static str {
+        ANCHOR
+    }
+
+    fn title(&self) -> &'static str {
+        "Beam: failure modes"
+    }
+
+    fn html(&self, page: &Page<'_>) -> Option<String> {
+        let records = load(page.run_dir, page.results);
+        section(page.results, page.summaries, &records)
+    }
+
+    fn in_case(&self, case: &CaseSummary<'_>, page: &Page<'_>) -> String {
+        load_one(page.run_dir, case.case).map_or_else(String::new, |r| case_pictures(&r))
+    }
+
+    fn markdown(&self, page: &Page<'_>) -> Option<String> {
+        super::markdown(page.results, &load(page.run_dir, page.results))
+    }
 }
 
 /// The crack pictures in a case's own section; empty for cases without them.
-pub fn case_pictures(c: &CaseResult, records: &[(usize, BeamRecord)]) -> String {
-    let Some(record) = record_of(c, records) else {
-        return String::new();
-    };
+fn case_pictures(record: &BeamRecord) -> String {
     let mut html = element("h3", "", "Crack pattern (side view)");
     html.push_str(&element(
         "p",
@@ -58,17 +74,18 @@ pub fn case_pictures(c: &CaseResult, records: &[(usize, BeamRecord)]) -> String 
     html
 }
 
-/// The "Beam: failure modes" section, or nothing when no case recorded beam pictures.
-pub fn section(
+/// The content of the "Beam: failure modes" section, or nothing when no case recorded beam
+/// pictures.
+fn section(
     results: &RunResults,
     summaries: &[CaseSummary<'_>],
     records: &[(usize, BeamRecord)],
-) -> String {
+) -> Option<String> {
     let rows = failure_rows(results, records);
     if rows.is_empty() {
-        return String::new();
+        return None;
     }
-    let mut html = format!("<section id=\"{ANCHOR}\">\n<h2>Beam: failure modes</h2>\n");
+    let mut html = String::new();
     html.push_str(&element(
         "p",
         "",
@@ -113,7 +130,7 @@ pub fn section(
             "impact velocity (m/s)",
             "peak force (kN)",
             "which force",
-            beam::FAILURE_MODE_METRIC,
+            FAILURE_MODE_METRIC,
         ]),
         &table_rows,
     ));
@@ -128,6 +145,5 @@ pub fn section(
         Some(side_view_svg(r.record, f, FILMSTRIP_WIDTH + 60))
     });
     html.push_str(&plots("plots", finals));
-    html.push_str("</section>\n");
-    html
+    Some(html)
 }

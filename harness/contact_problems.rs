@@ -10,15 +10,16 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::output::write_outputs;
-use super::{
+use crate::case_kind::{
+    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+};
+use crate::catalogue::{CaseSpec, Variant};
+use crate::contact_compare::output::write_outputs;
+use crate::contact_compare::{
     collect_problem_files, compare, load_problems, same_tolerance, solver_entries, CompareSettings,
     Comparison, ContactProblemsSpec,
 };
-use crate::case_kind::{parse_measures, Block, CaseKind, LoadedCase, RunOptions};
-use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
-use crate::measure::Statistic;
 use crate::results::{case_dir, CaseResult, Status};
 
 /// What a `contact_problems` case measures.
@@ -37,6 +38,35 @@ pub enum ComparisonMeasure {
         #[serde(default)]
         statistic: Statistic,
     },
+}
+
+/// How several values reduce to one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Statistic {
+    /// The largest (the worst error).
+    #[default]
+    Max,
+    Min,
+    /// The arithmetic mean.
+    Mean,
+}
+
+impl Statistic {
+    /// The statistic of `values`; NaN when there are none, and NaN (or infinity) propagates.
+    pub fn of(self, values: &[f64]) -> f64 {
+        if values.is_empty() {
+            return f64::NAN;
+        }
+        if values.iter().any(|v| v.is_nan()) {
+            return f64::NAN;
+        }
+        match self {
+            Statistic::Max => values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            Statistic::Min => values.iter().copied().fold(f64::INFINITY, f64::min),
+            Statistic::Mean => values.iter().sum::<f64>() / values.len() as f64,
+        }
+    }
 }
 
 /// A case that compares the contact solvers on stored problems.
@@ -189,7 +219,7 @@ fn shared_folder(folder: &std::path::Path) -> Option<std::path::PathBuf> {
 fn run_case(kind: &ContactProblemsCase, case: &LoadedCase, options: &RunOptions) -> CaseResult {
     let spec = &case.spec;
     let started = Instant::now();
-    let mut result = CaseResult::unfinished(spec, "default");
+    let mut result = unfinished_result(spec, "default");
     let cp = &kind.spec;
     let Some(folder) = shared_folder(&cp.folder) else {
         result.status = Status::Skipped;
@@ -247,7 +277,7 @@ fn run_case(kind: &ContactProblemsCase, case: &LoadedCase, options: &RunOptions)
     result.status = status;
     result.message = Some(message);
     result.metrics = judgement.metrics;
-    result.contact_comparison = Some(comparison);
+    result.set_record(Comparison::KEY, &comparison);
     result.wall_s = started.elapsed().as_secs_f64();
     result
 }

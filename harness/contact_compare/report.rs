@@ -1,23 +1,70 @@
-//! The "Contact algorithms" part of the report, as data both outputs render: the comparisons on
-//! stored problems (`contact_problems` cases), a table per catalogue case run with several
-//! contact solvers, and a work-precision diagram across the solver variants of a sweep case.
-//! Everything here tolerates absent fields (results written before they existed).
+//! The "Contact algorithms" section of the report: the comparisons on stored problems
+//! (`contact_problems` cases) with their tables, performance profiles and work-precision
+//! diagram; a table per catalogue case run with several contact solvers; and a work-precision
+//! diagram across the solver variants of a sweep case. Everything here tolerates absent fields
+//! (results written before they existed).
 
 use std::collections::BTreeSet;
 
-use super::diagrams::sweep_metrics;
-use super::format::{num, seconds};
-use super::summary::status_name;
-use crate::contact_compare::tables::{error_matrix, solver_summary, Table};
-use crate::contact_compare::Comparison;
+use super::tables::{descriptor_table, error_matrix, long_table, solver_summary, Table};
+use super::{performance_profile, work_precision_plot, Comparison};
+use crate::report::blocks::{element, note, plots, table, text, Row};
+use crate::report::diagrams::sweep_metrics;
+use crate::report::format::{self, num, seconds};
+use crate::report::plot::render_plot;
+use crate::report::section::{Page, Section};
+use crate::report::summary::status_name;
 use crate::results::{CaseResult, PlotData, RunResults, Series};
 
+/// The section of contact-solver comparisons and of cases run with several contact solvers.
+pub struct ContactSection;
+
+impl Section for ContactSection {
+    fn anchor(&self) -> &'static str {
+        "contact-algorithms"
+    }
+
+    fn title(&self) -> &'static str {
+        "Contact algorithms"
+    }
+
+    fn html(&self, page: &Page<'_>) -> Option<String> {
+        let results = page.results;
+        if !has_content(results) {
+            return None;
+        }
+        let mut html = String::new();
+        for (case, c) in comparisons(results) {
+            html.push_str(&comparison(case, &c));
+        }
+        for t in solver_tables(results) {
+            html.push_str(&element(
+                "h3",
+                "",
+                &format!("{}: contact solvers", format::html(&t.id)),
+            ));
+            html.push_str(&plain_table(&t.table));
+            html.push_str(&element("p", "", &format::html(&fastest_line(&t))));
+        }
+        let variant_plots = variant_work_precision(results);
+        if !variant_plots.is_empty() {
+            html.push_str(&element("h3", "", "Work-precision by contact solver"));
+            html.push_str(&plots("plots", variant_plots.iter().map(render_plot)));
+        }
+        Some(html)
+    }
+
+    fn markdown(&self, page: &Page<'_>) -> Option<String> {
+        has_content(page.results).then(|| markdown(page.results))
+    }
+}
+
 /// Cases carrying a contact-solver comparison, in run order.
-pub fn comparisons(results: &RunResults) -> Vec<(&CaseResult, &Comparison)> {
+pub fn comparisons(results: &RunResults) -> Vec<(&CaseResult, Comparison)> {
     results
         .cases
         .iter()
-        .filter_map(|c| c.contact_comparison.as_ref().map(|cmp| (c, cmp)))
+        .filter_map(|c| c.record(Comparison::KEY).map(|cmp| (c, cmp)))
         .collect()
 }
 
@@ -208,12 +255,9 @@ pub fn fastest_line(t: &SolverTable) -> String {
     }
 }
 
-/// The section in Markdown for `summary.md`; empty when the run has nothing for it.
-pub fn markdown(results: &RunResults) -> String {
-    if !has_content(results) {
-        return String::new();
-    }
-    let mut md = String::from("\n## Contact algorithms\n");
+/// The section in Markdown for `summary.md`.
+fn markdown(results: &RunResults) -> String {
+    let mut md = String::new();
     for (case, c) in comparisons(results) {
         md.push_str(&format!(
             "\n### {}: {} problems\n\nError: {}; ✓ error at most the tolerance within {} s.\n\n",
@@ -222,10 +266,10 @@ pub fn markdown(results: &RunResults) -> String {
             c.normalisation,
             c.time_limit_s
         ));
-        md.push_str(&solver_summary(c).to_markdown());
+        md.push_str(&solver_summary(&c).to_markdown());
         for &tol in &c.tolerances {
             md.push_str(&format!("\nTolerance {tol:e}:\n\n"));
-            md.push_str(&error_matrix(c, tol).to_markdown());
+            md.push_str(&error_matrix(&c, tol).to_markdown());
         }
     }
     for t in solver_tables(results) {
@@ -234,4 +278,71 @@ pub fn markdown(results: &RunResults) -> String {
         md.push_str(&format!("\n{}\n", fastest_line(&t)));
     }
     md
+}
+
+/// A table of plain-text cells.
+fn plain_table(t: &Table) -> String {
+    let rows: Vec<Row> = t
+        .rows
+        .iter()
+        .map(|r| Row::new(r.iter().map(|c| text(c)).collect()))
+        .collect();
+    table(&t.head, &rows)
+}
+
+/// One comparison: what was measured, the problems, the solvers' summary, the error matrix of
+/// each tolerance, the profiles and the work-precision diagram, and every solve folded away.
+fn comparison(case: &CaseResult, c: &Comparison) -> String {
+    let mut html = element(
+        "h3",
+        "",
+        &format!(
+            "{}: {} problems, {} solvers",
+            format::html(&case.id),
+            c.problems.len(),
+            c.solvers.len()
+        ),
+    );
+    html.push_str(&element(
+        "p",
+        "",
+        &format::html(&format!(
+            "Error: {}. Times: median wall time of repeated solves. ✓: error at most the \
+             tolerance within {} s (the criterion of the performance profiles, Dolan & More \
+             2002), whatever the solver's own status.",
+            c.normalisation, c.time_limit_s
+        )),
+    ));
+    for u in &c.unreadable {
+        html.push_str(&note(&format!("not read: {}", u.message)));
+    }
+    html.push_str(&element("h4", "", "Problems"));
+    html.push_str(&plain_table(&descriptor_table(c)));
+    html.push_str(&element("h4", "", "Solvers"));
+    html.push_str(&plain_table(&solver_summary(c)));
+    for &tol in &c.tolerances {
+        html.push_str(&element("h4", "", &format!("Tolerance {tol:e}")));
+        html.push_str(&plain_table(&error_matrix(c, tol)));
+        let unsolved = performance_profile(c, tol).unsolved().join(", ");
+        if !unsolved.is_empty() {
+            html.push_str(&note(&format!("solved by no solver: {unsolved}")));
+        }
+    }
+    let figures = c
+        .tolerances
+        .iter()
+        .map(|&tol| render_plot(&performance_profile(c, tol).plot()))
+        .chain(std::iter::once(render_plot(&work_precision_plot(c))));
+    html.push_str(&element(
+        "h4",
+        "",
+        "Performance profiles and work-precision",
+    ));
+    html.push_str(&plots("plots", figures));
+    html.push_str(&format!(
+        "<details><summary>Every solve ({})</summary>\n{}</details>\n",
+        c.rows.len(),
+        plain_table(&long_table(c))
+    ));
+    html
 }
