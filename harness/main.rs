@@ -41,10 +41,12 @@ enum Command {
     /// Run cases and write a report to `<reports>/<run-id>/index.html`.
     Run {
         /// Case ids, globs (`patch/*`), tags (`tag:wave`) or case files; empty: the whole tier.
+        /// Ids, globs and tags select within `--tier` when it is given; a case file runs
+        /// whatever its tier.
         patterns: Vec<String>,
-        /// quick, nightly (quick + nightly) or stress.
-        #[arg(long, default_value = "quick", value_parser = parse_tier)]
-        tier: Tier,
+        /// quick, nightly (quick + nightly), stress or long; without patterns, quick.
+        #[arg(long, value_parser = parse_tier)]
+        tier: Option<Tier>,
         /// Rerun the cases that failed in the last run.
         #[arg(long)]
         failed: bool,
@@ -143,15 +145,23 @@ fn catalogue(dir: &Path) -> Result<Vec<LoadedCase>, ExitCode> {
     })
 }
 
-fn select<'a>(cases: &'a [LoadedCase], patterns: &[String], tier: Option<Tier>) -> Vec<LoadedCase> {
+/// The cases a command names: every case of `tier` without patterns; with patterns, the cases
+/// an id, glob or tag selects within `tier` (when given), and every case file named, whatever
+/// its tier.
+fn select(cases: &[LoadedCase], patterns: &[String], tier: Option<Tier>) -> Vec<LoadedCase> {
+    let canonical = |p: &Path| std::fs::canonicalize(p).ok();
     cases
         .iter()
         .filter(|c| {
+            let in_tier = tier.is_none_or(|t| t.includes(c.spec.tier));
             if patterns.is_empty() {
-                tier.is_none_or(|t| t.includes(c.spec.tier))
-            } else {
-                patterns.iter().any(|p| matches(c, p))
+                return in_tier;
             }
+            patterns.iter().any(|p| {
+                let names_file = Path::new(p).is_file()
+                    && canonical(Path::new(p)).is_some_and(|f| Some(f) == canonical(&c.path));
+                names_file || (in_tier && matches(c, p))
+            })
         })
         .cloned()
         .collect()
@@ -272,16 +282,23 @@ fn main() -> ExitCode {
             } else {
                 patterns
             };
-            let mut selected = select(&cases, &patterns, Some(tier));
+            let tier = if patterns.is_empty() {
+                tier.or(Some(Tier::Quick))
+            } else {
+                tier
+            };
+            let mut selected = select(&cases, &patterns, tier);
             match case_files_outside(&cases, &patterns) {
                 Ok(mut outside) => selected.append(&mut outside),
                 Err(code) => return code,
             }
             if selected.is_empty() {
-                eprintln!(
-                    "error: no case matches {patterns:?} in tier {}",
-                    tier.name()
-                );
+                match tier {
+                    Some(t) => {
+                        eprintln!("error: no case matches {patterns:?} in tier {}", t.name())
+                    }
+                    None => eprintln!("error: no case matches {patterns:?}"),
+                }
                 return ExitCode::from(2);
             }
             run(selected, tier, &reports, time_limit, !serial)
@@ -417,9 +434,14 @@ fn main() -> ExitCode {
     }
 }
 
+/// The tier a run reports: the one given, or `selected` for cases named by patterns alone.
+fn tier_label(tier: Option<Tier>) -> &'static str {
+    tier.map_or("selected", Tier::name)
+}
+
 fn run(
     cases: Vec<LoadedCase>,
-    tier: Tier,
+    tier: Option<Tier>,
     reports: &Path,
     time_limit: f64,
     parallel: bool,
@@ -431,7 +453,7 @@ fn run(
     eprintln!(
         "impact-vv: {} case(s), tier {}, {} thread(s), run {run_id}",
         cases.len(),
-        tier.name(),
+        tier_label(tier),
         threads
     );
     let bar = indicatif::ProgressBar::new(cases.len() as u64);
@@ -447,7 +469,7 @@ fn run(
     let facts = RunResults {
         run_id: run_id.clone(),
         commit: metadata::commit(),
-        tier: tier.name().into(),
+        tier: tier_label(tier).into(),
         cases: Vec::new(),
         date,
         machine: metadata::machine(),

@@ -295,6 +295,25 @@ fn list_shows_the_catalogue() {
     );
 }
 
+/// Ids, globs and tags select within the tier asked for; a case file is taken whatever its tier;
+/// without a tier a glob selects in every tier.
+#[test]
+fn a_pattern_selects_by_tier_and_a_case_file_does_not() {
+    let listing = |args: &[&str]| {
+        let out = impact_vv(args, &[]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out));
+        text(&out)
+    };
+    let quick_beams = listing(&["list", "beam/*", "--tier", "quick"]);
+    assert!(!quick_beams.contains("beam/drop-2ms"), "{quick_beams}");
+    let nightly_beams = listing(&["list", "beam/*", "--tier", "nightly"]);
+    assert!(nightly_beams.contains("beam/drop-2ms"), "{nightly_beams}");
+    let file = listing(&["list", "cases/beam/drop-2ms.yaml", "--tier", "quick"]);
+    assert!(file.contains("beam/drop-2ms"), "{file}");
+    let every_tier = listing(&["list", "beam/*"]);
+    assert!(every_tier.contains("beam/drop-2ms"), "{every_tier}");
+}
+
 #[test]
 fn scene_output_is_bitwise_identical_on_one_and_two_threads() {
     let dir = temp_dir("threads");
