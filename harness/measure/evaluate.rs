@@ -1,0 +1,437 @@
+//! Evaluating a per-run measure on a run's histories and final fields.
+
+use impact_solver::material::MaterialModel;
+use impact_solver::model::Problem;
+use impact_solver::Vector3;
+use nalgebra::Matrix3;
+
+use super::field::{boundary_node_flags, element_stress_in_box, matrix_from_voigt, max_abs};
+use super::{FieldQuantity, Measure, NodeScope};
+use crate::execute::Execution;
+use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
+
+impl Measure {
+    /// Evaluates a per-run measure.
+    pub fn evaluate(&self, problem: &Problem, run: &Execution) -> Result<f64, String> {
+        let history = || {
+            run.history
+                .as_ref()
+                .ok_or("this measure needs an explicit run's history".to_string())
+        };
+        let column = |name: &str| -> Result<Vec<f64>, String> {
+            let h = history()?;
+            h.column(name).ok_or_else(|| {
+                format!(
+                    "the history has no column `{name}`; it has {:?}",
+                    h.columns()
+                )
+            })
+        };
+        let time = || column("time");
+        let explicit_time = run.summary.as_ref().map_or(1.0, |s| s.time);
+        Ok(match self {
+            Measure::HistoryMax { column: c } => {
+                column(c)?.into_iter().fold(f64::NEG_INFINITY, f64::max)
+            }
+            Measure::HistoryPeakMagnitude { column: c } => {
+                column(c)?.into_iter().fold(0.0, |a: f64, x| a.max(x.abs()))
+            }
+            Measure::HistoryMin { column: c } => {
+                column(c)?.into_iter().fold(f64::INFINITY, f64::min)
+            }
+            Measure::HistoryFinal { column: c, scale } => {
+                column(c)?.last().ok_or("empty history")? * scale
+            }
+            Measure::PeakTime { column: c } => {
+                let (t, y) = (time()?, column(c)?);
+                let i = (0..y.len())
+                    .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+                    .ok_or("empty history")?;
+                t[i]
+            }
+            Measure::DurationAbove {
+                column: c,
+                threshold,
+            } => {
+                let (t, y) = (time()?, column(c)?);
+                (1..y.len())
+                    .filter(|&i| y[i] > *threshold)
+                    .map(|i| t[i] - t[i - 1])
+                    .sum()
+            }
+            Measure::PlateauMean {
+                column: c,
+                from,
+                to,
+            } => {
+                let (t, y) = (time()?, column(c)?);
+                let window: Vec<f64> = (0..y.len())
+                    .filter(|&i| t[i] >= *from && t[i] <= *to)
+                    .map(|i| y[i])
+                    .collect();
+                if window.is_empty() {
+                    return Err(format!("no record of `{c}` between t = {from} and {to}"));
+                }
+                window.iter().sum::<f64>() / window.len() as f64
+            }
+            Measure::ArrivalTime { column: c, level } => crossing(&time()?, &column(c)?, *level)?,
+            Measure::FrontSpeed {
+                from,
+                to,
+                distance,
+                level,
+            } => {
+                let t = time()?;
+                distance
+                    / (crossing(&t, &column(to)?, *level)? - crossing(&t, &column(from)?, *level)?)
+            }
+            Measure::EnergyBalanceError => {
+                run.summary
+                    .as_ref()
+                    .ok_or("needs an explicit run")?
+                    .max_relative_energy_error
+            }
+            Measure::KineticEnergyDrift => {
+                let k = column("kinetic")?;
+                let k0 = k[0];
+                if !(k0 > 0.0) {
+                    return Err("the initial kinetic energy is zero".into());
+                }
+                k.iter().map(|x| (x - k0).abs() / k0).fold(0.0, f64::max)
+            }
+            Measure::MaxChange { column: c, scale } => {
+                let y = column(c)?;
+                y.iter().map(|x| (x - y[0]).abs()).fold(0.0, f64::max) / scale
+            }
+            Measure::RelativeDrift { columns } => {
+                let c = [
+                    column(&columns[0])?,
+                    column(&columns[1])?,
+                    column(&columns[2])?,
+                ];
+                let at = |i: usize| Vector3::new(c[0][i], c[1][i], c[2][i]);
+                let initial = at(0).norm();
+                if initial == 0.0 {
+                    return Err("the vector is zero at the start: no relative drift".into());
+                }
+                (0..c[0].len())
+                    .map(|i| (at(i) - at(0)).norm())
+                    .fold(0.0, f64::max)
+                    / initial
+            }
+            Measure::FinalEnergyRatio => {
+                let (k, w) = (column("kinetic")?, column("stored_energy")?);
+                (k[k.len() - 1] + w[w.len() - 1]) / k[0]
+            }
+            Measure::BodySpin { body, scale } => {
+                let b = problem
+                    .model
+                    .body_index(body)
+                    .ok_or_else(|| format!("no body named `{body}`"))?;
+                let v = run.v.as_ref().ok_or("needs an explicit run")?;
+                let nodes = problem.model.bodies[b].nodes.clone();
+                let (mass, x) = (&problem.model.mass, |n: usize| {
+                    problem.model.reference[n] + run.u[n]
+                });
+                let total: f64 = nodes.clone().map(|n| mass[n]).sum();
+                let center = nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |a, n| a + x(n) * mass[n])
+                    / total;
+                let v_center = nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |a, n| a + v[n] * mass[n])
+                    / total;
+                let (mut l, mut inertia) = (Vector3::zeros(), Matrix3::zeros());
+                for n in nodes {
+                    let r = x(n) - center;
+                    l += r.cross(&(v[n] - v_center)) * mass[n];
+                    inertia +=
+                        (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * mass[n];
+                }
+                let omega = inertia
+                    .try_inverse()
+                    .ok_or("the body's inertia tensor is singular")?
+                    * l;
+                omega.norm() * scale
+            }
+            Measure::AffineFieldError {
+                quantity,
+                translation,
+                gradient,
+                center,
+                nodes,
+            } => {
+                let (field, scale) = match quantity {
+                    FieldQuantity::Displacement => (
+                        &run.u,
+                        if run.summary.is_some() {
+                            explicit_time
+                        } else {
+                            1.0
+                        },
+                    ),
+                    FieldQuantity::Velocity => {
+                        (run.v.as_ref().ok_or("needs an explicit run")?, 1.0)
+                    }
+                };
+                let g = Matrix3::from_row_slice(&gradient.concat());
+                let (t, c) = (Vector3::from(*translation), Vector3::from(*center));
+                let boundary = boundary_node_flags(problem);
+                let exact = |x: &Vector3<f64>| (t + g * (x - c)) * scale;
+                let norm = problem
+                    .model
+                    .reference
+                    .iter()
+                    .map(|x| exact(x).norm())
+                    .fold(0.0, f64::max);
+                let mut worst: f64 = 0.0;
+                for (n, x) in problem.model.reference.iter().enumerate() {
+                    if *nodes == NodeScope::Interior && boundary[n] {
+                        continue;
+                    }
+                    worst = worst.max((field[n] - exact(x)).norm());
+                }
+                worst / norm
+            }
+            Measure::UniformStressError { gradient } => {
+                let scale = if run.summary.is_some() {
+                    explicit_time
+                } else {
+                    1.0
+                };
+                let f = Matrix3::identity() + Matrix3::from_row_slice(&gradient.concat()) * scale;
+                let fields = run.element_fields(&problem.model);
+                let mut worst: f64 = 0.0;
+                for (e, s) in fields.cauchy.iter().enumerate() {
+                    let exact = match problem.model.material_of(e) {
+                        MaterialModel::SaintVenantKirchhoff(c) => svk_cauchy(c, &f),
+                        MaterialModel::LinearElastic(c) => corotated_cauchy(c, &f),
+                        MaterialModel::Microplane(_) => {
+                            return Err("uniform_stress_error has no closed form for microplane \
+                                        concrete"
+                                .into())
+                        }
+                    };
+                    let diff = matrix_from_voigt(s) - exact;
+                    worst = worst.max(max_abs(&diff) / max_abs(&exact));
+                }
+                worst
+            }
+            Measure::MaxStressOverModulus => {
+                let fields = run.element_fields(&problem.model);
+                fields
+                    .cauchy
+                    .iter()
+                    .enumerate()
+                    .map(|(e, s)| {
+                        s.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+                            / problem.model.material_of(e).constants().youngs_modulus
+                    })
+                    .fold(0.0, f64::max)
+            }
+            Measure::ElementStressMean {
+                component,
+                min,
+                max,
+            } => {
+                let values = element_stress_in_box(problem, run, *component, min, max)?;
+                values.iter().sum::<f64>() / values.len() as f64
+            }
+            Measure::ElementStressScatter {
+                component,
+                min,
+                max,
+            } => {
+                let values = element_stress_in_box(problem, run, *component, min, max)?;
+                let mean = values.iter().sum::<f64>() / values.len() as f64;
+                let (lo, hi) = values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                        (lo.min(v), hi.max(v))
+                    });
+                (hi - lo) / mean.abs()
+            }
+            Measure::ElementStrainMean { component } => {
+                let fields = run.element_fields(&problem.model);
+                fields
+                    .green_lagrange
+                    .iter()
+                    .map(|s| s[*component as usize])
+                    .sum::<f64>()
+                    / fields.green_lagrange.len() as f64
+            }
+            Measure::Reaction {
+                constraint,
+                component,
+                divide_by,
+            } => {
+                let c = problem
+                    .constraints
+                    .iter()
+                    .position(|c| &c.name == constraint)
+                    .ok_or_else(|| format!("no constraint named `{constraint}`"))?;
+                let axis = *component as usize;
+                let value = match (&run.static_solution, &run.summary) {
+                    (Some(s), None) => s.constraint_reaction(problem, c)[axis],
+                    _ => *column(&format!("{constraint}_reaction_{}", ["x", "y", "z"][axis]))?
+                        .last()
+                        .ok_or("empty history")?,
+                };
+                value / divide_by
+            }
+            Measure::ZeroCrossingFrequency { column: c } => {
+                let (t, y) = (time()?, column(c)?);
+                let mean = y.iter().sum::<f64>() / y.len() as f64;
+                let ups: Vec<f64> = (1..y.len())
+                    .filter(|&i| y[i - 1] < mean && y[i] >= mean)
+                    .map(|i| t[i - 1] + (mean - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
+                    .collect();
+                if ups.len() < 2 {
+                    return Err(format!("`{c}` crosses its mean fewer than twice"));
+                }
+                (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0])
+            }
+            Measure::ContactReplay {
+                solver,
+                quantity,
+                tolerance,
+                only_converged,
+            } => crate::replay::evaluate(
+                &run.contact_problems,
+                solver,
+                *quantity,
+                *tolerance,
+                *only_converged,
+            )?,
+            Measure::FailureMode(spec) => {
+                crate::beam::cracks::failure_mode_at(problem, spec, &run.u)?
+                    .0
+                    .code()
+            }
+            Measure::CrackTipSpeedRatio(spec) => {
+                let snapshots = run.snapshots();
+                if snapshots.is_empty() {
+                    return Err("crack_tip_speed_ratio needs snapshots: set the explicit \
+                                analysis' snapshot_interval"
+                        .into());
+                }
+                let tip = crate::beam::crack_tip_history(problem, snapshots, spec)?;
+                let b = problem
+                    .model
+                    .body_index(&spec.body)
+                    .ok_or_else(|| format!("no body named `{}`", spec.body))?;
+                let c_r = crate::reference::analytic::rayleigh_wave_speed(
+                    &problem.model.bodies[b].material.constants(),
+                );
+                tip.iter().map(|p| p.2).fold(0.0, f64::max) / c_r
+            }
+            Measure::KineticOverInternalWork {
+                kinetic,
+                internal_work,
+                above_fraction,
+                until_peak_of,
+                after_peak_down_to,
+            } => {
+                let (mut k, mut w) = (column(kinetic)?, column(internal_work)?);
+                if let Some(c) = until_peak_of {
+                    let end = crate::beam::history::records_through_peak(
+                        &column(c)?,
+                        *after_peak_down_to,
+                    )
+                    .map_err(|e| format!("`{c}`: {e}"))?;
+                    k.truncate(end);
+                    w.truncate(end);
+                }
+                crate::beam::history::kinetic_over_internal_work(&k, &w, *above_fraction)?
+            }
+            Measure::SecantStiffness {
+                force,
+                displacement,
+                up_to_fraction,
+            } => crate::beam::history::secant_stiffness(
+                &column(force)?,
+                &column(displacement)?,
+                *up_to_fraction,
+            )?,
+            Measure::PeakBendingMoment {
+                section_x,
+                conditions,
+                until_peak_of,
+            } => {
+                let end = match until_peak_of {
+                    Some(c) => crate::beam::history::records_through_peak(&column(c)?, None)?,
+                    None => usize::MAX,
+                };
+                let mut forces = Vec::with_capacity(conditions.len());
+                for name in conditions {
+                    let (c, x) = crate::beam::history::force_line(problem, name)?;
+                    let mut f = column(&c)?;
+                    f.truncate(end);
+                    forces.push((f, x));
+                }
+                crate::beam::history::peak_bending_moment(*section_x, &forces)?
+            }
+            Measure::PeakRatio {
+                numerator,
+                denominator,
+            } => crate::beam::history::peak_ratio(&column(numerator)?, &column(denominator)?)?,
+            Measure::PeakTimeLag { column: c, after } => {
+                crate::beam::history::peak_time_lag(&time()?, &column(c)?, &column(after)?)?
+            }
+            Measure::ForceEquilibriumError {
+                body,
+                contact,
+                reactions,
+                momentum,
+            } => {
+                let b = problem
+                    .model
+                    .body_index(body)
+                    .ok_or_else(|| format!("no body named `{body}`"))?;
+                let mass: f64 = problem.model.bodies[b]
+                    .nodes
+                    .clone()
+                    .map(|n| problem.model.mass[n])
+                    .sum();
+                let g = problem.gravity.map_or(0.0, |g| g.y);
+                let reactions = reactions
+                    .iter()
+                    .map(|r| column(r))
+                    .collect::<Result<Vec<_>, _>>()?;
+                crate::beam::history::force_equilibrium_error(
+                    &time()?,
+                    &column(contact)?,
+                    &reactions,
+                    &column(momentum)?,
+                    mass * g,
+                )?
+            }
+            Measure::CrackBand(m) => m.evaluate(&problem.model, &|c| column(c))?,
+            Measure::CrackBandPoint(m) => m.evaluate(&problem.model)?,
+            sweep => {
+                return Err(format!(
+                    "{sweep:?} is a sweep measure: the case needs a sweep"
+                ))
+            }
+        })
+    }
+}
+
+/// First time `signal` reaches `level` (upward or downward, whichever way it starts from).
+fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
+    let start = signal.first().copied().unwrap_or(0.0);
+    let up = level >= start;
+    for i in 1..signal.len() {
+        let reached = if up {
+            signal[i] >= level
+        } else {
+            signal[i] <= level
+        };
+        if reached {
+            let s = (level - signal[i - 1]) / (signal[i] - signal[i - 1]);
+            return Ok(time[i - 1] + s * (time[i] - time[i - 1]));
+        }
+    }
+    Err(format!("the signal never reaches {level}"))
+}
