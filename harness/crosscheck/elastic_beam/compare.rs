@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::{BeamValues, ElasticBeamSpec};
-use crate::material_point::RecordTable;
+use crate::results::RecordTable;
 
 /// The two finest of `rows` (solutions on `levels`) extrapolated to `h -> 0` at order 1
 /// (Richardson): `v = v_2 + (v_2 - v_1) / (r - 1)` with `r = h_1 / h_2` from the cells along x.
