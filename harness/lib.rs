@@ -15,7 +15,6 @@ pub mod crosscheck;
 pub mod execute;
 pub mod judge;
 pub mod material_point;
-pub mod measure;
 pub mod metadata;
 pub mod progress;
 pub mod reference;

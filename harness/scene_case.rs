@@ -1,6 +1,8 @@
 //! The default kind of case: a scene (`scene:` in the case file), run by the solver once or
-//! once per level of a sweep, and measured from its histories and fields (`crate::measure`).
+//! once per level of a sweep, and measured from its histories and fields ([`measure`]).
 //! Several variants (integrators, contact solvers) may run the same scene.
+
+pub mod measure;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -16,11 +18,11 @@ use crate::case_kind::{
 use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
-use crate::measure::Measure;
 use crate::results::{
     case_dir, CaseResult, MetricResult, PlotData, ReferenceLine, Series, Status, SweepLevel,
     SweepResult,
 };
+use measure::Measure;
 
 /// A case that runs its scene.
 #[derive(Debug)]
