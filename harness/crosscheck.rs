@@ -31,7 +31,7 @@ use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
 use crate::results::{case_dir, CaseResult};
 use crate::results::{MaterialPlot, RecordTable};
-pub use cache::Provenance;
+pub use cache::{AnswerMode, Provenance};
 
 /// The `crosscheck:` entry of a case: which independent comparison it runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -218,9 +218,9 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
             return result;
         }
     };
-    let source = match provenance.mode.as_str() {
-        "cached" => format!("{} (cached {})", provenance.script, provenance.date),
-        _ => format!("{} (fresh)", provenance.script),
+    let source = match provenance.mode {
+        AnswerMode::Cached => format!("{} (cached {})", provenance.script, provenance.date),
+        AnswerMode::Fresh => format!("{} (fresh)", provenance.script),
     };
     let mut judgement = judge_metrics(
         &spec.metrics,

@@ -165,7 +165,49 @@ pub struct SweepLevel {
     pub errors: BTreeMap<String, f64>,
     pub values: BTreeMap<String, f64>,
     #[serde(default)]
-    pub status: String,
+    pub status: LevelStatus,
+}
+
+/// How the solver run of a sweep level ended. Written as the text `completed`, `unstable` or
+/// `error: <why>` (the form of results files before it was typed).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(from = "String", into = "String")]
+pub enum LevelStatus {
+    #[default]
+    Completed,
+    /// Stopped by the instability check (a time step above the stable limit, on purpose).
+    Unstable,
+    /// Any other error, with its message.
+    Failed(String),
+}
+
+impl From<String> for LevelStatus {
+    fn from(text: String) -> Self {
+        match text.as_str() {
+            "completed" | "" => LevelStatus::Completed,
+            "unstable" => LevelStatus::Unstable,
+            _ => LevelStatus::Failed(
+                text.strip_prefix("error: ")
+                    .map_or(text.clone(), str::to_string),
+            ),
+        }
+    }
+}
+
+impl From<LevelStatus> for String {
+    fn from(status: LevelStatus) -> Self {
+        status.to_string()
+    }
+}
+
+impl std::fmt::Display for LevelStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LevelStatus::Completed => f.write_str("completed"),
+            LevelStatus::Unstable => f.write_str("unstable"),
+            LevelStatus::Failed(why) => write!(f, "error: {why}"),
+        }
+    }
 }
 
 /// A refinement sweep: levels and the observed convergence order of each metric's error.
@@ -420,6 +462,20 @@ mod tests {
         ToleranceKind::AtLeastRatio,
         ToleranceKind::RelativeToPeak,
     ];
+
+    /// A sweep level's status reads and writes as the text results files have always had.
+    #[test]
+    fn level_statuses_keep_their_text_form() {
+        use super::LevelStatus;
+        for (status, text) in [
+            (LevelStatus::Completed, "\"completed\""),
+            (LevelStatus::Unstable, "\"unstable\""),
+            (LevelStatus::Failed("no mesh".into()), "\"error: no mesh\""),
+        ] {
+            assert_eq!(serde_json::to_string(&status).unwrap(), text);
+            assert_eq!(serde_json::from_str::<LevelStatus>(text).unwrap(), status);
+        }
+    }
 
     /// Each kind is written and read back under its `name()`, and a name this version does not
     /// know reads as `Unknown` instead of failing the whole `results.json`.

@@ -19,8 +19,8 @@ use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
 use crate::results::{
-    case_dir, CaseResult, MetricResult, PlotData, ReferenceLine, Series, Status, SweepLevel,
-    SweepResult,
+    case_dir, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series, Status,
+    SweepLevel, SweepResult,
 };
 use measure::Measure;
 
@@ -174,9 +174,9 @@ fn run_case(
             errors: BTreeMap::new(),
             values: BTreeMap::new(),
             status: match &r.outcome {
-                Ok(_) => "completed".into(),
-                Err(SolverError::Unstable(_)) => "unstable".into(),
-                Err(e) => format!("error: {e}"),
+                Ok(_) => LevelStatus::Completed,
+                Err(SolverError::Unstable(_)) => LevelStatus::Unstable,
+                Err(e) => LevelStatus::Failed(e.to_string()),
             },
         })
         .collect();

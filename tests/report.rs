@@ -100,7 +100,7 @@ fn level(h: f64, wall_s: f64, deflection: f64, frequency: f64) -> SweepLevel {
             ("frequency_error".to_string(), frequency),
         ]),
         values: BTreeMap::new(),
-        status: "ok".to_string(),
+        status: impact_vv::results::LevelStatus::Completed,
     }
 }
 

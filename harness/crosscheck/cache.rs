@@ -10,11 +10,20 @@ use serde_json::Value;
 
 use super::python;
 
+/// How an independent answer was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AnswerMode {
+    /// Computed by the script during this run (feature `python`).
+    Fresh,
+    /// Read from the cache file.
+    Cached,
+}
+
 /// Where an independent answer came from, as the report states it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {
-    /// `fresh`: computed during this run; `cached`: read from `cache`.
-    pub mode: String,
+    pub mode: AnswerMode,
     pub script: String,
     /// When the answer was computed (the script's own UTC time stamp).
     pub date: String,
@@ -42,12 +51,12 @@ impl Provenance {
             self.python,
             packages.join(", ")
         );
-        match self.mode.as_str() {
-            "cached" => format!(
+        match self.mode {
+            AnswerMode::Cached => format!(
                 "CACHED answer of {what}, read from {} (built without the `python` feature)",
                 self.cache
             ),
-            _ => format!("fresh answer of {what}, computed in this run"),
+            AnswerMode::Fresh => format!("fresh answer of {what}, computed in this run"),
         }
     }
 }
@@ -73,7 +82,7 @@ fn relative(path: &Path) -> String {
 }
 
 /// The provenance the script wrote into its answer.
-fn provenance(answer: &Value, mode: &str, cache: &Path) -> Result<Provenance, String> {
+fn provenance(answer: &Value, mode: AnswerMode, cache: &Path) -> Result<Provenance, String> {
     let p = answer
         .get("provenance")
         .ok_or("the answer has no `provenance`")?;
@@ -93,7 +102,7 @@ fn provenance(answer: &Value, mode: &str, cache: &Path) -> Result<Provenance, St
         })
         .unwrap_or_default();
     Ok(Provenance {
-        mode: mode.into(),
+        mode,
         script: text("script")?,
         date: text("date")?,
         python: text("python")?,
@@ -138,7 +147,7 @@ fn differences(a: &Value, b: &Value, at: &str, out: &mut Vec<String>) {
 pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Provenance), String> {
     if python::ENABLED {
         let answer = python::call_script(script, request)?;
-        let p = provenance(&answer, "fresh", cache)?;
+        let p = provenance(&answer, AnswerMode::Fresh, cache)?;
         return Ok((answer, p));
     }
     let entry = read_cache(cache)?;
@@ -152,7 +161,7 @@ pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Pro
             diff.join("; ")
         ));
     }
-    let p = provenance(&entry.answer, "cached", cache)?;
+    let p = provenance(&entry.answer, AnswerMode::Cached, cache)?;
     Ok((entry.answer, p))
 }
 
@@ -160,7 +169,7 @@ pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Pro
 /// `cache`.
 pub fn refresh(script: &str, request: &Value, cache: &Path) -> Result<Provenance, String> {
     let answer = python::call_script(script, request)?;
-    let p = provenance(&answer, "fresh", cache)?;
+    let p = provenance(&answer, AnswerMode::Fresh, cache)?;
     let entry = CacheEntry {
         request: request.clone(),
         answer,
@@ -198,7 +207,7 @@ mod tests {
         std::fs::write(&path, serde_json::to_string(&entry).unwrap()).unwrap();
         let (a, p) = obtain("s.py", &entry.request, &path).unwrap();
         assert_eq!(a["x"], 1.5);
-        assert_eq!(p.mode, "cached");
+        assert_eq!(p.mode, AnswerMode::Cached);
         assert!(p.line().contains("CACHED") && p.line().contains("numpy 2.4.6"));
         assert!(p.line().contains("2026-11-21"));
 

@@ -2,7 +2,7 @@
 //! independent answer came from (computed in this run, or read from the cache with its date and
 //! package versions), the setup, the metrics, the comparison tables and plots.
 
-use super::CrosscheckRecord;
+use super::{AnswerMode, CrosscheckRecord};
 use crate::report::blocks::{element, note, plots};
 use crate::report::format;
 use crate::report::records::{metric_markdown, metric_table, record_table, target_plot};
@@ -26,7 +26,7 @@ fn cases(results: &RunResults) -> Vec<(usize, &CaseResult, CrosscheckRecord)> {
 /// `fresh` or `CACHED <date>`: the badge of an independent answer.
 pub fn provenance_badge(record: &CrosscheckRecord) -> String {
     match &record.provenance {
-        Some(p) if p.mode == "cached" => format!("CACHED {}", p.date),
+        Some(p) if p.mode == AnswerMode::Cached => format!("CACHED {}", p.date),
         Some(_) => "fresh".into(),
         None => "no answer".into(),
     }
@@ -62,7 +62,7 @@ impl Section for CrosscheckSection {
             let cached = record
                 .provenance
                 .as_ref()
-                .is_some_and(|p| p.mode == "cached");
+                .is_some_and(|p| p.mode == AnswerMode::Cached);
             let provenance = format!(
                 " <span class=\"badge {}\">{}</span>",
                 if cached { "skipped" } else { "pass" },

@@ -281,7 +281,7 @@ fn sweep_section(c: &CaseResult, sweep: &SweepResult) -> String {
         .iter()
         .map(|l| {
             let mut cells = vec![number(l.parameter), Cell::Num(format::seconds(l.wall_s))];
-            cells.push(text(&l.status));
+            cells.push(text(&l.status.to_string()));
             cells.extend(
                 metrics
                     .iter()
