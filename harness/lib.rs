@@ -12,6 +12,7 @@ pub mod catalogue;
 pub mod contact_compare;
 pub mod contact_problems;
 pub mod crosscheck;
+pub mod determinism;
 pub mod execute;
 pub mod judge;
 pub mod material_point;

@@ -17,6 +17,7 @@ pub static KINDS: Registry = Registry {
         KindEntry { key: "material_point", parse: crate::material_point::parse },
         KindEntry { key: "contact_problems", parse: crate::contact_problems::parse },
         KindEntry { key: "crosscheck", parse: crate::crosscheck::parse },
+        KindEntry { key: "determinism", parse: crate::determinism::parse },
     ],
     default: crate::scene_case::parse,
 };
