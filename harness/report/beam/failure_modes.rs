@@ -1,0 +1,147 @@
+//! The "Beam: failure modes" comparison: the beam cases side by side in rows, the monotonic
+//! rise of the peak force with velocity, the `failure_mode` metric in words, and its Markdown.
+
+use super::{BeamRecord, FAILURE_MODE_METRIC};
+use crate::report::format::{self, num};
+use crate::results::{CaseResult, RunResults};
+
+/// One case of the failure-mode comparison.
+pub struct FailureRow<'a> {
+    pub case: &'a CaseResult,
+    pub record: &'a BeamRecord,
+    /// The `failure_mode` metric, if the case has one.
+    pub metric: Option<&'a crate::results::MetricResult>,
+}
+
+/// The beam cases of a run in comparison order: static ones (no speed) first, then by speed
+/// (then by id). Cases with a refinement sweep are left out: they repeat a velocity on another
+/// mesh (their pictures stay in their own section).
+pub fn failure_rows<'a>(
+    results: &'a RunResults,
+    records: &'a [(usize, BeamRecord)],
+) -> Vec<FailureRow<'a>> {
+    let mut rows: Vec<FailureRow<'a>> = records
+        .iter()
+        .filter_map(|(i, r)| {
+            let case = results.cases.get(*i).filter(|c| c.sweep.is_none())?;
+            Some(FailureRow {
+                case,
+                record: r,
+                metric: case.metrics.iter().find(|m| m.name == FAILURE_MODE_METRIC),
+            })
+        })
+        .collect();
+    rows.sort_by(|a, b| {
+        let key = |r: &FailureRow<'_>| r.record.speed.unwrap_or(-1.0);
+        key(a)
+            .total_cmp(&key(b))
+            .then_with(|| a.case.id.cmp(&b.case.id))
+    });
+    rows
+}
+
+/// Whether the peak contact force rises monotonically with the impact velocity, in words with
+/// the numbers; `None` with fewer than two impact cases with a peak force.
+pub fn monotonic_statement(rows: &[FailureRow<'_>]) -> Option<String> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| Some((r.record.speed?, r.record.peak_force?)))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let rising = pts.windows(2).all(|w| w[1].1 > w[0].1);
+    let list: Vec<String> = pts
+        .iter()
+        .map(|(v, f)| format!("{} m/s: {} kN", num(*v), num(f / 1e3)))
+        .collect();
+    Some(format!(
+        "The peak contact force {} with the impact velocity ({}).",
+        if rising {
+            "rises monotonically"
+        } else {
+            "does NOT rise monotonically"
+        },
+        list.join(", ")
+    ))
+}
+
+/// The metric in words: `measured mixed (2), expected bending (1): fail` where its reference
+/// source names the codes (`code 0 none, 1 bending, ...`); otherwise the numbers and the source.
+pub fn metric_text(m: &crate::results::MetricResult) -> String {
+    let verdict = if m.pass { "pass" } else { "fail" };
+    match (
+        code_name(&m.reference_source, m.value),
+        code_name(&m.reference_source, m.reference),
+    ) {
+        (Some(v), Some(r)) => format!(
+            "measured {v} ({}), expected {r} ({}): {verdict}",
+            num(m.value),
+            num(m.reference)
+        ),
+        _ => {
+            let mut t = format!(
+                "{} (reference {}, {verdict})",
+                num(m.value),
+                num(m.reference)
+            );
+            if !m.reference_source.is_empty() {
+                t.push_str(&format!("; {}", m.reference_source));
+            }
+            t
+        }
+    }
+}
+
+/// The name of an integer code `v` where `text` lists the codes as `code 0 none, 1 bending, ...`.
+fn code_name(text: &str, v: f64) -> Option<String> {
+    if v.fract() != 0.0 || !v.is_finite() {
+        return None;
+    }
+    let list = &text[text.find("code ")? + 5..];
+    let list = list.split([')', ';']).next()?;
+    list.split(',').find_map(|item| {
+        let mut words = item.split_whitespace();
+        let code: f64 = words.next()?.parse().ok()?;
+        (code == v).then(|| words.collect::<Vec<_>>().join(" "))
+    })
+}
+
+/// The failure-mode comparison in Markdown for `summary.md`; empty without beam pictures.
+pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option<String> {
+    let rows = failure_rows(results, records);
+    if rows.is_empty() {
+        return None;
+    }
+    let mut md = String::from(
+        "| case | velocity (m/s) | peak force (kN) | failure_mode |\n|---|---:|---:|---|\n",
+    );
+    for r in &rows {
+        md.push_str(&format!(
+            "| {} | {} | {} | {} |\n",
+            format::markdown_cell(&r.case.id),
+            r.record.speed.map_or("static".into(), num),
+            r.record.peak_force.map_or("—".into(), |f| num(f / 1e3)),
+            r.metric
+                .map_or("—".into(), |m| format::markdown_cell(&metric_text(m))),
+        ));
+    }
+    if let Some(s) = monotonic_statement(&rows) {
+        md.push_str(&format!("\n{s}\n"));
+    }
+    Some(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn code_names_are_read_from_the_reference_source() {
+        let text =
+            "failure mode `bending` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear)";
+        assert_eq!(code_name(text, 2.0).as_deref(), Some("mixed"));
+        assert_eq!(code_name(text, 1.5), None);
+        assert_eq!(code_name("no codes", 1.0), None);
+    }
+}

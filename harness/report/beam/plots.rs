@@ -1,0 +1,242 @@
+//! The plots of a beam case from its history: energy transformation, contact force, support
+//! reactions, the force components of (6.48) and a static load-displacement curve.
+
+use impact_solver::model::Problem;
+use impact_solver::scene::{Analysis, Scene};
+
+use super::record::{bounds, contact_column};
+use super::BEAM_BODY;
+use crate::execute::Execution;
+use crate::report::format::{self, num};
+use crate::results::{PlotData, Series};
+
+/// The plots of a beam case from its history: energy transformation, contact force, support
+/// reactions, the force components of (6.48), and a static load-displacement curve.
+pub(super) fn plots(
+    scene: &Scene,
+    problem: &Problem,
+    run: &Execution,
+    existing: &[PlotData],
+) -> Vec<PlotData> {
+    let Some(history) = &run.history else {
+        return Vec::new();
+    };
+    let Some(time) = history.column("time") else {
+        return Vec::new();
+    };
+    let has = |c: &str| history.columns().iter().any(|x| x == c);
+    let series = |name: &str, y: Vec<f64>| Series {
+        name: name.to_string(),
+        x: time.clone(),
+        y,
+    };
+    let column = |c: &str| history.column(c).map(|y| series(c, y));
+    let plot = |title: &str, y_label: &str, series: Vec<Series>| PlotData {
+        title: title.to_string(),
+        x_label: "time (s)".into(),
+        y_label: y_label.to_string(),
+        series,
+        reference_lines: Vec::new(),
+        log_log: false,
+    };
+    let already = |names: &[String]| {
+        existing
+            .iter()
+            .any(|p| names.iter().all(|n| p.series.iter().any(|s| &s.name == n)))
+    };
+    let mut out = Vec::new();
+
+    // Energy transformation: the kinetic energies of the bodies, the internal and friction work
+    // and their sum.
+    let mut energy_columns: Vec<String> = problem
+        .model
+        .bodies
+        .iter()
+        .map(|b| format!("{}_kinetic", b.name))
+        .filter(|c| has(c))
+        .collect();
+    energy_columns.extend(
+        ["internal_work", "friction_work"]
+            .into_iter()
+            .filter(|c| has(c))
+            .map(String::from),
+    );
+    if energy_columns.len() >= 2 && energy_columns.iter().any(|c| c.ends_with("_kinetic")) {
+        let mut curves: Vec<Series> = energy_columns.iter().filter_map(|c| column(c)).collect();
+        let total: Vec<f64> = (0..time.len())
+            .map(|k| curves.iter().map(|s| s.y[k]).sum())
+            .collect();
+        let total_name = if has("external_work") {
+            "total = sum (external work, e.g. gravity, not included)"
+        } else {
+            "total = sum"
+        };
+        curves.push(series(total_name, total));
+        out.push(plot(
+            "Energy transformation (thesis Figs 10.11-10.14)",
+            "energy (J)",
+            curves,
+        ));
+    }
+
+    // Contact force and support reactions.
+    let contact = contact_column(problem, run);
+    if let Some(c) = &contact {
+        if !already(std::slice::from_ref(c)) {
+            if let Some(s) = column(c) {
+                out.push(plot(
+                    "Contact force, beam on impactor (thesis Fig. 10.15)",
+                    "force (N)",
+                    vec![s],
+                ));
+            }
+        }
+    }
+    let reactions: Vec<String> = support_names(problem)
+        .iter()
+        .map(|n| format!("{n}_reaction_y"))
+        .filter(|c| has(c))
+        .collect();
+    if !reactions.is_empty() && !already(&reactions) {
+        out.push(plot(
+            "Support reactions (thesis Fig. 10.17)",
+            "force (N)",
+            reactions.iter().filter_map(|c| column(c)).collect(),
+        ));
+    }
+
+    // The force components of (6.48) on the beam in y.
+    let momentum = format!("{BEAM_BODY}_momentum_y");
+    if let (Some(c), Some(p)) = (&contact, history.column(&momentum)) {
+        if !reactions.is_empty() && time.len() >= 3 {
+            let contact_on_beam: Vec<f64> = history
+                .column(c)
+                .unwrap_or_default()
+                .iter()
+                .map(|f| -f)
+                .collect();
+            let inertial = central_differences(&time, &p);
+            let internal: Vec<f64> = (0..time.len())
+                .map(|k| {
+                    -reactions
+                        .iter()
+                        .filter_map(|r| history.column(r))
+                        .map(|y| y[k])
+                        .sum::<f64>()
+                })
+                .collect();
+            let damping_coefficient = match &scene.analysis {
+                Analysis::Explicit(s) => s.damping,
+                Analysis::Release { explicit, .. } => explicit.damping,
+                Analysis::Static(_) => 0.0,
+            };
+            // Mass-proportional damping C = a M: its resultant on the beam is a p.
+            let damping: Vec<f64> = p.iter().map(|p| damping_coefficient * p).collect();
+            let sum: Vec<f64> = (0..time.len())
+                .map(|k| inertial[k] + internal[k] + damping[k])
+                .collect();
+            let damping_name = if damping_coefficient == 0.0 {
+                "damping (none in this scene: 0)".to_string()
+            } else {
+                format!("damping a p (a = {} 1/s)", num(damping_coefficient))
+            };
+            // The beam's weight: the components balance contact plus weight.
+            let beam = &problem.model.bodies[problem.model.body_index(BEAM_BODY).unwrap_or(0)];
+            let beam_mass: f64 = problem.model.mass[beam.nodes.clone()].iter().sum();
+            let weight = problem.gravity.map_or(0.0, |g| g.y * beam_mass);
+            let sum_name = if weight == 0.0 {
+                "inertial + internal + damping".to_string()
+            } else {
+                format!(
+                    "inertial + internal + damping (= contact + weight {} kN)",
+                    format::num(weight / 1e3)
+                )
+            };
+            let title = "Forces on the beam in y, (6.48) (thesis Fig. 10.16)";
+            out.push(plot(
+                title,
+                "force (N)",
+                vec![
+                    series("inertial dp/dt", inertial),
+                    series("internal = -sum of reactions", internal),
+                    series(&damping_name, damping),
+                    series(&sum_name, sum),
+                    series("contact on beam", contact_on_beam),
+                ],
+            ));
+        }
+    }
+
+    // Static load against mid-span displacement (thesis Fig. 10.5), unless the case draws it.
+    if let (Some(load), Some(disp)) = (
+        history.column("load_plate_reaction_y"),
+        history.column("midspan_y"),
+    ) {
+        let drawn = existing.iter().any(|p| p.x_label.contains("midspan_y"));
+        if !drawn {
+            out.push(PlotData {
+                title: "Load against mid-span displacement (thesis Fig. 10.5)".into(),
+                x_label: "midspan_y (m)".into(),
+                y_label: "load_plate_reaction_y (N)".into(),
+                series: vec![Series {
+                    name: "load plate reaction".into(),
+                    x: disp,
+                    y: load,
+                }],
+                reference_lines: Vec::new(),
+                log_log: false,
+            });
+        }
+    }
+    out
+}
+
+/// Names of the constraints that hold bottom nodes of the beam over a stretch of x (the supports,
+/// not pins at single nodes).
+fn support_names(problem: &Problem) -> Vec<String> {
+    let model = &problem.model;
+    let Some(body) = model.body_index(BEAM_BODY) else {
+        return Vec::new();
+    };
+    let b = &model.bodies[body];
+    let (lo, hi) = bounds(&model.reference[b.nodes.clone()]);
+    let tol = 1e-6 * (hi.y - lo.y).max(f64::MIN_POSITIVE);
+    problem
+        .constraints
+        .iter()
+        .filter(|c| {
+            c.nodes.len() > 1
+                && c.nodes.iter().all(|&n| {
+                    b.nodes.contains(&(n as usize)) && model.reference[n as usize].y < lo.y + tol
+                })
+        })
+        .map(|c| c.name.clone())
+        .collect()
+}
+
+/// `dy/dt` by central differences (one-sided at the ends).
+pub fn central_differences(t: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = t.len().min(y.len());
+    (0..n)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+            if b == a {
+                0.0
+            } else {
+                (y[b] - y[a]) / (t[b] - t[a])
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn central_differences_of_a_line_are_its_slope() {
+        let t = [0.0, 1.0, 2.0, 3.0];
+        let y = [1.0, 3.0, 5.0, 7.0];
+        assert_eq!(central_differences(&t, &y), vec![2.0; 4]);
+    }
+}
