@@ -128,6 +128,23 @@ pub struct Registry {
     pub default: ParseKind,
 }
 
+/// Refuses the parts of the common schema that a kind does not use: the first of `parts`
+/// (`scene`, `sweep`, `variants`, `plots`) that `case` gives is an error, `why` followed by
+/// the part to remove.
+pub fn refuse_parts(case: &CaseSpec, parts: &[&str], why: &str) -> Result<(), String> {
+    let given = |part: &&&str| match **part {
+        "scene" => case.scene.is_some(),
+        "sweep" => case.sweep.is_some(),
+        "variants" => !case.variants.is_empty(),
+        "plots" => !case.plots.is_empty(),
+        other => unreachable!("`{other}` is not an optional part of a case"),
+    };
+    match parts.iter().find(given) {
+        Some(part) => Err(format!("{why}: remove `{part}`")),
+        None => Ok(()),
+    }
+}
+
 /// The metrics' measures of `case` read as the kind's measure type `M`, in the metrics' order.
 /// The error names the metric.
 pub fn parse_measures<M: DeserializeOwned>(case: &CaseSpec, kind: &str) -> Result<Vec<M>, String> {

@@ -11,7 +11,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::contact_compare::output::write_outputs;
@@ -89,17 +89,11 @@ pub fn parse(
     if comparison.folder.is_relative() {
         comparison.folder = base.join(&comparison.folder);
     }
-    let unsupported = [
-        ("scene", case.scene.is_some()),
-        ("sweep", case.sweep.is_some()),
-        ("variants", !case.variants.is_empty()),
-        ("plots", !case.plots.is_empty()),
-    ];
-    if let Some((key, _)) = unsupported.iter().find(|(_, given)| *given) {
-        return Err(format!(
-            "a `contact_problems` case runs no scene: remove `{key}`"
-        ));
-    }
+    refuse_parts(
+        case,
+        &["scene", "sweep", "variants", "plots"],
+        "a `contact_problems` case runs no scene",
+    )?;
     if comparison.tolerances.is_empty() || comparison.tolerances.iter().any(|t| !(*t > 0.0)) {
         return Err(format!(
             "contact_problems: tolerances must be positive and at least one, got {:?}",

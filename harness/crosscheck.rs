@@ -25,7 +25,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
@@ -136,17 +136,11 @@ pub fn parse(
                 .into()
         });
     }
-    let others = [
-        ("sweep", spec.sweep.is_some()),
-        ("variants", !spec.variants.is_empty()),
-        ("plots", !spec.plots.is_empty()),
-    ];
-    if let Some((key, _)) = others.iter().find(|(_, given)| *given) {
-        return Err(format!(
-            "a `crosscheck` case runs its own comparison: remove `{key}` (its tables and plots \
-             come with the comparison)"
-        ));
-    }
+    refuse_parts(
+        spec,
+        &["sweep", "variants", "plots"],
+        "a `crosscheck` case runs its own comparison, with its own tables and plots",
+    )?;
     let measures: Vec<CrosscheckMeasure> = parse_measures(spec, "crosscheck")?;
     let mut quantities = Vec::new();
     for (m, CrosscheckMeasure::Crosscheck(q)) in spec.metrics.iter().zip(measures) {

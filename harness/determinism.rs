@@ -14,7 +14,7 @@ use impact_solver::scene::{build_problem, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::execute::{execute, ExecuteOptions, Execution};
@@ -72,16 +72,11 @@ pub fn parse(
     if case.scene.is_none() {
         return Err("a determinism case runs the case's `scene`: add one".into());
     }
-    let others = [
-        ("sweep", case.sweep.is_some()),
-        ("variants", !case.variants.is_empty()),
-        ("plots", !case.plots.is_empty()),
-    ];
-    if let Some((key, _)) = others.iter().find(|(_, given)| *given) {
-        return Err(format!(
-            "a `determinism` case compares runs of one scene: remove `{key}`"
-        ));
-    }
+    refuse_parts(
+        case,
+        &["sweep", "variants", "plots"],
+        "a `determinism` case compares runs of one scene",
+    )?;
     let measures: Vec<DeterminismMeasure> = parse_measures(case, "determinism")?;
     Ok(Arc::new(DeterminismCase {
         spec,

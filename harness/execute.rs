@@ -13,9 +13,7 @@ use impact_solver::model::{
 };
 use impact_solver::output::{HistoryTable, PvdWriter};
 use impact_solver::scene::Analysis;
-use impact_solver::statics::{
-    solve_static, solve_static_with_progress, StaticSettings, StaticSolution,
-};
+use impact_solver::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
 use impact_solver::{SolverError, Vector3};
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
@@ -156,7 +154,7 @@ fn statics(
         problem.model.element_count(),
         settings.load_steps
     );
-    let solution = solve_static_with_progress(problem, settings, progress)?;
+    let solution = solve_static_until(problem, settings, progress, options.stop.as_deref())?;
     let plan = match &solution.stopped {
         Some(reason) => format!("{plan}; stopped: {reason}"),
         None => plan,

@@ -45,7 +45,7 @@ use std::time::Instant;
 use impact_solver::material::microplane::MicroplaneParameters;
 
 use crate::case_kind::{
-    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
@@ -129,18 +129,11 @@ pub fn parse(
 }
 
 fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasure>, String> {
-    let others = [
-        ("scene", spec.scene.is_some()),
-        ("sweep", spec.sweep.is_some()),
-        ("variants", !spec.variants.is_empty()),
-        ("plots", !spec.plots.is_empty()),
-    ];
-    if let Some((key, _)) = others.iter().find(|(_, given)| *given) {
-        return Err(format!(
-            "a `material_point` case runs a virtual experiment, not a scene: remove `{key}` \
-             (its plots come with the experiment)"
-        ));
-    }
+    refuse_parts(
+        spec,
+        &["scene", "sweep", "variants", "plots"],
+        "a `material_point` case runs a virtual experiment, not a scene, with its own plots",
+    )?;
     let accepted = mp.experiment.options();
     if let Some(o) = given_options(mp).iter().find(|o| !accepted.contains(o)) {
         return Err(format!(

@@ -42,7 +42,7 @@ pub fn parse(
     if spec.scene.is_none() {
         return Err(
             "the case has no `scene`: add one, or the block of another kind of case \
-             (see cases/README.md)"
+             (README, 'The V&V harness')"
                 .into(),
         );
     }

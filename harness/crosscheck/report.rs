@@ -3,25 +3,15 @@
 //! package versions), the setup, the metrics, the comparison tables and plots.
 
 use super::{AnswerMode, CrosscheckRecord};
-use crate::report::blocks::{element, note, plots};
+use crate::report::blocks::{element, list, note, plots};
 use crate::report::format;
 use crate::report::records::{metric_markdown, metric_table, record_table, target_plot};
-use crate::report::section::{part_heading, part_link, Page, Section};
+use crate::report::section::{cases_with, part_heading, part_link, Page, Section};
 use crate::report::summary::{status_name, CaseSummary};
-use crate::results::{CaseResult, RunResults, Status};
+use crate::results::{CaseResult, Status};
 
 /// The section of the cross-check cases.
 pub struct CrosscheckSection;
-
-/// Cases carrying a cross-check record, in run order.
-fn cases(results: &RunResults) -> Vec<(usize, &CaseResult, CrosscheckRecord)> {
-    results
-        .cases
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| c.record(CrosscheckRecord::KEY).map(|r| (i, c, r)))
-        .collect()
-}
 
 /// `fresh` or `CACHED <date>`: the badge of an independent answer.
 pub fn provenance_badge(record: &CrosscheckRecord) -> String {
@@ -42,7 +32,7 @@ impl Section for CrosscheckSection {
     }
 
     fn html(&self, page: &Page<'_>) -> Option<String> {
-        let list = cases(page.results);
+        let list = cases_with::<CrosscheckRecord>(page, CrosscheckRecord::KEY);
         if list.is_empty() {
             return None;
         }
@@ -55,10 +45,7 @@ impl Section for CrosscheckSection {
              cached answers in <code>references/crosscheck/cache/</code> are judged, and marked \
              CACHED with the date and versions that produced them.",
         );
-        for (index, c, record) in list {
-            let Some(s) = page.summaries.get(index) else {
-                continue;
-            };
+        for (s, record) in list {
             let cached = record
                 .provenance
                 .as_ref()
@@ -69,7 +56,7 @@ impl Section for CrosscheckSection {
                 format::html(&provenance_badge(&record))
             );
             html.push_str(&part_heading(self, s, &provenance));
-            html.push_str(&case_part(c, &record));
+            html.push_str(&case_part(s.case, &record));
         }
         Some(html)
     }
@@ -86,7 +73,7 @@ impl Section for CrosscheckSection {
     }
 
     fn markdown(&self, page: &Page<'_>) -> Option<String> {
-        let list = cases(page.results);
+        let list = cases_with::<CrosscheckRecord>(page, CrosscheckRecord::KEY);
         if list.is_empty() {
             return None;
         }
@@ -94,7 +81,8 @@ impl Section for CrosscheckSection {
             "The solver against code written by others (scikit-fem, ipctk). Without the `python` \
              feature their cached answers are judged; each says so.\n",
         );
-        for (_, c, record) in list {
+        for (s, record) in list {
+            let c = s.case;
             md.push_str(&format!(
                 "\n### {} ({}, {}, {})\n\n",
                 c.id,
@@ -129,12 +117,7 @@ impl Section for CrosscheckSection {
 
 /// One case's part: setup, metrics, tables, plots and notes.
 fn case_part(c: &CaseResult, record: &CrosscheckRecord) -> String {
-    let setup: String = record
-        .setup
-        .iter()
-        .map(|s| format!("<li>{}</li>", format::html(s)))
-        .collect();
-    let mut html = element("ul", "", &setup);
+    let mut html = list(&record.setup);
     if c.status == Status::Error {
         html.push_str(&note(c.message.as_deref().unwrap_or("no reason given")));
     }
@@ -147,13 +130,6 @@ fn case_part(c: &CaseResult, record: &CrosscheckRecord) -> String {
     if !record.plots.is_empty() {
         html.push_str(&plots("plots", record.plots.iter().map(target_plot)));
     }
-    if !record.notes.is_empty() {
-        let items: String = record
-            .notes
-            .iter()
-            .map(|n| format!("<li>{}</li>", format::html(n)))
-            .collect();
-        html.push_str(&element("ul", "", &items));
-    }
+    html.push_str(&list(&record.notes));
     html
 }

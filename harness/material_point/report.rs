@@ -4,25 +4,15 @@
 //! away.
 
 use super::MaterialRecord;
-use crate::report::blocks::{element, note, plots, table, text, Cell, Row};
+use crate::report::blocks::{element, list, note, plots, table, text, Cell, Row};
 use crate::report::format;
 use crate::report::records::{metric_markdown, metric_table, record_table, target_plot};
-use crate::report::section::{part_heading, part_link, Page, Section};
+use crate::report::section::{cases_with, part_heading, part_link, Page, Section};
 use crate::report::summary::{status_name, CaseSummary};
-use crate::results::{CaseResult, RunResults, Status};
+use crate::results::{CaseResult, Status};
 
 /// The section of the material-point cases.
 pub struct MaterialSection;
-
-/// Cases carrying a material record, in run order.
-fn cases(results: &RunResults) -> Vec<(usize, &CaseResult, MaterialRecord)> {
-    results
-        .cases
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| c.record(MaterialRecord::KEY).map(|m| (i, c, m)))
-        .collect()
-}
 
 impl Section for MaterialSection {
     fn anchor(&self) -> &'static str {
@@ -34,7 +24,7 @@ impl Section for MaterialSection {
     }
 
     fn html(&self, page: &Page<'_>) -> Option<String> {
-        let list = cases(page.results);
+        let list = cases_with::<MaterialRecord>(page, MaterialRecord::KEY);
         if list.is_empty() {
             return None;
         }
@@ -46,12 +36,9 @@ impl Section for MaterialSection {
              strains in 1e-3 on the axes; shaded windows and bands are acceptance targets, dashed \
              curves are published references.",
         );
-        for (index, c, record) in list {
-            let Some(s) = page.summaries.get(index) else {
-                continue;
-            };
+        for (s, record) in list {
             html.push_str(&part_heading(self, s, ""));
-            html.push_str(&case_part(c, &record));
+            html.push_str(&case_part(s.case, &record));
         }
         Some(html)
     }
@@ -64,7 +51,7 @@ impl Section for MaterialSection {
     }
 
     fn markdown(&self, page: &Page<'_>) -> Option<String> {
-        let list = cases(page.results);
+        let list = cases_with::<MaterialRecord>(page, MaterialRecord::KEY);
         if list.is_empty() {
             return None;
         }
@@ -72,7 +59,8 @@ impl Section for MaterialSection {
             "Material-point experiments of the microplane model; the report page has their \
              curves.\n",
         );
-        for (_, c, record) in list {
+        for (s, record) in list {
+            let c = s.case;
             md.push_str(&format!(
                 "\n### {} ({}, {})\n\n{}\n\n",
                 c.id,
@@ -109,17 +97,12 @@ fn case_part(c: &CaseResult, record: &MaterialRecord) -> String {
         html.push_str(&note(c.message.as_deref().unwrap_or("no reason given")));
     }
     if !record.notes.is_empty() {
-        let items: String = record
-            .notes
-            .iter()
-            .map(|n| format!("<li>{}</li>", format::html(n)))
-            .collect();
         html.push_str(&element(
             "div",
             "callout skipped",
             &format!(
                 "<div class=\"callout-title\">Notes</div>\n{}",
-                element("ul", "", &items)
+                list(&record.notes)
             ),
         ));
     }

@@ -94,6 +94,19 @@ pub fn plots(class: &str, svgs: impl IntoIterator<Item = String>) -> String {
     element("div", class, &figures)
 }
 
+/// A bulleted list of plain-text items; empty without items.
+pub fn list<'a>(items: impl IntoIterator<Item = &'a String>) -> String {
+    let items: String = items
+        .into_iter()
+        .map(|i| format!("<li>{}</li>", format::html(i)))
+        .collect();
+    if items.is_empty() {
+        String::new()
+    } else {
+        element("ul", "", &items)
+    }
+}
+
 /// A greyed note, for absent content.
 pub fn note(text: &str) -> String {
     element("p", "muted", &format::html(text))

@@ -10,6 +10,7 @@ use super::blocks::{badge, element};
 use super::format;
 use super::summary::CaseSummary;
 use crate::results::RunResults;
+use serde::de::DeserializeOwned;
 
 /// What a section sees of the run: its results, the summaries of its cases (with their
 /// anchors), and the run folder (for records the kinds wrote beside the results).
@@ -41,6 +42,18 @@ pub trait Section: Sync {
     fn markdown(&self, _page: &Page<'_>) -> Option<String> {
         None
     }
+}
+
+/// The cases of the run whose kind stored a record under `key`, with their summaries and the
+/// record read back, in run order.
+pub fn cases_with<'p, T: DeserializeOwned>(
+    page: &'p Page<'p>,
+    key: &str,
+) -> Vec<(&'p CaseSummary<'p>, T)> {
+    page.summaries
+        .iter()
+        .filter_map(|s| Some((s, s.case.record(key)?)))
+        .collect()
 }
 
 /// The section on the page: its anchor, title and content; empty when it has none.

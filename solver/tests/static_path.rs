@@ -9,7 +9,8 @@ use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::read_microplane_file;
 use impact_solver::model::TimeFunction;
 use impact_solver::scene::{build_problem, Analysis, Component, MotionSpec, Scene};
-use impact_solver::statics::{solve_static, StaticSolution};
+use impact_solver::statics::{solve_static, solve_static_until, StaticSolution};
+use impact_solver::SolverError;
 
 fn shipped_file() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml")
@@ -120,6 +121,43 @@ fn the_static_path_records_every_load_step() {
     let (problem, _) = pulled_cube(5e-5, 2);
     let committed = solution.material_history.as_ref().unwrap();
     assert_ne!(committed, &problem.model.initial_history());
+}
+
+/// A stop flag raised during the second load step (by the progress callback, as a signal
+/// would) ends the path at the end of that step with `Interrupted`, naming the step and its
+/// time; without it the same path runs to the end.
+#[test]
+fn a_raised_stop_flag_ends_the_path_at_the_end_of_the_step() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let (problem, analysis) = pulled_cube(5e-5, 4);
+    let Analysis::Static(settings) = analysis else {
+        unreachable!()
+    };
+    let stop = AtomicBool::new(false);
+    let mut steps = 0;
+    let outcome = solve_static_until(
+        &problem,
+        &settings,
+        &mut |_| {
+            steps += 1;
+            if steps == 2 {
+                stop.store(true, Ordering::Relaxed);
+            }
+        },
+        Some(&stop),
+    );
+    match outcome {
+        Err(SolverError::Interrupted { step, time }) => {
+            assert_eq!(step, 2);
+            assert!((time - 0.5).abs() < 1e-12, "{time}");
+        }
+        other => panic!(
+            "expected an interruption, got {:?}",
+            other.map(|s| s.stopped)
+        ),
+    }
+    let calm = AtomicBool::new(false);
+    assert!(solve_static_until(&problem, &settings, &mut |_| {}, Some(&calm)).is_ok());
 }
 
 /// An elastic bar of three 5 cm cells on rollers, its end face moved by opening control: the

@@ -134,10 +134,22 @@ pub fn solve_static_with_progress(
     settings: &StaticSettings,
     progress: &mut dyn FnMut(f64),
 ) -> Result<StaticSolution> {
+    solve_static_until(problem, settings, progress, None)
+}
+
+/// [`solve_static_with_progress`] that a path of many load steps ([`path::solve_path`]) leaves
+/// with [`SolverError::Interrupted`] at the end of the step during which `stop` becomes true (a
+/// signal). A linear problem's few steps always finish.
+pub fn solve_static_until(
+    problem: &Problem,
+    settings: &StaticSettings,
+    progress: &mut dyn FnMut(f64),
+    stop: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<StaticSolution> {
     let model = &problem.model;
     let (equation, free) = free_equations(problem)?;
     if model.has_history() || settings.opening_control.is_some() {
-        return path::solve_path(problem, settings, &equation, free, progress);
+        return path::solve_path(problem, settings, &equation, free, progress, stop);
     }
     let n = model.node_count();
     let constraint_of = problem.constraint_map();

@@ -56,6 +56,7 @@ pub(super) fn solve_path(
     equation: &[[usize; 3]],
     free: usize,
     progress: &mut dyn FnMut(f64),
+    stop: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<StaticSolution> {
     let model = &problem.model;
     let n = model.node_count();
@@ -151,6 +152,9 @@ pub(super) fn solve_path(
                     residual,
                 ));
                 progress(lambda);
+                if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed)) {
+                    return Err(SolverError::Interrupted { step, time });
+                }
                 cuts = cuts.saturating_sub(1);
             }
             Outcome::Failed { reason } if cuts >= settings.max_cuts => {
