@@ -98,6 +98,7 @@ pub fn unfinished_result(spec: &CaseSpec, variant: &str) -> CaseResult {
         plots: Vec::new(),
         sweep: None,
         contact: None,
+        phase_seconds: Default::default(),
         records: Default::default(),
         known_failure: None,
     }

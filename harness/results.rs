@@ -244,6 +244,9 @@ pub struct CaseResult {
     /// How the contact solver fared over the judged run, for scenes with contact.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSolverStats>,
+    /// Wall time of each phase of the explicit step (s), by phase name, for scene runs.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub phase_seconds: BTreeMap<String, f64>,
     /// What the case's kind recorded for its part of the report, under the kind's key
     /// (`contact_comparison`, `material`, `crosscheck`, ...): written and read by the kind
     /// ([`CaseResult::record`], [`CaseResult::set_record`]), carried as JSON by everything else.
@@ -339,6 +342,10 @@ pub struct HistoryRecord {
     #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
     pub metrics: BTreeMap<String, f64>,
+    /// Wall time of each phase of the explicit step (s), for scene runs: the trend of where the
+    /// time goes.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub phase_seconds: BTreeMap<String, f64>,
 }
 
 impl RunResults {
@@ -364,6 +371,7 @@ impl RunResults {
                     .iter()
                     .map(|m| (m.name.clone(), m.value))
                     .collect(),
+                phase_seconds: c.phase_seconds.clone(),
             })
             .collect()
     }

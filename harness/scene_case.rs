@@ -166,6 +166,14 @@ fn run_case(
         .as_ref()
         .expect("judged level completed");
     result.contact = contact_stats(problem, run);
+    if let Some(summary) = &run.summary {
+        result.phase_seconds = summary
+            .phase_seconds
+            .named()
+            .iter()
+            .map(|(name, t)| (name.to_string(), *t))
+            .collect();
+    }
     let mut sweep_levels: Vec<SweepLevel> = runs
         .iter()
         .map(|r| SweepLevel {

@@ -114,6 +114,7 @@ pub fn run_scene_file(
             s.max_relative_energy_error,
             s.mesh_stability_flags
         ));
+        lines.push(format!("time per phase: {}", s.phase_seconds.line()));
     }
     if let Some(s) = &run.static_solution {
         lines.push(format!(

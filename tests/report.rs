@@ -86,6 +86,7 @@ fn pass_case() -> CaseResult {
         plots: vec![history_plot()],
         sweep: None,
         contact: None,
+        phase_seconds: Default::default(),
         records: Default::default(),
         known_failure: None,
     }
@@ -134,6 +135,7 @@ fn fail_case() -> CaseResult {
         plots: vec![],
         sweep: Some(sweep),
         contact: None,
+        phase_seconds: Default::default(),
         records: Default::default(),
         known_failure: None,
     }
@@ -153,6 +155,7 @@ fn error_case() -> CaseResult {
         plots: vec![],
         sweep: None,
         contact: None,
+        phase_seconds: Default::default(),
         records: Default::default(),
         known_failure: None,
     }

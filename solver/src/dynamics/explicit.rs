@@ -1,138 +1,39 @@
-//! The central-difference (leapfrog) integrator with lumped mass (thesis 4.3.2.2).
+//! The central-difference (leapfrog) integrator with lumped mass (thesis 4.3.2.2). A step is
+//! `ExplicitSolver::advance`: named phases (internal forces, predictor, prescribed motion,
+//! contact, energy ledger), each timed ([`PhaseTimes`]). What a run records is in `records`,
+//! how it stops early in `stopping`, the contact phase's buffers in `contact_phase`.
 
-use std::path::PathBuf;
+mod contact_phase;
+mod records;
+mod stopping;
+
 use std::time::Instant;
 
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 
-use super::{EnergyLedger, InstabilityReport};
+use super::settings::{ContactTotals, PhaseTimes, RunSummary, Snapshot};
+use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
-use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
-use crate::model::{field_frame_with_history, MaterialHistory, Motion, Problem};
+use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::history::{HistoryStream, HistoryTable};
 use crate::output::vtu::PvdWriter;
+use contact_phase::ContactScratch;
 
-/// Settings of an explicit run. Defaults follow FORMULATION section 2.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ExplicitSettings {
-    /// Simulated time (s).
-    pub end_time: f64,
-    /// Fixed time step (s); `None` takes `safety * dt_cr`.
-    #[serde(default)]
-    pub time_step: Option<f64>,
-    /// Fraction of the critical step used when `time_step` is not given.
-    #[serde(default = "default_safety")]
-    pub safety: f64,
-    /// Run even if `time_step` exceeds the stable estimate (stability sweeps do).
-    #[serde(default)]
-    pub allow_unstable_time_step: bool,
-    /// Mass-proportional damping coefficient `a` of `C = a M` (1/s).
-    #[serde(default)]
-    pub damping: f64,
-    /// Stop after this many steps even if `end_time` is not reached.
-    #[serde(default)]
-    pub max_steps: Option<usize>,
-    /// Time between history records (s); `None` records about 500 instants.
-    #[serde(default)]
-    pub history_interval: Option<f64>,
-    /// Time between field frames (s); `None` writes the first and the last state only.
-    #[serde(default)]
-    pub field_interval: Option<f64>,
-    /// Time between displacement snapshots kept in memory for the caller (crack growth, failure
-    /// modes); `None` keeps none. Cheaper than field frames: nothing is written or derived.
-    #[serde(default)]
-    pub snapshot_interval: Option<f64>,
-    /// The run is declared unstable when the energy balance error exceeds this fraction of the
-    /// largest energy scale seen so far.
-    #[serde(default = "default_energy_tolerance")]
-    pub instability_energy_tolerance: f64,
-    /// Mesh stability check (4.35): steps where a node moves more than `eta` times the smallest
-    /// altitude of its elements are counted.
-    #[serde(default = "default_eta")]
-    pub mesh_stability_eta: f64,
-}
+/// A stopwatch read lap by lap.
+struct Lap(Instant);
 
-fn default_safety() -> f64 {
-    0.9
-}
-fn default_energy_tolerance() -> f64 {
-    0.05
-}
-fn default_eta() -> f64 {
-    0.1
-}
-
-impl ExplicitSettings {
-    pub fn new(end_time: f64) -> Self {
-        Self {
-            end_time,
-            time_step: None,
-            safety: default_safety(),
-            allow_unstable_time_step: false,
-            damping: 0.0,
-            max_steps: None,
-            history_interval: None,
-            field_interval: None,
-            snapshot_interval: None,
-            instability_energy_tolerance: default_energy_tolerance(),
-            mesh_stability_eta: default_eta(),
-        }
+impl Lap {
+    fn start() -> Self {
+        Lap(Instant::now())
     }
-}
 
-/// Where a run writes its output; `dir: None` keeps everything in memory.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct OutputSettings {
-    pub dir: Option<PathBuf>,
-    /// File stem: `<stem>_history.csv`, `<stem>.pvd`, `<stem>_00000.vtu`, ...
-    pub stem: String,
-    /// Write VTU field frames (histories are always kept).
-    pub fields: bool,
-}
-
-/// The contact solver's record over a run, all pairs and passes together.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct ContactTotals {
-    /// Steps in which at least one contact problem was solved.
-    pub steps_with_contact: usize,
-    pub solves: usize,
-    pub not_converged: usize,
-    pub unresolved: usize,
-    /// Gauss-Seidel sweeps or interior-point iterations.
-    pub iterations: usize,
-}
-
-/// What a completed run reports.
-#[derive(Debug, Clone)]
-pub struct RunSummary {
-    pub steps: usize,
-    pub time: f64,
-    pub time_step: f64,
-    pub critical_time_step: f64,
-    pub critical_element: usize,
-    pub wall_seconds: f64,
-    /// Wall time spent in the contact phase (detection and resolution), within `wall_seconds`.
-    pub contact_seconds: f64,
-    /// How the contact solver fared, summed over the run.
-    pub contact_totals: ContactTotals,
-    pub energies: EnergyLedger,
-    /// Largest |balance error| over the run divided by the largest energy scale of the run.
-    pub max_relative_energy_error: f64,
-    /// Steps in which some node moved more than `eta` times its smallest element altitude.
-    pub mesh_stability_flags: usize,
-    pub history: HistoryTable,
-    /// Displacements at every `snapshot_interval` (and at the end), when one is set.
-    pub snapshots: Vec<Snapshot>,
-    pub written: Vec<PathBuf>,
-}
-
-/// The displacement of every node at one instant of a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    pub time: f64,
-    pub u: Vec<Vector3<f64>>,
+    /// Seconds since the start or the last lap.
+    fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
 }
 
 /// Central differences in velocity form with mass-proportional damping (FORMULATION 2):
@@ -170,7 +71,8 @@ pub struct ExplicitSolver<'p> {
     history_node: Vec<bool>,
     /// What the contact phase did in the last step, per pair.
     pub contact_steps: Vec<crate::contact::ContactStep>,
-    contact_seconds: f64,
+    /// Wall time of each phase so far.
+    phases: PhaseTimes,
     contact_totals: ContactTotals,
     pub energies: EnergyLedger,
     pending: EnergyLedger,
@@ -262,7 +164,7 @@ impl<'p> ExplicitSolver<'p> {
                 Vec::new()
             },
             contact_steps: Vec::new(),
-            contact_seconds: 0.0,
+            phases: PhaseTimes::default(),
             contact_totals: ContactTotals::default(),
             reaction: vec![Vector3::zeros(); n],
             energies: EnergyLedger::default(),
@@ -339,69 +241,6 @@ impl<'p> ExplicitSolver<'p> {
             .map_or(by_time, |m| m.min(by_time.max(m)))
     }
 
-    /// One line per decision the run takes, printed before it starts.
-    pub fn plan(&self) -> String {
-        let model = &self.problem.model;
-        format!(
-            "explicit dynamics: {} bodies, {} nodes, {} elements; dt = {:.4e} s ({:.3} of the \
-             stable estimate {:.4e} s set by element {}); {} steps to t = {:.4e} s; {} constraints, \
-             {} loads, gravity {}; damping a = {}; contact: {}",
-            model.bodies.len(),
-            model.node_count(),
-            model.element_count(),
-            self.dt,
-            self.dt / self.dt_critical,
-            self.dt_critical,
-            self.critical_element,
-            self.planned_steps(),
-            self.settings.end_time,
-            self.problem.constraints.len(),
-            self.problem.loads.len(),
-            if self.problem.gravity.is_some() { "on" } else { "off" },
-            self.settings.damping,
-            if self.problem.contact.is_empty() {
-                "none".to_string()
-            } else {
-                self.problem
-                    .contact
-                    .iter()
-                    .map(|p| format!("{} (mu {}, beta_0 {}, {} pass)", p.name, p.friction, p.beta_0, if p.two_pass { "two-" } else { "one-" }))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            },
-        ) + &self.history_plan()
-    }
-
-    /// The bodies with history, their element sizes and the memory the history takes (empty
-    /// without such bodies).
-    fn history_plan(&self) -> String {
-        let model = &self.problem.model;
-        let mut parts = Vec::new();
-        for (body, history) in model.bodies.iter().zip(&self.history.bodies) {
-            if let (Some(m), Some(h)) = (&body.microplane, history) {
-                let (lo, hi) = m.bands.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
-                    (lo.min(b.size), hi.max(b.size))
-                });
-                parts.push(format!(
-                    "`{}` microplane ({} directions, element sizes {:.1}-{:.1} mm, limit {:.1} \
-                     mm; history {} B per element, {:.1} MB)",
-                    body.name,
-                    m.model.planes().len(),
-                    lo * 1e3,
-                    hi * 1e3,
-                    m.model.largest_element() * 1e3,
-                    h.bytes_per_element(),
-                    (h.bytes_per_element() * body.elements.len()) as f64 / 1e6
-                ));
-            }
-        }
-        if parts.is_empty() {
-            String::new()
-        } else {
-            format!("; materials with history: {}", parts.join(", "))
-        }
-    }
-
     fn kinetic_energy(&self, v: &[Vector3<f64>]) -> f64 {
         fixed_order_sum(v.len(), |i| {
             0.5 * self.problem.model.mass[i] * v[i].norm_squared()
@@ -454,6 +293,7 @@ impl<'p> ExplicitSolver<'p> {
                 }
             }
             // Energies now describe t_n; check the balance before recording.
+            let mut clock = Lap::start();
             let e = self.energies;
             max_scale = max_scale.max(e.scale());
             let error = e.balance_error();
@@ -496,6 +336,7 @@ impl<'p> ExplicitSolver<'p> {
                     next_snapshot += interval;
                 }
             }
+            self.phases.output += clock.lap();
             if n % progress_every == 0 {
                 progress(n as f64 / steps.max(1) as f64);
                 if let Some((deadline, limit_s)) = self.deadline {
@@ -550,7 +391,8 @@ impl<'p> ExplicitSolver<'p> {
             critical_time_step: self.dt_critical,
             critical_element: self.critical_element,
             wall_seconds: started.elapsed().as_secs_f64(),
-            contact_seconds: self.contact_seconds,
+            contact_seconds: self.phases.contact,
+            phase_seconds: self.phases,
             contact_totals: self.contact_totals,
             energies: self.energies,
             max_relative_energy_error: if max_scale > 0.0 {
@@ -567,37 +409,70 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Computes forces at `t_n`, the new half-step velocity, the full-step velocity, reactions and
     /// the energies at `t_n`. Leaves `u` at `u_n`; [`Self::finish_step`] moves it to `u_{n+1}`.
-    /// Returns whether the mesh stability check flagged a node, or the reason to stop.
+    /// Returns whether the mesh stability check flagged a node, or the reason to stop. Each
+    /// phase is timed ([`PhaseTimes`]).
     fn advance(&mut self) -> std::result::Result<bool, (String, Option<usize>)> {
-        let problem = self.problem;
-        let model = &problem.model;
-        let (dt, t, alpha) = (self.dt, self.time, self.settings.damping);
-        // The only force computation of the step: it advances the material histories, with the
-        // strain rate from v_{n-1/2} (v_0 at the first step).
+        // Effective step between v_{n-1/2} and v_{n+1/2} (half a step at the start).
+        let h = if self.step == 0 {
+            0.5 * self.dt
+        } else {
+            self.dt
+        };
+        let mut clock = Lap::start();
+        self.internal_forces()?;
+        self.phases.internal_forces += clock.lap();
+        self.predictor(h);
+        self.phases.predictor += clock.lap();
+        self.prescribed_motion();
+        self.phases.prescribed_motion += clock.lap();
+        self.contact_correction(h);
+        self.phases.contact += clock.lap();
+        let moved_too_far = self.energy_ledger(h)?;
+        self.phases.energy_ledger += clock.lap();
+        std::mem::swap(&mut self.v_half, &mut self.v_next);
+        Ok(moved_too_far)
+    }
+
+    /// The internal forces at `t_n`, the only force computation of the step: it advances the
+    /// material histories, with the strain rate from `v_{n-1/2}` (`v_0` at the first step).
+    fn internal_forces(&mut self) -> std::result::Result<(), (String, Option<usize>)> {
+        let model = &self.problem.model;
         if let Some(e) = model.advance_internal_forces(
             &self.u,
             &self.v_half,
-            dt,
+            self.dt,
             &mut self.history,
             &mut self.f_int,
         ) {
             let det = model.deformation_gradient(e, &self.u).determinant();
             return Err((format!("element inverted (det F = {det:.3e})"), Some(e)));
         }
-        if !problem.external_forces(t, &mut self.f_ext) && self.step == 0 {
+        Ok(())
+    }
+
+    /// The loads at `t_n` and the damped central-difference update of every node,
+    /// `v_{n+1/2} = ((1 - a h/2) v_{n-1/2} + h M^-1 (f_ext - f_int)) / (1 + a h/2)`.
+    fn predictor(&mut self, h: f64) {
+        let problem = self.problem;
+        let model = &problem.model;
+        if !problem.external_forces(self.time, &mut self.f_ext) && self.step == 0 {
             self.f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
         }
-        let first = self.step == 0;
-        // Effective step between v_{n-1/2} and v_{n+1/2} (half a step at the start).
-        let h = if first { 0.5 * dt } else { dt };
+        let alpha = self.settings.damping;
         let (c_old, c_new) = (1.0 - 0.5 * alpha * h, 1.0 / (1.0 + 0.5 * alpha * h));
         for i in 0..model.node_count() {
             let a = (self.f_ext[i] - self.f_int[i]) / model.mass[i];
             self.v_next[i] = (c_old * self.v_half[i] + h * a) * c_new;
         }
+    }
+
+    /// Prescribed components: the velocity that the condition gives over the step.
+    fn prescribed_motion(&mut self) {
+        let problem = self.problem;
+        let (dt, t) = (self.dt, self.time);
         for &i in &self.constrained_nodes {
             let i = i as usize;
-            let x = model.reference[i];
+            let x = problem.model.reference[i];
             for d in 0..3 {
                 if let Some(c) = self.constraint_of[i][d] {
                     let motion = &problem.constraints[c as usize].motion;
@@ -609,31 +484,41 @@ impl<'p> ExplicitSolver<'p> {
                 }
             }
         }
-        if let Some(scratch) = self.contact.as_mut() {
-            // The force that makes a velocity change dv in the damped update
-            // m (v+ - v-) / h + alpha m (v+ + v-) / 2 = f is m dv (1/h + alpha/2).
-            let force_per_dv = 1.0 / h + 0.5 * alpha;
-            let started = std::time::Instant::now();
-            self.contact_steps = scratch.correct(
-                self.step,
-                model,
-                dt,
-                force_per_dv,
-                &self.u,
-                &mut self.v_next,
-            );
-            self.contact_seconds += started.elapsed().as_secs_f64();
-            let totals = &mut self.contact_totals;
-            for s in &self.contact_steps {
-                totals.solves += s.solves;
-                totals.not_converged += s.not_converged;
-                totals.unresolved += s.unresolved;
-                totals.iterations += s.iterations;
-            }
-            totals.steps_with_contact +=
-                usize::from(self.contact_steps.iter().any(|s| s.solves > 0));
+    }
+
+    /// Contact: detection and the correction of `v_{n+1/2}` by the contact solvers, with the
+    /// run's totals.
+    fn contact_correction(&mut self, h: f64) {
+        let Some(scratch) = self.contact.as_mut() else {
+            return;
+        };
+        // The force that makes a velocity change dv in the damped update
+        // m (v+ - v-) / h + alpha m (v+ + v-) / 2 = f is m dv (1/h + alpha/2).
+        let force_per_dv = 1.0 / h + 0.5 * self.settings.damping;
+        self.contact_steps = scratch.correct(
+            self.step,
+            &self.problem.model,
+            self.dt,
+            force_per_dv,
+            &self.u,
+            &mut self.v_next,
+        );
+        let totals = &mut self.contact_totals;
+        for s in &self.contact_steps {
+            totals.solves += s.solves;
+            totals.not_converged += s.not_converged;
+            totals.unresolved += s.unresolved;
+            totals.iterations += s.iterations;
         }
-        // Full-step velocity, reactions, and the energy pieces of this step.
+        totals.steps_with_contact += usize::from(self.contact_steps.iter().any(|s| s.solves > 0));
+    }
+
+    /// Full-step velocity, reactions, the mesh stability check and the energy pieces of this
+    /// step (FORMULATION 2: the work of each force over the interval, trapezoidal).
+    fn energy_ledger(&mut self, h: f64) -> std::result::Result<bool, (String, Option<usize>)> {
+        let model = &self.problem.model;
+        let (dt, alpha) = (self.dt, self.settings.damping);
+        let first = self.step == 0;
         let mut moved_too_far = false;
         let mut kinetic = 0.0;
         let mut closing = EnergyLedger::default();
@@ -712,214 +597,7 @@ impl<'p> ExplicitSolver<'p> {
         self.energies.friction_work += self.pending.friction_work + closing.friction_work;
         self.energies.history_work += self.pending.history_work + closing.history_work;
         self.pending = pending;
-        std::mem::swap(&mut self.v_half, &mut self.v_next);
         Ok(moved_too_far)
-    }
-
-    fn history_path(&self) -> Option<PathBuf> {
-        self.output
-            .dir
-            .as_ref()
-            .map(|d| d.join(format!("{}_history.csv", self.output.stem)))
-    }
-
-    /// Columns: time and step, the energies (`stored_energy` counts elastic bodies only; with
-    /// microplane bodies, `microplane_internal_work`, their part of `internal_work`), then
-    /// `<probe>_x/y/z` and `<constraint>_reaction_x/y/z`.
-    fn history_columns(&self) -> Vec<String> {
-        let mut c: Vec<String> = [
-            "time",
-            "step",
-            "kinetic",
-            "internal_work",
-            "stored_energy",
-            "external_work",
-            "damping_work",
-            "contact_work",
-            "friction_work",
-            "energy_error",
-            "energy_error_relative",
-            "momentum_x",
-            "momentum_y",
-            "momentum_z",
-            "angular_momentum_x",
-            "angular_momentum_y",
-            "angular_momentum_z",
-        ]
-        .map(String::from)
-        .to_vec();
-        if !self.history_node.is_empty() {
-            c.push("microplane_internal_work".into());
-        }
-        // Per body, when there are several: who holds the kinetic energy and the momentum
-        // (the hammer's energy passing to the beam, thesis Figs. 10.11-10.14; (6.48)).
-        if self.problem.model.bodies.len() > 1 {
-            for b in &self.problem.model.bodies {
-                c.push(format!("{}_kinetic", b.name));
-                c.extend(["x", "y", "z"].map(|a| format!("{}_momentum_{a}", b.name)));
-            }
-        }
-        c.extend(self.problem.probe_columns());
-        for p in &self.problem.contact {
-            c.extend(
-                [
-                    "force_x",
-                    "force_y",
-                    "force_z",
-                    "normal",
-                    "tangential",
-                    "active",
-                    "sliding",
-                    "iterations",
-                    "unresolved",
-                ]
-                .map(|q| format!("{}_{q}", p.name)),
-            );
-        }
-        c
-    }
-
-    fn history_row(&self, e: &EnergyLedger) -> Vec<f64> {
-        let model = &self.problem.model;
-        let mut row = vec![
-            self.time,
-            self.step as f64,
-            e.kinetic,
-            e.internal_work,
-            model.stored_energy(&self.u),
-            e.external_work,
-            e.damping_work,
-            e.contact_work,
-            e.friction_work,
-            e.balance_error(),
-            e.relative_error(),
-        ];
-        let momentum = fixed_order_sum3(model.node_count(), |i| self.v_full[i] * model.mass[i]);
-        row.extend(momentum.iter());
-        // About the origin, with the full-step velocity: the average of two values leapfrog
-        // keeps exactly for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
-        let angular = fixed_order_sum3(model.node_count(), |i| {
-            (model.reference[i] + self.u[i]).cross(&self.v_full[i]) * model.mass[i]
-        });
-        row.extend(angular.iter());
-        if !self.history_node.is_empty() {
-            row.push(e.history_work);
-        }
-        if model.bodies.len() > 1 {
-            for b in &model.bodies {
-                let (mut kinetic, mut momentum) = (0.0, Vector3::zeros());
-                for n in b.nodes.clone() {
-                    kinetic += 0.5 * model.mass[n] * self.v_full[n].norm_squared();
-                    momentum += self.v_full[n] * model.mass[n];
-                }
-                row.push(kinetic);
-                row.extend(momentum.iter());
-            }
-        }
-        self.problem.push_probe_values(
-            &mut row,
-            &self.u,
-            Some(&self.v_full),
-            &self.reaction,
-            &self.constraint_of,
-        );
-        for (i, pair) in self.problem.contact.iter().enumerate() {
-            let s = self.contact_steps.get(i).copied().unwrap_or_default();
-            // The force the first body exerts on the second: the rate of the momentum that
-            // contact gave the second body's nodes (both passes together, counted once).
-            let force = match &self.contact {
-                Some(c) => model.bodies[pair.bodies[1]]
-                    .nodes
-                    .clone()
-                    .fold(Vector3::zeros(), |acc, n| acc + c.force[n]),
-                None => Vector3::zeros(),
-            };
-            row.extend(force.iter());
-            row.extend([
-                s.normal_force,
-                s.tangential_force,
-                s.active as f64,
-                s.sliding as f64,
-                s.iterations as f64,
-                s.unresolved as f64,
-            ]);
-        }
-        row
-    }
-
-    fn write_frame(&self, writer: &mut PvdWriter) -> Result<PathBuf> {
-        let model = &self.problem.model;
-        let points: Vec<Vector3<f64>> = model
-            .reference
-            .iter()
-            .zip(&self.u)
-            .map(|(x, u)| x + u)
-            .collect();
-        writer.write_frame(&field_frame_with_history(
-            model,
-            Some(&self.history),
-            &points,
-            &self.u,
-            Some(&self.v_full),
-            self.time,
-        ))
-    }
-
-    /// The element with the largest Green-Lagrange strain norm (or a non-finite one).
-    fn most_strained_element(&self) -> Option<usize> {
-        let model = &self.problem.model;
-        let mut worst: Option<(f64, usize)> = None;
-        for e in 0..model.element_count() {
-            let h =
-                displacement_gradient(&model.element_displacements(e, &self.u), &model.grad_n[e]);
-            let norm = green_lagrange_from_h(&h).norm();
-            let norm = if norm.is_finite() {
-                norm
-            } else {
-                f64::INFINITY
-            };
-            if worst.is_none_or(|(w, _)| norm > w) {
-                worst = Some((norm, e));
-            }
-        }
-        worst.map(|(_, e)| e)
-    }
-
-    /// Writes what was computed, then builds the error that stops the run.
-    fn stop(
-        &mut self,
-        (reason, element): (String, Option<usize>),
-        history: &mut HistoryTable,
-        pvd: Option<&mut PvdWriter>,
-        written: &mut Vec<PathBuf>,
-    ) -> SolverError {
-        if let Some(path) = self.history_path() {
-            if history.write_csv(&path).is_ok() {
-                written.push(path);
-            }
-        }
-        if let Some(writer) = pvd {
-            // The state at the stop may hold NaN; the last good frame is already on disk.
-            if self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
-                if let Ok(p) = self.write_frame(writer) {
-                    written.push(p);
-                }
-            }
-        }
-        let e = self.energies;
-        SolverError::Unstable(Box::new(InstabilityReport {
-            reason,
-            step: self.step,
-            time: self.time,
-            element,
-            kinetic: e.kinetic,
-            internal_work: e.internal_work,
-            external_work: e.external_work,
-            energy_error: e.balance_error(),
-            time_step: self.dt,
-            critical_time_step: self.dt_critical,
-            written: written.clone(),
-        }))
     }
 
     fn finish_step(&mut self) {
@@ -928,102 +606,6 @@ impl<'p> ExplicitSolver<'p> {
         }
         self.step += 1;
         self.time = self.step as f64 * self.dt;
-    }
-}
-
-/// Buffers of the contact phase, allocated once per run.
-struct ContactScratch {
-    phase: crate::contact::ContactPhase,
-    /// Inverse lumped mass per component; zero for prescribed components, which contact cannot
-    /// move.
-    inverse_mass: Vec<Vector3<f64>>,
-    beta_0: f64,
-    x0: Vec<Vector3<f64>>,
-    x1: Vec<Vector3<f64>>,
-    predicted: Vec<Vector3<f64>>,
-    /// Contact force on each node over the step, `m dv (1/h + alpha/2)` with `h` the velocity
-    /// update's step and `alpha` the mass-proportional damping (N).
-    force: Vec<Vector3<f64>>,
-    /// Position corrections made by the tangential parts of the contact forces.
-    tangential_dx: Vec<Vector3<f64>>,
-    /// The friction part of `force` (N).
-    friction_force: Vec<Vector3<f64>>,
-    /// `dx - dt dv` of the beta-2 corrections (zero for `beta_0 = 0`).
-    position_surplus: Vec<Vector3<f64>>,
-}
-
-impl ContactScratch {
-    fn new(problem: &Problem) -> Self {
-        let model = &problem.model;
-        let n = model.node_count();
-        let prescribed = problem.constraint_map();
-        let inverse_mass = (0..n)
-            .map(|i| {
-                Vector3::from_fn(|d, _| match prescribed[i][d] {
-                    Some(_) => 0.0,
-                    None => 1.0 / model.mass[i],
-                })
-            })
-            .collect();
-        Self {
-            phase: crate::contact::ContactPhase::new(model, problem.contact.clone()),
-            inverse_mass,
-            beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
-            x0: vec![Vector3::zeros(); n],
-            x1: vec![Vector3::zeros(); n],
-            predicted: vec![Vector3::zeros(); n],
-            force: vec![Vector3::zeros(); n],
-            tangential_dx: vec![Vector3::zeros(); n],
-            friction_force: vec![Vector3::zeros(); n],
-            position_surplus: vec![Vector3::zeros(); n],
-        }
-    }
-
-    /// Corrects the predicted velocities `v_next` (and records forces) so that the positions
-    /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
-    fn correct(
-        &mut self,
-        step: usize,
-        model: &crate::model::Model,
-        dt: f64,
-        force_per_dv: f64,
-        u: &[Vector3<f64>],
-        v_next: &mut [Vector3<f64>],
-    ) -> Vec<crate::contact::ContactStep> {
-        for i in 0..u.len() {
-            self.x0[i] = model.reference[i] + u[i];
-            self.x1[i] = self.x0[i] + v_next[i] * dt;
-        }
-        self.predicted.copy_from_slice(&self.x1);
-        self.tangential_dx.fill(Vector3::zeros());
-        let mut steps = self.phase.resolve(
-            step,
-            model,
-            &self.inverse_mass,
-            dt,
-            &self.x0,
-            &mut self.x1,
-            &mut self.tangential_dx,
-        );
-        // A multiplier r moves a node by beta dt^2 r / m and changes its velocity by
-        // gamma dt r / m, gamma = 1/2 (FORMULATION 4): the velocity takes gamma / beta of the
-        // correction (all of it for beta_0 = 0) and the force is gamma dt r times force_per_dv.
-        const GAMMA: f64 = 0.5;
-        let velocity_share = GAMMA / (self.beta_0 + 0.5);
-        let force_per_dx = velocity_share / dt * force_per_dv;
-        for i in 0..u.len() {
-            let dx = self.x1[i] - self.predicted[i];
-            let dv = dx * (velocity_share / dt);
-            v_next[i] += dv;
-            self.force[i] = dx * (model.mass[i] * force_per_dx);
-            self.friction_force[i] = self.tangential_dx[i] * (model.mass[i] * force_per_dx);
-            self.position_surplus[i] = dx - dv * dt;
-        }
-        for step in &mut steps {
-            step.normal_force *= GAMMA * dt * force_per_dv;
-            step.tangential_force *= GAMMA * dt * force_per_dv;
-        }
-        steps
     }
 }
 

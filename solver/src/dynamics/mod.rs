@@ -4,7 +4,11 @@
 mod energy;
 mod explicit;
 mod report;
+mod settings;
 
 pub use energy::EnergyLedger;
-pub use explicit::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
+pub use explicit::ExplicitSolver;
 pub use report::InstabilityReport;
+pub use settings::{
+    ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary, Snapshot,
+};

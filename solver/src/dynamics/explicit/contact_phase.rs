@@ -1,0 +1,102 @@
+//! The contact phase of an explicit step: the buffers it keeps over a run and the correction
+//! of the predicted velocities by the contact solvers (thesis chapter 6).
+
+use nalgebra::Vector3;
+
+use crate::model::Problem;
+
+/// Buffers of the contact phase, allocated once per run.
+pub(super) struct ContactScratch {
+    pub(super) phase: crate::contact::ContactPhase,
+    /// Inverse lumped mass per component; zero for prescribed components, which contact cannot
+    /// move.
+    inverse_mass: Vec<Vector3<f64>>,
+    beta_0: f64,
+    x0: Vec<Vector3<f64>>,
+    x1: Vec<Vector3<f64>>,
+    predicted: Vec<Vector3<f64>>,
+    /// Contact force on each node over the step, `m dv (1/h + alpha/2)` with `h` the velocity
+    /// update's step and `alpha` the mass-proportional damping (N).
+    pub(super) force: Vec<Vector3<f64>>,
+    /// Position corrections made by the tangential parts of the contact forces.
+    tangential_dx: Vec<Vector3<f64>>,
+    /// The friction part of `force` (N).
+    pub(super) friction_force: Vec<Vector3<f64>>,
+    /// `dx - dt dv` of the beta-2 corrections (zero for `beta_0 = 0`).
+    pub(super) position_surplus: Vec<Vector3<f64>>,
+}
+
+impl ContactScratch {
+    pub(super) fn new(problem: &Problem) -> Self {
+        let model = &problem.model;
+        let n = model.node_count();
+        let prescribed = problem.constraint_map();
+        let inverse_mass = (0..n)
+            .map(|i| {
+                Vector3::from_fn(|d, _| match prescribed[i][d] {
+                    Some(_) => 0.0,
+                    None => 1.0 / model.mass[i],
+                })
+            })
+            .collect();
+        Self {
+            phase: crate::contact::ContactPhase::new(model, problem.contact.clone()),
+            inverse_mass,
+            beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
+            x0: vec![Vector3::zeros(); n],
+            x1: vec![Vector3::zeros(); n],
+            predicted: vec![Vector3::zeros(); n],
+            force: vec![Vector3::zeros(); n],
+            tangential_dx: vec![Vector3::zeros(); n],
+            friction_force: vec![Vector3::zeros(); n],
+            position_surplus: vec![Vector3::zeros(); n],
+        }
+    }
+
+    /// Corrects the predicted velocities `v_next` (and records forces) so that the positions
+    /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
+    pub(super) fn correct(
+        &mut self,
+        step: usize,
+        model: &crate::model::Model,
+        dt: f64,
+        force_per_dv: f64,
+        u: &[Vector3<f64>],
+        v_next: &mut [Vector3<f64>],
+    ) -> Vec<crate::contact::ContactStep> {
+        for i in 0..u.len() {
+            self.x0[i] = model.reference[i] + u[i];
+            self.x1[i] = self.x0[i] + v_next[i] * dt;
+        }
+        self.predicted.copy_from_slice(&self.x1);
+        self.tangential_dx.fill(Vector3::zeros());
+        let mut steps = self.phase.resolve(
+            step,
+            model,
+            &self.inverse_mass,
+            dt,
+            &self.x0,
+            &mut self.x1,
+            &mut self.tangential_dx,
+        );
+        // A multiplier r moves a node by beta dt^2 r / m and changes its velocity by
+        // gamma dt r / m, gamma = 1/2 (FORMULATION 4): the velocity takes gamma / beta of the
+        // correction (all of it for beta_0 = 0) and the force is gamma dt r times force_per_dv.
+        const GAMMA: f64 = 0.5;
+        let velocity_share = GAMMA / (self.beta_0 + 0.5);
+        let force_per_dx = velocity_share / dt * force_per_dv;
+        for i in 0..u.len() {
+            let dx = self.x1[i] - self.predicted[i];
+            let dv = dx * (velocity_share / dt);
+            v_next[i] += dv;
+            self.force[i] = dx * (model.mass[i] * force_per_dx);
+            self.friction_force[i] = self.tangential_dx[i] * (model.mass[i] * force_per_dx);
+            self.position_surplus[i] = dx - dv * dt;
+        }
+        for step in &mut steps {
+            step.normal_force *= GAMMA * dt * force_per_dv;
+            step.tangential_force *= GAMMA * dt * force_per_dv;
+        }
+        steps
+    }
+}

@@ -1,0 +1,226 @@
+//! What an explicit run records: the history columns and rows (energies, momenta, probes,
+//! reactions), the history file's path, and the field frames for ParaView.
+
+use std::path::PathBuf;
+
+use nalgebra::Vector3;
+
+use super::{fixed_order_sum3, ExplicitSolver};
+use crate::dynamics::EnergyLedger;
+use crate::error::Result;
+use crate::model::field_frame_with_history;
+use crate::output::vtu::PvdWriter;
+
+impl<'p> ExplicitSolver<'p> {
+    /// One line per decision the run takes, printed before it starts.
+    pub fn plan(&self) -> String {
+        let model = &self.problem.model;
+        format!(
+            "explicit dynamics: {} bodies, {} nodes, {} elements; dt = {:.4e} s ({:.3} of the \
+             stable estimate {:.4e} s set by element {}); {} steps to t = {:.4e} s; {} constraints, \
+             {} loads, gravity {}; damping a = {}; contact: {}",
+            model.bodies.len(),
+            model.node_count(),
+            model.element_count(),
+            self.dt,
+            self.dt / self.dt_critical,
+            self.dt_critical,
+            self.critical_element,
+            self.planned_steps(),
+            self.settings.end_time,
+            self.problem.constraints.len(),
+            self.problem.loads.len(),
+            if self.problem.gravity.is_some() { "on" } else { "off" },
+            self.settings.damping,
+            if self.problem.contact.is_empty() {
+                "none".to_string()
+            } else {
+                self.problem
+                    .contact
+                    .iter()
+                    .map(|p| format!("{} (mu {}, beta_0 {}, {} pass)", p.name, p.friction, p.beta_0, if p.two_pass { "two-" } else { "one-" }))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
+        ) + &self.history_plan()
+    }
+
+    /// The bodies with history, their element sizes and the memory the history takes (empty
+    /// without such bodies).
+    pub(super) fn history_plan(&self) -> String {
+        let model = &self.problem.model;
+        let mut parts = Vec::new();
+        for (body, history) in model.bodies.iter().zip(&self.history.bodies) {
+            if let (Some(m), Some(h)) = (&body.microplane, history) {
+                let (lo, hi) = m.bands.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+                    (lo.min(b.size), hi.max(b.size))
+                });
+                parts.push(format!(
+                    "`{}` microplane ({} directions, element sizes {:.1}-{:.1} mm, limit {:.1} \
+                     mm; history {} B per element, {:.1} MB)",
+                    body.name,
+                    m.model.planes().len(),
+                    lo * 1e3,
+                    hi * 1e3,
+                    m.model.largest_element() * 1e3,
+                    h.bytes_per_element(),
+                    (h.bytes_per_element() * body.elements.len()) as f64 / 1e6
+                ));
+            }
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("; materials with history: {}", parts.join(", "))
+        }
+    }
+
+    pub(super) fn history_path(&self) -> Option<PathBuf> {
+        self.output
+            .dir
+            .as_ref()
+            .map(|d| d.join(format!("{}_history.csv", self.output.stem)))
+    }
+
+    /// Columns: time and step, the energies (`stored_energy` counts elastic bodies only; with
+    /// microplane bodies, `microplane_internal_work`, their part of `internal_work`), then
+    /// `<probe>_x/y/z` and `<constraint>_reaction_x/y/z`.
+    pub(super) fn history_columns(&self) -> Vec<String> {
+        let mut c: Vec<String> = [
+            "time",
+            "step",
+            "kinetic",
+            "internal_work",
+            "stored_energy",
+            "external_work",
+            "damping_work",
+            "contact_work",
+            "friction_work",
+            "energy_error",
+            "energy_error_relative",
+            "momentum_x",
+            "momentum_y",
+            "momentum_z",
+            "angular_momentum_x",
+            "angular_momentum_y",
+            "angular_momentum_z",
+        ]
+        .map(String::from)
+        .to_vec();
+        if !self.history_node.is_empty() {
+            c.push("microplane_internal_work".into());
+        }
+        // Per body, when there are several: who holds the kinetic energy and the momentum
+        // (the hammer's energy passing to the beam, thesis Figs. 10.11-10.14; (6.48)).
+        if self.problem.model.bodies.len() > 1 {
+            for b in &self.problem.model.bodies {
+                c.push(format!("{}_kinetic", b.name));
+                c.extend(["x", "y", "z"].map(|a| format!("{}_momentum_{a}", b.name)));
+            }
+        }
+        c.extend(self.problem.probe_columns());
+        for p in &self.problem.contact {
+            c.extend(
+                [
+                    "force_x",
+                    "force_y",
+                    "force_z",
+                    "normal",
+                    "tangential",
+                    "active",
+                    "sliding",
+                    "iterations",
+                    "unresolved",
+                ]
+                .map(|q| format!("{}_{q}", p.name)),
+            );
+        }
+        c
+    }
+
+    pub(super) fn history_row(&self, e: &EnergyLedger) -> Vec<f64> {
+        let model = &self.problem.model;
+        let mut row = vec![
+            self.time,
+            self.step as f64,
+            e.kinetic,
+            e.internal_work,
+            model.stored_energy(&self.u),
+            e.external_work,
+            e.damping_work,
+            e.contact_work,
+            e.friction_work,
+            e.balance_error(),
+            e.relative_error(),
+        ];
+        let momentum = fixed_order_sum3(model.node_count(), |i| self.v_full[i] * model.mass[i]);
+        row.extend(momentum.iter());
+        // About the origin, with the full-step velocity: the average of two values leapfrog
+        // keeps exactly for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
+        let angular = fixed_order_sum3(model.node_count(), |i| {
+            (model.reference[i] + self.u[i]).cross(&self.v_full[i]) * model.mass[i]
+        });
+        row.extend(angular.iter());
+        if !self.history_node.is_empty() {
+            row.push(e.history_work);
+        }
+        if model.bodies.len() > 1 {
+            for b in &model.bodies {
+                let (mut kinetic, mut momentum) = (0.0, Vector3::zeros());
+                for n in b.nodes.clone() {
+                    kinetic += 0.5 * model.mass[n] * self.v_full[n].norm_squared();
+                    momentum += self.v_full[n] * model.mass[n];
+                }
+                row.push(kinetic);
+                row.extend(momentum.iter());
+            }
+        }
+        self.problem.push_probe_values(
+            &mut row,
+            &self.u,
+            Some(&self.v_full),
+            &self.reaction,
+            &self.constraint_of,
+        );
+        for (i, pair) in self.problem.contact.iter().enumerate() {
+            let s = self.contact_steps.get(i).copied().unwrap_or_default();
+            // The force the first body exerts on the second: the rate of the momentum that
+            // contact gave the second body's nodes (both passes together, counted once).
+            let force = match &self.contact {
+                Some(c) => model.bodies[pair.bodies[1]]
+                    .nodes
+                    .clone()
+                    .fold(Vector3::zeros(), |acc, n| acc + c.force[n]),
+                None => Vector3::zeros(),
+            };
+            row.extend(force.iter());
+            row.extend([
+                s.normal_force,
+                s.tangential_force,
+                s.active as f64,
+                s.sliding as f64,
+                s.iterations as f64,
+                s.unresolved as f64,
+            ]);
+        }
+        row
+    }
+
+    pub(super) fn write_frame(&self, writer: &mut PvdWriter) -> Result<PathBuf> {
+        let model = &self.problem.model;
+        let points: Vec<Vector3<f64>> = model
+            .reference
+            .iter()
+            .zip(&self.u)
+            .map(|(x, u)| x + u)
+            .collect();
+        writer.write_frame(&field_frame_with_history(
+            model,
+            Some(&self.history),
+            &points,
+            &self.u,
+            Some(&self.v_full),
+            self.time,
+        ))
+    }
+}

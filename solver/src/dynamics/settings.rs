@@ -1,0 +1,181 @@
+//! What an explicit run is given and what it reports: its settings (FORMULATION section 2),
+//! output settings, and the summary with the contact totals and the time of each phase.
+
+use std::path::PathBuf;
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use super::EnergyLedger;
+use crate::output::history::HistoryTable;
+
+/// Settings of an explicit run. Defaults follow FORMULATION section 2.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitSettings {
+    /// Simulated time (s).
+    pub end_time: f64,
+    /// Fixed time step (s); `None` takes `safety * dt_cr`.
+    #[serde(default)]
+    pub time_step: Option<f64>,
+    /// Fraction of the critical step used when `time_step` is not given.
+    #[serde(default = "default_safety")]
+    pub safety: f64,
+    /// Run even if `time_step` exceeds the stable estimate (stability sweeps do).
+    #[serde(default)]
+    pub allow_unstable_time_step: bool,
+    /// Mass-proportional damping coefficient `a` of `C = a M` (1/s).
+    #[serde(default)]
+    pub damping: f64,
+    /// Stop after this many steps even if `end_time` is not reached.
+    #[serde(default)]
+    pub max_steps: Option<usize>,
+    /// Time between history records (s); `None` records about 500 instants.
+    #[serde(default)]
+    pub history_interval: Option<f64>,
+    /// Time between field frames (s); `None` writes the first and the last state only.
+    #[serde(default)]
+    pub field_interval: Option<f64>,
+    /// Time between displacement snapshots kept in memory for the caller (crack growth, failure
+    /// modes); `None` keeps none. Cheaper than field frames: nothing is written or derived.
+    #[serde(default)]
+    pub snapshot_interval: Option<f64>,
+    /// The run is declared unstable when the energy balance error exceeds this fraction of the
+    /// largest energy scale seen so far.
+    #[serde(default = "default_energy_tolerance")]
+    pub instability_energy_tolerance: f64,
+    /// Mesh stability check (4.35): steps where a node moves more than `eta` times the smallest
+    /// altitude of its elements are counted.
+    #[serde(default = "default_eta")]
+    pub mesh_stability_eta: f64,
+}
+
+fn default_safety() -> f64 {
+    0.9
+}
+fn default_energy_tolerance() -> f64 {
+    0.05
+}
+fn default_eta() -> f64 {
+    0.1
+}
+
+impl ExplicitSettings {
+    pub fn new(end_time: f64) -> Self {
+        Self {
+            end_time,
+            time_step: None,
+            safety: default_safety(),
+            allow_unstable_time_step: false,
+            damping: 0.0,
+            max_steps: None,
+            history_interval: None,
+            field_interval: None,
+            snapshot_interval: None,
+            instability_energy_tolerance: default_energy_tolerance(),
+            mesh_stability_eta: default_eta(),
+        }
+    }
+}
+
+/// Where a run writes its output; `dir: None` keeps everything in memory.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OutputSettings {
+    pub dir: Option<PathBuf>,
+    /// File stem: `<stem>_history.csv`, `<stem>.pvd`, `<stem>_00000.vtu`, ...
+    pub stem: String,
+    /// Write VTU field frames (histories are always kept).
+    pub fields: bool,
+}
+
+/// The contact solver's record over a run, all pairs and passes together.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactTotals {
+    /// Steps in which at least one contact problem was solved.
+    pub steps_with_contact: usize,
+    pub solves: usize,
+    pub not_converged: usize,
+    pub unresolved: usize,
+    /// Gauss-Seidel sweeps or interior-point iterations.
+    pub iterations: usize,
+}
+
+/// Wall time spent in each phase of the time step over a run (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Internal forces and the material update.
+    pub internal_forces: f64,
+    /// Loads and the central-difference velocity update.
+    pub predictor: f64,
+    /// Velocities of prescribed components.
+    pub prescribed_motion: f64,
+    /// Contact detection and resolution.
+    pub contact: f64,
+    /// Full-step velocity, reactions, the stability check and the energy ledger.
+    pub energy_ledger: f64,
+    /// History rows, field frames, snapshots and the balance check.
+    pub output: f64,
+}
+
+impl PhaseTimes {
+    /// The phases by name, in step order.
+    pub fn named(&self) -> [(&'static str, f64); 6] {
+        [
+            ("internal forces", self.internal_forces),
+            ("predictor", self.predictor),
+            ("prescribed motion", self.prescribed_motion),
+            ("contact", self.contact),
+            ("energy ledger", self.energy_ledger),
+            ("output", self.output),
+        ]
+    }
+
+    /// One line: each phase's time and share of their sum.
+    pub fn line(&self) -> String {
+        let total: f64 = self.named().iter().map(|(_, t)| t).sum();
+        let parts: Vec<String> = self
+            .named()
+            .iter()
+            .map(|(name, t)| {
+                format!(
+                    "{name} {t:.3} s ({:.0} %)",
+                    if total > 0.0 { 100.0 * t / total } else { 0.0 }
+                )
+            })
+            .collect();
+        parts.join(", ")
+    }
+}
+
+/// What a completed run reports.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub steps: usize,
+    pub time: f64,
+    pub time_step: f64,
+    pub critical_time_step: f64,
+    pub critical_element: usize,
+    pub wall_seconds: f64,
+    /// Wall time spent in the contact phase (detection and resolution), within `wall_seconds`.
+    pub contact_seconds: f64,
+    /// Wall time of each phase of the step, within `wall_seconds`.
+    pub phase_seconds: PhaseTimes,
+    /// How the contact solver fared, summed over the run.
+    pub contact_totals: ContactTotals,
+    pub energies: EnergyLedger,
+    /// Largest |balance error| over the run divided by the largest energy scale of the run.
+    pub max_relative_energy_error: f64,
+    /// Steps in which some node moved more than `eta` times its smallest element altitude.
+    pub mesh_stability_flags: usize,
+    pub history: HistoryTable,
+    /// Displacements at every `snapshot_interval` (and at the end), when one is set.
+    pub snapshots: Vec<Snapshot>,
+    pub written: Vec<PathBuf>,
+}
+
+/// The displacement of every node at one instant of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    pub time: f64,
+    pub u: Vec<Vector3<f64>>,
+}
