@@ -347,7 +347,7 @@ fn main() -> ExitCode {
                 }
             };
             let history = report::read_history(&reports.join("history.jsonl")).unwrap_or_default();
-            match report::write_report(&run, &results, &history, &SECTIONS) {
+            match report::write_report(&run, &results, &history, SECTIONS) {
                 Ok(index) => {
                     println!("report: {}", index.display());
                     ExitCode::from(results.exit_code())
@@ -535,7 +535,7 @@ fn run(
     let _ = std::fs::create_dir_all(reports);
     let _ = std::fs::write(reports.join("last-failed.txt"), failed.join("\n"));
     let history = report::read_history(&history_path).unwrap_or_default();
-    match report::write_report(&dir, &results, &history, &SECTIONS) {
+    match report::write_report(&dir, &results, &history, SECTIONS) {
         Ok(index) => println!("report: {}", index.display()),
         Err(e) => {
             eprintln!("error: cannot write the report: {e}");

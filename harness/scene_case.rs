@@ -216,7 +216,7 @@ fn run_case(
         },
         &peak,
     );
-    let (status, message) = judgement.verdict(&[run.plan.clone()]);
+    let (status, message) = judgement.verdict(std::slice::from_ref(&run.plan));
     result.metrics = judgement.metrics;
     if spec.sweep.is_some() {
         let observed = spec

@@ -227,7 +227,7 @@ fn every_material_case_runs_measures_and_draws_its_targets() {
     };
     let dir = std::env::temp_dir().join(format!("impact-vv-material-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let index = write_report(&dir, &run, &run.history_records(), &SECTIONS).expect("report");
+    let index = write_report(&dir, &run, &run.history_records(), SECTIONS).expect("report");
     let html = std::fs::read_to_string(index).unwrap();
     let start = html.find("id=\"concrete-material\"").expect("section");
     let section = &html[start..start + html[start..].find("</section>").unwrap()];

@@ -231,7 +231,7 @@ fn assert_same_up_to_last_bit(a: &serde_json::Value, b: &serde_json::Value, path
 fn report_shows_every_case_and_escapes_messages() {
     let dir = scratch("full");
     let run = results("run-3");
-    let index = write_report(&dir, &run, &three_run_history(&run), &SECTIONS).unwrap();
+    let index = write_report(&dir, &run, &three_run_history(&run), SECTIONS).unwrap();
     assert_eq!(index, dir.join("index.html"));
     let page = fs::read_to_string(&index).unwrap();
     eprintln!("report written to {}", index.display());
@@ -288,7 +288,7 @@ fn first_run_has_no_trend() {
     let dir = scratch("first");
     let run = results("run-1");
     let page =
-        fs::read_to_string(write_report(&dir, &run, &run.history_records(), &SECTIONS).unwrap())
+        fs::read_to_string(write_report(&dir, &run, &run.history_records(), SECTIONS).unwrap())
             .unwrap();
     assert_eq!(page.matches("no trend yet (first run)").count(), 3);
     assert!(page.contains("3 failed") || page.contains("1 failed, 1 error"));
@@ -510,7 +510,7 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
     let dir = scratch("contact");
     let run = contact_results();
     let page =
-        fs::read_to_string(write_report(&dir, &run, &run.history_records(), &SECTIONS).unwrap())
+        fs::read_to_string(write_report(&dir, &run, &run.history_records(), SECTIONS).unwrap())
             .unwrap();
     let start = page
         .find("<section id=\"contact-algorithms\">")
@@ -587,7 +587,7 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
 fn a_run_without_contact_solvers_has_no_contact_section_and_old_results_load() {
     let dir = scratch("no-contact");
     let run = results("run-1");
-    let page = fs::read_to_string(write_report(&dir, &run, &[], &SECTIONS).unwrap()).unwrap();
+    let page = fs::read_to_string(write_report(&dir, &run, &[], SECTIONS).unwrap()).unwrap();
     assert!(!page.contains("contact-algorithms"));
     assert!(!fs::read_to_string(dir.join("summary.md"))
         .unwrap()
@@ -597,6 +597,6 @@ fn a_run_without_contact_solvers_has_no_contact_section_and_old_results_load() {
         {"id": "a", "variant": "default", "status": "pass", "wall_s": 1.0, "metrics": []}]}"#;
     let old: RunResults = serde_json::from_str(old).unwrap();
     assert!(old.cases[0].contact.is_none() && old.cases[0].records.is_empty());
-    assert!(write_report(&dir, &old, &[], &SECTIONS).is_ok());
+    assert!(write_report(&dir, &old, &[], SECTIONS).is_ok());
     let _ = fs::remove_dir_all(&dir);
 }

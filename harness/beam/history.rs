@@ -330,7 +330,7 @@ analysis:
         let r: Vec<f64> = t.iter().map(|t| 300.0 * t + 20.0).collect();
         // -c + W + R = -700 t; p = -350 t^2.
         let p: Vec<f64> = t.iter().map(|t| -350.0 * t * t).collect();
-        let e = force_equilibrium_error(&t, &c, &[r.clone()], &p, -20.0).unwrap();
+        let e = force_equilibrium_error(&t, &c, std::slice::from_ref(&r), &p, -20.0).unwrap();
         assert!(e < 1e-9, "{e}");
         // A force switching on between two records, with the momentum it gives exactly: the
         // window means match where the force is constant on each side.

@@ -62,8 +62,7 @@ fn an_unstable_run_stops_with_a_report_and_writes_its_output() {
     let mut solver = ExplicitSolver::new(&p, settings, output).unwrap();
     let err = solver
         .run(&mut |_| {})
-        .err()
-        .expect("a step of twice the limit must blow up");
+        .expect_err("a step of twice the limit must blow up");
     let SolverError::Unstable(report) = &err else {
         panic!("expected an instability report, got {err}")
     };

@@ -503,8 +503,7 @@ fn run_frames_carry_the_crack_indicator_and_the_rate_factor() {
     let last = summary
         .written
         .iter()
-        .filter(|p| p.extension().is_some_and(|e| e == "vtu"))
-        .next_back()
+        .rfind(|p| p.extension().is_some_and(|e| e == "vtu"))
         .unwrap();
     let root = parse_xml(&std::fs::read_to_string(last).unwrap());
     let cells = root

@@ -375,7 +375,9 @@ impl ForceAssembler {
             .enumerate()
             .with_min_len(1024)
             .for_each(|(i, &n)| {
-                let nodal = nodal; // whole, as above
+                // The whole wrapper, as above (a closure would capture only its pointer field).
+                #[allow(clippy::redundant_locals)]
+                let nodal = nodal;
                 let range = offsets[i] as usize..offsets[i + 1] as usize;
                 // SAFETY: `n < f.len()`, each shared node appears once in `shared_nodes`, and the
                 // element loop that also wrote it has finished.

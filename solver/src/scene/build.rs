@@ -81,7 +81,6 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 *x = rotation * *x + shift;
             }
         }
-        let mut mesh = mesh;
         // Selectors (the boundary among them) see the whole mesh, regions included.
         full_meshes.push(mesh.clone());
         for spec in &body.regions {

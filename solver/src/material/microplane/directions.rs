@@ -39,6 +39,8 @@ impl SphereRule {
 }
 
 /// Bažant & Oh (1986) Table 1, with the 12-digit constants of MICROPLANE.md.
+// The table's own digits (not `FRAC_1_SQRT_2`): the calibration was made with them.
+#[allow(clippy::approx_constant)]
 fn bazant_oh_21() -> Vec<([f64; 3], f64)> {
     let (a, b, c) = (0.707106781187, 0.387907304067, 0.836095596749);
     let (w1, w2, w3) = (0.0265214244093, 0.0199301476312, 0.0250712367487);
@@ -77,6 +79,8 @@ fn bazant_oh_21() -> Vec<([f64; 3], f64)> {
 }
 
 /// The 37-point rule of the public M7 code (`m7fmaterial.f`, SETSYSTEM; research notes 1.5).
+// The table's own digits (not `FRAC_1_SQRT_2`): the calibration was made with them.
+#[allow(clippy::approx_constant)]
 fn bazant_37() -> Vec<([f64; 3], f64)> {
     let a = 0.707106781187;
     let (b1, c1) = (0.308951267775, 0.951077869651);
