@@ -17,9 +17,9 @@ use crate::case_kind::{
     parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
-use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::judge_metrics;
 use crate::results::CaseResult;
+use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 
 /// The `determinism:` block: the thread counts to compare, the first one the reference.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -13,7 +13,6 @@ pub mod contact_compare;
 pub mod contact_problems;
 pub mod crosscheck;
 pub mod determinism;
-pub mod execute;
 pub mod judge;
 pub mod material_point;
 pub mod metadata;

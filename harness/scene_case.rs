@@ -16,12 +16,12 @@ use crate::case_kind::{
     parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Sweep, Variant};
-use crate::execute::{execute, ExecuteOptions, Execution};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
 use crate::results::{
     case_dir, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series, Status,
     SweepLevel, SweepResult,
 };
+use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use measure::Measure;
 
 /// A case that runs its scene.

@@ -8,8 +8,8 @@ use std::sync::Arc;
 use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
-use crate::execute::{execute, ExecuteOptions};
 use crate::progress::fraction_bar;
+use impact_solver::analysis::{execute, ExecuteOptions};
 
 /// Why a scene run stopped.
 #[derive(Debug, thiserror::Error)]

@@ -202,7 +202,7 @@ mod case_run {
         // The microplane file is named relative to the case's folder.
         std::env::set_current_dir(root.join("cases/beam")).unwrap();
         let mut problem = impact_solver::scene::build_problem(&scene).unwrap();
-        let options = crate::execute::ExecuteOptions {
+        let options = impact_solver::analysis::ExecuteOptions {
             out: None,
             stem: "run",
             fields: false,
@@ -210,7 +210,8 @@ mod case_run {
             stop: None,
         };
         let run =
-            crate::execute::execute(&mut problem, &scene.analysis, &options, &mut |_| {}).unwrap();
+            impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
+                .unwrap();
         let spec = BeamSpec::default();
         let (mode, cracks, frame) = failure_mode_at(&problem, &spec, &run.u).unwrap();
         println!("{}", failure_mode_details(mode, &cracks, &frame));

@@ -8,6 +8,7 @@
 //!
 //! Units are SI throughout (m, kg, s, Pa, J) and every quantity is `f64`.
 
+pub mod analysis;
 pub mod contact;
 pub mod dynamics;
 pub mod error;

@@ -98,15 +98,16 @@ pub fn explicit(
     let started = Instant::now();
     let scene = &at_level(scene, &spec.body, cells);
     let mut problem = build_problem(scene).map_err(|e| e.to_string())?;
-    let options = crate::execute::ExecuteOptions {
+    let options = impact_solver::analysis::ExecuteOptions {
         out: None,
         stem: "explicit",
         fields: false,
         time_limit_s: Some(time_limit_s),
         stop: None,
     };
-    let run = crate::execute::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
-        .map_err(|e| e.to_string())?;
+    let run =
+        impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
+            .map_err(|e| e.to_string())?;
     let history = run
         .history
         .as_ref()

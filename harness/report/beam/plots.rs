@@ -6,9 +6,9 @@ use impact_solver::scene::{Analysis, Scene};
 
 use super::record::{bounds, contact_column};
 use super::BEAM_BODY;
-use crate::execute::Execution;
 use crate::report::format::{self, num};
 use crate::results::{PlotData, Series};
+use impact_solver::analysis::Execution;
 
 /// The plots of a beam case from its history: energy transformation, contact force, support
 /// reactions, the force components of (6.48), and a static load-displacement curve.

@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 use super::plots::plots;
 use super::side_view::{side_view_svg, SIDE_VIEW_WIDTH};
 use super::{BEAM_BODY, FILMSTRIP};
-use crate::execute::Execution;
 use crate::results::{CaseResult, PlotData, RunResults};
+use impact_solver::analysis::Execution;
 
 /// The crack indicator `eps_1 / eps_r` of the beam seen from the side at one instant: per cell of
 /// an `nx` x `ny` grid over the beam's x-y outline, the largest value of the elements whose

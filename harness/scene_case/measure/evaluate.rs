@@ -7,8 +7,8 @@ use nalgebra::Matrix3;
 
 use super::field::{boundary_node_flags, element_stress_in_box, matrix_from_voigt, max_abs};
 use super::{FieldQuantity, Measure, NodeScope};
-use crate::execute::Execution;
 use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
+use impact_solver::analysis::Execution;
 
 impl Measure {
     /// Evaluates a per-run measure.

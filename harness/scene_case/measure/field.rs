@@ -6,7 +6,7 @@ use impact_solver::Vector3;
 use nalgebra::Matrix3;
 
 use super::TensorComponent;
-use crate::execute::Execution;
+use impact_solver::analysis::Execution;
 
 pub(super) fn boundary_node_flags(problem: &Problem) -> Vec<bool> {
     let mut flags = vec![false; problem.model.node_count()];

@@ -1,20 +1,17 @@
-//! Running a scene's analysis: the one place that drives the solver for both the `scene` command
-//! and the catalogue runner.
+//! Running a scene's analysis (`Analysis`: explicit dynamics, a static path, or a static
+//! preload then release): the one dispatch every caller uses, so a scene runs without the
+//! harness. It returns the final state and what was recorded on the way ([`Execution`]).
 
 use std::path::Path;
 
-use impact_solver::contact::problem_file::{ProblemFile, StoredSolution};
-use impact_solver::contact::RecordedProblem;
-use impact_solver::dynamics::{
-    ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot,
-};
-use impact_solver::model::{
-    field_frame_with_history, ElementFields, MaterialHistory, Model, Problem,
-};
-use impact_solver::output::{HistoryTable, PvdWriter};
-use impact_solver::scene::Analysis;
-use impact_solver::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
-use impact_solver::{SolverError, Vector3};
+use crate::contact::problem_file::{ProblemFile, StoredSolution};
+use crate::contact::RecordedProblem;
+use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
+use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
+use crate::output::{HistoryTable, PvdWriter};
+use crate::scene::Analysis;
+use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
+use crate::{SolverError, Vector3};
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
 pub struct Execution {
