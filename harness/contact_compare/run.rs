@@ -152,16 +152,17 @@ pub fn load_problems(files: &[PathBuf]) -> (Vec<LoadedProblem>, Vec<Unreadable>)
     let mut unreadable = Vec::new();
     for file in files {
         let name = problem_name(file);
-        let outcome = read_problem(file).map(|(p, _)| p).and_then(|problem| {
-            match problems.iter().find(|p| p.name == name) {
+        let outcome = read_problem(file)
+            .map(|(p, _)| p)
+            .map_err(|e| e.to_string())
+            .and_then(|problem| match problems.iter().find(|p| p.name == name) {
                 Some(other) => Err(format!(
                     "contact problem `{}`: its name `{name}` is also that of `{}`; rename one",
                     file.display(),
                     other.file.display()
                 )),
                 None => Ok(problem),
-            }
-        });
+            });
         match outcome {
             Ok(problem) => problems.push(LoadedProblem {
                 name,

@@ -8,7 +8,7 @@
 //! - `compliance`: the multipliers' unit, `r = compliance * force` (our problems are scaled to a
 //!   unit mean diagonal of `W`, so `r`, `q` and `u` are lengths); absent means 1.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
@@ -16,6 +16,61 @@ use serde::{Deserialize, Serialize};
 use super::problem::{ContactProblem, SparseMatrix};
 
 pub const FORMAT: &str = "contact-problem/1";
+
+/// Why a contact-problem file could not be read, checked or written. Each names the file (or
+/// the problem) and what is wrong with it.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemFileError {
+    #[error("cannot read contact problem `{}`: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("contact problem `{}` is not `{FORMAT}` JSON: {source}", path.display())]
+    NotJson {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+    #[error("cannot write contact problem `{}`: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file reads, but the problem it holds does not check.
+    #[error("contact problem `{}`: {problem}", path.display())]
+    Invalid {
+        path: PathBuf,
+        problem: InvalidProblem,
+    },
+}
+
+/// What is wrong with a problem that reads as JSON ([`ProblemFile::to_problem`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum InvalidProblem {
+    #[error("format is `{0}`, expected `{FORMAT}`")]
+    Format(String),
+    #[error("dimension {0} is not supported; only 3-D contact problems are")]
+    Dimension(usize),
+    #[error("{contacts} contacts need {contacts} mu and {} q values, found {mu} and {q}", 3 * contacts)]
+    Sizes {
+        contacts: usize,
+        mu: usize,
+        q: usize,
+    },
+    #[error("W is {rows} x {cols}, expected {n} x {n}")]
+    MatrixShape { rows: usize, cols: usize, n: usize },
+    #[error("mu of contact {contact} is {mu}; it must be >= 0")]
+    Friction { contact: usize, mu: f64 },
+    #[error("q or W holds a value that is not finite")]
+    NotFinite,
+    #[error("{frames} frames for {contacts} contacts")]
+    Frames { frames: usize, contacts: usize },
+    #[error("compliance {0} must be positive and finite")]
+    Compliance(f64),
+    /// A triplet of `W` outside the matrix (the message of [`SparseMatrix::from_triplets`]).
+    #[error("{0}")]
+    Matrix(String),
+}
 
 const CONVENTION: &str = "find r, u with u = W r + q, r in K_mu (per contact [normal, t1, t2], \
                           |r_T| <= mu r_N), u_hat = u + [mu |u_T|, 0, 0] in the dual cone, \
@@ -89,40 +144,36 @@ impl ProblemFile {
     }
 
     /// The problem, checked: sizes agree, values are finite, `mu >= 0`.
-    pub fn to_problem(&self, name: &str) -> Result<ContactProblem, String> {
+    pub fn to_problem(&self, name: &str) -> Result<ContactProblem, InvalidProblem> {
         if self.format != FORMAT {
-            return Err(format!("format is `{}`, expected `{FORMAT}`", self.format));
+            return Err(InvalidProblem::Format(self.format.clone()));
         }
         if self.dimension != 3 {
-            return Err(format!(
-                "dimension {} is not supported; only 3-D contact problems are",
-                self.dimension
-            ));
+            return Err(InvalidProblem::Dimension(self.dimension));
         }
         let n = 3 * self.contacts;
         if self.mu.len() != self.contacts || self.q.len() != n {
-            return Err(format!(
-                "{} contacts need {} mu and {n} q values, found {} and {}",
-                self.contacts,
-                self.contacts,
-                self.mu.len(),
-                self.q.len()
-            ));
+            return Err(InvalidProblem::Sizes {
+                contacts: self.contacts,
+                mu: self.mu.len(),
+                q: self.q.len(),
+            });
         }
         if self.w.rows != n || self.w.cols != n {
-            return Err(format!(
-                "W is {} x {}, expected {n} x {n}",
-                self.w.rows, self.w.cols
-            ));
+            return Err(InvalidProblem::MatrixShape {
+                rows: self.w.rows,
+                cols: self.w.cols,
+                n,
+            });
         }
         let mu: Vec<f64> = self.mu.iter().map(|m| m.unwrap_or(f64::INFINITY)).collect();
         if let Some((a, m)) = mu.iter().enumerate().find(|(_, m)| !(**m >= 0.0)) {
-            return Err(format!("mu of contact {a} is {m}; it must be >= 0"));
+            return Err(InvalidProblem::Friction { contact: a, mu: *m });
         }
         if self.q.iter().any(|v| !v.is_finite())
             || self.w.triplets.iter().any(|(_, _, v)| !v.is_finite())
         {
-            return Err("q or W holds a value that is not finite".into());
+            return Err(InvalidProblem::NotFinite);
         }
         let frames = match &self.frames {
             None => None,
@@ -131,17 +182,22 @@ impl ProblemFile {
                     .map(|v| Matrix3::from_row_slice(v))
                     .collect::<Vec<_>>(),
             ),
-            Some(f) => return Err(format!("{} frames for {} contacts", f.len(), self.contacts)),
+            Some(f) => {
+                return Err(InvalidProblem::Frames {
+                    frames: f.len(),
+                    contacts: self.contacts,
+                })
+            }
         };
         Ok(ContactProblem {
-            w: SparseMatrix::from_triplets(n, &self.w.triplets)?,
+            w: SparseMatrix::from_triplets(n, &self.w.triplets).map_err(InvalidProblem::Matrix)?,
             q: self.q.clone(),
             mu,
             frames,
             compliance: match self.compliance {
                 None => 1.0,
                 Some(c) if c > 0.0 && c.is_finite() => c,
-                Some(c) => return Err(format!("compliance {c} must be positive and finite")),
+                Some(c) => return Err(InvalidProblem::Compliance(c)),
             },
             source: if self.source.is_empty() {
                 name.to_string()
@@ -151,26 +207,30 @@ impl ProblemFile {
         })
     }
 
-    pub fn read(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read contact problem `{}`: {e}", path.display()))?;
-        serde_json::from_str(&text).map_err(|e| {
-            format!(
-                "contact problem `{}` is not `{FORMAT}` JSON: {e}",
-                path.display()
-            )
+    pub fn read(path: &Path) -> Result<Self, ProblemFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ProblemFileError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        serde_json::from_str(&text).map_err(|source| ProblemFileError::NotJson {
+            path: path.to_path_buf(),
+            source,
         })
     }
 
-    pub fn write(&self, path: &Path) -> Result<(), String> {
+    pub fn write(&self, path: &Path) -> Result<(), ProblemFileError> {
         let text = serde_json::to_string(self).expect("a problem serialises");
-        std::fs::write(path, text)
-            .map_err(|e| format!("cannot write contact problem `{}`: {e}", path.display()))
+        std::fs::write(path, text).map_err(|source| ProblemFileError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
     }
 }
 
 /// Reads a problem file into a checked problem; errors name the file.
-pub fn read_problem(path: &Path) -> Result<(ContactProblem, Vec<StoredSolution>), String> {
+pub fn read_problem(
+    path: &Path,
+) -> Result<(ContactProblem, Vec<StoredSolution>), ProblemFileError> {
     let file = ProblemFile::read(path)?;
     let name = path
         .file_stem()
@@ -178,7 +238,10 @@ pub fn read_problem(path: &Path) -> Result<(ContactProblem, Vec<StoredSolution>)
         .unwrap_or_default();
     let problem = file
         .to_problem(&name)
-        .map_err(|e| format!("contact problem `{}`: {e}", path.display()))?;
+        .map_err(|problem| ProblemFileError::Invalid {
+            path: path.to_path_buf(),
+            problem,
+        })?;
     Ok((problem, file.solutions))
 }
 
@@ -243,12 +306,62 @@ mod tests {
             vec![],
         );
         file.mu = vec![Some(-0.1)];
-        assert!(file
-            .to_problem("p")
-            .unwrap_err()
-            .contains("mu of contact 0"));
+        let negative = file.to_problem("p").unwrap_err();
+        assert_eq!(
+            negative,
+            InvalidProblem::Friction {
+                contact: 0,
+                mu: -0.1
+            }
+        );
+        assert!(negative.to_string().contains("mu of contact 0"));
         file.mu = vec![Some(0.1)];
         file.q.push(0.0);
-        assert!(file.to_problem("p").unwrap_err().contains("3 q values"));
+        let sizes = file.to_problem("p").unwrap_err();
+        assert_eq!(
+            sizes,
+            InvalidProblem::Sizes {
+                contacts: 1,
+                mu: 1,
+                q: 4
+            }
+        );
+        assert!(sizes.to_string().contains("3 q values"));
+    }
+
+    /// Reading names the file: one that is missing, one that is not JSON, and one whose
+    /// problem does not check, each with its own error.
+    #[test]
+    fn file_errors_name_the_file() {
+        let dir = std::env::temp_dir().join(format!("problem-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let missing = dir.join("missing.json");
+        let e = read_problem(&missing).unwrap_err();
+        assert!(matches!(e, ProblemFileError::Read { .. }), "{e}");
+        assert!(e.to_string().contains("missing.json"), "{e}");
+        let text = dir.join("text.json");
+        std::fs::write(&text, "not json").unwrap();
+        let e = read_problem(&text).unwrap_err();
+        assert!(matches!(e, ProblemFileError::NotJson { .. }), "{e}");
+        let wrong = dir.join("wrong.json");
+        std::fs::write(
+            &wrong,
+            r#"{"format": "contact-problem/2", "dimension": 3, "contacts": 0, "mu": [], "q": [],
+                "W": {"rows": 0, "cols": 0, "triplets": []}}"#,
+        )
+        .unwrap();
+        let e = read_problem(&wrong).unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                ProblemFileError::Invalid {
+                    problem: InvalidProblem::Format(f),
+                    ..
+                } if f == "contact-problem/2"
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().contains("wrong.json"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
     }
 }
