@@ -1,12 +1,9 @@
 //! The runner: one job per case and variant, run by the case's kind (several at once when
 //! cores allow), each result handed on as it finishes.
 
-use std::path::{Path, PathBuf};
-
 use rayon::prelude::*;
 
-pub use crate::case_kind::RunOptions;
-use crate::case_kind::{unfinished_result, LoadedCase};
+use crate::case_kind::{unfinished_result, LoadedCase, RunOptions};
 use crate::catalogue::Variant;
 use crate::results::{CaseResult, Status};
 
@@ -53,9 +50,4 @@ pub fn run_cases(
     } else {
         jobs.iter().map(run_one).collect()
     }
-}
-
-/// Path helpers for a run folder.
-pub fn run_dir(reports: &Path, run_id: &str) -> PathBuf {
-    reports.join(run_id)
 }

@@ -640,6 +640,16 @@ fn spawn_serial_run(cases: &Path, reports: &Path) -> std::process::Child {
 }
 
 /// Sends SIGINT to `child` after `seconds` and waits for it.
+/// `impact-vv scene FILE --out OUT`, started in the background.
+fn spawn_scene(file: &Path, out: &Path) -> std::process::Child {
+    spawn_impact_vv(&[
+        "scene",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 fn interrupt_after(child: std::process::Child, seconds: u64) -> Output {
     std::thread::sleep(std::time::Duration::from_secs(seconds));
     let sent = Command::new("kill")
@@ -680,12 +690,7 @@ fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
     let dir = temp_dir("sigint");
     let file = endless_column(&dir);
     let out = dir.join("out");
-    let child = spawn_impact_vv(&[
-        "scene",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let child = spawn_scene(&file, &out);
     let output = interrupt_after(child, 3);
     assert_eq!(output.status.code(), Some(130), "{}", text(&output));
     assert!(text(&output).contains("interrupted"), "{}", text(&output));
@@ -751,12 +756,7 @@ fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
     let dir = temp_dir("sigkill");
     let file = endless_column(&dir);
     let out = dir.join("out");
-    let child = spawn_impact_vv(&[
-        "scene",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let child = spawn_scene(&file, &out);
     // Past two flush intervals.
     kill_after(child, 5);
     let rows = history_rows(&out.join("confined-column_history.csv"));

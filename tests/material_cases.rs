@@ -11,13 +11,14 @@ use std::path::{Path, PathBuf};
 
 use impact_vv::case_file::{load_case, load_catalogue};
 use impact_vv::case_kind::LoadedCase;
+use impact_vv::case_kind::RunOptions;
 use impact_vv::catalogue::Tier;
 use impact_vv::material_point::{MaterialPointCase, MaterialRecord};
 use impact_vv::registry::KINDS;
 use impact_vv::registry::SECTIONS;
 use impact_vv::report::write_report;
 use impact_vv::results::{CaseResult, RunResults, Status};
-use impact_vv::runner::{run_cases, RunOptions};
+use impact_vv::runner::run_cases;
 
 fn options() -> RunOptions {
     RunOptions {

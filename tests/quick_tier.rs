@@ -10,10 +10,11 @@
 use std::path::Path;
 
 use impact_vv::case_file::load_catalogue;
+use impact_vv::case_kind::RunOptions;
 use impact_vv::catalogue::Tier;
 use impact_vv::registry::KINDS;
 use impact_vv::results::Status;
-use impact_vv::runner::{run_cases, RunOptions};
+use impact_vv::runner::run_cases;
 
 /// Rounds to `digits` significant figures, so snapshots survive last-bit differences between
 /// compilers and machines while catching any real change.
