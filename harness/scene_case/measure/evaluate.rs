@@ -204,13 +204,15 @@ impl Measure {
                 let fields = run.element_fields(&problem.model);
                 let mut worst: f64 = 0.0;
                 for (e, s) in fields.cauchy.iter().enumerate() {
-                    let exact = match problem.model.material_of(e) {
-                        MaterialModel::SaintVenantKirchhoff(c) => svk_cauchy(c, &f),
-                        MaterialModel::LinearElastic(c) => corotated_cauchy(c, &f),
-                        MaterialModel::Microplane(_) => {
-                            return Err("uniform_stress_error has no closed form for microplane \
-                                        concrete"
-                                .into())
+                    let material = problem.model.material_of(e);
+                    let exact = match material.model() {
+                        Some(MaterialModel::SaintVenantKirchhoff(c)) => svk_cauchy(&c, &f),
+                        Some(MaterialModel::LinearElastic(c)) => corotated_cauchy(&c, &f),
+                        _ => {
+                            return Err(format!(
+                                "uniform_stress_error has no closed form for {}",
+                                material.name()
+                            ))
                         }
                     };
                     let diff = matrix_from_voigt(s) - exact;

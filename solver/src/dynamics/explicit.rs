@@ -152,7 +152,7 @@ impl<'p> ExplicitSolver<'p> {
                 let mut flags = vec![false; n];
                 // The nodes of the history bodies' elements (a material region owns no nodes
                 // of its own but uses its parent's).
-                for body in model.bodies.iter().filter(|b| b.material.has_history()) {
+                for body in model.bodies.iter().filter(|b| b.material.history_len() > 0) {
                     for e in body.elements.clone() {
                         for &node in &model.tets[e] {
                             flags[node as usize] = true;

@@ -2,7 +2,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{IsotropicElastic, Material};
+use super::{Deformation, Hooke, IsotropicElastic, Material, MaterialModel, Stress};
 use crate::kinematics::{cofactor, green_lagrange_from_h};
 
 /// Hooke's law between the back-rotated Cauchy stress `s` and the Green-Lagrange strain `E`,
@@ -18,16 +18,14 @@ use crate::kinematics::{cofactor, green_lagrange_from_h};
 #[derive(Debug, Clone, Copy)]
 pub struct LinearElastic {
     c: IsotropicElastic,
-    lambda: f64,
-    two_mu: f64,
+    hooke: Hooke,
 }
 
 impl LinearElastic {
     pub fn new(c: IsotropicElastic) -> Self {
         Self {
             c,
-            lambda: c.lambda(),
-            two_mu: 2.0 * c.mu(),
+            hooke: c.hooke(),
         }
     }
 
@@ -37,30 +35,41 @@ impl LinearElastic {
         0.5 * (h + h.transpose() + h * h.transpose())
     }
 
+    /// First Piola-Kirchhoff stress `P = sigma cof F` at `F = I + H`.
     #[inline(always)]
-    fn hooke(&self, e: &Matrix3<f64>) -> Matrix3<f64> {
-        let mut s = e * self.two_mu;
-        let p = self.lambda * e.trace();
-        s[(0, 0)] += p;
-        s[(1, 1)] += p;
-        s[(2, 2)] += p;
-        s
+    pub fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
+        self.hooke.stress(&Self::spatial_strain(h)) * cofactor(f)
     }
 }
 
 impl Material for LinearElastic {
+    fn name(&self) -> &'static str {
+        "linear_elastic"
+    }
+
+    fn constants(&self) -> IsotropicElastic {
+        self.c
+    }
+
+    fn model(&self) -> Option<MaterialModel> {
+        Some(MaterialModel::LinearElastic(self.c))
+    }
+
     #[inline(always)]
-    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
-        self.hooke(&Self::spatial_strain(h)) * cofactor(f)
+    fn update(&self, _element: usize, d: &Deformation, _history: &mut [f32]) -> Option<Stress> {
+        Some(Stress {
+            first_piola: self.first_piola(&d.f, &d.h),
+            cauchy: None,
+        })
     }
 
     /// `dP = d(sigma) cof F + sigma d(cof F)`, with `d sigma = hooke(sym(dF F^T))` and the
     /// derivative of the cofactor taken column by column from `cof F = [f1 x f2 | ...]`.
-    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64> {
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         let h = f - Matrix3::identity();
-        let sigma = self.hooke(&Self::spatial_strain(&h));
+        let sigma = self.hooke.stress(&Self::spatial_strain(&h));
         let df_ft = df * f.transpose();
-        let dsigma = self.hooke(&(0.5 * (df_ft + df_ft.transpose())));
+        let dsigma = self.hooke.stress(&(0.5 * (df_ft + df_ft.transpose())));
         let (c0, c1, c2) = (f.column(0), f.column(1), f.column(2));
         let (d0, d1, d2) = (df.column(0), df.column(1), df.column(2));
         let dcof = Matrix3::from_columns(&[
@@ -68,20 +77,12 @@ impl Material for LinearElastic {
             d2.cross(&c0) + c2.cross(&d0),
             d0.cross(&c1) + c0.cross(&d1),
         ]);
-        dsigma * cofactor(f) + sigma * dcof
+        Some(dsigma * cofactor(f) + sigma * dcof)
     }
 
     /// The small-strain energy `lambda/2 (tr E)^2 + mu tr E^2`: exact to second order in the
     /// strain for this Cauchy-elastic model.
-    fn strain_energy_density(&self, h: &Matrix3<f64>) -> f64 {
-        self.c.strain_energy_density(&green_lagrange_from_h(h))
-    }
-
-    fn density(&self) -> f64 {
-        self.c.density
-    }
-
-    fn dilatational_wave_speed(&self) -> f64 {
-        self.c.dilatational_wave_speed()
+    fn strain_energy_density(&self, h: &Matrix3<f64>) -> Option<f64> {
+        Some(self.c.strain_energy_density(&green_lagrange_from_h(h)))
     }
 }

@@ -1,11 +1,16 @@
-//! Constitutive models behind one trait.
+//! Constitutive models behind one trait, [`Material`].
 //!
 //! A model maps the deformation gradient of an element (and its own history, when it has one)
 //! to the first Piola-Kirchhoff stress `P`, from which the element forces follow as
-//! `f_a = V P grad_X N_a`. Elastic models have no state and need no per-step storage; the
-//! microplane concrete model keeps a history per element, which the analysis owns
-//! (`model::MaterialHistory`) and advances once per step.
+//! `f_a = V P grad_X N_a`. Elastic models have no state; the microplane concrete model keeps a
+//! history per element, which the analysis owns (`model::MaterialHistory`) and advances once per
+//! step. A scene names a model with [`MaterialModel`], which [`MaterialModel::prepare`] turns into
+//! the `Material` of a body; any other `Material` (a model under test, say) can be given to
+//! `model::Model::new` directly, and the element loops, the static tangent and the output treat
+//! it as they treat the built-in ones (`solver/tests/custom_material.rs` adds a Neo-Hookean body
+//! in one file).
 
+mod isotropic;
 mod linear_elastic;
 pub mod microplane;
 mod parameter_file;
@@ -14,91 +19,130 @@ mod saint_venant_kirchhoff;
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
+pub use isotropic::{ConstantsError, Hooke, IsotropicElastic};
 pub use linear_elastic::LinearElastic;
+pub use microplane::MicroplaneMaterial;
 pub use parameter_file::{read_microplane_file, MicroplaneFile};
 pub use saint_venant_kirchhoff::SaintVenantKirchhoff;
 
-/// Isotropic elastic constants, with the Lamé parameters of (2.121).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct IsotropicElastic {
-    /// Mass density `rho` (kg/m^3).
-    pub density: f64,
-    /// Young's modulus `E` (Pa).
-    pub youngs_modulus: f64,
-    /// Poisson's ratio `nu`.
-    pub poisson_ratio: f64,
+/// The kinematics of one element at one update, as every model receives them (FORMULATION 1).
+#[derive(Debug, Clone, Copy)]
+pub struct Deformation {
+    /// Deformation gradient `F = I + H`.
+    pub f: Matrix3<f64>,
+    /// Displacement gradient `H = F - I`, passed too so that small strains keep their digits.
+    pub h: Matrix3<f64>,
+    /// `det F`, the triple product of the columns of `F`.
+    pub det: f64,
+    /// Rate of the deformation gradient `Fdot = sum_a v_a (x) grad_X N_a` from the nodal
+    /// velocities of the half step before (`v_{n-1/2}`), for models that read the strain rate
+    /// ([`Material::reads_rate`]); zero otherwise and in statics.
+    pub f_dot: Matrix3<f64>,
+    /// The time step (0 in statics).
+    pub dt: f64,
 }
 
-impl IsotropicElastic {
-    /// `lambda = E nu / ((1 + nu)(1 - 2 nu))` (2.121).
-    pub fn lambda(&self) -> f64 {
-        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
-        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    }
-
-    /// `mu = E / (2 (1 + nu))` (2.121).
-    pub fn mu(&self) -> f64 {
-        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
-    }
-
-    /// Dilatational (P-wave) speed `c_d = sqrt((lambda + 2 mu) / rho)`.
-    pub fn dilatational_wave_speed(&self) -> f64 {
-        ((self.lambda() + 2.0 * self.mu()) / self.density).sqrt()
-    }
-
-    /// Checks the constants, naming the offending one and its admissible range.
-    pub fn validate(&self) -> Result<(), String> {
-        if !(self.density > 0.0 && self.density.is_finite()) {
-            return Err(format!("density must be positive, got {}", self.density));
+impl Deformation {
+    /// The deformation `F = I + H` at zero strain rate (as in statics).
+    pub fn at_rest(h: Matrix3<f64>) -> Self {
+        let f = Matrix3::identity() + h;
+        Self {
+            f,
+            h,
+            det: crate::kinematics::triple_product_determinant(&f),
+            f_dot: Matrix3::zeros(),
+            dt: 0.0,
         }
-        if !(self.youngs_modulus > 0.0 && self.youngs_modulus.is_finite()) {
-            return Err(format!(
-                "youngs_modulus must be positive, got {}",
-                self.youngs_modulus
-            ));
-        }
-        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
-            return Err(format!(
-                "poisson_ratio must lie in (-1, 0.5), got {}",
-                self.poisson_ratio
-            ));
-        }
-        Ok(())
-    }
-
-    /// Stored energy of Saint-Venant-Kirchhoff form `W = lambda/2 (tr E)^2 + mu tr(E^2)` (2.120).
-    pub fn strain_energy_density(&self, e: &Matrix3<f64>) -> f64 {
-        let tr = e.trace();
-        0.5 * self.lambda() * tr * tr + self.mu() * e.component_mul(e).sum()
     }
 }
 
-/// A constitutive model. Implementations are small `Copy` structs; the element loop is
-/// monomorphised per model so the stress update inlines into it.
-pub trait Material: Sync + Send {
-    /// First Piola-Kirchhoff stress `P` for the deformation gradient `F` (with `H = F - I`,
-    /// passed too so that small strains keep their digits).
-    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64>;
+/// What an update gives the element: its stress, and for models with a history the Cauchy stress
+/// the analysis keeps for the output.
+#[derive(Debug, Clone, Copy)]
+pub struct Stress {
+    /// First Piola-Kirchhoff stress `P`; the element forces are `V P grad_X N_a`.
+    pub first_piola: Matrix3<f64>,
+    /// Cauchy stress `[xx, yy, zz, xy, yz, xz]` to keep, where the model reports one.
+    pub cauchy: Option<[f64; 6]>,
+}
 
-    /// Directional derivative `dP = (dP/dF) : dF`, the consistent tangent for Newton's method.
-    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64>;
+/// A constitutive model: the one trait a new model implements, whether it keeps a history or not.
+///
+/// An update maps an element's [`Deformation`] (and the element's history, when the model keeps
+/// one) to the first Piola-Kirchhoff stress `P`. The history is `history_len` `f32` values per
+/// element, owned by the analysis (`model::MaterialHistory`): the explicit stepper advances it
+/// once per step, the static path updates copies of the committed one, and the remeshing transfer
+/// and a distributed partition move it as plain values. A model prepared for a body may keep
+/// per-element data of its own (microplane concrete keeps each element's crack band), indexed by
+/// the element's id in its body.
+///
+/// The element loops are generic over the model (`model::BodyMaterial`), so an implementation's
+/// methods inline into them: keep them `#[inline]` where they are small.
+pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
+    /// Name in reports and messages (`linear_elastic`, `microplane`, ...).
+    fn name(&self) -> &'static str;
 
-    /// Cauchy stress `sigma = P F^T / det F`.
-    fn cauchy(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
-        let p = self.first_piola(f, h);
-        let s = p * f.transpose() / f.determinant();
-        0.5 * (s + s.transpose())
+    /// The elastic constants at the initial stiffness: the density gives the lumped masses, the
+    /// dilatational wave speed the stable time step (FORMULATION 2).
+    fn constants(&self) -> IsotropicElastic;
+
+    /// The model as a scene names it, for models built from a [`MaterialModel`].
+    fn model(&self) -> Option<MaterialModel> {
+        None
     }
 
-    /// Elastic energy stored per unit reference volume, where the model defines one.
-    fn strain_energy_density(&self, h: &Matrix3<f64>) -> f64;
+    /// `f32` values of history per element; 0 (the default) for a model without history.
+    fn history_len(&self) -> usize {
+        0
+    }
 
-    /// Mass density in the reference configuration (kg/m^3).
-    fn density(&self) -> f64;
+    /// Writes the history of a virgin element.
+    fn initial_history(&self, _history: &mut [f32]) {}
 
-    /// Dilatational wave speed at the initial stiffness, for the stable time step (FORMULATION 2).
-    fn dilatational_wave_speed(&self) -> f64;
+    /// Whether the update reads the strain rate ([`Deformation::f_dot`]); the element loop computes
+    /// it only then.
+    fn reads_rate(&self) -> bool {
+        false
+    }
+
+    /// The update of element `element` (its id in the body) at `deformation`, advancing its
+    /// `history` (`history_len` values). `None` when the model cannot update the element (an
+    /// inverted one): its history is then left as it was, its forces are zero and the run stops.
+    fn update(
+        &self,
+        element: usize,
+        deformation: &Deformation,
+        history: &mut [f32],
+    ) -> Option<Stress>;
+
+    /// The consistent tangent `dP = (dP/dF) : dF` for Newton's method (3.68a), where the model has
+    /// one in closed form. `None` (the default) makes the static solver take forward differences
+    /// of the element forces instead (`statics::path`).
+    fn first_piola_derivative(
+        &self,
+        _f: &Matrix3<f64>,
+        _df: &Matrix3<f64>,
+    ) -> Option<Matrix3<f64>> {
+        None
+    }
+
+    /// Elastic energy stored per unit reference volume at `H`, where the model defines a
+    /// potential; `None` (the default) at every strain where it does not (its internal work, from
+    /// the forces, is then what it stored and dissipated, and the energy ledger uses that).
+    fn strain_energy_density(&self, _h: &Matrix3<f64>) -> Option<f64> {
+        None
+    }
+
+    /// The rate factor of the last update read from an element's history, for the output (0, the
+    /// default, for rate-independent models).
+    fn rate_factor(&self, _history: &[f32]) -> f64 {
+        0.0
+    }
+
+    /// What the run's plan says of the model beyond its name (the microplanes and element sizes).
+    fn summary(&self) -> Option<String> {
+        None
+    }
 }
 
 /// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which
@@ -130,12 +174,6 @@ impl MaterialModel {
         }
     }
 
-    /// Whether the model keeps a history per element (its forces then advance that history, so
-    /// they are computed once per step by the analysis that owns it).
-    pub fn has_history(&self) -> bool {
-        matches!(self, MaterialModel::Microplane(_))
-    }
-
     pub fn density(&self) -> f64 {
         self.constants().density
     }
@@ -143,25 +181,25 @@ impl MaterialModel {
     pub fn dilatational_wave_speed(&self) -> f64 {
         self.constants().dilatational_wave_speed()
     }
-}
 
-/// Calls `$body` with `$m` bound to the stateless (elastic) model behind a [`MaterialModel`], so
-/// generic element loops are instantiated once per model (static dispatch in the hot path).
-/// Models with a history are no [`Material`]: every caller says what it does for them, with `$p`
-/// bound to their parameters.
-#[macro_export]
-macro_rules! with_material {
-    ($model:expr, |$m:ident| $body:expr, microplane($p:pat) => $stateful:expr) => {
-        match $model {
-            $crate::material::MaterialModel::LinearElastic(c) => {
-                let $m = $crate::material::LinearElastic::new(*c);
-                $body
+    /// The model prepared for a body whose elements have the reference volumes `volumes`
+    /// (`first_element` is the global id of the first): the elastic models need nothing from
+    /// them, microplane concrete the crack band of each element. An element too large for the
+    /// crack band is an error naming the body and the element.
+    pub fn prepare(
+        &self,
+        body: &str,
+        volumes: &[f64],
+        first_element: usize,
+    ) -> crate::error::Result<std::sync::Arc<dyn crate::model::BodyMaterial>> {
+        Ok(match *self {
+            MaterialModel::LinearElastic(c) => std::sync::Arc::new(LinearElastic::new(c)),
+            MaterialModel::SaintVenantKirchhoff(c) => {
+                std::sync::Arc::new(SaintVenantKirchhoff::new(c))
             }
-            $crate::material::MaterialModel::SaintVenantKirchhoff(c) => {
-                let $m = $crate::material::SaintVenantKirchhoff::new(*c);
-                $body
+            MaterialModel::Microplane(p) => {
+                std::sync::Arc::new(MicroplaneMaterial::new(body, p, volumes, first_element)?)
             }
-            $crate::material::MaterialModel::Microplane($p) => $stateful,
-        }
-    };
+        })
+    }
 }

@@ -2,7 +2,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{IsotropicElastic, Material};
+use super::{Deformation, Hooke, IsotropicElastic, Material, MaterialModel, Stress};
 use crate::kinematics::green_lagrange_from_h;
 
 /// `W(E) = lambda/2 (tr E)^2 + mu tr E^2` (2.120), `S = lambda tr(E) I + 2 mu E` (2.123),
@@ -11,55 +11,61 @@ use crate::kinematics::green_lagrange_from_h;
 #[derive(Debug, Clone, Copy)]
 pub struct SaintVenantKirchhoff {
     c: IsotropicElastic,
-    lambda: f64,
-    two_mu: f64,
+    hooke: Hooke,
 }
 
 impl SaintVenantKirchhoff {
     pub fn new(c: IsotropicElastic) -> Self {
         Self {
             c,
-            lambda: c.lambda(),
-            two_mu: 2.0 * c.mu(),
+            hooke: c.hooke(),
         }
     }
 
     /// Second Piola-Kirchhoff stress `S = lambda tr(E) I + 2 mu E` (2.123).
     #[inline(always)]
     pub fn second_piola(&self, e: &Matrix3<f64>) -> Matrix3<f64> {
-        let mut s = e * self.two_mu;
-        let p = self.lambda * e.trace();
-        s[(0, 0)] += p;
-        s[(1, 1)] += p;
-        s[(2, 2)] += p;
-        s
+        self.hooke.stress(e)
+    }
+
+    /// First Piola-Kirchhoff stress `P = F S` at `F = I + H`.
+    #[inline(always)]
+    pub fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
+        f * self.second_piola(&green_lagrange_from_h(h))
     }
 }
 
 impl Material for SaintVenantKirchhoff {
+    fn name(&self) -> &'static str {
+        "saint_venant_kirchhoff"
+    }
+
+    fn constants(&self) -> IsotropicElastic {
+        self.c
+    }
+
+    fn model(&self) -> Option<MaterialModel> {
+        Some(MaterialModel::SaintVenantKirchhoff(self.c))
+    }
+
     #[inline(always)]
-    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
-        f * self.second_piola(&green_lagrange_from_h(h))
+    fn update(&self, _element: usize, d: &Deformation, _history: &mut [f32]) -> Option<Stress> {
+        Some(Stress {
+            first_piola: self.first_piola(&d.f, &d.h),
+            cauchy: None,
+        })
     }
 
     /// `dP = dF S + F dS`, `dS = lambda tr(dE) I + 2 mu dE`, `dE = sym(F^T dF)`.
-    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64> {
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         let h = f - Matrix3::identity();
         let s = self.second_piola(&green_lagrange_from_h(&h));
         let ft_df = f.transpose() * df;
         let de = 0.5 * (ft_df + ft_df.transpose());
-        df * s + f * self.second_piola(&de)
+        Some(df * s + f * self.second_piola(&de))
     }
 
-    fn strain_energy_density(&self, h: &Matrix3<f64>) -> f64 {
-        self.c.strain_energy_density(&green_lagrange_from_h(h))
-    }
-
-    fn density(&self) -> f64 {
-        self.c.density
-    }
-
-    fn dilatational_wave_speed(&self) -> f64 {
-        self.c.dilatational_wave_speed()
+    fn strain_energy_density(&self, h: &Matrix3<f64>) -> Option<f64> {
+        Some(self.c.strain_energy_density(&green_lagrange_from_h(h)))
     }
 }

@@ -21,11 +21,11 @@
 //! chunk per body on one thread, which is a plain serial scatter without slots. The layout is
 //! rebuilt, in O(elements), when the thread count changes.
 //!
-//! Chunks of a body whose material has a history (microplane concrete) run a loop of their own
-//! that also reads the nodal velocities and commits each element's update to the history. The
-//! history of element `e` is written only by the chunk that holds `e`, and the update of an
-//! element depends on nothing but its own nodes and history, so this too is race-free and
-//! bitwise independent of the chunking. Elastic chunks run the stateless loop as before.
+//! Each chunk runs the element loop of its body's material ([`chunk_forces`], compiled per model
+//! through `BodyMaterial`). For a material with a history the loop also reads the nodal
+//! velocities and commits each element's update to the history. The history of element `e` is
+//! written only by the chunk that holds `e`, and the update of an element depends on nothing but
+//! its own nodes and history, so this too is race-free and bitwise independent of the chunking.
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -34,9 +34,10 @@ use std::sync::Mutex;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::history::{microplane_element_forces, MaterialHistory};
-use super::{element_internal_forces, Model};
-use crate::with_material;
+use super::element::element_forces;
+use super::history::MaterialHistory;
+use super::Model;
+use crate::material::Material;
 
 /// Chunks per thread (on more than one thread). More chunks let rayon move work off a thread that
 /// runs slow (a busy core, a preempted vCPU); each extra boundary costs slot traffic. Linear
@@ -207,6 +208,9 @@ impl ForceAssembler {
         layout.shared_nodes.len() as f64 / node_count.max(1) as f64
     }
 
+    /// Internal forces at `u` into `f`, with the velocities, time step and history the materials
+    /// with a history need (`stateful`; a model without such materials may pass `None`). Returns
+    /// the lowest inverted element, if any.
     pub(super) fn assemble(
         &self,
         model: &Model,
@@ -214,16 +218,6 @@ impl ForceAssembler {
         stateful: Option<Stateful<'_>>,
         f: &mut [Vector3<f64>],
     ) -> Option<usize> {
-        if stateful.is_none() {
-            if let Some(body) = model.bodies.iter().find(|b| b.material.has_history()) {
-                panic!(
-                    "body `{}` is of {} concrete, whose forces advance its history: compute them \
-                     with Model::advance_internal_forces, once per step",
-                    body.name,
-                    body.material.name()
-                );
-            }
-        }
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         let threads = rayon::current_num_threads();
         if layout.threads != threads {
@@ -275,94 +269,21 @@ impl ForceAssembler {
                 None => (&[], 0.0, Vec::new()),
             };
         layout.chunks.par_iter().for_each(|chunk| {
-            // Capture the wrappers whole, not their raw-pointer fields, so the closure is `Send`.
-            let (nodal, slot_out) = (nodal, slot_out);
-            let range = chunk.elements.clone();
-            let mut next_slot = chunk.slots.start;
-            let mut first_inverted = usize::MAX;
             let body = &model.bodies[chunk.body];
-            with_material!(&body.material, |m| {
-                let elements = model.tets[range.clone()]
-                    .iter()
-                    .zip(&model.grad_n[range.clone()])
-                    .zip(&model.volume[range.clone()]);
-                for (e, ((tet, grad_n), &volume)) in range.clone().zip(elements) {
-                    let ue = tet.map(|n| u[n as usize]);
-                    let (fe, det) = element_internal_forces(&m, grad_n, volume, &ue);
-                    if !(det > 0.0) {
-                        first_inverted = first_inverted.min(e);
-                    }
-                    for (&n, fa) in tet.iter().zip(fe) {
-                        // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() ==
-                        // f.len()`). `first_element` was computed from the same `model.tets`
-                        // (the model never changes its elements), so `first <= e` and only
-                        // the chunk holding `first` writes node `n`: no other thread touches
-                        // it during this loop. The chunk's slots are its own. `f` and the
-                        // buffer outlive the loop.
-                        unsafe {
-                            scatter(
-                                &range,
-                                e,
-                                n,
-                                first_element[n as usize],
-                                fa,
-                                nodal,
-                                slot_out,
-                                &mut next_slot,
-                                chunk.slots.end,
-                            )
-                        };
-                    }
-                }
-            }, microplane(_) => {
-                let microplane = body.microplane.as_ref().expect("microplane bodies are prepared");
-                let writes = histories[chunk.body].expect("a history for every microplane body");
-                let len = writes.len;
-                for e in range.clone() {
-                    let tet = &model.tets[e];
-                    let ue = tet.map(|n| u[n as usize]);
-                    let ve = tet.map(|n| velocity[n as usize]);
-                    let local = e - body.elements.start;
-                    // SAFETY: the body's history holds `len` values and one stress per element
-                    // (asserted above), `local` is an element of the body, and only the chunk
-                    // holding element `e` touches its values; the history outlives the loop.
-                    let state = unsafe {
-                        std::slice::from_raw_parts_mut(writes.values.0.add(local * len), len)
-                    };
-                    let update = microplane_element_forces(
-                        &microplane.model,
-                        &microplane.bands[local],
-                        state,
-                        &model.grad_n[e],
-                        model.volume[e],
-                        &ue,
-                        &ve,
-                        dt,
-                    );
-                    if update.det > 0.0 {
-                        // SAFETY: as for `state`.
-                        unsafe { *writes.cauchy.0.add(local) = update.cauchy };
-                    } else {
-                        first_inverted = first_inverted.min(e);
-                    }
-                    for (&n, fa) in tet.iter().zip(update.forces) {
-                        // SAFETY: as in the elastic loop.
-                        unsafe {
-                            scatter(
-                                &range,
-                                e,
-                                n,
-                                first_element[n as usize],
-                                fa,
-                                nodal,
-                                slot_out,
-                                &mut next_slot,
-                                chunk.slots.end,
-                            )
-                        };
-                    }
-                }
-            });
+            let job = ChunkJob {
+                model,
+                u,
+                velocity,
+                dt,
+                elements: chunk.elements.clone(),
+                body_start: body.elements.start,
+                first_element,
+                nodal,
+                slot_out,
+                slots: chunk.slots.clone(),
+                history: histories.get(chunk.body).copied().flatten(),
+            };
+            let first_inverted = body.material.assemble_chunk(&job);
             if first_inverted != usize::MAX {
                 inverted.fetch_min(first_inverted, Ordering::Relaxed);
             }
@@ -393,6 +314,103 @@ impl ForceAssembler {
             e => Some(e),
         }
     }
+}
+
+/// One chunk of the assembly, as its material's element loop sees it.
+pub struct ChunkJob<'a> {
+    model: &'a Model,
+    u: &'a [Vector3<f64>],
+    /// Nodal velocities of the half step before (empty without materials with a history).
+    velocity: &'a [Vector3<f64>],
+    dt: f64,
+    elements: Range<usize>,
+    /// Global id of the first element of the chunk's body.
+    body_start: usize,
+    first_element: &'a [u32],
+    nodal: DisjointWrites<Vector3<f64>>,
+    slot_out: DisjointWrites<Vector3<f64>>,
+    slots: Range<usize>,
+    /// Where the chunk writes the histories of its elements, for a material with a history.
+    history: Option<HistoryWrites>,
+}
+
+// SAFETY: the raw pointers of a job are written only as `DisjointWrites` allows.
+unsafe impl Send for ChunkJob<'_> {}
+unsafe impl Sync for ChunkJob<'_> {}
+
+/// The element loop of one chunk for the material `M` of its body: each element's forces from
+/// [`element_forces`], its history committed in place, the forces scattered to the nodes the
+/// chunk owns or to its slots. Returns the lowest inverted element (`usize::MAX` if none).
+#[inline]
+pub(super) fn chunk_forces<M: Material>(material: &M, job: &ChunkJob<'_>) -> usize {
+    // Locals, so that the loop reads them from registers.
+    let (model, u, velocity, first_element) = (job.model, job.u, job.velocity, job.first_element);
+    let (nodal, slot_out, dt) = (job.nodal, job.slot_out, job.dt);
+    let range = job.elements.clone();
+    let mut next_slot = job.slots.start;
+    let mut first_inverted = usize::MAX;
+    let len = material.history_len();
+    let writes = match job.history {
+        Some(w) if len > 0 => {
+            assert_eq!(w.len, len, "history of another material");
+            Some(w)
+        }
+        _ => {
+            assert!(len == 0, "a history for every material that keeps one");
+            None
+        }
+    };
+    let elements = model.tets[range.clone()]
+        .iter()
+        .zip(&model.grad_n[range.clone()])
+        .zip(&model.volume[range.clone()]);
+    for (e, ((tet, grad_n), &volume)) in range.clone().zip(elements) {
+        let ue = tet.map(|n| u[n as usize]);
+        let local = e - job.body_start;
+        let ve;
+        let rate = if material.reads_rate() {
+            ve = tet.map(|n| velocity[n as usize]);
+            Some((&ve, dt))
+        } else {
+            None
+        };
+        let history: &mut [f32] = match writes {
+            // SAFETY: the body's history holds `len` values and one stress per element
+            // (asserted in `assemble_with`), `local` is an element of the body, and only the
+            // chunk holding element `e` touches its values; the history outlives the loop.
+            Some(w) => unsafe { std::slice::from_raw_parts_mut(w.values.0.add(local * len), len) },
+            None => &mut [],
+        };
+        let update = element_forces(material, local, grad_n, volume, &ue, rate, history);
+        if !(update.det > 0.0) {
+            first_inverted = first_inverted.min(e);
+        }
+        if let (Some(w), Some(cauchy)) = (writes, update.cauchy) {
+            // SAFETY: as for `history`.
+            unsafe { *w.cauchy.0.add(local) = cauchy };
+        }
+        for (&n, fa) in tet.iter().zip(update.forces) {
+            // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() == f.len()`).
+            // `first_element` was computed from the same `model.tets` (the model never changes
+            // its elements), so `first <= e` and only the chunk holding `first` writes node `n`:
+            // no other thread touches it during this loop. The chunk's slots are its own. `f`
+            // and the buffer outlive the loop.
+            unsafe {
+                scatter(
+                    &range,
+                    e,
+                    n,
+                    first_element[n as usize],
+                    fa,
+                    nodal,
+                    slot_out,
+                    &mut next_slot,
+                    job.slots.end,
+                )
+            };
+        }
+    }
+    first_inverted
 }
 
 impl Layout {
@@ -470,141 +488,4 @@ impl Layout {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::IsotropicElastic;
-    use crate::material::MaterialModel;
-    use crate::mesh::{box_mesh, perturb_interior, BoxSpec};
-
-    const CONCRETE: IsotropicElastic = IsotropicElastic {
-        density: 2300.0,
-        youngs_modulus: 30e9,
-        poisson_ratio: 0.2,
-    };
-
-    /// Two bodies of different materials, the first of `cells` cells, the second with a node that
-    /// no element uses.
-    fn model(cells: [usize; 3]) -> Model {
-        let body = |origin: [f64; 3], divisions: [usize; 3], seed| {
-            let spec = BoxSpec {
-                origin,
-                size: [1.0, 0.6, 0.4],
-                divisions,
-            };
-            let mut mesh = box_mesh(&spec);
-            perturb_interior(&mut mesh, &spec, 0.2, seed);
-            mesh
-        };
-        let mut second = body([2.0, 0.0, 0.0], [5, 4, 3], 2);
-        second.nodes.push(Vector3::new(9.0, 9.0, 9.0));
-        Model::new(vec![
-            (
-                "a".into(),
-                body([0.0; 3], cells, 1),
-                MaterialModel::LinearElastic(CONCRETE),
-            ),
-            (
-                "b".into(),
-                second,
-                MaterialModel::SaintVenantKirchhoff(CONCRETE),
-            ),
-        ])
-        .unwrap()
-    }
-
-    fn displacement(model: &Model, amplitude: f64) -> Vec<Vector3<f64>> {
-        model
-            .reference
-            .iter()
-            .map(|x| amplitude * Vector3::new((7.0 * x.y).sin(), x.z * x.x, (5.0 * x.x).cos()))
-            .collect()
-    }
-
-    /// The serial scatter the assembly must reproduce bitwise.
-    fn serial(model: &Model, u: &[Vector3<f64>]) -> (Vec<Vector3<f64>>, Option<usize>) {
-        let mut f = vec![Vector3::zeros(); u.len()];
-        let mut inverted = None;
-        for body in &model.bodies {
-            with_material!(&body.material, |m| {
-                for e in body.elements.clone() {
-                    let tet = model.tets[e];
-                    let ue = tet.map(|n| u[n as usize]);
-                    let (fe, det) =
-                        element_internal_forces(&m, &model.grad_n[e], model.volume[e], &ue);
-                    if !(det > 0.0) && inverted.is_none() {
-                        inverted = Some(e);
-                    }
-                    for a in 0..4 {
-                        f[tet[a] as usize] += fe[a];
-                    }
-                }
-            }, microplane(_) => unreachable!("elastic bodies only"));
-        }
-        (f, inverted)
-    }
-
-    #[test]
-    fn any_chunking_gives_the_serial_sum_bitwise() {
-        let model = model([9, 6, 4]);
-        let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
-        let n = model.element_count();
-        let assembler = &model.assembler;
-        let first = &assembler.first_element;
-        for amplitude in [1e-3, 1.0] {
-            let u = displacement(&model, amplitude);
-            let (expected, inverted) = serial(&model, &u);
-            assert_eq!(
-                inverted.is_some(),
-                amplitude > 0.1,
-                "the large field inverts"
-            );
-            for length in [1, 5, 64, 333, n / 3, n] {
-                let mut layout = Layout::with_chunk_length(first, &model.tets, &bodies, length);
-                for threads in [1, 2, 3] {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(threads)
-                        .build()
-                        .unwrap();
-                    // Garbage in `f` must not leak into the result.
-                    let mut f = vec![Vector3::repeat(f64::NAN); u.len()];
-                    let found = pool
-                        .install(|| assembler.assemble_with(&mut layout, &model, &u, None, &mut f));
-                    assert_eq!(found, inverted, "length {length}, {threads} threads");
-                    let same = f
-                        .iter()
-                        .zip(&expected)
-                        .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
-                    assert!(same, "length {length}, {threads} threads");
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn layout_follows_the_thread_count() {
-        // The first body is large enough to be cut into more chunks for more threads.
-        let model = model([48, 24, 12]);
-        let u = displacement(&model, 1e-3);
-        let (expected, _) = serial(&model, &u);
-        let mut chunks = Vec::new();
-        for threads in [1, 2, 4, 1] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut f = vec![Vector3::zeros(); u.len()];
-            assert_eq!(pool.install(|| model.internal_forces(&u, &mut f)), None);
-            let bits = |f: &[Vector3<f64>]| -> Vec<u64> {
-                f.iter()
-                    .flat_map(|x| x.iter().map(|c| c.to_bits()))
-                    .collect()
-            };
-            assert_eq!(bits(&f), bits(&expected), "{threads} threads");
-            let layout = model.assembler.layout.lock().unwrap();
-            assert_eq!(layout.threads, threads);
-            chunks.push(layout.chunks.iter().filter(|c| c.body == 0).count());
-            assert_eq!(layout.buffer.is_empty(), threads == 1);
-        }
-        assert!(chunks[0] == 1 && chunks[1] > 1 && chunks[2] > chunks[1] && chunks[3] == 1);
-    }
-}
+mod tests;

@@ -1,13 +1,12 @@
 //! Element and nodal fields of a state, packaged as a frame for the VTU writer.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::{MaterialHistory, Model};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h, principal_values, voigt};
-use crate::material::Material;
+use crate::material::Deformation;
 use crate::output::vtu::{FieldData, FieldFrame};
-use crate::with_material;
 
 /// The crack indicator `eps_1 / eps_r` of every element (FORMULATION 5, thesis 5.1): an element
 /// counts as cracked when its largest principal Green-Lagrange strain `eps_1` reaches
@@ -112,30 +111,43 @@ impl Model {
             h
         };
         for (b, body) in self.bodies.iter().enumerate() {
-            with_material!(&body.material, |m| {
+            let material = &body.material;
+            if material.history_len() == 0 {
                 for e in body.elements.clone() {
-                    let h = strains(&mut out, e);
-                    out.cauchy
-                        .push(voigt(&m.cauchy(&(Matrix3::identity() + h), &h)));
+                    let deformation = Deformation::at_rest(strains(&mut out, e));
+                    let f = deformation.f;
+                    let local = e - body.elements.start;
+                    let cauchy = match material.update(local, &deformation, &mut []) {
+                        // sigma = P F^T / det F, symmetrised.
+                        Some(stress) => {
+                            let s = stress.first_piola * f.transpose() / f.determinant();
+                            voigt(&(0.5 * (s + s.transpose())))
+                        }
+                        None => [f64::NAN; 6],
+                    };
+                    out.cauchy.push(cauchy);
                     out.rate_factor.push(0.0);
                 }
-            }, microplane(_) => {
-                let body_history = history.and_then(|h| h.bodies.get(b)).and_then(Option::as_ref);
-                for e in body.elements.clone() {
-                    strains(&mut out, e);
-                    let local = e - body.elements.start;
-                    match body_history {
-                        Some(h) => {
-                            out.cauchy.push(h.cauchy[local]);
-                            out.rate_factor.push(h.rate_factor(local));
-                        }
-                        None => {
-                            out.cauchy.push([f64::NAN; 6]);
-                            out.rate_factor.push(f64::NAN);
-                        }
+                continue;
+            }
+            // A model with a history reports the stress of its last update.
+            let body_history = history
+                .and_then(|h| h.bodies.get(b))
+                .and_then(Option::as_ref);
+            for e in body.elements.clone() {
+                strains(&mut out, e);
+                let local = e - body.elements.start;
+                match body_history {
+                    Some(h) => {
+                        out.cauchy.push(h.cauchy[local]);
+                        out.rate_factor.push(material.rate_factor(h.element(local)));
+                    }
+                    None => {
+                        out.cauchy.push([f64::NAN; 6]);
+                        out.rate_factor.push(f64::NAN);
                     }
                 }
-            });
+            }
         }
         out
     }

@@ -3,43 +3,86 @@
 
 mod assembly;
 mod conditions;
+mod element;
 mod fields;
 mod history;
 mod problem;
 
 use std::collections::BTreeMap;
 use std::ops::Range;
+use std::sync::Arc;
 
 use nalgebra::{Matrix3, Vector3};
 
-pub use assembly::ForceAssembler;
+pub use assembly::{ChunkJob, ForceAssembler};
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
+pub use element::{element_forces, BodyMaterial, ElementForces};
 pub use fields::{field_frame, field_frame_with_history, CrackIndicator, ElementFields};
-pub use history::{
-    microplane_element_forces, BodyHistory, MaterialHistory, MicroplaneBody,
-    MicroplaneElementUpdate,
-};
+pub use history::{BodyHistory, MaterialHistory};
 pub use problem::{Probe, ProbeQuantity, Problem};
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};
-use crate::material::{Material, MaterialModel};
+use crate::material::MaterialModel;
 use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
-use crate::with_material;
 
 /// One body of the model: a mesh of one material.
 #[derive(Debug, Clone)]
 pub struct Body {
     pub name: String,
-    pub material: MaterialModel,
+    /// The constitutive model, prepared for the body's elements.
+    pub material: Arc<dyn BodyMaterial>,
     /// Global ids of its nodes.
     pub nodes: Range<usize>,
     /// Global ids of its elements.
     pub elements: Range<usize>,
     /// Named node sets of its mesh, in global ids.
     pub node_sets: BTreeMap<String, Vec<u32>>,
-    /// For a body of microplane concrete: the model and each element's crack band.
-    pub microplane: Option<MicroplaneBody>,
+}
+
+/// Where a body's material comes from: a model a scene names (prepared for the body's elements
+/// when the model is built), or any [`crate::material::Material`] given ready.
+#[derive(Debug, Clone)]
+pub enum MaterialSource {
+    Model(MaterialModel),
+    Prepared(Arc<dyn BodyMaterial>),
+}
+
+impl From<MaterialModel> for MaterialSource {
+    fn from(model: MaterialModel) -> Self {
+        MaterialSource::Model(model)
+    }
+}
+
+impl From<Arc<dyn BodyMaterial>> for MaterialSource {
+    fn from(material: Arc<dyn BodyMaterial>) -> Self {
+        MaterialSource::Prepared(material)
+    }
+}
+
+impl MaterialSource {
+    fn validate(&self, entity: &str) -> Result<()> {
+        let constants = match self {
+            MaterialSource::Model(m) => m.constants(),
+            MaterialSource::Prepared(m) => m.constants(),
+        };
+        constants.validate().map_err(|e| SolverError::InvalidScene {
+            entity: entity.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    fn prepare(
+        self,
+        body: &str,
+        volumes: &[f64],
+        first_element: usize,
+    ) -> Result<Arc<dyn BodyMaterial>> {
+        match self {
+            MaterialSource::Model(m) => m.prepare(body, volumes, first_element),
+            MaterialSource::Prepared(m) => Ok(m),
+        }
+    }
 }
 
 /// Elements of a body that take another material (see [`Model::with_regions`]).
@@ -79,7 +122,7 @@ pub struct Model {
 impl Model {
     /// Assembles bodies `(name, mesh, material)`; each mesh is validated first so that an
     /// inverted or degenerate element is reported with its body and id.
-    pub fn new(bodies: Vec<(String, Mesh, MaterialModel)>) -> Result<Self> {
+    pub fn new<M: Into<MaterialSource>>(bodies: Vec<(String, Mesh, M)>) -> Result<Self> {
         Self::with_regions(bodies, Vec::new())
     }
 
@@ -88,23 +131,19 @@ impl Model {
     /// nodes of its parent body, so it is bonded to the parent's remaining elements node by node.
     /// A region body owns no nodes (its `nodes` range is empty): conditions, probes and contact
     /// select nodes through the parent.
-    pub fn with_regions(
-        bodies: Vec<(String, Mesh, MaterialModel)>,
+    pub fn with_regions<M: Into<MaterialSource>>(
+        bodies: Vec<(String, Mesh, M)>,
         regions: Vec<Region>,
     ) -> Result<Self> {
         let mut reference = Vec::new();
         let mut tets = Vec::new();
-        let mut model_bodies = Vec::new();
+        // Name, nodes, elements, node sets and material of each body, prepared below.
+        let mut parts = Vec::new();
         let mut element_body = Vec::new();
         for (index, (name, mesh, material)) in bodies.into_iter().enumerate() {
             mesh.validate(&name, DEFAULT_MIN_ALTITUDE_RATIO)?;
-            material
-                .constants()
-                .validate()
-                .map_err(|message| SolverError::InvalidScene {
-                    entity: format!("body `{name}` material"),
-                    message,
-                })?;
+            let material: MaterialSource = material.into();
+            material.validate(&format!("body `{name}` material"))?;
             let offset = reference.len() as u32;
             let first_element = tets.len();
             reference.extend_from_slice(&mesh.nodes);
@@ -115,72 +154,74 @@ impl Model {
                 .iter()
                 .map(|(k, v)| (k.clone(), v.iter().map(|n| n + offset).collect()))
                 .collect();
-            model_bodies.push(Body {
+            parts.push((
                 name,
-                material,
-                nodes: offset as usize..reference.len(),
-                elements: first_element..tets.len(),
+                offset as usize..reference.len(),
+                first_element..tets.len(),
                 node_sets,
-                microplane: None,
-            });
+                material,
+            ));
         }
         for region in regions {
-            let Some(parent) = model_bodies.get(region.parent) else {
+            let Some((_, parent_nodes, ..)) = parts.get(region.parent) else {
                 return Err(SolverError::InvalidScene {
                     entity: format!("region `{}`", region.name),
                     message: format!("no parent body {}", region.parent),
                 });
             };
-            let offset = parent.nodes.start as u32;
-            let end = parent.nodes.end;
+            let parent_nodes: Range<usize> = parent_nodes.clone();
+            let offset = parent_nodes.start as u32;
+            let end = parent_nodes.end;
             let local = Mesh {
-                nodes: reference[parent.nodes.clone()].to_vec(),
+                nodes: reference[parent_nodes].to_vec(),
                 tets: region.tets.clone(),
                 node_sets: BTreeMap::new(),
             };
             local.validate(&region.name, DEFAULT_MIN_ALTITUDE_RATIO)?;
-            region.material.constants().validate().map_err(|message| {
-                SolverError::InvalidScene {
-                    entity: format!("region `{}` material", region.name),
-                    message,
-                }
-            })?;
+            let material = MaterialSource::Model(region.material);
+            material.validate(&format!("region `{}` material", region.name))?;
             let first_element = tets.len();
-            let index = model_bodies.len();
+            let index = parts.len();
             tets.extend(region.tets.iter().map(|t| t.map(|n| n + offset)));
             element_body.extend(std::iter::repeat_n(index as u16, region.tets.len()));
-            model_bodies.push(Body {
-                name: region.name,
-                material: region.material,
-                nodes: end..end,
-                elements: first_element..tets.len(),
-                node_sets: BTreeMap::new(),
-                microplane: None,
-            });
+            parts.push((
+                region.name,
+                end..end,
+                first_element..tets.len(),
+                BTreeMap::new(),
+                material,
+            ));
         }
         let mut grad_n = Vec::with_capacity(tets.len());
         let mut volume = Vec::with_capacity(tets.len());
         let mut min_altitude = Vec::with_capacity(tets.len());
-        let mut mass = vec![0.0; reference.len()];
-        for (e, tet) in tets.iter().enumerate() {
+        for tet in &tets {
             let x = tet.map(|n| reference[n as usize]);
             let (g, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
             grad_n.push(g);
             volume.push(v);
             min_altitude.push(element_quality(&x).min_altitude);
-            let m = model_bodies[element_body[e] as usize].material.density() * v / 4.0;
+        }
+        let mut model_bodies = Vec::with_capacity(parts.len());
+        for (name, nodes, elements, node_sets, material) in parts {
+            let material = material.prepare(&name, &volume[elements.clone()], elements.start)?;
+            model_bodies.push(Body {
+                name,
+                material,
+                nodes,
+                elements,
+                node_sets,
+            });
+        }
+        let density: Vec<f64> = model_bodies
+            .iter()
+            .map(|b| b.material.constants().density)
+            .collect();
+        let mut mass = vec![0.0; reference.len()];
+        for (e, tet) in tets.iter().enumerate() {
+            let m = density[element_body[e] as usize] * volume[e] / 4.0;
             for &n in tet {
                 mass[n as usize] += m;
-            }
-        }
-        for body in &mut model_bodies {
-            if let MaterialModel::Microplane(parameters) = body.material {
-                body.microplane = Some(MicroplaneBody::new(
-                    &body.name,
-                    parameters,
-                    &volume[body.elements.clone()],
-                    body.elements.start,
-                )?);
             }
         }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
@@ -211,8 +252,8 @@ impl Model {
         self.bodies.iter().position(|b| b.name == name)
     }
 
-    pub fn material_of(&self, element: usize) -> &MaterialModel {
-        &self.bodies[self.element_body[element] as usize].material
+    pub fn material_of(&self, element: usize) -> &dyn BodyMaterial {
+        &*self.bodies[self.element_body[element] as usize].material
     }
 
     /// Critical time step `dt_cr = min_e L_e / c_e` with `L_e` the smallest altitude and `c_e`
@@ -220,7 +261,7 @@ impl Model {
     pub fn critical_time_step(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
         for (e, &l) in self.min_altitude.iter().enumerate() {
-            let dt = l / self.material_of(e).dilatational_wave_speed();
+            let dt = l / self.material_of(e).constants().dilatational_wave_speed();
             if dt < best.0 {
                 best = (dt, e);
             }
@@ -244,19 +285,27 @@ impl Model {
     ///
     /// The sum at every node runs over its elements in ascending order whatever the number of
     /// threads, so the result is bitwise reproducible. Returns the lowest-numbered element with
-    /// `det F <= 0` (or a non-finite `F`) if any: the caller stops the run.
-    ///
-    /// # Panics
-    /// If a body's material has a history (microplane concrete): its forces advance that history
-    /// and come from [`Self::advance_internal_forces`], once per step.
-    pub fn internal_forces(&self, u: &[Vector3<f64>], f: &mut [Vector3<f64>]) -> Option<usize> {
-        self.assembler.assemble(self, u, None, f)
+    /// `det F <= 0` (or a non-finite `F`) if any: the caller stops the run. A body whose material
+    /// keeps a history is an error ([`SolverError::ForcesAdvanceHistory`]): its forces advance
+    /// that history and come from [`Self::advance_internal_forces`], once per step.
+    pub fn internal_forces(
+        &self,
+        u: &[Vector3<f64>],
+        f: &mut [Vector3<f64>],
+    ) -> Result<Option<usize>> {
+        if let Some(body) = self.bodies.iter().find(|b| b.material.history_len() > 0) {
+            return Err(SolverError::ForcesAdvanceHistory {
+                body: body.name.clone(),
+                material: body.material.name(),
+            });
+        }
+        Ok(self.assembler.assemble(self, u, None, f))
     }
 
     /// Internal nodal forces at displacement `u_n` as [`Self::internal_forces`], for any model:
     /// elements of materials with history compute their stress from it and commit the update,
     /// with the strain rate from the nodal velocities `v` of the half step before (`v_{n-1/2}`,
-    /// see [`microplane_element_forces`]) and the time step `dt`. Call it exactly once per step:
+    /// see [`crate::material::Deformation`]) and the time step `dt`. Call it exactly once per step:
     /// every call advances the history. Bitwise reproducible whatever the number of threads: each
     /// element's history is written only by the assembly chunk that holds the element. An
     /// inverted element keeps its history.
@@ -287,18 +336,20 @@ impl Model {
         self.bodies
             .iter()
             .map(|body| {
-                with_material!(&body.material, |m| {
-                    body.elements
-                        .clone()
-                        .map(|e| {
-                            let h = displacement_gradient(
-                                &self.element_displacements(e, u),
-                                &self.grad_n[e],
-                            );
-                            self.volume[e] * m.strain_energy_density(&h)
-                        })
-                        .sum::<f64>()
-                }, microplane(_) => 0.0)
+                let material = &body.material;
+                if material.strain_energy_density(&Matrix3::zeros()).is_none() {
+                    return 0.0;
+                }
+                body.elements
+                    .clone()
+                    .map(|e| {
+                        let h = displacement_gradient(
+                            &self.element_displacements(e, u),
+                            &self.grad_n[e],
+                        );
+                        self.volume[e] * material.strain_energy_density(&h).unwrap_or(0.0)
+                    })
+                    .sum::<f64>()
             })
             .sum()
     }
@@ -332,33 +383,4 @@ impl Model {
             + self.assembler.heap_bytes()) as f64
             / self.element_count().max(1) as f64
     }
-}
-
-/// Element kernel shared by dynamics and statics: forces `V P grad N_a` of one element and its
-/// `det F` (to detect inversion).
-///
-/// This is the innermost loop of every explicit step. The four gradients sum to zero
-/// (`grad N_0 = -(grad N_1 + grad N_2 + grad N_3)`, see `shape_gradients`), so
-/// `H = sum_a u_a grad N_a^T` is computed as `sum_{a=1..3} (u_a - u_0) grad N_a^T`: the same
-/// tensor with a quarter fewer products, exactly zero for a rigid translation, and, in the
-/// assembly loop of the benchmark (480 000 elements, one thread), 20.5 instead of 27 ns per
-/// linear-elastic element (the four-term sum, also written out by rows or by columns, compiled
-/// to slower code). `det F` is the triple product `F_0 . (F_1 x F_2)` of the columns of `F`,
-/// whose cross product is also the first column of `cof F` in the linear-elastic stress (1.5 ns
-/// per element faster than `determinant()` there).
-#[inline(always)]
-pub fn element_internal_forces<M: Material>(
-    material: &M,
-    grad_n: &[Vector3<f64>; 4],
-    volume: f64,
-    u: &[Vector3<f64>; 4],
-) -> ([Vector3<f64>; 4], f64) {
-    let [g0, g1, g2, g3] = grad_n;
-    let h = (u[1] - u[0]) * g1.transpose()
-        + (u[2] - u[0]) * g2.transpose()
-        + (u[3] - u[0]) * g3.transpose();
-    let f = Matrix3::identity() + h;
-    let det = f.column(0).dot(&f.column(1).cross(&f.column(2)));
-    let p = material.first_piola(&f, &h) * volume;
-    ([p * g0, p * g1, p * g2, p * g3], det)
 }

@@ -5,21 +5,17 @@
 
 mod opening_control;
 mod path;
+mod tangent;
 
 pub use opening_control::OpeningControl;
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::Mat;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SolverError};
-use crate::kinematics::deformation_gradient;
-use crate::material::Material;
 use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::HistoryTable;
-use crate::with_material;
+use tangent::{forward_difference_tangents, solve_tangent};
 
 /// Settings of a static analysis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -153,6 +149,8 @@ pub fn solve_static_until(
     }
     let n = model.node_count();
     let constraint_of = problem.constraint_map();
+    // No body keeps a history here: this is the empty one the element loops take.
+    let history = model.initial_history();
     let mut u = vec![Vector3::zeros(); n];
     let mut f_int = vec![Vector3::zeros(); n];
     let mut f_ext = vec![Vector3::zeros(); n];
@@ -168,7 +166,7 @@ pub fn solve_static_until(
         let mut converged = None;
         let mut last_residual = f64::INFINITY;
         for iteration in 0..=settings.max_iterations {
-            if let Some(e) = model.internal_forces(&u, &mut f_int) {
+            if let Some(e) = model.internal_forces(&u, &mut f_int)? {
                 return Err(SolverError::ElementInverted {
                     element: e,
                     det: model.deformation_gradient(e, &u).determinant(),
@@ -196,7 +194,8 @@ pub fn solve_static_until(
             if iteration == settings.max_iterations {
                 break;
             }
-            let (du, _) = solve_tangent(problem, &u, &equation, free, &residual, &[], None)?;
+            let tangents = forward_difference_tangents(problem, &u, &history);
+            let (du, _) = solve_tangent(problem, &u, &equation, free, &residual, &tangents, None)?;
             for i in 0..n {
                 for d in 0..3 {
                     if equation[i][d] != usize::MAX {
@@ -292,108 +291,3 @@ fn prescribe(
         }
     }
 }
-
-/// Solves `K du = r` on the free components, with the consistent tangent
-/// `K_{ai,bj} = V sum_{JL} grad N_aJ (dP_iJ/dF_jL) grad N_bL` (3.68a) of elastic elements, and for
-/// the elements of a body with a history the stiffness in `history_tangents[body]` (one
-/// [`ElementTangent`] per element of the body, in its order). With `moved` (prescribed components
-/// that move together by one unknown, an [`OpeningControl`]), also solves `K b = k` for the sum
-/// `k` of their columns, and returns `b` second.
-fn solve_tangent(
-    problem: &Problem,
-    u: &[Vector3<f64>],
-    equation: &[[usize; 3]],
-    free: usize,
-    residual: &[f64],
-    history_tangents: &[Vec<ElementTangent>],
-    moved: Option<&[[bool; 3]]>,
-) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
-    let model = &problem.model;
-    let mut triplets = Vec::with_capacity(144 * model.element_count());
-    let mut moved_column = moved.map(|_| vec![0.0; free]);
-    // Where column (node, component) goes: its equation, or the moved column, or nowhere.
-    let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
-    for (b_index, body) in model.bodies.iter().enumerate() {
-        with_material!(&body.material, |m| {
-            for e in body.elements.clone() {
-                let g = &model.grad_n[e];
-                let f = deformation_gradient(&model.element_displacements(e, u), g);
-                let tet = model.tets[e];
-                for b in 0..4 {
-                    for j in 0..3 {
-                        let col = equation[tet[b] as usize][j];
-                        let into_moved = col == usize::MAX && is_moved(tet[b] as usize, j);
-                        if col == usize::MAX && !into_moved {
-                            continue;
-                        }
-                        let mut df = Matrix3::zeros();
-                        df.set_row(j, &g[b].transpose());
-                        let dp = m.first_piola_derivative(&f, &df) * model.volume[e];
-                        for a in 0..4 {
-                            let force = dp * g[a];
-                            for i in 0..3 {
-                                let row = equation[tet[a] as usize][i];
-                                if row == usize::MAX {
-                                    continue;
-                                }
-                                match (&mut moved_column, into_moved) {
-                                    (Some(k), true) => k[row] += force[i],
-                                    _ => triplets.push(Triplet::new(row, col, force[i])),
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }, microplane(_) => {
-            let tangents = history_tangents
-                .get(b_index)
-                .filter(|t| t.len() == body.elements.len())
-                .expect("a tangent for every element of a body with a history");
-            for (e, k) in body.elements.clone().zip(tangents) {
-                let tet = model.tets[e];
-                for (col_dof, &node_b) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
-                    let col = equation[node_b as usize][col_dof % 3];
-                    let into_moved = col == usize::MAX && is_moved(node_b as usize, col_dof % 3);
-                    if col == usize::MAX && !into_moved {
-                        continue;
-                    }
-                    for (row_dof, &node_a) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
-                        let row = equation[node_a as usize][row_dof % 3];
-                        if row == usize::MAX {
-                            continue;
-                        }
-                        let value = k[col_dof * 12 + row_dof];
-                        match (&mut moved_column, into_moved) {
-                            (Some(column), true) => column[row] += value,
-                            _ => triplets.push(Triplet::new(row, col, value)),
-                        }
-                    }
-                }
-            }
-        });
-    }
-    let k = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
-        .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
-    let lu = k
-        .sp_lu()
-        .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
-    let columns = 1 + usize::from(moved_column.is_some());
-    let mut rhs = Mat::from_fn(free, columns, |i, j| match j {
-        0 => residual[i],
-        _ => moved_column.as_ref().map_or(0.0, |k| k[i]),
-    });
-    lu.solve_in_place(rhs.as_mut());
-    if (0..columns).any(|j| (0..free).any(|i| !rhs[(i, j)].is_finite())) {
-        return Err(SolverError::SingularStiffness(
-            "the solution of the tangent system is not finite".into(),
-        ));
-    }
-    let du = (0..free).map(|i| rhs[(i, 0)]).collect();
-    let b = moved_column.map(|_| (0..free).map(|i| rhs[(i, 1)]).collect());
-    Ok((du, b))
-}
-
-/// Stiffness of one element, `K[col * 12 + row] = d f_row / d u_col` with the element's degrees
-/// of freedom numbered `3 a + i` (node `a` of the tetrahedron, component `i`).
-pub type ElementTangent = [f64; 144];

@@ -38,15 +38,11 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::opening_control::Control;
-use super::{prescribe, solve_tangent, ElementTangent, StaticSettings, StaticSolution};
+use super::tangent::{forward_difference_tangents, solve_tangent};
+use super::{prescribe, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
-use crate::material::MaterialModel;
-use crate::model::{element_internal_forces, microplane_element_forces, MaterialHistory, Problem};
+use crate::model::{MaterialHistory, Problem};
 use crate::output::HistoryTable;
-use crate::with_material;
-
-/// Relative size of the forward-difference step of the element tangent, times the element size.
-const DIFFERENCE_STEP: f64 = 1e-7;
 
 /// Follows the loading path of `problem` from rest to load factor 1 (see the module
 /// documentation), reporting the load factor reached.
@@ -276,7 +272,7 @@ impl Step<'_> {
             if !last.is_finite() || iteration == self.settings.max_iterations {
                 break;
             }
-            let tangents = history_tangents(problem, &u, &self.committed.history);
+            let tangents = forward_difference_tangents(problem, &u, &self.committed.history);
             // At a limit point the tangent of this control is singular: a step that meets one
             // fails like one that does not converge, and is cut.
             // Under opening control, bordering (Batoz & Dhatt 1979): with `a = K^-1 r` and
@@ -325,10 +321,10 @@ impl Step<'_> {
     }
 }
 
-/// Internal forces at `u`, each microplane element updated once from its `committed` history;
-/// the updated (trial) history with them. `None` if an element is inverted. The sum at every
-/// node runs over its elements in ascending order (elements are evaluated in parallel, summed in
-/// order), so the result does not depend on the number of threads.
+/// Internal forces at `u`, each element of a material with a history updated once from its
+/// `committed` history; the updated (trial) history with them. `None` if an element is inverted.
+/// The sum at every node runs over its elements in ascending order (elements are evaluated in
+/// parallel, summed in order), so the result does not depend on the number of threads.
 fn trial_forces(
     problem: &Problem,
     u: &[Vector3<f64>],
@@ -339,45 +335,40 @@ fn trial_forces(
     let mut f = vec![Vector3::zeros(); model.node_count()];
     for (b, body) in model.bodies.iter().enumerate() {
         let elements = body.elements.clone();
-        let forces: Vec<([Vector3<f64>; 4], f64)> = with_material!(&body.material, |m| {
-            elements
+        let material = &*body.material;
+        let force = |e: usize, state: &mut [f32], cauchy: Option<&mut [f64; 6]>| {
+            let local = e - elements.start;
+            let update = material.static_element_forces(
+                local,
+                &model.grad_n[e],
+                model.volume[e],
+                &model.element_displacements(e, u),
+                state,
+            );
+            if let (Some(out), Some(c)) = (cauchy, update.cauchy) {
+                *out = c;
+            }
+            (update.forces, update.det)
+        };
+        let forces: Vec<([Vector3<f64>; 4], f64)> = match history.bodies[b].as_mut() {
+            Some(trial) => {
+                let len = trial.state_len;
+                trial
+                    .values
+                    .par_chunks_mut(len)
+                    .zip(trial.cauchy.par_iter_mut())
+                    .enumerate()
+                    .map(|(local, (state, cauchy))| {
+                        force(elements.start + local, state, Some(cauchy))
+                    })
+                    .collect()
+            }
+            None => elements
                 .clone()
                 .into_par_iter()
-                .map(|e| {
-                    element_internal_forces(
-                        &m,
-                        &model.grad_n[e],
-                        model.volume[e],
-                        &model.element_displacements(e, u),
-                    )
-                })
-                .collect()
-        }, microplane(_) => {
-            let microplane = body.microplane.as_ref().expect("microplane bodies are prepared");
-            let trial = history.bodies[b].as_mut().expect("a history for every microplane body");
-            let len = trial.state_len;
-            trial
-                .values
-                .par_chunks_mut(len)
-                .zip(trial.cauchy.par_iter_mut())
-                .enumerate()
-                .map(|(local, (state, cauchy))| {
-                    let e = elements.start + local;
-                    let update = microplane_element_forces(
-                        &microplane.model,
-                        &microplane.bands[local],
-                        state,
-                        &model.grad_n[e],
-                        model.volume[e],
-                        &model.element_displacements(e, u),
-                        &[Vector3::zeros(); 4],
-                        0.0,
-                    );
-                    *cauchy = update.cauchy;
-                    (update.forces, update.det)
-                })
-                .collect()
-        });
+                .map(|e| force(e, &mut [], None))
+                .collect(),
+        };
         for (e, (fe, det)) in elements.zip(forces) {
             if !(det > 0.0) {
                 return None;
@@ -388,67 +379,6 @@ fn trial_forces(
         }
     }
     Some((f, history))
-}
-
-/// Forward-difference stiffness of every element of every body with a history (empty for the
-/// other bodies), from the `committed` history at displacement `u` (module documentation).
-fn history_tangents(
-    problem: &Problem,
-    u: &[Vector3<f64>],
-    committed: &MaterialHistory,
-) -> Vec<Vec<ElementTangent>> {
-    let model = &problem.model;
-    model
-        .bodies
-        .iter()
-        .zip(&committed.bodies)
-        .map(|(body, history)| {
-            let (Some(microplane), Some(history), MaterialModel::Microplane(_)) =
-                (body.microplane.as_ref(), history.as_ref(), &body.material)
-            else {
-                return Vec::new();
-            };
-            body.elements
-                .clone()
-                .into_par_iter()
-                // One scratch history per worker, not one allocation per element.
-                .map_init(
-                    || vec![0.0_f32; history.state_len],
-                    |state, e| {
-                        let local = e - body.elements.start;
-                        let forces = |state: &mut Vec<f32>, ue: &[Vector3<f64>; 4]| {
-                            state.copy_from_slice(history.element(local));
-                            microplane_element_forces(
-                                &microplane.model,
-                                &microplane.bands[local],
-                                state,
-                                &model.grad_n[e],
-                                model.volume[e],
-                                ue,
-                                &[Vector3::zeros(); 4],
-                                0.0,
-                            )
-                            .forces
-                        };
-                        let ue = model.element_displacements(e, u);
-                        let base = forces(state, &ue);
-                        let delta = DIFFERENCE_STEP * model.element_size(e);
-                        let mut k = [0.0; 144];
-                        for col in 0..12 {
-                            let mut moved = ue;
-                            moved[col / 3][col % 3] += delta;
-                            let f = forces(state, &moved);
-                            for row in 0..12 {
-                                k[col * 12 + row] =
-                                    (f[row / 3][row % 3] - base[row / 3][row % 3]) / delta;
-                            }
-                        }
-                        k
-                    },
-                )
-                .collect()
-        })
-        .collect()
 }
 
 /// Columns of the path's history: the time of the conditions' functions (the load factor times

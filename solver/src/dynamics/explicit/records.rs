@@ -51,18 +51,12 @@ impl<'p> ExplicitSolver<'p> {
         let model = &self.problem.model;
         let mut parts = Vec::new();
         for (body, history) in model.bodies.iter().zip(&self.history.bodies) {
-            if let (Some(m), Some(h)) = (&body.microplane, history) {
-                let (lo, hi) = m.bands.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
-                    (lo.min(b.size), hi.max(b.size))
-                });
+            if let Some(h) = history {
+                let summary = body.material.summary().unwrap_or_default();
                 parts.push(format!(
-                    "`{}` microplane ({} directions, element sizes {:.1}-{:.1} mm, limit {:.1} \
-                     mm; history {} B per element, {:.1} MB)",
+                    "`{}` {} ({summary}; history {} B per element, {:.1} MB)",
                     body.name,
-                    m.model.planes().len(),
-                    lo * 1e3,
-                    hi * 1e3,
-                    m.model.largest_element() * 1e3,
+                    body.material.name(),
                     h.bytes_per_element(),
                     (h.bytes_per_element() * body.elements.len()) as f64 / 1e6
                 ));

@@ -17,12 +17,14 @@ pub mod cyclic;
 pub mod directions;
 pub mod discontinuity;
 pub mod driver;
+mod element;
 pub mod experiments;
 pub mod laws;
 pub mod parameters;
 pub mod state;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
+pub use element::MicroplaneMaterial;
 pub use parameters::{MicroplaneParameters, RateEffect, TensionDriver};
 pub use state::MicroplaneState;
 

@@ -142,7 +142,7 @@ impl MicroplaneParameters {
 
     /// Checks every parameter, naming the offending one and its admissible range.
     pub fn validate(&self) -> Result<(), String> {
-        self.elastic().validate()?;
+        self.elastic().validate().map_err(|e| e.to_string())?;
         let positive = [
             ("e1", self.e1),
             ("e2", self.e2),

@@ -1,0 +1,95 @@
+//! Isotropic elastic constants and Hooke's law, written once for every model that uses them.
+
+use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
+
+/// What is wrong with a set of elastic constants, and the admissible range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConstantsError {
+    #[error("density must be positive, got {0}")]
+    Density(f64),
+    #[error("youngs_modulus must be positive, got {0}")]
+    YoungsModulus(f64),
+    #[error("poisson_ratio must lie in (-1, 0.5), got {0}")]
+    PoissonRatio(f64),
+}
+
+/// Isotropic elastic constants, with the Lamé parameters of (2.121).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IsotropicElastic {
+    /// Mass density `rho` (kg/m^3).
+    pub density: f64,
+    /// Young's modulus `E` (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio `nu`.
+    pub poisson_ratio: f64,
+}
+
+impl IsotropicElastic {
+    /// `lambda = E nu / ((1 + nu)(1 - 2 nu))` (2.121).
+    pub fn lambda(&self) -> f64 {
+        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    }
+
+    /// `mu = E / (2 (1 + nu))` (2.121).
+    pub fn mu(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+
+    /// Dilatational (P-wave) speed `c_d = sqrt((lambda + 2 mu) / rho)`.
+    pub fn dilatational_wave_speed(&self) -> f64 {
+        ((self.lambda() + 2.0 * self.mu()) / self.density).sqrt()
+    }
+
+    /// Checks the constants, naming the offending one and its admissible range.
+    pub fn validate(&self) -> Result<(), ConstantsError> {
+        if !(self.density > 0.0 && self.density.is_finite()) {
+            return Err(ConstantsError::Density(self.density));
+        }
+        if !(self.youngs_modulus > 0.0 && self.youngs_modulus.is_finite()) {
+            return Err(ConstantsError::YoungsModulus(self.youngs_modulus));
+        }
+        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
+            return Err(ConstantsError::PoissonRatio(self.poisson_ratio));
+        }
+        Ok(())
+    }
+
+    /// Stored energy of Saint-Venant-Kirchhoff form `W = lambda/2 (tr E)^2 + mu tr(E^2)` (2.120).
+    pub fn strain_energy_density(&self, e: &Matrix3<f64>) -> f64 {
+        let tr = e.trace();
+        0.5 * self.lambda() * tr * tr + self.mu() * e.component_mul(e).sum()
+    }
+
+    /// Hooke's law with these constants.
+    pub fn hooke(&self) -> Hooke {
+        Hooke {
+            lambda: self.lambda(),
+            two_mu: 2.0 * self.mu(),
+        }
+    }
+}
+
+/// Isotropic Hooke's law `S = lambda tr(E) I + 2 mu E` (2.123), with the Lamé parameters kept so
+/// that the hot path does not recompute them. The linear elastic model applies it to the
+/// back-rotated strain, Saint-Venant-Kirchhoff to the Green-Lagrange strain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hooke {
+    pub lambda: f64,
+    pub two_mu: f64,
+}
+
+impl Hooke {
+    /// `lambda tr(e) I + 2 mu e`.
+    #[inline(always)]
+    pub fn stress(&self, e: &Matrix3<f64>) -> Matrix3<f64> {
+        let mut s = e * self.two_mu;
+        let p = self.lambda * e.trace();
+        s[(0, 0)] += p;
+        s[(1, 1)] += p;
+        s[(2, 2)] += p;
+        s
+    }
+}

@@ -1,0 +1,162 @@
+//! Microplane concrete as a [`Material`]: the model prepared for one body (its laws and the crack
+//! band of each element) and the element update around the model's stress update.
+
+use nalgebra::Matrix3;
+
+use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
+use crate::error::{Result, SolverError};
+use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
+use crate::material::{Deformation, IsotropicElastic, Material, MaterialModel, Stress};
+
+/// Microplane concrete prepared for a body: the model with its microplanes and laws precomputed,
+/// and the crack band of each element from its reference volume.
+#[derive(Debug, Clone)]
+pub struct MicroplaneMaterial {
+    pub model: MicroplaneConcrete,
+    /// Crack band of each element of the body, in the body's element order.
+    pub bands: Vec<CrackBand>,
+}
+
+impl MicroplaneMaterial {
+    /// The model for `parameters` and the crack bands of the elements of `volumes` (the body's
+    /// elements in order; `first_element` is the global id of the first). An element too large
+    /// for the crack band is an error naming the body, the element (global id and id in its
+    /// mesh), its size and the limit.
+    pub fn new(
+        body: &str,
+        parameters: MicroplaneParameters,
+        volumes: &[f64],
+        first_element: usize,
+    ) -> Result<Self> {
+        let model =
+            MicroplaneConcrete::new(parameters).map_err(|message| SolverError::InvalidScene {
+                entity: format!("body `{body}` material.microplane.parameters"),
+                message,
+            })?;
+        let mut bands = Vec::with_capacity(volumes.len());
+        let mut too_large: Option<(usize, String)> = None;
+        let mut count = 0;
+        for (local, &v) in volumes.iter().enumerate() {
+            match model.crack_band(MicroplaneConcrete::element_size(v)) {
+                Ok(band) => bands.push(band),
+                Err(message) => {
+                    count += 1;
+                    too_large.get_or_insert((local, message));
+                }
+            }
+        }
+        if let Some((local, message)) = too_large {
+            let more = match count {
+                1 => String::new(),
+                n => format!(" ({} more elements of the body are too large)", n - 1),
+            };
+            return Err(SolverError::InvalidScene {
+                entity: format!(
+                    "body `{body}` element {} (element {local} of its mesh)",
+                    first_element + local
+                ),
+                message: format!("{message}{more}"),
+            });
+        }
+        Ok(Self { model, bands })
+    }
+}
+
+/// `[11, 22, 33, 23, 13, 12]` of a symmetric matrix (the microplane model's order, tensor shears).
+#[inline(always)]
+fn sym(a: &Matrix3<f64>) -> Sym {
+    [
+        a[(0, 0)],
+        a[(1, 1)],
+        a[(2, 2)],
+        a[(1, 2)],
+        a[(0, 2)],
+        a[(0, 1)],
+    ]
+}
+
+/// The symmetric matrix of `[11, 22, 33, 23, 13, 12]`.
+#[inline(always)]
+fn matrix(s: &Sym) -> Matrix3<f64> {
+    Matrix3::new(s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2])
+}
+
+impl Material for MicroplaneMaterial {
+    fn name(&self) -> &'static str {
+        "microplane"
+    }
+
+    fn constants(&self) -> IsotropicElastic {
+        self.model.parameters.elastic()
+    }
+
+    fn model(&self) -> Option<MaterialModel> {
+        Some(MaterialModel::Microplane(self.model.parameters))
+    }
+
+    fn history_len(&self) -> usize {
+        self.model.state_len()
+    }
+
+    fn initial_history(&self, history: &mut [f32]) {
+        history.copy_from_slice(&self.model.initial_state().values);
+    }
+
+    fn reads_rate(&self) -> bool {
+        true
+    }
+
+    /// The update of one element (FORMULATION 1, MICROPLANE.md):
+    ///
+    /// - the rotation `R` of `F = R U` by [`polar_rotation`] (`None` for an inverted element);
+    /// - Green-Lagrange strain `E = (H + H^T + H^T H)/2` (small strains keep their digits);
+    /// - strain rate from the velocities `v_{n-1/2}` of the half step before:
+    ///   `Edot = sym(F_{n-1/2}^T Fdot)` with `F_{n-1/2} = F - dt/2 Fdot`. Since
+    ///   `u_n - u_{n-1} = dt v_{n-1/2}`, `F_n - F_{n-1} = dt Fdot` and this `Edot` equals
+    ///   `(E_n - E_{n-1})/dt` exactly (up to round-off; the first step, where `v` is the initial
+    ///   velocity, and contact position corrections make it a first-order estimate), the backward
+    ///   difference that the material-point driver uses too. Equivalent rate
+    ///   `gamma_dot = sqrt(1/2 Edot:Edot)` (5.111);
+    /// - back-rotated Cauchy stress `s` from the model, `sigma = R s R^T`, first Piola
+    ///   `P = J sigma F^-T = sigma cof F`.
+    #[inline]
+    fn update(&self, element: usize, d: &Deformation, history: &mut [f32]) -> Option<Stress> {
+        let rotation = match polar_rotation(&d.f) {
+            Some(r) if d.det > 0.0 && d.det.is_finite() => r,
+            _ => return None,
+        };
+        let strain = sym(&green_lagrange_from_h(&d.h));
+        let f_mid = d.f - (0.5 * d.dt) * d.f_dot;
+        let e_dot = f_mid.transpose() * d.f_dot;
+        let e_dot = 0.5 * (e_dot + e_dot.transpose());
+        let gamma_dot = (0.5 * e_dot.norm_squared()).sqrt();
+        let (s, _) = self
+            .model
+            .update(history, &strain, gamma_dot, &self.bands[element]);
+        let sigma = rotation * matrix(&s) * rotation.transpose();
+        Some(Stress {
+            first_piola: sigma * cofactor(&d.f),
+            cauchy: Some(voigt(&sigma)),
+        })
+    }
+
+    fn rate_factor(&self, history: &[f32]) -> f64 {
+        history[state::RATE_FACTOR] as f64
+    }
+
+    fn summary(&self) -> Option<String> {
+        let (lo, hi) = self
+            .bands
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+                (lo.min(b.size), hi.max(b.size))
+            });
+        Some(format!(
+            "{} directions, element sizes {:.1}-{:.1} mm, limit {:.1} mm",
+            self.model.planes().len(),
+            lo * 1e3,
+            hi * 1e3,
+            self.model.largest_element() * 1e3,
+        ))
+    }
+}

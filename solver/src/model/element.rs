@@ -1,0 +1,106 @@
+//! The element kernel every analysis shares, and [`BodyMaterial`]: a [`Material`] together with
+//! the element loops compiled for it.
+//!
+//! A body holds its material as `Arc<dyn BodyMaterial>`. The trait is implemented for every
+//! [`Material`], so a new constitutive model needs nothing but its `Material` implementation; the
+//! loops are generic over the model, so its update inlines into them and the dispatch costs one
+//! virtual call per assembly chunk, not one per element.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::assembly::{chunk_forces, ChunkJob};
+use crate::kinematics::{element_gradient, triple_product_determinant};
+use crate::material::{Deformation, Material};
+
+/// What one element gives the assembly.
+#[derive(Debug, Clone, Copy)]
+pub struct ElementForces {
+    /// Nodal forces `V P grad_X N_a`.
+    pub forces: [Vector3<f64>; 4],
+    /// `det F`; not positive (or not finite) for an inverted element. An element the model could
+    /// not update has zero forces and an unchanged history (the run stops).
+    pub det: f64,
+    /// The Cauchy stress the model reports, for models with a history.
+    pub cauchy: Option<[f64; 6]>,
+}
+
+/// Forces `f_a = V P grad_X N_a` of element `element` (its id in the body) at displacements `u`,
+/// advancing its `history` (thesis 3.102, in the total Lagrangian form of FORMULATION 1). With
+/// `rate` (the nodal velocities of the half step before and the time step) a model that reads the
+/// strain rate gets `Fdot`; without, the rate is zero (statics).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn element_forces<M: Material + ?Sized>(
+    material: &M,
+    element: usize,
+    grad_n: &[Vector3<f64>; 4],
+    volume: f64,
+    u: &[Vector3<f64>; 4],
+    rate: Option<(&[Vector3<f64>; 4], f64)>,
+    history: &mut [f32],
+) -> ElementForces {
+    let h = element_gradient(u, grad_n);
+    let f = Matrix3::identity() + h;
+    let det = triple_product_determinant(&f);
+    let (f_dot, dt) = match rate {
+        Some((v, dt)) if material.reads_rate() => (element_gradient(v, grad_n), dt),
+        _ => (Matrix3::zeros(), 0.0),
+    };
+    let deformation = Deformation {
+        f,
+        h,
+        det,
+        f_dot,
+        dt,
+    };
+    match material.update(element, &deformation, history) {
+        Some(stress) => {
+            let [g0, g1, g2, g3] = grad_n;
+            let p = stress.first_piola * volume;
+            ElementForces {
+                forces: [p * g0, p * g1, p * g2, p * g3],
+                det,
+                cauchy: stress.cauchy,
+            }
+        }
+        None => ElementForces {
+            forces: [Vector3::zeros(); 4],
+            det: if det.is_finite() { det.min(0.0) } else { det },
+            cauchy: None,
+        },
+    }
+}
+
+/// A [`Material`] with the element loops compiled for it; implemented for every `Material`.
+pub trait BodyMaterial: Material {
+    /// Runs the assembly's element loop over one chunk (`model::assembly`), returning the lowest
+    /// inverted element of the chunk (`usize::MAX` if none).
+    fn assemble_chunk(&self, job: &ChunkJob<'_>) -> usize;
+
+    /// [`element_forces`] at zero strain rate, through the trait object.
+    fn static_element_forces(
+        &self,
+        element: usize,
+        grad_n: &[Vector3<f64>; 4],
+        volume: f64,
+        u: &[Vector3<f64>; 4],
+        history: &mut [f32],
+    ) -> ElementForces;
+}
+
+impl<M: Material> BodyMaterial for M {
+    fn assemble_chunk(&self, job: &ChunkJob<'_>) -> usize {
+        chunk_forces(self, job)
+    }
+
+    fn static_element_forces(
+        &self,
+        element: usize,
+        grad_n: &[Vector3<f64>; 4],
+        volume: f64,
+        u: &[Vector3<f64>; 4],
+        history: &mut [f32],
+    ) -> ElementForces {
+        element_forces(self, element, grad_n, volume, u, None, history)
+    }
+}

@@ -1,0 +1,214 @@
+//! The tangent stiffness of a static Newton iteration (3.66) and the solve with it.
+//!
+//! An element's stiffness is the consistent tangent of its material (3.68a) where the model has
+//! one in closed form; otherwise the forward difference of its forces from the committed history,
+//! `K_e[:, j] = (f_e(u_e + delta e_j) - f_e(u_e)) / delta` with `delta = 1e-7 h_e` (the module
+//! documentation of `path` says why this step).
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Mat;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+use crate::error::{Result, SolverError};
+use crate::kinematics::deformation_gradient;
+use crate::model::{BodyMaterial, MaterialHistory, Model, Problem};
+
+/// Relative size of the forward-difference step of the element tangent, times the element size.
+const DIFFERENCE_STEP: f64 = 1e-7;
+
+/// Whether a material has a closed-form consistent tangent (its derivative is defined at any
+/// deformation, so asking at the reference one answers).
+fn has_closed_form_tangent(material: &dyn BodyMaterial) -> bool {
+    material
+        .first_piola_derivative(&Matrix3::identity(), &Matrix3::zeros())
+        .is_some()
+}
+
+/// The consistent stiffness of element `e` at `u`,
+/// `K_{ai,bj} = V sum_{JL} grad N_aJ (dP_iJ/dF_jL) grad N_bL` (3.68a), as
+/// `K[col * 12 + row]` (see [`ElementTangent`]); `None` without a closed-form tangent.
+fn consistent_tangent(
+    material: &dyn BodyMaterial,
+    model: &Model,
+    e: usize,
+    u: &[Vector3<f64>],
+) -> Option<ElementTangent> {
+    let g = &model.grad_n[e];
+    let f = deformation_gradient(&model.element_displacements(e, u), g);
+    let mut k = [0.0; 144];
+    for b in 0..4 {
+        for j in 0..3 {
+            let mut df = Matrix3::zeros();
+            df.set_row(j, &g[b].transpose());
+            let dp = material.first_piola_derivative(&f, &df)? * model.volume[e];
+            for a in 0..4 {
+                let force = dp * g[a];
+                for i in 0..3 {
+                    k[(3 * b + j) * 12 + 3 * a + i] = force[i];
+                }
+            }
+        }
+    }
+    Some(k)
+}
+
+/// Forward-difference stiffness of every element of every body whose material has no
+/// closed-form tangent (empty for the other bodies), from the `committed` history at
+/// displacement `u`: each difference starts from the element's committed history, never from a
+/// trial update.
+pub(super) fn forward_difference_tangents(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    committed: &MaterialHistory,
+) -> Vec<Vec<ElementTangent>> {
+    let model = &problem.model;
+    model
+        .bodies
+        .iter()
+        .zip(&committed.bodies)
+        .map(|(body, history)| {
+            let material = &*body.material;
+            if has_closed_form_tangent(material) {
+                return Vec::new();
+            }
+            let len = material.history_len();
+            body.elements
+                .clone()
+                .into_par_iter()
+                // One scratch history per worker, not one allocation per element.
+                .map_init(
+                    || vec![0.0_f32; len],
+                    |state, e| {
+                        let local = e - body.elements.start;
+                        let forces = |state: &mut Vec<f32>, ue: &[Vector3<f64>; 4]| {
+                            if let Some(h) = history {
+                                state.copy_from_slice(h.element(local));
+                            }
+                            material
+                                .static_element_forces(
+                                    local,
+                                    &model.grad_n[e],
+                                    model.volume[e],
+                                    ue,
+                                    state,
+                                )
+                                .forces
+                        };
+                        let ue = model.element_displacements(e, u);
+                        let base = forces(state, &ue);
+                        let delta = DIFFERENCE_STEP * model.element_size(e);
+                        let mut k = [0.0; 144];
+                        for col in 0..12 {
+                            let mut moved = ue;
+                            moved[col / 3][col % 3] += delta;
+                            let f = forces(state, &moved);
+                            for row in 0..12 {
+                                k[col * 12 + row] =
+                                    (f[row / 3][row % 3] - base[row / 3][row % 3]) / delta;
+                            }
+                        }
+                        k
+                    },
+                )
+                .collect()
+        })
+        .collect()
+}
+
+/// Solves `K du = r` on the free components, with the consistent tangent (3.68a) of the elements
+/// whose material has one, and for the other bodies the stiffness in `tangents[body]` (one
+/// [`ElementTangent`] per element of the body, in its order; from
+/// [`forward_difference_tangents`]). With `moved` (prescribed components that move together by
+/// one unknown, an [`super::OpeningControl`]), also solves `K b = k` for the sum `k` of their
+/// columns, and returns `b` second.
+pub(super) fn solve_tangent(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    equation: &[[usize; 3]],
+    free: usize,
+    residual: &[f64],
+    tangents: &[Vec<ElementTangent>],
+    moved: Option<&[[bool; 3]]>,
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    let model = &problem.model;
+    let mut triplets = Vec::with_capacity(144 * model.element_count());
+    let mut moved_column = moved.map(|_| vec![0.0; free]);
+    // Where column (node, component) goes: its equation, or the moved column, or nowhere.
+    let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
+    for (b_index, body) in model.bodies.iter().enumerate() {
+        let differences = tangents.get(b_index).filter(|t| !t.is_empty());
+        if let Some(differences) = differences {
+            if differences.len() != body.elements.len() {
+                return Err(SolverError::SingularStiffness(format!(
+                    "body `{}`: {} element tangents for {} elements",
+                    body.name,
+                    differences.len(),
+                    body.elements.len()
+                )));
+            }
+        }
+        for e in body.elements.clone() {
+            let local = e - body.elements.start;
+            let closed_form;
+            let k = match differences {
+                Some(d) => &d[local],
+                None => {
+                    closed_form =
+                        consistent_tangent(&*body.material, model, e, u).ok_or_else(|| {
+                            SolverError::SingularStiffness(format!(
+                            "body `{}`: its material ({}) has no closed-form tangent and none was \
+                             differenced",
+                            body.name,
+                            body.material.name()
+                        ))
+                        })?;
+                    &closed_form
+                }
+            };
+            let tet = model.tets[e];
+            for (col_dof, &node_b) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+                let col = equation[node_b as usize][col_dof % 3];
+                let into_moved = col == usize::MAX && is_moved(node_b as usize, col_dof % 3);
+                if col == usize::MAX && !into_moved {
+                    continue;
+                }
+                for (row_dof, &node_a) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+                    let row = equation[node_a as usize][row_dof % 3];
+                    if row == usize::MAX {
+                        continue;
+                    }
+                    let value = k[col_dof * 12 + row_dof];
+                    match (&mut moved_column, into_moved) {
+                        (Some(column), true) => column[row] += value,
+                        _ => triplets.push(Triplet::new(row, col, value)),
+                    }
+                }
+            }
+        }
+    }
+    let k = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
+        .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
+    let lu = k
+        .sp_lu()
+        .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
+    let columns = 1 + usize::from(moved_column.is_some());
+    let mut rhs = Mat::from_fn(free, columns, |i, j| match j {
+        0 => residual[i],
+        _ => moved_column.as_ref().map_or(0.0, |k| k[i]),
+    });
+    lu.solve_in_place(rhs.as_mut());
+    if (0..columns).any(|j| (0..free).any(|i| !rhs[(i, j)].is_finite())) {
+        return Err(SolverError::SingularStiffness(
+            "the solution of the tangent system is not finite".into(),
+        ));
+    }
+    let du = (0..free).map(|i| rhs[(i, 0)]).collect();
+    let b = moved_column.map(|_| (0..free).map(|i| rhs[(i, 1)]).collect());
+    Ok((du, b))
+}
+
+/// Stiffness of one element, `K[col * 12 + row] = d f_row / d u_col` with the element's degrees
+/// of freedom numbered `3 a + i` (node `a` of the tetrahedron, component `i`).
+pub type ElementTangent = [f64; 144];
