@@ -3,6 +3,7 @@
 mod common;
 
 use common::*;
+use impact_references::analytic::corotated_cauchy;
 use impact_solver::kinematics::{
     cofactor, polar_decomposition, polar_rotation, shape_gradients, signed_volume,
 };
