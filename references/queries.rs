@@ -1,7 +1,7 @@
 //! Random vertex-face continuous-collision queries, written once for the solver's CCD property
 //! tests (`solver/tests/ccd.rs`) and the harness's cross-check against ipctk
 //! (`harness/crosscheck/ccd_queries/`), with the proptest strategies built on them in
-//! [`crate::strategies`] (feature `strategies`).
+//! `strategies.rs` (feature `strategies`).
 //!
 //! A query is the straight-line motion over one step of a node and a triangle (thesis 7.4.4).
 //! Each is a deterministic function of a [`SplitMix64`] stream and its [`Family`]: the
