@@ -11,12 +11,13 @@
 //! crosscheck-refresh`). A sequence of queries cycles through a *mix* of families, one rng for
 //! the whole sequence ([`queries`]).
 //!
-//! Two mixes are in use:
+//! Three mixes are in use:
 //! - [`CROSSCHECK_MIX`]: constructed contacts and near misses, endpoint, parallel, box and sliver
 //!   families ([`hard`]), built so that about half are hits and many are hard;
 //! - [`SWEEP_MIX`]: the CCD sweep against brute-force sampling ([`sweep`]): anything, coplanar at
 //!   a chosen time, nearly parallel, tiny and large motions, in-plane motion, far from the
-//!   origin, rigid and collapsing slivers.
+//!   origin, rigid and collapsing slivers;
+//! - [`CROSSING_MIX`]: the CCD bench's plain hits and misses (`solver/benches/ccd.rs`).
 
 pub mod hard;
 pub mod sweep;
@@ -96,6 +97,11 @@ pub enum Family {
     RigidSliver,
     /// [`sweep`]: a sliver face whose corners move independently, often collapsing.
     CollapsingSliver,
+    /// [`sweep`]: a moving, deforming unit face that the node crosses inside (the CCD bench).
+    CrossingHit,
+    /// [`sweep`]: as [`Family::CrossingHit`], crossing the plane outside the face or stopping
+    /// short of it (the CCD bench).
+    CrossingMiss,
 }
 
 impl Family {
@@ -116,6 +122,8 @@ impl Family {
             Family::FarFromOrigin => "far from the origin",
             Family::RigidSliver => "sliver face",
             Family::CollapsingSliver => "collapsing sliver face",
+            Family::CrossingHit => "crossing hit",
+            Family::CrossingMiss => "crossing miss",
         }
     }
 
@@ -136,6 +144,8 @@ impl Family {
             Family::FarFromOrigin => sweep::far_from_origin(rng),
             Family::RigidSliver => sweep::rigid_sliver(rng),
             Family::CollapsingSliver => sweep::collapsing_sliver(rng),
+            Family::CrossingHit => sweep::crossing(rng, true),
+            Family::CrossingMiss => sweep::crossing(rng, false),
         }
     }
 }
@@ -180,6 +190,9 @@ pub const SWEEP_MIX: [Family; 9] = [
     Family::RigidSliver,
     Family::CollapsingSliver,
 ];
+
+/// The CCD bench's families: plain crossings inside and outside well-shaped faces.
+pub const CROSSING_MIX: [Family; 2] = [Family::CrossingHit, Family::CrossingMiss];
 
 /// `n` queries, deterministic for a `seed`: query `i` is of family `mix[i % mix.len()]`, all
 /// drawn from one [`SplitMix64`] stream in turn.

@@ -4,6 +4,9 @@
 //! motion, extreme scales, slivers). Moved unchanged from that test, so its seeded sweep draws
 //! the same trajectories as before.
 //!
+//! The crossing families ([`crossing`]), plain hits and misses on well-shaped faces, are the
+//! CCD bench's set (`solver/benches/ccd.rs`), moved from it unchanged.
+//!
 //! Contact times are drawn by [`collision_time`] (exactly 0 or 1, within 1e-12..1e-2 of either,
 //! or uniform) and contact weights by [`near_boundary_weights`] (mostly inside, sometimes just
 //! outside, sometimes within a hair of an edge or a corner).
@@ -221,4 +224,35 @@ pub fn collapsing_sliver(rng: &mut SplitMix64) -> Query {
     let vel = [0, 1, 2, 3].map(|_| uniform_vec(rng, 0.5));
     let tc = collision_time(rng);
     through([tri[0], tri[1], tri[2], p], vel, tc)
+}
+
+/// A face of unit size (corners in `[-1, 1]^3`) moving by a common displacement plus a
+/// deformation, and a node that is coplanar with it at a random time `tc` at weights `w`: inside
+/// (each at least 0.05) for a `hit`; otherwise outside one edge by 0.05..0.5, and in one miss of
+/// four the node stops halfway to that crossing instead.
+pub fn crossing(rng: &mut SplitMix64, hit: bool) -> Query {
+    let tri = triangle(rng, 1.0);
+    let common = uniform_vec(rng, 0.5);
+    let vel = [0, 1, 2].map(|_| common + uniform_vec(rng, 0.2));
+    let tc = rng.next_f64();
+    let w1 = rng.uniform(0.05, 0.9);
+    let w2 = rng.uniform(0.05, 0.95 - w1);
+    let mut w = [1.0 - w1 - w2, w1, w2];
+    if !hit {
+        let k = (rng.next_u64() % 3) as usize;
+        let out = rng.uniform(0.05, 0.5);
+        w[k] = -out;
+        w[(k + 1) % 3] += out;
+    }
+    let p = at_weights(&[0, 1, 2].map(|k| tri[k] + tc * vel[k]), w);
+    let vp = common + uniform_vec(rng, 1.0);
+    let mut node = passing(p, vp, tc);
+    if !hit && rng.next_u64() % 4 == 0 {
+        // Stop short: end the node's motion halfway to the crossing.
+        node.end = node.start + 0.5 * tc * vp;
+    }
+    Query {
+        node,
+        face: [0, 1, 2].map(|k| moving(tri[k], vel[k])),
+    }
 }

@@ -5,7 +5,7 @@
 //! Run with `cargo test --release -p impact-solver --test ccd -- --nocapture` to see the
 //! false-positive count of the property test.
 
-use impact_references::queries::{self, queries, CROSSCHECK_MIX, SWEEP_MIX};
+use impact_references::queries::{self, queries, CROSSCHECK_MIX, CROSSING_MIX, SWEEP_MIX};
 use impact_references::strategies;
 use impact_solver::contact::ccd::{vertex_face_ccd, CcdHit, Trajectory};
 use impact_solver::Vector3;
@@ -521,16 +521,17 @@ fn agrees_with_brute_force_sampling() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(4000))]
 
-    /// The sweep's judgement on queries drawn by the shared proptest strategy, from both mixes:
+    /// The sweep's judgement on queries drawn by the shared proptest strategy, from every mix:
     /// the cross-check's hard families (constructed contacts and near misses, endpoints,
-    /// parallel motion, slivers), which the seeded sweep does not draw, and the sweep's own at
-    /// seeds other than its fixed one. No false negative, and every hit in `[0, 1]` with weights
+    /// parallel motion, slivers) and the bench's crossings, which the seeded sweep does not
+    /// draw, and the sweep's own at seeds other than its fixed one. No false negative, and every hit in `[0, 1]` with weights
     /// inside. A failure prints the family and the seed that replays it.
     #[test]
     fn no_missed_contact_on_the_shared_generators(
         (family, seed, q) in prop_oneof![
             strategies::query(&CROSSCHECK_MIX),
-            strategies::query(&SWEEP_MIX)
+            strategies::query(&SWEEP_MIX),
+            strategies::query(&CROSSING_MIX)
         ],
     ) {
         let verdict = Verdict::of(&truth(q));
