@@ -649,5 +649,4 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
 }
 
 #[cfg(test)]
-#[path = "hinge/tests.rs"]
 mod tests;

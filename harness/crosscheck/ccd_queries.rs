@@ -29,8 +29,8 @@ pub use file::{read_queries, write_queries, HEADER_BYTES, MAGIC, QUERY_BYTES};
 pub use random::{random_family, random_queries, RandomFamily};
 pub use record::{record_case, record_from_case, Recording};
 
+use impact_references::queries::Query;
 use impact_solver::contact::ccd::{vertex_face_ccd, Trajectory};
-use impact_solver::Vector3;
 
 /// Where a query comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -84,30 +84,20 @@ impl CcdQuery {
         node: &Trajectory,
         face: &[Trajectory; 3],
     ) -> Self {
-        let p = |x: &Vector3<f64>| [x.x, x.y, x.z];
+        let query = Query {
+            node: *node,
+            face: *face,
+        };
         Self {
             source,
-            points: [
-                p(&node.start),
-                p(&face[0].start),
-                p(&face[1].start),
-                p(&face[2].start),
-                p(&node.end),
-                p(&face[0].end),
-                p(&face[1].end),
-                p(&face[2].end),
-            ],
+            points: query.points(),
         }
     }
 
     /// The node's trajectory and the face's three.
     pub fn trajectories(&self) -> (Trajectory, [Trajectory; 3]) {
-        let v = |i: usize| Vector3::from(self.points[i]);
-        let t = |i: usize| Trajectory {
-            start: v(i),
-            end: v(i + 4),
-        };
-        (t(0), [t(1), t(2), t(3)])
+        let query = Query::from_points(&self.points);
+        (query.node, query.face)
     }
 
     /// The bit patterns of the points: equal exactly when the queries' geometry is.

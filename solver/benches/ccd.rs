@@ -2,7 +2,8 @@
 //!
 //! A fixed, seeded set of 10 000 queries, half of them hits and half misses (a node crossing the
 //! face's plane outside the triangle, or not reaching it), on faces of unit size that move,
-//! turn and deform over the step. Two measurements:
+//! turn and deform over the step: the crossing families of the shared generator
+//! (`references/queries/sweep.rs`). Two measurements:
 //! - per query, individually: each query is timed over 5 repetitions of a batch of 8 calls
 //!   (the batch amortises the clock's own cost), its cost is the fastest repetition; the median,
 //!   p99 and maximum over the set are printed (`eprintln`), also separately for hits and misses;
@@ -15,66 +16,22 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use impact_solver::contact::ccd::{vertex_face_ccd, Trajectory};
+use impact_references::queries::Family;
+use impact_solver::contact::ccd::vertex_face_ccd;
 use impact_solver::rng::SplitMix64;
-use impact_solver::Vector3;
 
 const QUERIES: usize = 10_000;
 const TOL: f64 = 1e-9;
 const REPETITIONS: usize = 5;
 const BATCH: u32 = 8;
 
-struct Query {
-    node: Trajectory,
-    face: [Trajectory; 3],
-}
+/// A query of the shared generator (`impact_references::queries::sweep::crossing`).
+struct Query(impact_references::queries::Query);
 
 impl Query {
     fn run(&self) -> Option<f64> {
-        let [a, b, c] = &self.face;
-        vertex_face_ccd(&self.node, [a, b, c], TOL).map(|hit| hit.t)
-    }
-}
-
-fn uniform_vec(rng: &mut SplitMix64, s: f64) -> Vector3<f64> {
-    Vector3::new(rng.uniform(-s, s), rng.uniform(-s, s), rng.uniform(-s, s))
-}
-
-/// A face moving by a common displacement plus a deformation, and a node that is coplanar with
-/// it at a random time `tc` at weights `w` (inside for a hit, outside for a crossing miss);
-/// one query in four is a node that stops short of the plane instead.
-fn query(rng: &mut SplitMix64, hit: bool) -> Query {
-    let tri = [0, 1, 2].map(|_| uniform_vec(rng, 1.0));
-    let common = uniform_vec(rng, 0.5);
-    let vel = [0, 1, 2].map(|_| common + uniform_vec(rng, 0.2));
-    let tc = rng.next_f64();
-    let at = |k: usize| tri[k] + tc * vel[k];
-    let w1 = rng.uniform(0.05, 0.9);
-    let w2 = rng.uniform(0.05, 0.95 - w1);
-    let mut w = [1.0 - w1 - w2, w1, w2];
-    if !hit {
-        // Outside one edge by 0.05..0.5.
-        let k = (rng.next_u64() % 3) as usize;
-        let out = rng.uniform(0.05, 0.5);
-        w[k] = -out;
-        w[(k + 1) % 3] += out;
-    }
-    let p = w[0] * at(0) + w[1] * at(1) + w[2] * at(2);
-    let vp = common + uniform_vec(rng, 1.0);
-    let mut node = Trajectory {
-        start: p - tc * vp,
-        end: p + (1.0 - tc) * vp,
-    };
-    if !hit && rng.next_u64() % 4 == 0 {
-        // Stop short: end the node's motion halfway to the crossing.
-        node.end = node.start + 0.5 * tc * vp;
-    }
-    Query {
-        node,
-        face: [0, 1, 2].map(|k| Trajectory {
-            start: tri[k],
-            end: tri[k] + vel[k],
-        }),
+        let [a, b, c] = &self.0.face;
+        vertex_face_ccd(&self.0.node, [a, b, c], TOL).map(|hit| hit.t)
     }
 }
 
@@ -85,7 +42,12 @@ fn queries() -> (Vec<Query>, Vec<Query>) {
     while hits.len() < QUERIES / 2 || misses.len() < QUERIES / 2 {
         let want_hit =
             hits.len() < QUERIES / 2 && (misses.len() >= QUERIES / 2 || rng.next_f64() < 0.5);
-        let q = query(&mut rng, want_hit);
+        let family = if want_hit {
+            Family::CrossingHit
+        } else {
+            Family::CrossingMiss
+        };
+        let q = Query(family.generate(&mut rng));
         match (q.run().is_some(), want_hit) {
             (true, true) => hits.push(q),
             (false, false) => misses.push(q),

@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use impact_references::analytic::cantilever_first_frequency;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::MaterialModel;
 use impact_solver::model::{Constraint, Motion, NodalLoad, TimeFunction};
@@ -38,9 +39,8 @@ fn cantilever_keeps_its_energy_for_ten_periods() {
         let bent = solve_static(&p, &StaticSettings::default()).unwrap();
         let stored = p.model.stored_energy(&bent.u);
         p.loads.clear();
-        // First bending period of a cantilever: f = (1.875^2 / 2 pi) sqrt(E I / (rho A L^4)).
-        let freq = 1.875f64.powi(2) / (2.0 * std::f64::consts::PI)
-            * (STEEL.youngs_modulus * h * h / 12.0 / STEEL.density / l.powi(4)).sqrt();
+        // First bending frequency of the cantilever (Euler-Bernoulli), to run ten periods.
+        let freq = cantilever_first_frequency(&STEEL, l, h);
         let end = 10.0 / freq;
         let mut settings = ExplicitSettings::new(end);
         settings.history_interval = Some(end / 2000.0);

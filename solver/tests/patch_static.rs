@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use impact_references::analytic::{corotated_cauchy, svk_cauchy};
 use impact_solver::material::MaterialModel;
 use impact_solver::model::{Constraint, Motion, TimeFunction};
 use impact_solver::statics::{solve_static, StaticSettings};

@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 
+use impact_references::analytic::hertz_impact;
 use impact_solver::material::IsotropicElastic;
 use impact_solver::mesh::gmsh::read_msh;
 use impact_solver::mesh::{
@@ -350,20 +351,12 @@ fn fine() {
     check(&FINE);
 }
 
-/// Hertz's solution for the benchmark: maximum approach (m), contact radius (m) and contact
-/// duration (s) of two identical spheres meeting at `speed` (Johnson, Contact Mechanics, 11.1).
+/// Hertz's solution for the benchmark (`references/analytic.rs`): maximum approach (m), contact
+/// radius (m) and contact duration (s) of two identical spheres meeting at `speed`.
 fn hertz(speed: f64) -> (f64, f64, f64) {
     let mass = MATERIAL.density * 4.0 / 3.0 * PI * R.powi(3);
-    let m_star = mass / 2.0;
-    let r_star = R / 2.0;
-    let nu = MATERIAL.poisson_ratio;
-    let e_star = MATERIAL.youngs_modulus / (2.0 * (1.0 - nu * nu));
-    let approach = (15.0 * m_star * speed * speed / (16.0 * e_star * r_star.sqrt())).powf(0.4);
-    (
-        approach,
-        (r_star * approach).sqrt(),
-        2.9432 * approach / speed,
-    )
+    let h = hertz_impact(&MATERIAL, R, mass, speed);
+    (h.max_approach, h.contact_radius, h.duration)
 }
 
 /// Refining brings the volume closer to the ball's and shrinks the critical step; prints what a

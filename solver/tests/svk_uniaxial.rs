@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use impact_references::analytic::svk_uniaxial;
 use impact_solver::material::MaterialModel;
 use impact_solver::model::{Constraint, Motion, TimeFunction};
 use impact_solver::statics::{solve_static, StaticSettings};
@@ -57,10 +58,9 @@ fn uniaxial_stress_matches_closed_form_from_stretch_0_7_to_1_5() {
             },
         )
         .unwrap();
-        // Closed form.
-        let e11 = 0.5 * (stretch * stretch - 1.0);
-        let e22 = -c.poisson_ratio * e11;
-        let p11 = c.youngs_modulus * stretch * (stretch * stretch - 1.0) / 2.0;
+        // Closed form (references/analytic.rs).
+        let exact = svk_uniaxial(&c, stretch);
+        let (e11, e22, p11) = (exact.e11, exact.e22, exact.p11);
         // Measured: the lateral stretch of the far corner, and the end reaction over the reference area.
         let corner = (0..p.model.node_count())
             .find(|&n| (p.model.reference[n] - v3([lx, ly, lz])).norm() < 1e-12)

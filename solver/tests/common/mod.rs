@@ -45,24 +45,6 @@ pub fn box_boundary_nodes(model: &Model, size: [f64; 3]) -> Vec<u32> {
         .collect()
 }
 
-/// Cauchy stress of Saint-Venant-Kirchhoff written out from (2.120)-(2.123), independent of the
-/// solver's material code: `S = lambda tr(E) I + 2 mu E`, `sigma = F S F^T / det F`.
-pub fn svk_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
-    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
-    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
-    f * s * f.transpose() / f.determinant()
-}
-
-/// Cauchy stress of the co-rotated linear elastic model from its definition `sigma = R s R^T`,
-/// `s = lambda tr(E) I + 2 mu E`, with `R` from an independent polar decomposition (SVD).
-pub fn corotated_cauchy(c: &IsotropicElastic, f: &Matrix3<f64>) -> Matrix3<f64> {
-    let svd = f.svd(true, true);
-    let r = svd.u.unwrap() * svd.v_t.unwrap();
-    let e = 0.5 * (f.transpose() * f - Matrix3::identity());
-    let s = Matrix3::identity() * (c.lambda() * e.trace()) + e * (2.0 * c.mu());
-    r * s * r.transpose()
-}
-
 pub fn max_abs(m: &Matrix3<f64>) -> f64 {
     m.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
