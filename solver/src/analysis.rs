@@ -8,7 +8,7 @@ use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
-use crate::output::{HistoryTable, PvdWriter};
+use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
 use crate::scene::Analysis;
 use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
@@ -99,14 +99,19 @@ fn explicit(
     if let Some(u0) = initial_u {
         solver.set_initial_displacement(u0);
     }
-    if let Some(limit) = options.time_limit_s {
-        solver.set_time_limit(limit);
-    }
-    if let Some(flag) = &options.stop {
-        solver.set_stop_flag(flag.clone());
-    }
     let plan = solver.plan();
-    let outcome = solver.run(progress);
+    let mut files = solver.output_observers()?;
+    let mut deadline = options.time_limit_s.map(Deadline::after);
+    let mut stop = options.stop.clone().map(StopFlag);
+    let mut progress = Progress(progress);
+    let mut observers: Vec<&mut dyn RunObserver> = files
+        .iter_mut()
+        .map(|o| &mut **o as &mut dyn RunObserver)
+        .collect();
+    observers.extend(deadline.as_mut().map(|d| d as &mut dyn RunObserver));
+    observers.extend(stop.as_mut().map(|s| s as &mut dyn RunObserver));
+    observers.push(&mut progress);
+    let outcome = solver.run_with(&mut observers);
     // Recorded problems are written whether or not the run completed: they are results too.
     let contact_problems = solver.take_recorded_problems();
     let mut written_problems = match options.out {

@@ -11,12 +11,13 @@ use std::time::Instant;
 
 use nalgebra::Vector3;
 
-use super::settings::{ContactTotals, PhaseTimes, RunSummary, Snapshot};
+use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
-use crate::output::history::{HistoryStream, HistoryTable};
-use crate::output::vtu::PvdWriter;
+use crate::output::{
+    FieldFrames, HistoryFile, HistoryTable, ObserverSet, Progress, Recorder, RunObserver,
+};
 use contact_phase::ContactScratch;
 
 /// A stopwatch read lap by lap.
@@ -78,9 +79,6 @@ pub struct ExplicitSolver<'p> {
     pending: EnergyLedger,
     pub step: usize,
     pub time: f64,
-    deadline: Option<(Instant, f64)>,
-    /// Set from outside (a signal handler) to stop the run at the end of the current step.
-    stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -171,8 +169,6 @@ impl<'p> ExplicitSolver<'p> {
             pending: EnergyLedger::default(),
             step: 0,
             time: 0.0,
-            deadline: None,
-            stop: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -193,8 +189,6 @@ impl<'p> ExplicitSolver<'p> {
         &self.history
     }
 
-    /// Stops the run with [`SolverError::TimeLimit`] once `seconds` of wall time have passed,
-    /// after writing the output computed so far.
     /// The contact problems recorded so far (pairs with `record_every`), taken out of the solver.
     pub fn take_recorded_problems(&mut self) -> Vec<crate::contact::RecordedProblem> {
         self.contact
@@ -209,20 +203,6 @@ impl<'p> ExplicitSolver<'p> {
             .as_mut()
             .map(|c| std::mem::take(&mut c.phase.recorded_ccd))
             .unwrap_or_default()
-    }
-
-    /// Stops the run at the end of the step during which `flag` becomes true: the history up to
-    /// that step is written (with the frames and snapshots already written) and the run returns
-    /// [`SolverError::Interrupted`].
-    pub fn set_stop_flag(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
-        self.stop = Some(flag);
-    }
-
-    pub fn set_time_limit(&mut self, seconds: f64) {
-        self.deadline = Some((
-            Instant::now() + std::time::Duration::from_secs_f64(seconds),
-            seconds,
-        ));
     }
 
     pub fn time_step(&self) -> f64 {
@@ -247,9 +227,39 @@ impl<'p> ExplicitSolver<'p> {
         })
     }
 
-    /// Runs to the end time, calling `progress(fraction)` about a hundred times. On instability
-    /// the output computed so far is written before the error is returned.
+    /// Runs to the end time with the observers that write the output settings' files
+    /// ([`Self::output_observers`]), calling `progress(fraction)` about a hundred times. On
+    /// instability the output computed so far is written before the error is returned.
     pub fn run(&mut self, progress: &mut dyn FnMut(f64)) -> Result<RunSummary> {
+        let mut files = self.output_observers()?;
+        let mut progress = Progress(progress);
+        let mut observers: Vec<&mut dyn RunObserver> = files
+            .iter_mut()
+            .map(|o| &mut **o as &mut dyn RunObserver)
+            .collect();
+        observers.push(&mut progress);
+        self.run_with(&mut observers)
+    }
+
+    /// The observers that write what the output settings ask for: the history CSV
+    /// (`<stem>_history.csv`) and, with `fields`, the VTU frames and their `<stem>.pvd`.
+    pub fn output_observers(&self) -> Result<Vec<Box<dyn RunObserver>>> {
+        let mut observers: Vec<Box<dyn RunObserver>> = Vec::new();
+        if let Some(dir) = &self.output.dir {
+            let path = dir.join(format!("{}_history.csv", self.output.stem));
+            observers.push(Box::new(HistoryFile::new(path)));
+            if self.output.fields {
+                observers.push(Box::new(FieldFrames::new(dir, &self.output.stem)?));
+            }
+        }
+        Ok(observers)
+    }
+
+    /// Runs to the end time, showing the history rows, field frames, snapshots and progress to
+    /// `observers` as they fall due (the integrator writes nothing itself), and stopping at the
+    /// end of a step where one of them asks to halt. The summary holds the history and the
+    /// snapshots, and the files the observers wrote.
+    pub fn run_with(&mut self, observers: &mut [&mut dyn RunObserver]) -> Result<RunSummary> {
         let started = Instant::now();
         let steps = self.planned_steps();
         let history_interval = self
@@ -257,22 +267,15 @@ impl<'p> ExplicitSolver<'p> {
             .history_interval
             .unwrap_or(self.settings.end_time / 500.0)
             .max(0.0);
-        let mut history = HistoryTable::new(self.history_columns());
-        // The CSV grows as the run goes (a killed run leaves it up to the last flush); the whole
-        // table is written again at the end, the same text.
-        let mut stream = match self.history_path() {
-            Some(path) => Some(HistoryStream::create(&path, history.columns())?),
-            None => None,
-        };
+        let mut recorder = Recorder::default();
+        let mut all: Vec<&mut dyn RunObserver> = observers.iter_mut().map(|o| &mut **o).collect();
+        all.push(&mut recorder);
+        let mut set = ObserverSet::new(all);
+        set.history_columns(&self.history_columns())?;
+        let wants_fields = set.wants_fields();
         let mut next_history = 0.0;
-        let mut pvd = match (&self.output.dir, self.output.fields) {
-            (Some(dir), true) => Some(PvdWriter::new(dir, &self.output.stem)?),
-            _ => None,
-        };
         let mut next_field = 0.0;
         let mut next_snapshot = 0.0;
-        let mut snapshots = Vec::new();
-        let mut written = Vec::new();
         let mut max_scale: f64 = 0.0;
         let mut max_abs_error: f64 = 0.0;
         let mut flags = 0;
@@ -282,15 +285,7 @@ impl<'p> ExplicitSolver<'p> {
             let last = n == steps;
             match self.advance() {
                 Ok(moved_too_far) => flags += moved_too_far as usize,
-                Err(reason_element) => {
-                    drop(stream.take());
-                    return Err(self.stop(
-                        reason_element,
-                        &mut history,
-                        pvd.as_mut(),
-                        &mut written,
-                    ));
-                }
+                Err(reason_element) => return Err(self.stop(reason_element, &mut set)),
             }
             // Energies now describe t_n; check the balance before recording.
             let mut clock = Lap::start();
@@ -304,24 +299,19 @@ impl<'p> ExplicitSolver<'p> {
                     error, self.settings.instability_energy_tolerance, max_scale
                 );
                 let element = self.most_strained_element();
-                drop(stream.take());
-                return Err(self.stop((reason, element), &mut history, pvd.as_mut(), &mut written));
+                return Err(self.stop((reason, element), &mut set));
             }
             if n == 0 || last || self.time >= next_history - 1e-9 * self.dt {
-                let row = self.history_row(&e);
-                if let Some(stream) = stream.as_mut() {
-                    stream.append(&row)?;
-                }
-                history.push(row);
+                set.history_row(&self.history_row(&e))?;
                 next_history += history_interval;
             }
-            if let Some(writer) = pvd.as_mut() {
+            if wants_fields {
                 let due = match self.settings.field_interval {
                     Some(_) => self.time >= next_field - 1e-9 * self.dt,
                     None => n == 0,
                 };
                 if due || last {
-                    written.push(self.write_frame(writer)?);
+                    self.field_frame(&mut set)?;
                     if let Some(interval) = self.settings.field_interval {
                         next_field += interval;
                     }
@@ -329,61 +319,23 @@ impl<'p> ExplicitSolver<'p> {
             }
             if let Some(interval) = self.settings.snapshot_interval {
                 if last || self.time >= next_snapshot - 1e-9 * self.dt {
-                    snapshots.push(Snapshot {
-                        time: self.time,
-                        u: self.u.clone(),
-                    });
+                    set.snapshot(self.time, &self.u);
                     next_snapshot += interval;
                 }
             }
             self.phases.output += clock.lap();
-            if n % progress_every == 0 {
-                progress(n as f64 / steps.max(1) as f64);
-                if let Some((deadline, limit_s)) = self.deadline {
-                    if Instant::now() > deadline {
-                        drop(stream.take());
-                        if let Some(path) = self.history_path() {
-                            if history.write_csv(&path).is_ok() {
-                                written.push(path);
-                            }
-                        }
-                        return Err(SolverError::TimeLimit {
-                            limit_s,
-                            step: self.step,
-                            time: self.time,
-                        });
-                    }
-                }
+            let fraction = (n % progress_every == 0).then(|| n as f64 / steps.max(1) as f64);
+            if let Some(halt) = set.poll(fraction) {
+                return Err(self.halt(halt, &mut set));
             }
             if last {
                 break;
             }
-            if self
-                .stop
-                .as_ref()
-                .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
-            {
-                drop(stream.take());
-                if let Some(path) = self.history_path() {
-                    history.write_csv(&path)?;
-                    written.push(path);
-                }
-                return Err(SolverError::Interrupted {
-                    step: self.step,
-                    time: self.time,
-                });
-            }
             self.finish_step();
         }
-        progress(1.0);
-        // Closed before the table is written whole, so that nothing buffered lands after it.
-        if let Some(mut stream) = stream.take() {
-            stream.flush()?;
-        }
-        if let Some(path) = self.history_path() {
-            history.write_csv(&path)?;
-            written.push(path);
-        }
+        set.finish()?;
+        let written = std::mem::take(&mut set.written);
+        drop(set);
         Ok(RunSummary {
             steps,
             time: self.time,
@@ -401,8 +353,10 @@ impl<'p> ExplicitSolver<'p> {
                 0.0
             },
             mesh_stability_flags: flags,
-            history,
-            snapshots,
+            history: recorder
+                .history
+                .unwrap_or_else(|| HistoryTable::new(Vec::new())),
+            snapshots: recorder.snapshots,
             written,
         })
     }

@@ -1,9 +1,15 @@
 //! What a run leaves on disk: time histories as CSV ([`history`]) and fields as VTK XML files
-//! with a ParaView collection ([`vtu`]). Both are plain, documented formats so results can be
-//! inspected and post-processed without this crate.
+//! with a ParaView collection ([`vtu`]), written by the run's observers ([`observer`]). Both
+//! are plain, documented formats so results can be inspected and post-processed without this
+//! crate.
 
 pub mod history;
+pub mod observer;
 pub mod vtu;
 
 pub use history::{HistoryStream, HistoryTable};
+pub use observer::{
+    Deadline, FieldFrames, Halt, HistoryFile, ObserverSet, Progress, Recorder, RunObserver,
+    StopFlag,
+};
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};

@@ -1,7 +1,5 @@
 //! What an explicit run records: the history columns and rows (energies, momenta, probes,
-//! reactions), the history file's path, and the field frames for ParaView.
-
-use std::path::PathBuf;
+//! reactions) and the field frames, which it shows its observers.
 
 use nalgebra::Vector3;
 
@@ -9,7 +7,7 @@ use super::{fixed_order_sum3, ExplicitSolver};
 use crate::dynamics::EnergyLedger;
 use crate::error::Result;
 use crate::model::field_frame_with_history;
-use crate::output::vtu::PvdWriter;
+use crate::output::ObserverSet;
 
 impl<'p> ExplicitSolver<'p> {
     /// One line per decision the run takes, printed before it starts.
@@ -67,13 +65,6 @@ impl<'p> ExplicitSolver<'p> {
         } else {
             format!("; materials with history: {}", parts.join(", "))
         }
-    }
-
-    pub(super) fn history_path(&self) -> Option<PathBuf> {
-        self.output
-            .dir
-            .as_ref()
-            .map(|d| d.join(format!("{}_history.csv", self.output.stem)))
     }
 
     /// Columns: time and step, the energies (`stored_energy` counts elastic bodies only; with
@@ -200,7 +191,8 @@ impl<'p> ExplicitSolver<'p> {
         row
     }
 
-    pub(super) fn write_frame(&self, writer: &mut PvdWriter) -> Result<PathBuf> {
+    /// Shows the observers the field frame of the current state.
+    pub(super) fn field_frame(&self, observers: &mut ObserverSet) -> Result<()> {
         let model = &self.problem.model;
         let points: Vec<Vector3<f64>> = model
             .reference
@@ -208,7 +200,7 @@ impl<'p> ExplicitSolver<'p> {
             .zip(&self.u)
             .map(|(x, u)| x + u)
             .collect();
-        writer.write_frame(&field_frame_with_history(
+        observers.field_frame(&field_frame_with_history(
             model,
             Some(&self.history),
             &points,

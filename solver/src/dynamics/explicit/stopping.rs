@@ -1,37 +1,29 @@
-//! How an explicit run stops early: the output computed so far written, then the instability
-//! report naming the most strained element.
-
-use std::path::PathBuf;
+//! How an explicit run stops early: the output computed so far written by the observers, then
+//! the error: the instability report naming the most strained element, or the halt an observer
+//! asked for (a time limit, a signal).
 
 use super::ExplicitSolver;
 use crate::dynamics::InstabilityReport;
 use crate::error::SolverError;
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
-use crate::output::history::HistoryTable;
-use crate::output::vtu::PvdWriter;
+use crate::output::{Halt, ObserverSet};
 
 impl<'p> ExplicitSolver<'p> {
-    /// Writes what was computed, then builds the error that stops the run.
+    /// Has the observers write what was computed (and a last field frame, if the state is
+    /// finite), then builds the error that stops the run.
     pub(super) fn stop(
         &mut self,
         (reason, element): (String, Option<usize>),
-        history: &mut HistoryTable,
-        pvd: Option<&mut PvdWriter>,
-        written: &mut Vec<PathBuf>,
+        observers: &mut ObserverSet,
     ) -> SolverError {
-        if let Some(path) = self.history_path() {
-            if history.write_csv(&path).is_ok() {
-                written.push(path);
-            }
+        // The state at the stop may hold NaN; the last good frame is already on disk.
+        if observers.wants_fields() && self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
+            // What could not be written is left out of the report's list; the error is the
+            // instability.
+            let _ = self.field_frame(observers);
         }
-        if let Some(writer) = pvd {
-            // The state at the stop may hold NaN; the last good frame is already on disk.
-            if self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
-                if let Ok(p) = self.write_frame(writer) {
-                    written.push(p);
-                }
-            }
-        }
+        let _ = observers.finish();
+        let written = observers.written.clone();
         let e = self.energies;
         SolverError::Unstable(Box::new(InstabilityReport {
             reason,
@@ -44,8 +36,29 @@ impl<'p> ExplicitSolver<'p> {
             energy_error: e.balance_error(),
             time_step: self.dt,
             critical_time_step: self.dt_critical,
-            written: written.clone(),
+            written,
         }))
+    }
+
+    /// Has the observers write what was computed, then builds the error for the halt one of them
+    /// asked for. A failed write stops an interrupted run with that error instead; a run past its
+    /// time limit reports the limit.
+    pub(super) fn halt(&mut self, halt: Halt, observers: &mut ObserverSet) -> SolverError {
+        let finished = observers.finish();
+        match halt {
+            Halt::TimeLimit { limit_s } => SolverError::TimeLimit {
+                limit_s,
+                step: self.step,
+                time: self.time,
+            },
+            Halt::Interrupted => match finished {
+                Err(e) => e,
+                Ok(()) => SolverError::Interrupted {
+                    step: self.step,
+                    time: self.time,
+                },
+            },
+        }
     }
 
     /// The element with the largest Green-Lagrange strain norm (or a non-finite one).
