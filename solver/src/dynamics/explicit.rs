@@ -432,8 +432,17 @@ impl<'p> ExplicitSolver<'p> {
                     let motion = &problem.constraints[c as usize].motion;
                     self.v_next[i][d] = match motion {
                         Motion::Velocity(_, f) => f.eval(t + 0.5 * dt),
-                        Motion::AffineVelocity { .. } => motion.velocity(&x, t).unwrap()[d],
-                        _ => (motion.displacement(&x, t + dt).unwrap()[d] - self.u[i][d]) / dt,
+                        Motion::AffineVelocity { .. } => {
+                            motion
+                                .velocity(&x, t)
+                                .expect("an affine velocity gives a velocity at every point")[d]
+                        }
+                        _ => {
+                            let u = motion
+                                .displacement(&x, t + dt)
+                                .expect("every motion but a velocity gives a displacement");
+                            (u[d] - self.u[i][d]) / dt
+                        }
                     };
                 }
             }

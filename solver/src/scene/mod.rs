@@ -23,17 +23,23 @@ use crate::statics::StaticSettings;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
+    /// Name of the scene; it names the run's output files.
     pub name: String,
+    /// Free text on what the scene models; not used by the solver.
     #[serde(default)]
     pub description: String,
+    /// The bodies, each a mesh with a material; names must be unique.
     pub bodies: Vec<BodySpec>,
+    /// Prescribed motions (supports, imposed velocities and displacements), applied in order.
     #[serde(default)]
     pub boundary_conditions: Vec<BoundaryCondition>,
+    /// Nodal forces, each scaled by a function of time.
     #[serde(default)]
     pub loads: Vec<LoadSpec>,
     /// Gravitational acceleration (m/s^2).
     #[serde(default)]
     pub gravity: Option<[f64; 3]>,
+    /// Quantities recorded in the history at every output step.
     #[serde(default)]
     pub probes: Vec<ProbeSpec>,
     /// Pairs of bodies that may touch (thesis chapters 6 and 7).
@@ -43,6 +49,7 @@ pub struct Scene {
     /// and, without `length`, each element's own size.
     #[serde(default)]
     pub crack_indicator: CrackIndicator,
+    /// What to run: explicit dynamics, a static analysis, or a static preload then release.
     pub analysis: Analysis,
 }
 
@@ -50,7 +57,10 @@ pub struct Scene {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
+    /// Name of the pair; labels its history columns and recorded problems.
     pub name: String,
+    /// The two bodies by name; the first one's nodes are the slaves of the first pass (thesis
+    /// 7.2), the second's faces the masters.
     pub bodies: [String; 2],
     /// Coulomb coefficient; `.inf` sticks.
     #[serde(default)]
@@ -58,16 +68,24 @@ pub struct ContactSpec {
     /// High-frequency damping of the beta-2 corrections (the thesis uses 0.45).
     #[serde(default)]
     pub beta_0: f64,
+    /// Convergence tolerance of the Gauss-Seidel solver, relative, in (0, 1): the change of the
+    /// contact forces over a sweep against their size (thesis (6.72)) and the natural-map
+    /// residual; default 1e-10.
     #[serde(default = "default_gs_tolerance")]
     pub tolerance: f64,
+    /// Most Gauss-Seidel sweeps per step (default 500); at least 1.
     #[serde(default = "default_gs_iterations")]
     pub max_iterations: usize,
+    /// Detect and resolve a second time with the slave and master roles swapped (thesis 7.2);
+    /// default `true`.
     #[serde(default = "default_true")]
     pub two_pass: bool,
     /// `smooth` (default): corner normals averaged over the facets within `crease_angle`
     /// degrees, interpolated at the contact point; `facet`: the master facet's normal (thesis).
     #[serde(default)]
     pub normals: crate::contact::normals::NormalKind,
+    /// Angle (degrees) between facet normals above which an edge is a crease that smooth
+    /// normals do not average across; default 30.
     #[serde(default = "default_crease_angle")]
     pub crease_angle: f64,
     /// `gauss_seidel` (the thesis, default) or `{ conic: { mode: relaxed | coulomb } }`.
@@ -94,6 +112,8 @@ pub enum ContactSolverSpec {
     Conic(ConicSpec),
 }
 
+/// Settings of the conic (Clarabel) contact solver, `{ conic: { mode, tolerance,
+/// max_iterations } }`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConicSpec {
@@ -102,18 +122,23 @@ pub struct ConicSpec {
     /// the same program in both modes.
     #[serde(default)]
     pub mode: ConicModeSpec,
-    /// Clarabel's gap and feasibility tolerances.
+    /// Clarabel's gap and feasibility tolerances, relative (default 1e-10).
     #[serde(default = "default_conic_tolerance")]
     pub tolerance: f64,
-    /// Interior-point iterations per solve.
+    /// Most interior-point iterations per solve (default 200).
     #[serde(default = "default_conic_iterations")]
     pub max_iterations: usize,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+/// How the conic solver treats friction (see [`ConicSpec::mode`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ConicModeSpec {
+    /// One second-order cone program with associated friction: sliding contacts open slightly.
     Relaxed,
+    /// A fixed point of Tresca problems converging to Coulomb friction (the default).
     #[default]
     Coulomb,
 }
@@ -139,12 +164,18 @@ fn default_true() -> bool {
     true
 }
 
+/// A body as written in a scene: a mesh, its material, its placement and initial velocity.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
+    /// Name of the body, unique in the scene; conditions, loads, probes and contact pairs refer
+    /// to it.
     pub name: String,
+    /// Where the body's tetrahedral mesh comes from.
     pub mesh: MeshSource,
+    /// The material of every element (but those of `regions`).
     pub material: MaterialSpec,
+    /// Velocity field at `t = 0` (m/s); at rest without one.
     #[serde(default)]
     pub initial_velocity: Option<InitialVelocity>,
     /// Rigid placement of the mesh: rotated about an axis through the origin, then translated.
@@ -162,16 +193,21 @@ pub struct BodySpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSpec {
+    /// Name of the body the region's elements become; unique among the scene's bodies.
     pub name: String,
     /// Axis-aligned box (m) that the centroid of an element must lie in (closed).
     pub centroid_box: CentroidBox,
+    /// The material of the region's elements.
     pub material: MaterialSpec,
 }
 
+/// An axis-aligned box `{ min, max }` (m), closed on every side.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CentroidBox {
+    /// Lower corner, `x, y, z` (m), in the placed (transformed) frame.
     pub min: [f64; 3],
+    /// Upper corner, `x, y, z` (m), componentwise at least `min`.
     pub max: [f64; 3],
 }
 
@@ -193,8 +229,12 @@ impl MaterialSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialSpec {
+    /// Small-strain Hooke's law (density, Young's modulus, Poisson's ratio).
     LinearElastic(IsotropicElastic),
+    /// Saint Venant-Kirchhoff hyperelasticity: Hooke's law between the Green-Lagrange strain and
+    /// the second Piola-Kirchhoff stress (thesis chapter 3).
     SaintVenantKirchhoff(IsotropicElastic),
+    /// Microplane concrete (thesis chapter 5), from a parameter file or inline parameters.
     Microplane(MicroplaneSpec),
 }
 
@@ -278,11 +318,13 @@ impl MaterialSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Transform {
+    /// Axis of the rotation through the origin (any length but zero); no rotation without one.
     #[serde(default)]
     pub rotation_axis: Option<[f64; 3]>,
-    /// Radians.
+    /// Rotation angle about `rotation_axis` (rad), right-handed.
     #[serde(default)]
     pub rotation_angle: f64,
+    /// Translation applied after the rotation (m).
     #[serde(default)]
     pub translation: [f64; 3],
 }
@@ -301,14 +343,19 @@ pub enum MeshSource {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxMeshSpec {
+    /// Corner of the box with the smallest coordinates (m).
     pub origin: [f64; 3],
+    /// Edge lengths along `x, y, z` (m).
     pub size: [f64; 3],
+    /// Number of cells along `x, y, z`; each cell is split into six tetrahedra.
     pub divisions: [usize; 3],
+    /// Random displacement of the interior nodes; none without it.
     #[serde(default)]
     pub perturb: Option<Perturbation>,
 }
 
 impl BoxMeshSpec {
+    /// The mesh generator's description of the box (without the perturbation).
     pub fn spec(&self) -> BoxSpec {
         BoxSpec {
             origin: self.origin,
@@ -322,7 +369,9 @@ impl BoxMeshSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Perturbation {
+    /// Largest displacement as a fraction of the cell size, in `[0, 0.5)`.
     pub fraction: f64,
+    /// Seed of the random generator (`crate::rng`), so a perturbed mesh is reproducible.
     pub seed: u64,
 }
 
@@ -330,12 +379,16 @@ pub struct Perturbation {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialVelocity {
+    /// Uniform part of the velocity (m/s).
     #[serde(default)]
     pub translation: [f64; 3],
+    /// Rigid rotation rate about `center` (rad/s), right-handed.
     #[serde(default)]
     pub angular_velocity: [f64; 3],
+    /// Velocity gradient `dv/dX` (1/s), row `i` the gradient of component `i`; none without it.
     #[serde(default)]
     pub gradient: Option<[[f64; 3]; 3]>,
+    /// Point `X` about which the rotation and the gradient act (m, reference frame).
     #[serde(default)]
     pub center: [f64; 3],
 }
@@ -344,8 +397,11 @@ pub struct InitialVelocity {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Component {
+    /// The `x` component (index 0).
     X,
+    /// The `y` component (index 1).
     Y,
+    /// The `z` component (index 2).
     Z,
 }
 
@@ -356,41 +412,67 @@ pub struct BoundaryCondition {
     /// Labels the reaction-force history; defaults to `bc<index>`.
     #[serde(default)]
     pub name: Option<String>,
+    /// Name of the body whose nodes are constrained.
     pub body: String,
+    /// Which of the body's nodes the condition holds.
     pub nodes: Selector,
+    /// The prescribed motion of those nodes.
     pub motion: MotionSpec,
 }
 
+/// A prescribed motion as written in a scene; becomes a [`crate::model::Motion`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MotionSpec {
+    /// The listed displacement components held at zero.
     Fixed(Vec<Component>),
+    /// The listed components move at a velocity (m/s) given as a function of time.
     Velocity {
+        /// The constrained components.
         components: Vec<Component>,
+        /// Velocity of each listed component (m/s) against time (s).
         value: TimeFunction,
     },
+    /// The listed components follow a displacement (m) given as a function of time.
     Displacement {
+        /// The constrained components.
         components: Vec<Component>,
+        /// Displacement of each listed component (m) against time (s).
         value: TimeFunction,
     },
+    /// All three components move at `v(X) = translation + gradient (X - center)`, constant in
+    /// time.
     AffineVelocity {
+        /// Uniform velocity (m/s).
         #[serde(default)]
         translation: [f64; 3],
+        /// Velocity gradient `dv/dX` (1/s), row `i` the gradient of component `i`.
         gradient: [[f64; 3]; 3],
+        /// Reference point `X` of the gradient (m).
         #[serde(default)]
         center: [f64; 3],
     },
+    /// All three components displaced by `u(X, t) = (translation + gradient (X - center))
+    /// scale(t)`.
     AffineDisplacement {
+        /// Uniform displacement (m) at scale 1.
         #[serde(default)]
         translation: [f64; 3],
+        /// Displacement gradient `du/dX` (dimensionless) at scale 1, row `i` for component `i`.
         gradient: [[f64; 3]; 3],
+        /// Reference point `X` of the gradient (m).
         #[serde(default)]
         center: [f64; 3],
+        /// Dimensionless factor against time (s); 1 when omitted.
         #[serde(default = "unit_function")]
         scale: TimeFunction,
     },
+    /// A rigid rotation of the nodes about an axis through `center`:
+    /// `u = R(angle(t)) (X - center) - (X - center)`.
     Rotation {
+        /// Rotation axis (any length but zero), right-handed.
         axis: [f64; 3],
+        /// A point on the axis (m).
         #[serde(default)]
         center: [f64; 3],
         /// Angle in radians as a function of time.
@@ -398,15 +480,20 @@ pub enum MotionSpec {
     },
 }
 
+/// Nodal forces on the nodes of one body picked by a selector.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
+    /// Labels the load in messages and the history; defaults to `load<index>`.
     #[serde(default)]
     pub name: Option<String>,
+    /// Name of the loaded body.
     pub body: String,
+    /// Which of the body's nodes carry the force.
     pub nodes: Selector,
     /// Force on each selected node (N), scaled by `function`.
     pub force_per_node: [f64; 3],
+    /// Dimensionless factor on the force against time (s); 1 when omitted.
     #[serde(default = "unit_function")]
     pub function: TimeFunction,
 }
@@ -415,24 +502,34 @@ fn unit_function() -> TimeFunction {
     TimeFunction::Constant(1.0)
 }
 
+/// A quantity over some nodes of a body, recorded as a history column.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeSpec {
+    /// Name of the probe; its history column.
     pub name: String,
+    /// Name of the probed body.
     pub body: String,
+    /// Which of the body's nodes the quantity is taken over.
     pub nodes: Selector,
+    /// What is recorded (a displacement, velocity or force component and how it is reduced).
     pub quantity: ProbeQuantity,
 }
 
+/// The analysis a scene runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Analysis {
+    /// Explicit central-difference dynamics (thesis chapter 4).
     Explicit(ExplicitSettings),
+    /// Static equilibrium by Newton's method in load steps.
     Static(StaticSettings),
     /// Static equilibrium under the loads, then the loads are removed and the body is released
     /// from that deformed state at rest (free vibration).
     Release {
+        /// The static analysis that finds the preloaded state.
         preload: StaticSettings,
+        /// The explicit run from the released state.
         explicit: ExplicitSettings,
     },
 }
