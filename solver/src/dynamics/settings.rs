@@ -61,6 +61,7 @@ fn default_eta() -> f64 {
 }
 
 impl ExplicitSettings {
+    /// Settings for a run to `end_time` (s) with every other setting at its default.
     pub fn new(end_time: f64) -> Self {
         Self {
             end_time,
@@ -81,6 +82,7 @@ impl ExplicitSettings {
 /// Where a run writes its output; `dir: None` keeps everything in memory.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct OutputSettings {
+    /// Folder the files are written to (created if missing); `None` writes no files.
     pub dir: Option<PathBuf>,
     /// File stem: `<stem>_history.csv`, `<stem>.pvd`, `<stem>_00000.vtu`, ...
     pub stem: String,
@@ -93,8 +95,12 @@ pub struct OutputSettings {
 pub struct ContactTotals {
     /// Steps in which at least one contact problem was solved.
     pub steps_with_contact: usize,
+    /// Contact problems solved (one per pair, pass and step with contacts).
     pub solves: usize,
+    /// Solves that stopped at their iteration limit before meeting the tolerance.
     pub not_converged: usize,
+    /// Contacts detected but not enforced: no face found for a crossing node, or a normal no
+    /// free node can move along (all prescribed).
     pub unresolved: usize,
     /// Gauss-Seidel sweeps or interior-point iterations.
     pub iterations: usize,
@@ -150,11 +156,18 @@ impl PhaseTimes {
 /// What a completed run reports.
 #[derive(Debug, Clone)]
 pub struct RunSummary {
+    /// Time steps taken.
     pub steps: usize,
+    /// Simulated time reached (s).
     pub time: f64,
+    /// The time step used (s).
     pub time_step: f64,
+    /// Stable limit of the central-difference scheme: smallest altitude over dilatational wave
+    /// speed (s, FORMULATION section 2).
     pub critical_time_step: f64,
+    /// Index (over the model's elements) of the element that sets `critical_time_step`.
     pub critical_element: usize,
+    /// Wall-clock time of the run (s of real time).
     pub wall_seconds: f64,
     /// Wall time spent in the contact phase (detection and resolution), within `wall_seconds`.
     pub contact_seconds: f64,
@@ -162,20 +175,26 @@ pub struct RunSummary {
     pub phase_seconds: PhaseTimes,
     /// How the contact solver fared, summed over the run.
     pub contact_totals: ContactTotals,
+    /// The energy ledger at the end of the run (J): kinetic, internal, external work,
+    /// dissipation.
     pub energies: EnergyLedger,
     /// Largest |balance error| over the run divided by the largest energy scale of the run.
     pub max_relative_energy_error: f64,
     /// Steps in which some node moved more than `eta` times its smallest element altitude.
     pub mesh_stability_flags: usize,
+    /// The history rows kept in memory (time, energies, probes, reactions).
     pub history: HistoryTable,
     /// Displacements at every `snapshot_interval` (and at the end), when one is set.
     pub snapshots: Vec<Snapshot>,
+    /// Every file the observers wrote, in the order written.
     pub written: Vec<PathBuf>,
 }
 
 /// The displacement of every node at one instant of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
+    /// Simulated time of the snapshot (s).
     pub time: f64,
+    /// Displacement of each node from its reference position (m), in model node order.
     pub u: Vec<Vector3<f64>>,
 }

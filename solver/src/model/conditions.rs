@@ -7,12 +7,17 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum TimeFunction {
+    /// The same value at every time.
     Constant(f64),
     /// `from` until `t0`, linear to `to` at `t1`, `to` afterwards.
     Ramp {
+        /// Start of the ramp (s, or load factor).
         t0: f64,
+        /// End of the ramp (s, or load factor), above `t0`.
         t1: f64,
+        /// Value up to `t0`, in the unit of the quantity the function scales.
         from: f64,
+        /// Value from `t1` on, in the same unit.
         to: f64,
     },
     /// Piecewise linear through `[t, value]` points in increasing `t`; constant outside.
@@ -24,12 +29,16 @@ pub enum TimeFunction {
     /// acceleration `rate / lead_in` excites the modes of frequency `omega` only to an amplitude
     /// of about `rate / (lead_in omega^2)`.
     ConstantRate {
+        /// The final rate: the value's unit per second.
         rate: f64,
+        /// Duration of the smooth start (s), at least 0; 0 gives a plain ramp from zero.
         lead_in: f64,
     },
 }
 
 impl TimeFunction {
+    /// The function's value at time `t` (s; the load factor in a static analysis). An empty
+    /// table gives 0.
     pub fn eval(&self, t: f64) -> f64 {
         match self {
             TimeFunction::Constant(v) => *v,
@@ -109,22 +118,32 @@ pub enum Motion {
     Displacement(Dofs, TimeFunction),
     /// All components follow the affine velocity field `v = translation + gradient (X - center)`.
     AffineVelocity {
+        /// Uniform velocity (m/s).
         translation: Vector3<f64>,
+        /// Velocity gradient `dv/dX` (1/s).
         gradient: Matrix3<f64>,
+        /// Reference point `X` of the gradient (m).
         center: Vector3<f64>,
     },
     /// All components follow the affine displacement field
     /// `u = scale(t) (translation + gradient (X - center))`.
     AffineDisplacement {
+        /// Uniform displacement at scale 1 (m).
         translation: Vector3<f64>,
+        /// Displacement gradient `du/dX` at scale 1 (dimensionless).
         gradient: Matrix3<f64>,
+        /// Reference point `X` of the gradient (m).
         center: Vector3<f64>,
+        /// Dimensionless factor against time (s).
         scale: TimeFunction,
     },
     /// All components follow the rigid rotation `u = (R(angle(t)) - I)(X - center)` about `axis`.
     Rotation {
+        /// Unit rotation axis; the angle turns right-handed about it.
         axis: Unit<Vector3<f64>>,
+        /// A point on the axis (m).
         center: Vector3<f64>,
+        /// Rotation angle (rad) against time (s).
         angle: TimeFunction,
     },
 }
@@ -182,17 +201,24 @@ impl Motion {
 /// A constraint: `motion` on the nodes of a set. `name` labels its reaction-force history.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Constraint {
+    /// Label of the constraint's reaction-force history columns.
     pub name: String,
+    /// Constrained nodes, as indices into the model's node arrays.
     pub nodes: Vec<u32>,
+    /// What the constraint prescribes on those nodes.
     pub motion: Motion,
 }
 
 /// A force on each node of a set: `force_per_node * function(t)` (N).
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodalLoad {
+    /// Label of the load in messages and histories.
     pub name: String,
+    /// Loaded nodes, as indices into the model's node arrays.
     pub nodes: Vec<u32>,
+    /// Force on each node at a function value of 1 (N), in the global frame.
     pub force_per_node: Vector3<f64>,
+    /// Dimensionless factor against time (s; the load factor in a static analysis).
     pub function: TimeFunction,
 }
 

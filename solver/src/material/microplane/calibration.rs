@@ -26,15 +26,20 @@ use serde::{Deserialize, Serialize};
 pub struct Targets {
     /// Uniaxial tensile strength `ft` (Pa), within `ft_tolerance` (relative).
     pub ft: f64,
+    /// Accepted relative deviation of the tensile strength from `ft` (0.05 is 5 %).
     pub ft_tolerance: f64,
     /// Strain at the tensile peak, `[low, high]`.
     pub ft_strain: [f64; 2],
     /// Fracture energy `GF` (N/m = J/m^2), within `gf_tolerance` at every size of `gf_sizes` (m).
     pub gf: f64,
+    /// Accepted relative deviation of the fracture energy from `gf` at each size.
     pub gf_tolerance: f64,
+    /// Element sizes `h` (m) at which `h int sigma d eps` must give `gf` (crack band
+    /// regularisation, thesis section 5.6).
     pub gf_sizes: [f64; 3],
     /// Uniaxial compressive strength `fc` (Pa), within `fc_tolerance`.
     pub fc: f64,
+    /// Accepted relative deviation of the compressive strength from `fc`.
     pub fc_tolerance: f64,
     /// Strain at the compressive peak, `[low, high]` (magnitudes).
     pub fc_strain: [f64; 2],
@@ -99,11 +104,19 @@ impl Targets {
 /// What the experiments give for one parameter set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Evaluation {
+    /// Uniaxial tension at the element size of the strength tests: peak stress (Pa), its
+    /// strain and the fracture energy.
     pub tension: TensionResult,
     /// `h int sigma d eps` at each of the target sizes.
     pub fracture_energy: [f64; 3],
+    /// Uniaxial compression at the element size of the strength tests (peak stress and
+    /// strain, dilatancy).
     pub compression: CompressionResult,
+    /// Peak compressive stress of equal-biaxial compression (Pa, magnitude), to compare with
+    /// the uniaxial strength.
     pub biaxial_peak: f64,
+    /// Whether hydrostatic compression to a volumetric strain of 5e-3 damaged the material
+    /// (it should not).
     pub hydrostatic_damage: bool,
     /// The softening branch at the element size of the strength tests, against `w1 = GF / ft`.
     pub softening: SofteningShape,
@@ -113,10 +126,15 @@ pub struct Evaluation {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outcome {
+    /// What is measured, e.g. "tensile strength".
     pub name: String,
+    /// The target band as text, in the unit of `unit` (e.g. "2.7 MPa +- 5 %").
     pub target: String,
+    /// The value the parameters achieve, in `unit`.
     pub achieved: f64,
+    /// Unit of `achieved` as printed ("MPa", "N/mm", "-" for dimensionless).
     pub unit: String,
+    /// Whether `achieved` lies within the target band.
     pub met: bool,
 }
 
@@ -129,6 +147,9 @@ fn misfit(x: f64, low: f64, high: f64) -> f64 {
 }
 
 impl Evaluation {
+    /// Runs the single-element experiments (tension at every target size, uniaxial, biaxial and
+    /// hydrostatic compression) at quasi-static rate on `parameters`; errors carry the message of
+    /// the parameter check or of the failed experiment.
     pub fn of(parameters: &MicroplaneParameters, targets: &Targets) -> Result<Self, String> {
         let model = MicroplaneConcrete::new(*parameters)?;
         let h = targets.element_size;
@@ -409,13 +430,21 @@ pub fn nelder_mead(
 /// A parameter the optimiser may change, searched in the logarithm of its value.
 #[derive(Debug, Clone, Copy)]
 pub enum Free {
+    /// `e1`, strain scale of tension (5.19).
     E1,
+    /// `m`, exponent of tension (5.19), kept in `[0.5, 20]`.
     M,
+    /// `e2`, strain scale of deviatoric compression (5.19).
     E2,
+    /// `n`, exponent of deviatoric compression (5.19), kept in `[0.5, 20]`.
     N,
+    /// `e3`, strain scale of shear (5.20).
     E3,
+    /// `e4`, growth of the shear strain scale with volumetric compression (5.20).
     E4,
+    /// `k`, exponent of shear (5.20), kept in `[0.5, 20]`.
     K,
+    /// The dilatancy (MICROPLANE "Dilatancy"), kept at most 10.
     Dilatancy,
 }
 
@@ -588,6 +617,7 @@ pub struct CalibrationRecord {
     pub command: String,
     /// Optimiser evaluations per stage.
     pub evaluations: usize,
+    /// The targets the calibration aimed at.
     pub targets: Targets,
     /// Every target with the value the parameters achieve (quasi-static, rate effect off).
     pub outcomes: Vec<Outcome>,
@@ -597,7 +627,9 @@ pub struct CalibrationRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CalibratedMaterial {
+    /// The calibrated parameters.
     pub parameters: MicroplaneParameters,
+    /// How they were obtained and what they achieve.
     pub calibration: CalibrationRecord,
 }
 
