@@ -23,7 +23,10 @@ use crate::error::Result;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Halt {
     /// The wall-time limit of `limit_s` seconds has passed.
-    TimeLimit { limit_s: f64 },
+    TimeLimit {
+        /// The wall-clock limit that passed (s of real time).
+        limit_s: f64,
+    },
     /// A stop was asked from outside (a signal).
     Interrupted,
 }
@@ -76,6 +79,8 @@ pub struct HistoryFile {
 }
 
 impl HistoryFile {
+    /// An observer that will write the history CSV to `path` (created at the first row's
+    /// columns; nothing is opened yet).
     pub fn new(path: PathBuf) -> Self {
         Self { path, stream: None }
     }
@@ -112,6 +117,8 @@ pub struct FieldFrames {
 }
 
 impl FieldFrames {
+    /// Frames written to `dir` as `<stem>_00000.vtu`, ... and collected in `<stem>.pvd`; errors
+    /// when the folder cannot be created.
     pub fn new(dir: &Path, stem: &str) -> Result<Self> {
         Ok(Self {
             writer: PvdWriter::new(dir, stem)?,
@@ -132,7 +139,9 @@ impl RunObserver for FieldFrames {
 /// The history table and the snapshots, kept in memory for the run's summary.
 #[derive(Debug, Default)]
 pub struct Recorder {
+    /// Every history row, with its columns; `None` until the run announced the columns.
     pub history: Option<HistoryTable>,
+    /// The displacement snapshots in time order.
     pub snapshots: Vec<crate::dynamics::Snapshot>,
 }
 
@@ -213,10 +222,12 @@ impl RunObserver for StopFlag {
 /// The observers of one run, called in order; the files they wrote, in the order written.
 pub struct ObserverSet<'a, 'b> {
     observers: Vec<&'a mut (dyn RunObserver + 'b)>,
+    /// Files the observers wrote so far, in the order written.
     pub written: Vec<PathBuf>,
 }
 
 impl<'a, 'b> ObserverSet<'a, 'b> {
+    /// The set of `observers`, called in the order given; nothing written yet.
     pub fn new(observers: Vec<&'a mut (dyn RunObserver + 'b)>) -> Self {
         Self {
             observers,
@@ -224,22 +235,26 @@ impl<'a, 'b> ObserverSet<'a, 'b> {
         }
     }
 
+    /// Announces the history's columns to every observer; stops at the first error.
     pub fn history_columns(&mut self, columns: &[String]) -> Result<()> {
         self.observers
             .iter_mut()
             .try_for_each(|o| o.history_columns(columns))
     }
 
+    /// Hands a history row to every observer; stops at the first error.
     pub fn history_row(&mut self, row: &[f64]) -> Result<()> {
         self.observers
             .iter_mut()
             .try_for_each(|o| o.history_row(row))
     }
 
+    /// Whether any observer wants field frames, so that the run builds them.
     pub fn wants_fields(&self) -> bool {
         self.observers.iter().any(|o| o.wants_fields())
     }
 
+    /// Hands a field frame to the observers that want one and records the files they wrote.
     pub fn field_frame(&mut self, frame: &FieldFrame) -> Result<()> {
         for o in self.observers.iter_mut().filter(|o| o.wants_fields()) {
             if let Some(path) = o.field_frame(frame)? {
@@ -249,6 +264,7 @@ impl<'a, 'b> ObserverSet<'a, 'b> {
         Ok(())
     }
 
+    /// Hands the nodal displacements `u` (m) at `time` (s) to every observer.
     pub fn snapshot(&mut self, time: f64, u: &[Vector3<f64>]) {
         self.observers.iter_mut().for_each(|o| o.snapshot(time, u));
     }

@@ -22,24 +22,35 @@ pub enum Control {
 /// One point of a path.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathPoint {
+    /// Time at the end of the increment (s).
     pub time: f64,
+    /// Green-Lagrange strain `[11, 22, 33, 23, 13, 12]`, tensor shears (dimensionless).
     pub strain: Sym,
+    /// Second Piola-Kirchhoff stress `[11, 22, 33, 23, 13, 12]` (Pa), tension positive.
     pub stress: Sym,
+    /// Rate factor `F` of the strength (thesis (5.110)); 1 at static rates.
     pub rate_factor: f64,
 }
 
 /// Why an increment failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DriverError {
+    /// The point's size `h` does not fit the model's crack band (the regularised softening
+    /// would snap back); holds the model's explanation.
     #[error("{0}")]
     CrackBand(String),
+    /// Newton's method on the stress-controlled components did not converge.
     #[error(
         "stress control did not converge at t = {time:e} s: residual {residual:e} Pa after \
          {iterations} Newton iterations"
     )]
     NotConverged {
+        /// Time at the end of the failed increment (s).
         time: f64,
+        /// Euclidean norm of the stress misfit of the controlled components at the last
+        /// iteration (Pa).
         residual: f64,
+        /// Newton iterations spent.
         iterations: usize,
     },
 }
@@ -49,9 +60,13 @@ pub enum DriverError {
 pub struct MaterialPoint<'a> {
     model: &'a MicroplaneConcrete,
     band: CrackBand,
+    /// The history variables of every microplane at the last committed increment.
     pub state: MicroplaneState,
+    /// Green-Lagrange strain `[11, 22, 33, 23, 13, 12]` at the last committed increment.
     pub strain: Sym,
+    /// Second Piola-Kirchhoff stress `[11, 22, 33, 23, 13, 12]` (Pa) at that increment.
     pub stress: Sym,
+    /// Time of the last committed increment (s), from 0.
     pub time: f64,
 }
 
@@ -80,6 +95,7 @@ impl<'a> MaterialPoint<'a> {
         })
     }
 
+    /// The material model the point evaluates.
     pub fn model(&self) -> &MicroplaneConcrete {
         self.model
     }

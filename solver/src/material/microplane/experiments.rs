@@ -14,15 +14,19 @@ pub const QUASI_STATIC_RATE: f64 = 1e-8;
 /// A path and, if it stopped early, why.
 #[derive(Debug, Clone)]
 pub struct Curve {
+    /// The committed points of the path, in order (the virgin start not included).
     pub points: Vec<PathPoint>,
+    /// Why the path stopped before its end; `None` when it ran to the end.
     pub error: Option<DriverError>,
 }
 
 impl Curve {
+    /// The axial Green-Lagrange strain `E_11` at each point (dimensionless).
     pub fn axial_strain(&self) -> Vec<f64> {
         self.points.iter().map(|p| p.strain[0]).collect()
     }
 
+    /// The axial second Piola-Kirchhoff stress `S_11` at each point (Pa, tension positive).
     pub fn axial_stress(&self) -> Vec<f64> {
         self.points.iter().map(|p| p.stress[0]).collect()
     }
@@ -55,7 +59,9 @@ impl Curve {
 /// Uniaxial tension: the numbers of the targets.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TensionResult {
+    /// Largest axial stress, the tensile strength (Pa).
     pub peak_stress: f64,
+    /// Axial strain at the peak (dimensionless).
     pub peak_strain: f64,
     /// `sigma / eps` at the first increment.
     pub initial_slope: f64,
@@ -97,8 +103,10 @@ pub fn bonded_tension(
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FracturePath {
+    /// Uniaxial stress throughout: lateral stresses zero ([`uniaxial_tension`]); the default.
     #[default]
     UniaxialStress,
+    /// The crack band's path: lateral strains held after the peak ([`bonded_tension`]).
     Bonded,
 }
 
@@ -302,12 +310,16 @@ pub fn tension_branches(model: &MicroplaneConcrete, element_size: f64) -> Tensio
 /// Uniaxial compression: the numbers of the targets (stresses and strains as magnitudes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompressionResult {
+    /// Largest axial compressive stress, the compressive strength (Pa, magnitude).
     pub peak_stress: f64,
+    /// Axial strain at the peak (magnitude, dimensionless).
     pub peak_strain: f64,
     /// Apparent Poisson ratio `-eps_lateral / eps_axial` at the first increment, at the peak, and
     /// its largest value after the peak.
     pub initial_poisson: f64,
+    /// Apparent Poisson ratio at the peak stress.
     pub poisson_at_peak: f64,
+    /// Largest apparent Poisson ratio after the peak (above 0.5 once the material dilates).
     pub largest_poisson_after_peak: f64,
     /// Axial strain magnitude where the volumetric strain is most compressive (onset of
     /// dilatancy), if it turns before the end of the path.

@@ -6,28 +6,45 @@
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
 //! component ending with its cyclic dissipation `Lambda` (5.104).
 
+/// Number of values of the element header, before the first plane.
 pub const HEADER: usize = 7;
+/// Index of the volumetric-tension branch (5.19): largest volumetric strain reached, then the
+/// volumetric stress there (Pa), two values.
 pub const V_TENSION: usize = 0;
+/// Index of the largest volumetric compressive strain reached (a magnitude), the turning point
+/// of the volumetric compression law (5.18).
 pub const V_COMPRESSION: usize = 2;
+/// Index of the rate factor `F` (5.110) of the last update; 1 in a virgin element.
 pub const RATE_FACTOR: usize = 3;
+/// Index of the largest principal stress `s_I` of the last update (Pa).
 pub const PRINCIPAL_STRESS: usize = 4;
 /// The smallest relaxation `psi` reached: the relaxation is damage and never heals.
 pub const RELAXATION: usize = 5;
 /// The largest dilatant volumetric strain reached (MICROPLANE "Dilatancy"): it never shrinks.
 pub const DILATANCY: usize = 6;
+/// Number of values of each microplane after the header.
 pub const PER_PLANE: usize = 14;
+/// Offset in a plane of the deviatoric-tension branch `D+` (5.19): largest strain, stress (Pa).
 pub const D_POSITIVE: usize = 0;
+/// Offset in a plane of the deviatoric-compression branch `D-` (5.19): largest strain magnitude,
+/// stress (Pa).
 pub const D_NEGATIVE: usize = 2;
+/// Offset in a plane of the shear component along `m` (5.20): positive and negative branches
+/// (strain, stress each), then its cyclic dissipation `Lambda` (5.104); five values.
 pub const M: usize = 4;
+/// Offset in a plane of the shear component along `k`, laid out as [`M`]; five values.
 pub const K: usize = 9;
 
 /// The history of one element (see the module doc for the layout).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MicroplaneState {
+    /// The header then [`PER_PLANE`] values per plane, strains dimensionless and stresses in Pa.
     pub values: Vec<f32>,
 }
 
 impl MicroplaneState {
+    /// A virgin history of `len` values: all zero but the rate factor and the relaxation `psi`,
+    /// which start at 1.
     pub fn new(len: usize) -> Self {
         let mut values = vec![0.0; len];
         values[RATE_FACTOR] = 1.0;
