@@ -130,8 +130,6 @@ pub struct ConicSpec {
     pub max_iterations: usize,
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
 /// How the conic solver treats friction (see [`ConicSpec::mode`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
