@@ -11,6 +11,9 @@
 //!
 //! Run with `cargo bench -p impact-solver --bench contact_detection` (about a minute).
 
+// Benchmark code: an `unwrap` that fails stops the benchmark (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::hint::black_box;
 use std::time::Instant;
 

@@ -12,6 +12,9 @@
 //! time never stands without its accuracy. Run with
 //! `cargo bench -p impact-solver --bench contact_solvers` (about a minute).
 
+// Benchmark code: an `unwrap` that fails stops the benchmark (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::hint::black_box;
 use std::path::PathBuf;
 

@@ -14,6 +14,9 @@
 //! (`target/criterion/internal_force/*/new/estimates.json`); on a shared two-core machine another
 //! busy process shows up as two-thread times close to the one-thread ones, so rerun then.
 
+// Benchmark code: an `unwrap` that fails stops the benchmark (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -7,6 +7,9 @@
 //!
 //! `cargo run --release -p impact-solver --example microplane_step_cost`
 
+// Example code: an `unwrap` that fails stops the example (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::path::PathBuf;
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};

@@ -14,6 +14,9 @@
 //! laterally after its peak.
 //!
 //! `cargo run --release -p impact-solver --example tension_lateral_constraint [-- MATERIAL_FILE [volumetric|equivalent]]`
+
+// Example code: an `unwrap` that fails stops the example (the lint is for library code).
+#![allow(clippy::unwrap_used)]
 use impact_solver::material::microplane::driver::{uniaxial_controls, MaterialPoint};
 use impact_solver::material::microplane::{MicroplaneConcrete, TensionDriver};
 use impact_solver::material::read_microplane_file;

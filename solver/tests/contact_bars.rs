@@ -3,6 +3,9 @@
 //! Motion in Elastic Solids*, 1975, 2.5). A whole-run check of contact detection and the
 //! Gauss-Seidel correction inside the explicit step.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use impact_solver::contact::conic::{ConicMode, ConicSolver};
 use impact_solver::contact::gauss_seidel::GaussSeidelSettings;
 use impact_solver::contact::problem::natural_map_error;

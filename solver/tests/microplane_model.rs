@@ -2,6 +2,9 @@
 //! Hooke's law, the rate law's own factor, the crack-band energy, and thermodynamics (no energy
 //! given back on closed strain cycles, damage never healing).
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
     bonded_tension, closed_strain_cycle, isotropy_error, rate_scaling, uniaxial_compression,

@@ -2,6 +2,9 @@
 //! scene, or `material: { microplane: { parameters: {...} } }` inline; the crack indicator
 //! setting; and the errors, each naming the file, the body and the fix.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

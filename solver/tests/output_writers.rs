@@ -2,6 +2,9 @@
 //! through `HistoryTable::read_csv`, the VTK files through a small independent XML and
 //! base64 reader below (so a bug in the writer cannot hide behind the same bug in a reader).
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};

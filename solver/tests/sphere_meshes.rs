@@ -11,6 +11,9 @@
 //! Run with `cargo test --release -p impact-solver --test sphere_meshes -- --nocapture` to see
 //! them.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 

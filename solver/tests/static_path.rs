@@ -2,6 +2,9 @@
 //! history, checked against the material-point driver, an independent code path (stress control
 //! of one point, no elements, no assembly, no tangent matrix).
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::path::PathBuf;
 
 use impact_solver::material::microplane::experiments::{uniaxial_tension, QUASI_STATIC_RATE};

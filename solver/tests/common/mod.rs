@@ -1,4 +1,7 @@
 //! Builders shared by the integration tests.
+
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
 #![allow(dead_code)]
 
 use impact_solver::material::{IsotropicElastic, MaterialModel};
