@@ -15,14 +15,19 @@ use crate::{SolverError, Vector3};
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
 pub struct Execution {
+    /// One-line description of what ran (analysis, sizes, time step), printed before the run.
     pub plan: String,
     /// Final displacement.
     pub u: Vec<Vector3<f64>>,
     /// Final full-step velocity (explicit runs).
     pub v: Option<Vec<Vector3<f64>>>,
+    /// The history rows (time, energies, probes, reactions), where the analysis records one.
     pub history: Option<HistoryTable>,
+    /// The explicit run's summary (steps, energies, timings); `None` for a static analysis.
     pub summary: Option<RunSummary>,
+    /// The static solution: of a static analysis, or the preload of a release.
     pub static_solution: Option<StaticSolution>,
+    /// Every file written (history CSV, field frames, collection), in the order written.
     pub written: Vec<std::path::PathBuf>,
     /// Contact problems recorded during the run (pairs with `record_problems_every`).
     pub contact_problems: Vec<RecordedProblem>,
@@ -48,9 +53,14 @@ impl Execution {
 
 /// Options of one execution.
 pub struct ExecuteOptions<'a> {
+    /// Folder for the output files; `None` keeps everything in memory.
     pub out: Option<&'a Path>,
+    /// File stem of the output: `<stem>_history.csv`, `<stem>.pvd`, ...
     pub stem: &'a str,
+    /// Write VTU field frames (with `out`).
     pub fields: bool,
+    /// Wall-clock limit of an explicit run (s of real time); it stops with
+    /// `SolverError::TimeLimit` after writing what it has. `None`: no limit.
     pub time_limit_s: Option<f64>,
     /// Stops an explicit run at the end of the step during which it becomes true (a signal).
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,

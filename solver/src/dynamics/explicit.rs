@@ -75,9 +75,12 @@ pub struct ExplicitSolver<'p> {
     /// Wall time of each phase so far.
     phases: PhaseTimes,
     contact_totals: ContactTotals,
+    /// The energy ledger at the last completed step (J, FORMULATION section 2).
     pub energies: EnergyLedger,
     pending: EnergyLedger,
+    /// Number of time steps completed.
     pub step: usize,
+    /// Simulated time reached (s).
     pub time: f64,
 }
 
@@ -205,10 +208,13 @@ impl<'p> ExplicitSolver<'p> {
             .unwrap_or_default()
     }
 
+    /// The time step of the run (s): the scene's, or `safety` times the critical one.
     pub fn time_step(&self) -> f64 {
         self.dt
     }
 
+    /// The stable limit of the central-difference scheme (s) and the index of the element that
+    /// sets it (smallest altitude over dilatational wave speed).
     pub fn critical_time_step(&self) -> (f64, usize) {
         (self.dt_critical, self.critical_element)
     }
