@@ -6,10 +6,13 @@ use serde::{Deserialize, Serialize};
 /// What is wrong with a set of elastic constants, and the admissible range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConstantsError {
+    /// The density (kg/m^3) given, which is not positive (or not finite).
     #[error("density must be positive, got {0}")]
     Density(f64),
+    /// Young's modulus (Pa) given, which is not positive (or not finite).
     #[error("youngs_modulus must be positive, got {0}")]
     YoungsModulus(f64),
+    /// Poisson's ratio given, outside `(-1, 0.5)` where the elastic energy is positive definite.
     #[error("poisson_ratio must lie in (-1, 0.5), got {0}")]
     PoissonRatio(f64),
 }
@@ -77,7 +80,9 @@ impl IsotropicElastic {
 /// back-rotated strain, Saint-Venant-Kirchhoff to the Green-Lagrange strain.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hooke {
+    /// Lamé's first parameter `lambda = E nu / ((1 + nu)(1 - 2 nu))` (Pa).
     pub lambda: f64,
+    /// Twice the shear modulus, `2 mu = E / (1 + nu)` (Pa).
     pub two_mu: f64,
 }
 

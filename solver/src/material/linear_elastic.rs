@@ -22,6 +22,7 @@ pub struct LinearElastic {
 }
 
 impl LinearElastic {
+    /// The model of the elastic constants `c` (assumed valid: `IsotropicElastic::validate`).
     pub fn new(c: IsotropicElastic) -> Self {
         Self {
             c,

@@ -150,7 +150,11 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialModel {
+    /// Hooke's law between the back-rotated Cauchy stress and the Green-Lagrange strain
+    /// (FORMULATION 1): the elastic limit of the microplane model.
     LinearElastic(IsotropicElastic),
+    /// Saint Venant-Kirchhoff: Hooke's law between the second Piola-Kirchhoff stress and the
+    /// Green-Lagrange strain (2.123).
     SaintVenantKirchhoff(IsotropicElastic),
     /// The microplane concrete model (thesis chapter 5): it carries a history per element.
     Microplane(microplane::MicroplaneParameters),
@@ -166,6 +170,8 @@ impl MaterialModel {
         }
     }
 
+    /// The model's name as a scene writes it (`linear_elastic`, `saint_venant_kirchhoff`,
+    /// `microplane`).
     pub fn name(&self) -> &'static str {
         match self {
             MaterialModel::LinearElastic(_) => "linear_elastic",
@@ -174,10 +180,13 @@ impl MaterialModel {
         }
     }
 
+    /// Mass density (kg/m^3).
     pub fn density(&self) -> f64 {
         self.constants().density
     }
 
+    /// Dilatational (P-wave) speed of the initial elastic constants (m/s), which sets the
+    /// stable time step.
     pub fn dilatational_wave_speed(&self) -> f64 {
         self.constants().dilatational_wave_speed()
     }

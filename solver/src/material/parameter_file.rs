@@ -17,6 +17,7 @@ use crate::error::{Result, SolverError};
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MicroplaneFile {
+    /// The model's parameters (the `parameters:` map of the file).
     pub parameters: MicroplaneParameters,
     /// The calibration record, not read here.
     #[serde(default)]

@@ -15,6 +15,7 @@ pub struct SaintVenantKirchhoff {
 }
 
 impl SaintVenantKirchhoff {
+    /// The model of the elastic constants `c` (assumed valid: `IsotropicElastic::validate`).
     pub fn new(c: IsotropicElastic) -> Self {
         Self {
             c,

@@ -10,14 +10,20 @@
 /// The history of one branch: largest strain magnitude reached on the virgin law and its stress.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Branch {
+    /// Largest strain magnitude reached on the virgin law, the turning point (dimensionless).
     pub reached: f64,
+    /// Stress magnitude of the virgin law at `reached` (Pa).
     pub stress_reached: f64,
 }
 
 /// The constants of the unloading rule (5.102, 5.103).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UnloadingRule {
+    /// Weight of the initial modulus `C0` in the unloading modulus (5.102), in `[0, 1]`: 1
+    /// unloads elastically, 0 along the line to the residual strain.
     pub alpha: f64,
+    /// Growth of the residual strain `e*` with the strain beyond the peak (5.103),
+    /// dimensionless.
     pub beta: f64,
 }
 
@@ -48,6 +54,7 @@ impl UnloadingRule {
 }
 
 impl Branch {
+    /// Reads the branch from its two history values `[reached, stress_reached]`.
     #[inline(always)]
     pub fn load(history: &[f32]) -> Self {
         Self {
@@ -56,6 +63,7 @@ impl Branch {
         }
     }
 
+    /// Writes the branch back to its two history values (as `f32`).
     #[inline(always)]
     pub fn store(&self, history: &mut [f32]) {
         history[0] = self.reached as f32;

@@ -18,6 +18,7 @@ pub enum SphereRule {
 }
 
 impl SphereRule {
+    /// Number of directions (microplanes) of the rule on the hemisphere.
     pub fn len(self) -> usize {
         match self {
             SphereRule::BazantOh21 => 21,
@@ -25,6 +26,7 @@ impl SphereRule {
         }
     }
 
+    /// Always `false`: every rule has directions (the pair of `len` that clippy asks for).
     pub fn is_empty(self) -> bool {
         false
     }
@@ -144,9 +146,13 @@ fn bazant_37() -> Vec<([f64; 3], f64)> {
 /// projection tensors (5.8, 5.15, 5.16) stored in the 6-component form of [`Sym`].
 #[derive(Debug, Clone, Copy)]
 pub struct Microplane {
+    /// Unit normal `n` of the plane (5.2), on the hemisphere.
     pub normal: [f64; 3],
+    /// First unit tangent `m`, orthogonal to `n` (5.3).
     pub m: [f64; 3],
+    /// Second unit tangent `k = m x n`, orthogonal to `n` and `m` (5.4).
     pub k: [f64; 3],
+    /// Quadrature weight of the direction; the weights of a rule sum to 1/2 over the hemisphere.
     pub weight: f64,
     /// `N = n (x) n`.
     pub nn: Sym,

@@ -12,6 +12,7 @@ use crate::material::{Deformation, IsotropicElastic, Material, MaterialModel, St
 /// and the crack band of each element from its reference volume.
 #[derive(Debug, Clone)]
 pub struct MicroplaneMaterial {
+    /// The model with its microplanes and laws precomputed.
     pub model: MicroplaneConcrete,
     /// Crack band of each element of the body, in the body's element order.
     pub bands: Vec<CrackBand>,

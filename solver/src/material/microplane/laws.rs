@@ -60,6 +60,7 @@ const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
 /// [`ExponentialLaw::with_hordijk_tail`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExponentialLaw {
+    /// The exponent `m` of `exp(-x^m)` (5.19, 5.20), positive.
     pub exponent: f64,
     /// Length of the Hordijk tail in units of the strain scale: the growth of the inelastic
     /// strain `x - s` (`s` in units of `C0 e_s`) from the peak to zero stress at the reference
@@ -67,13 +68,16 @@ pub struct ExponentialLaw {
     pub tail: f64,
     /// Peak of `g`: `x_p = m^(-1/m)`, `g_p = x_p exp(-1/m)`.
     pub x_peak: f64,
+    /// The peak value `g_p` of the shape `g(x) = x exp(-x^m)` (dimensionless).
     pub g_peak: f64,
     /// `int_0^x_p g dx` and `int_x_p^inf g dx`.
     pub area_before_peak: f64,
+    /// `int_x_p^inf g dx`, the post-peak area that the crack band scales (dimensionless).
     pub area_after_peak: f64,
 }
 
 impl ExponentialLaw {
+    /// The exponential law of exponent `m` (no Hordijk tail), with its peak and areas computed.
     pub fn new(exponent: f64) -> Self {
         let x_peak = exponent.powf(-1.0 / exponent);
         let g_peak = shape(x_peak, exponent);

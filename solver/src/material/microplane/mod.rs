@@ -34,6 +34,7 @@ use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLa
 /// The model with everything that does not change during a run precomputed.
 #[derive(Debug, Clone)]
 pub struct MicroplaneConcrete {
+    /// The parameters the model was built from (validated).
     pub parameters: MicroplaneParameters,
     planes: Vec<Microplane>,
     /// `E_V0 = E / (1 - 2 nu)`, `E_D0 = E_M0 = E_K0 = E / (1 + nu)` (MICROPLANE "Elastic split").
@@ -54,7 +55,10 @@ pub struct MicroplaneConcrete {
 pub struct CrackBand {
     /// Element size `h = (6 V)^(1/3)` (m).
     pub size: f64,
+    /// Factor on the post-peak strain of the tension law (exponent `m`) so that `h` times its
+    /// energy equals that at `h_ref` (dimensionless, 1 at `h = h_ref`).
     pub tension: f64,
+    /// The same factor for the shear law (exponent `k`).
     pub shear: f64,
 }
 
@@ -68,6 +72,8 @@ pub struct UpdateInfo {
 }
 
 impl MicroplaneConcrete {
+    /// Validates `parameters` and precomputes the microplanes, the elastic split and the laws;
+    /// the error says which parameter is out of range.
     pub fn new(parameters: MicroplaneParameters) -> Result<Self, String> {
         parameters.validate()?;
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
@@ -88,6 +94,7 @@ impl MicroplaneConcrete {
         })
     }
 
+    /// The microplanes of the model's direction rule, with their weights and projections.
     pub fn planes(&self) -> &[Microplane] {
         &self.planes
     }

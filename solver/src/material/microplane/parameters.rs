@@ -33,8 +33,12 @@ pub struct MicroplaneParameters {
     /// Volumetric compression (5.21): compaction scale `a`, stiffening scale `b`, exponents
     /// `p`, `q`.
     pub a: f64,
+    /// Stiffening strain scale `b` of (5.21): the term `|e_V / b|^q` grows with compaction
+    /// (dimensionless strain).
     pub b: f64,
+    /// Compaction exponent `p` of (5.21): `(1 + |e_V / a|)^-p` softens the volumetric modulus.
     pub p: f64,
+    /// Stiffening exponent `q` of (5.21).
     pub q: f64,
     /// Small negative limit of the largest principal stress below which cracks count as closed
     /// (5.96, 5.97), in Pa.
@@ -132,6 +136,7 @@ impl RateEffect {
 }
 
 impl MicroplaneParameters {
+    /// The initial (undamaged) elastic constants: density, Young's modulus, Poisson's ratio.
     pub fn elastic(&self) -> IsotropicElastic {
         IsotropicElastic {
             density: self.density,
