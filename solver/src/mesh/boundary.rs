@@ -9,6 +9,7 @@ use super::{Mesh, TET_FACES};
 /// out of the body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BoundaryFace {
+    /// The face's three mesh node indices, counter-clockwise seen from outside.
     pub nodes: [u32; 3],
     /// The element that owns the face.
     pub element: u32,

@@ -11,8 +11,11 @@ use crate::rng::SplitMix64;
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct BoxSpec {
+    /// Corner of the box with the smallest coordinates (m).
     pub origin: [f64; 3],
+    /// Edge lengths along `x, y, z` (m), positive.
     pub size: [f64; 3],
+    /// Number of cells along `x, y, z`, at least 1; each cell holds six tetrahedra.
     pub divisions: [usize; 3],
 }
 

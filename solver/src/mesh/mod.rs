@@ -32,10 +32,12 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Number of tetrahedra.
     pub fn element_count(&self) -> usize {
         self.tets.len()
     }

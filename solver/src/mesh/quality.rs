@@ -4,6 +4,7 @@ use nalgebra::Vector3;
 
 use crate::kinematics::signed_volume;
 
+/// Size and shape of one tetrahedron, from [`element_quality`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ElementQuality {
     /// Signed volume (m^3).
@@ -14,7 +15,9 @@ pub struct ElementQuality {
     pub volume_size: f64,
     /// Longest over shortest edge (1 for the regular tetrahedron).
     pub edge_ratio: f64,
+    /// Longest of the six edges (m).
     pub max_edge: f64,
+    /// Shortest of the six edges (m).
     pub min_edge: f64,
 }
 

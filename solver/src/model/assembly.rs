@@ -50,6 +50,9 @@ const MIN_CHUNK: usize = 4096;
 /// `first_element` of a node that belongs to no element.
 const NO_ELEMENT: u32 = u32::MAX;
 
+/// Assembles element forces into nodal forces in parallel with a result bitwise independent of
+/// the thread count (module doc): node ownership by first element, and the chunk layout for the
+/// thread count last used.
 #[derive(Debug)]
 pub struct ForceAssembler {
     /// Lowest element id of each node (`NO_ELEMENT` if none): the chunk holding it owns the node.
@@ -191,6 +194,8 @@ impl ForceAssembler {
         }
     }
 
+    /// Bytes the assembler holds on the heap (ownership arrays, chunk layout, slot buffer), for
+    /// the memory report.
     pub fn heap_bytes(&self) -> usize {
         let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         4 * (self.first_element.len() + self.orphans.len())

@@ -69,7 +69,10 @@ pub struct ElementFields {
     /// `[xx, yy, zz, xy, yz, xz]` (Pa). For microplane bodies, the stress of the history's last
     /// update (NaN when no history is given: it cannot be computed from `u` alone).
     pub cauchy: Vec<[f64; 6]>,
+    /// Green-Lagrange strain `E = (F^T F - I) / 2` in Voigt order `[xx, yy, zz, xy, yz, xz]`,
+    /// tensor shears (dimensionless).
     pub green_lagrange: Vec<[f64; 6]>,
+    /// Largest principal value `eps_1` of the Green-Lagrange strain (dimensionless).
     pub max_principal_strain: Vec<f64>,
     /// `eps_1 / eps_r` ([`CrackIndicator`]); 1 or more: cracked.
     pub crack_indicator: Vec<f64>,

@@ -39,6 +39,8 @@ impl BodyHistory {
 /// The histories of all bodies of a model (`None` for bodies without one), owned by an analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialHistory {
+    /// One entry per body of the model, in body order: its history, or `None` for a material
+    /// without one.
     pub bodies: Vec<Option<BodyHistory>>,
 }
 

@@ -29,6 +29,7 @@ use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
 /// One body of the model: a mesh of one material.
 #[derive(Debug, Clone)]
 pub struct Body {
+    /// Name of the body (a scene body or region), unique in the model.
     pub name: String,
     /// The constitutive model, prepared for the body's elements.
     pub material: Arc<dyn BodyMaterial>,
@@ -44,7 +45,10 @@ pub struct Body {
 /// when the model is built), or any [`crate::material::Material`] given ready.
 #[derive(Debug, Clone)]
 pub enum MaterialSource {
+    /// A built-in model, prepared for the body's elements (crack bands of microplane concrete)
+    /// when the model is built.
     Model(MaterialModel),
+    /// A material already prepared, used as given (a custom [`crate::material::Material`]).
     Prepared(Arc<dyn BodyMaterial>),
 }
 
@@ -88,11 +92,13 @@ impl MaterialSource {
 /// Elements of a body that take another material (see [`Model::with_regions`]).
 #[derive(Debug, Clone)]
 pub struct Region {
+    /// Name of the body the region becomes, unique among the model's bodies.
     pub name: String,
     /// Index of the parent body in the list given to [`Model::with_regions`].
     pub parent: usize,
     /// Connectivity in the parent mesh's local node ids.
     pub tets: Vec<[u32; 4]>,
+    /// The material of the region's elements.
     pub material: MaterialModel,
 }
 
@@ -111,6 +117,7 @@ pub struct Model {
     pub min_altitude: Vec<f64>,
     /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes.
     pub mass: Vec<f64>,
+    /// The bodies, in the order given; their nodes and elements are consecutive global ranges.
     pub bodies: Vec<Body>,
     /// Body index of each element.
     pub element_body: Vec<u16>,
@@ -240,18 +247,22 @@ impl Model {
         })
     }
 
+    /// Number of nodes over all bodies.
     pub fn node_count(&self) -> usize {
         self.reference.len()
     }
 
+    /// Number of elements over all bodies.
     pub fn element_count(&self) -> usize {
         self.tets.len()
     }
 
+    /// Index of the body named `name`, if there is one.
     pub fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b.name == name)
     }
 
+    /// The material of the body that holds `element` (a global element index).
     pub fn material_of(&self, element: usize) -> &dyn BodyMaterial {
         &*self.bodies[self.element_body[element] as usize].material
     }

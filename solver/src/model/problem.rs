@@ -10,7 +10,9 @@ use super::{Constraint, Model, NodalLoad};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ProbeQuantity {
+    /// Mean displacement of the probe's nodes (m).
     Displacement,
+    /// Mean velocity of the probe's nodes (m/s), at the full step.
     Velocity,
     /// The resultant of the boundary-condition reactions on the probe's nodes (N), a sum, not
     /// a mean: the force one line of nodes of a rigid plate carries, for example.
@@ -20,22 +22,28 @@ pub enum ProbeQuantity {
 /// A history of the mean displacement or velocity of a node set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Probe {
+    /// Name of the probe; its history columns are `<name>_x`, `_y`, `_z`.
     pub name: String,
+    /// The probed nodes, as indices into the model's node arrays.
     pub nodes: Vec<u32>,
+    /// What is recorded over the nodes.
     pub quantity: ProbeQuantity,
 }
 
 /// A model with its boundary conditions, loads and initial state.
 #[derive(Debug)]
 pub struct Problem {
+    /// The meshes, materials and lumped masses.
     pub model: Model,
     /// Applied in order; where two constrain the same node component, the later one wins.
     pub constraints: Vec<Constraint>,
+    /// Nodal loads, summed where several act on one node.
     pub loads: Vec<NodalLoad>,
     /// Gravitational acceleration (m/s^2), if any.
     pub gravity: Option<Vector3<f64>>,
     /// Initial velocity of every node (m/s).
     pub initial_velocity: Vec<Vector3<f64>>,
+    /// Quantities recorded in the history.
     pub probes: Vec<Probe>,
     /// Pairs of bodies that may touch.
     pub contact: Vec<crate::contact::ContactPair>,

@@ -510,7 +510,8 @@ pub struct ProbeSpec {
     pub body: String,
     /// Which of the body's nodes the quantity is taken over.
     pub nodes: Selector,
-    /// What is recorded (a displacement, velocity or force component and how it is reduced).
+    /// What is recorded, three components: the mean displacement or velocity of the nodes, or
+    /// the sum of their reactions.
     pub quantity: ProbeQuantity,
 }
 

@@ -12,12 +12,21 @@ pub enum Selector {
     /// The nodes on the boundary surface of the body's mesh.
     Boundary,
     /// Nodes inside the axis-aligned box `[min, max]` (closed, with a relative tolerance).
-    Box { min: [f64; 3], max: [f64; 3] },
+    Box {
+        /// Lower corner (m), in the placed body's reference coordinates.
+        min: [f64; 3],
+        /// Upper corner (m), componentwise at least `min`.
+        max: [f64; 3],
+    },
     /// Nodes within `tolerance` (m; default a millionth of the body size) of the plane through
     /// `point` with normal `normal`.
     Plane {
+        /// A point of the plane (m), in the placed body's reference coordinates.
         point: [f64; 3],
+        /// Normal of the plane (any length but zero).
         normal: [f64; 3],
+        /// Largest distance from the plane of a selected node (m); default a millionth of the
+        /// body size.
         #[serde(default)]
         tolerance: Option<f64>,
     },

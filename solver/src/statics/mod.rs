@@ -34,6 +34,7 @@ pub struct StaticSettings {
     /// `tolerance` times the largest of the reaction and external force norms.
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
+    /// Most Newton iterations per load step before `SolverError::StaticNotConverged`.
     #[serde(default = "default_iterations")]
     pub max_iterations: usize,
     /// Bodies with a history only: how many times a load step that does not converge is halved
@@ -78,6 +79,7 @@ impl Default for StaticSettings {
 /// The equilibrium found, with the convergence record of each load step.
 #[derive(Debug, Clone)]
 pub struct StaticSolution {
+    /// Displacement of every node at equilibrium under the full load (m).
     pub u: Vec<Vector3<f64>>,
     /// Reaction forces at prescribed components (N): the internal minus external force there.
     pub reaction: Vec<Vector3<f64>>,

@@ -32,7 +32,9 @@ pub struct OpeningControl {
     /// Probes (node sets) whose mean displacements along `component` give the opening
     /// `to - from`.
     pub from: String,
+    /// The probe on the far side of the opening: its mean displacement minus that of `from`.
     pub to: String,
+    /// The displacement component along which the opening is measured.
     pub component: Component,
     /// The opening (m) against time (s; the load factor times `end_time`).
     pub opening: TimeFunction,
