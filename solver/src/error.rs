@@ -41,8 +41,11 @@ pub enum SolverError {
         count: usize,
     },
 
-    #[error("cannot read mesh file `{path}`: {message}")]
-    MeshRead { path: PathBuf, message: String },
+    #[error("cannot read mesh file `{path}`: {reason}")]
+    MeshRead {
+        path: PathBuf,
+        reason: crate::mesh::gmsh::GmshError,
+    },
 
     #[error(
         "time step {requested:.6e} s is above the stable limit {stable:.6e} s (smallest altitude over \
