@@ -10,6 +10,7 @@ pub mod normals;
 pub mod nsgs;
 pub mod problem;
 pub mod problem_file;
+pub mod registry;
 pub mod solver;
 #[cfg(test)]
 mod test_blocks;
@@ -18,36 +19,12 @@ use nalgebra::Vector3;
 
 use crate::model::Model;
 use ccd::Trajectory;
-use conic::{ConicMode, ConicSolver};
 use detection::{detect_recording, CcdCall, ContactSurface, DetectionSettings, DetectionStats};
-use gauss_seidel::{gauss_seidel, ContactConstraint, GaussSeidelSettings};
+use gauss_seidel::ContactConstraint;
 use normals::NormalSettings;
 use problem::ContactProblem;
-use solver::{ContactSolver, SolveLimits};
-
-/// Which algorithm solves a pair's contact problem in the time stepper.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ContactAlgorithm {
-    /// The thesis's matrix-free Gauss-Seidel (Box 6.1), stopped by `ContactPair::solver`.
-    GaussSeidel,
-    /// The problem assembled as FC(W, q, mu) and solved by Clarabel (FORMULATION 4).
-    Conic {
-        mode: ConicMode,
-        /// Clarabel's gap and feasibility tolerances (and the fixed point's, `coulomb`).
-        tolerance: f64,
-        /// Interior-point iterations per solve.
-        max_iterations: usize,
-    },
-}
-
-impl ContactAlgorithm {
-    pub fn name(&self) -> String {
-        match self {
-            ContactAlgorithm::GaussSeidel => "gauss-seidel".into(),
-            ContactAlgorithm::Conic { mode, .. } => ConicSolver::new(*mode).name(),
-        }
-    }
-}
+use registry::SolverChoice;
+use solver::{ContactSolver, PositionProblem};
 
 /// A contact problem recorded during a run, with the multipliers the run's solver returned.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,8 +69,8 @@ pub struct ContactPair {
     pub friction: f64,
     /// `beta = beta_0 + 1/2` of the beta-2 corrections; 0 is exactly central differences.
     pub beta_0: f64,
-    pub solver: GaussSeidelSettings,
-    pub algorithm: ContactAlgorithm,
+    /// The solver of the pair's contact problems and its stopping rule.
+    pub solver: SolverChoice,
     /// Record the contact problems of every `n`-th step (`None`: none).
     pub record_every: Option<usize>,
     /// Record every vertex-face CCD query of detection in every `n`-th step (`None`: none), as
@@ -126,11 +103,13 @@ pub struct ContactStep {
     pub not_converged: usize,
 }
 
-/// The contact phase of a run: the pairs with their surfaces, computed once.
-#[derive(Debug, Clone)]
+/// The contact phase of a run: the pairs with their surfaces and solvers, made once.
 pub struct ContactPhase {
     pub pairs: Vec<ContactPair>,
     surfaces: Vec<[ContactSurface; 2]>,
+    /// One solver per pair, built once from its [`SolverChoice`]: the stepper calls every
+    /// algorithm through [`ContactSolver`]; one virtual call per solve, none per contact.
+    solvers: Vec<Box<dyn ContactSolver + Send>>,
     /// Problems recorded so far (pairs with `record_every`).
     pub recorded: Vec<RecordedProblem>,
     /// CCD queries recorded so far (pairs with `record_ccd_every`).
@@ -143,9 +122,11 @@ impl ContactPhase {
             .iter()
             .map(|p| p.bodies.map(|b| ContactSurface::new(model, b)))
             .collect();
+        let solvers = pairs.iter().map(|p| p.solver.kind.build()).collect();
         Self {
             pairs,
             surfaces,
+            solvers,
             recorded: Vec::new(),
             recorded_ccd: Vec::new(),
         }
@@ -174,7 +155,8 @@ impl ContactPhase {
         self.pairs
             .iter()
             .zip(&self.surfaces)
-            .map(|(pair, [a, b])| {
+            .zip(&mut self.solvers)
+            .map(|((pair, [a, b]), solver)| {
                 let mut step = ContactStep {
                     converged: true,
                     ..Default::default()
@@ -228,43 +210,39 @@ impl ContactPhase {
                         continue;
                     }
                     let beta_dt2 = (pair.beta_0 + 0.5) * dt * dt;
-                    let assembled = (record || pair.algorithm != ContactAlgorithm::GaussSeidel)
-                        .then(|| {
-                            let source =
-                                format!("pair `{}` step {step_index} pass {pass}", pair.name);
-                            ContactProblem::from_constraints(
-                                &constraints,
-                                inverse_mass,
-                                beta_dt2,
-                                x1,
-                                source,
-                            )
-                        });
-                    let (forces, iterations, converged) = match (&pair.algorithm, &assembled) {
-                        (
-                            ContactAlgorithm::Conic {
-                                mode,
-                                tolerance,
-                                max_iterations,
-                            },
-                            Some(p),
-                        ) => conic_forces(p, *mode, *tolerance, *max_iterations),
-                        _ => {
-                            let s = gauss_seidel(
-                                &constraints,
-                                inverse_mass,
-                                beta_dt2,
-                                x1,
-                                &pair.solver,
-                            );
-                            (s.forces, s.iterations, s.converged)
+                    let position_problem = PositionProblem {
+                        constraints: &constraints,
+                        inverse_mass,
+                        beta_dt2,
+                    };
+                    // Assembled before any correction, from the predicted positions: the
+                    // problem the solver sees is the one recorded.
+                    let assemble = |x1: &[Vector3<f64>]| {
+                        let source = format!("pair `{}` step {step_index} pass {pass}", pair.name);
+                        ContactProblem::from_constraints(
+                            &constraints,
+                            inverse_mass,
+                            beta_dt2,
+                            x1,
+                            source,
+                        )
+                    };
+                    let mut assembled = record.then(|| assemble(x1));
+                    let (forces, iterations, converged) = match solver.solve_matrix_free(
+                        &position_problem,
+                        x1,
+                        &pair.solver.limits,
+                    ) {
+                        Some(s) => (s.forces, s.iterations, s.converged),
+                        None => {
+                            let problem = assembled.get_or_insert_with(|| assemble(x1));
+                            let solved = assembled_forces(solver.as_mut(), problem, &pair.solver);
+                            for (c, r) in constraints.iter().zip(&solved.0) {
+                                c.apply(r, inverse_mass, beta_dt2, x1);
+                            }
+                            solved
                         }
                     };
-                    if pair.algorithm != ContactAlgorithm::GaussSeidel {
-                        for (c, r) in constraints.iter().zip(&forces) {
-                            c.apply(r, inverse_mass, beta_dt2, x1);
-                        }
-                    }
                     step.solves += 1;
                     step.iterations += iterations;
                     step.converged &= converged;
@@ -276,7 +254,7 @@ impl ContactPhase {
                             pair: pair.name.clone(),
                             pass,
                             problem,
-                            solver: pair.algorithm.name(),
+                            solver: pair.solver.kind.name().to_string(),
                             r,
                             converged,
                         });
@@ -321,22 +299,16 @@ fn tally(
     }
 }
 
-/// Solves an assembled problem with Clarabel and returns the global forces, the interior-point
+/// Solves an assembled problem through the trait and returns the global forces, the
 /// iterations and whether it converged. A solver that fails or cannot be set up leaves the
 /// contacts without force: the step reports it as not converged, and the penetration stays
 /// visible in the history instead of stopping the run.
-fn conic_forces(
+fn assembled_forces(
+    solver: &mut dyn ContactSolver,
     problem: &ContactProblem,
-    mode: ConicMode,
-    tolerance: f64,
-    max_iterations: usize,
+    choice: &SolverChoice,
 ) -> (Vec<Vector3<f64>>, usize, bool) {
-    let limits = SolveLimits {
-        tolerance,
-        max_iterations,
-        time_limit: None,
-    };
-    match ConicSolver::new(mode).solve(problem, &limits) {
+    match solver.solve(problem, &choice.limits) {
         Ok(report) => (
             problem
                 .to_global(&report.r)
@@ -351,6 +323,7 @@ fn conic_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::solver::SolveLimits;
     use crate::contact::test_blocks::elastic_boxes;
     use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
     use crate::mesh::BoxSpec;
@@ -380,11 +353,14 @@ mod tests {
             bodies: [0, 1],
             friction: 0.3,
             beta_0: 0.0,
-            solver: GaussSeidelSettings {
-                tolerance: 1e-12,
-                max_iterations: 5000,
+            solver: SolverChoice {
+                kind: registry::SolverKind::GaussSeidelThesis,
+                limits: SolveLimits {
+                    tolerance: 1e-12,
+                    max_iterations: 5000,
+                    time_limit: None,
+                },
             },
-            algorithm: ContactAlgorithm::GaussSeidel,
             record_every: None,
             record_ccd_every,
             detection_tolerance: 1e-9,

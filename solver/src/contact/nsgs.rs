@@ -3,15 +3,20 @@
 //!
 //! The matrix-free `gauss_seidel` of the time stepper is this iteration with the thesis local
 //! step on our own problems (it reads the gaps from the corrected positions instead of `W r + q`;
-//! the two are equal, see the test `the_stepper_iteration_is_nsgs_with_the_thesis_step`).
+//! the two are equal, see the test `the_stepper_iteration_is_nsgs_with_the_thesis_step`); it is
+//! what [`ContactSolver::solve_matrix_free`] of the thesis variant runs, so the stepper reaches it
+//! through the trait without assembling W.
 
 use std::time::Instant;
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::gauss_seidel::{gauss_seidel, ContactSolution, GaussSeidelSettings};
 use super::local::{exact_step, thesis_step, LocalCase};
 use super::problem::{natural_map_error, ContactProblem};
-use super::solver::{ContactSolver, ContactSolverError, SolveLimits, SolveStatus, SolverReport};
+use super::solver::{
+    ContactSolver, ContactSolverError, PositionProblem, SolveLimits, SolveStatus, SolverReport,
+};
 
 /// The one-contact step of each Gauss-Seidel update.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -132,12 +137,37 @@ impl ContactSolver for NonsmoothGaussSeidel {
             notes,
         })
     }
+
+    /// The thesis variant runs the stepper's matrix-free iteration
+    /// ([`gauss_seidel`](super::gauss_seidel::gauss_seidel), Box 6.1) with `limits.tolerance`
+    /// and `limits.max_iterations` as its stopping rule; it has no clock, so `time_limit` is not
+    /// read. The exact local step needs the off-diagonal terms of each block, hence W: `None`.
+    fn solve_matrix_free(
+        &mut self,
+        problem: &PositionProblem<'_>,
+        x: &mut [Vector3<f64>],
+        limits: &SolveLimits,
+    ) -> Option<ContactSolution> {
+        (self.local == LocalSolver::Thesis).then(|| {
+            let settings = GaussSeidelSettings {
+                tolerance: limits.tolerance,
+                max_iterations: limits.max_iterations,
+            };
+            gauss_seidel(
+                problem.constraints,
+                problem.inverse_mass,
+                problem.beta_dt2,
+                x,
+                &settings,
+            )
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::gauss_seidel::{gauss_seidel, ContactConstraint, GaussSeidelSettings};
+    use crate::contact::gauss_seidel::ContactConstraint;
     use crate::contact::problem::SparseMatrix;
 
     /// Three slaves over one shared face, with friction, as in the stepper.
