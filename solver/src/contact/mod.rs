@@ -5,6 +5,7 @@ pub mod ccd;
 pub mod conic;
 pub mod detection;
 pub mod gauss_seidel;
+pub mod geometry;
 pub mod local;
 pub mod normals;
 pub mod nsgs;
