@@ -234,6 +234,41 @@ mod tests {
     }
 
     #[test]
+    fn only_the_thesis_step_works_matrix_free_and_it_is_the_stepper_iteration() {
+        let (c, inverse_mass, x) = coupled(0.3);
+        let problem = PositionProblem {
+            constraints: &c,
+            inverse_mass: &inverse_mass,
+            beta_dt2: 1e-2,
+        };
+        let limits = SolveLimits {
+            tolerance: 1e-12,
+            max_iterations: 1000,
+            time_limit: None,
+        };
+        // The exact step needs W: no answer, and the positions are left for the caller to
+        // assemble from.
+        let mut untouched = x.clone();
+        assert!(NonsmoothGaussSeidel::new(LocalSolver::Exact)
+            .solve_matrix_free(&problem, &mut untouched, &limits)
+            .is_none());
+        assert_eq!(untouched, x);
+        let mut through_trait = x.clone();
+        let solved = NonsmoothGaussSeidel::new(LocalSolver::Thesis)
+            .solve_matrix_free(&problem, &mut through_trait, &limits)
+            .unwrap();
+        let mut direct = x.clone();
+        let settings = GaussSeidelSettings {
+            tolerance: 1e-12,
+            max_iterations: 1000,
+        };
+        let expected = gauss_seidel(&c, &inverse_mass, 1e-2, &mut direct, &settings);
+        assert!(expected.converged);
+        assert_eq!(solved, expected);
+        assert_eq!(through_trait, direct);
+    }
+
+    #[test]
     fn a_general_block_needs_the_exact_local_solver() {
         // One contact with a coupled SPD block, sliding: the thesis step iterates on without
         // the block's coupling; the exact step solves it in one sweep.
