@@ -112,8 +112,9 @@ pub struct Variant {
     pub name: String,
     #[serde(default)]
     pub analysis: Option<impact_solver::scene::Analysis>,
-    /// `gauss_seidel` or `{ conic: { mode: coulomb } }`: the same contact problems, another
-    /// algorithm (issue 5).
+    /// A solver name from `impact_solver::contact::registry` (`gauss-seidel/thesis`,
+    /// `conic/coulomb`, ...), alone or as `{ name, tolerance, max_iterations }`: the same contact
+    /// problems, another algorithm (issue 5).
     #[serde(default)]
     pub contact_solver: Option<impact_solver::scene::ContactSolverSpec>,
 }
@@ -126,7 +127,7 @@ impl Variant {
         }
         if let Some(solver) = &self.contact_solver {
             for pair in &mut scene.contact {
-                pair.solver = solver.clone();
+                pair.solver = *solver;
             }
         }
     }

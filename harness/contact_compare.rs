@@ -37,7 +37,7 @@ pub use descriptors::{describe, ProblemDescriptors};
 pub use profile::{performance_profile, work_precision_plot, PerformanceProfile};
 pub use run::{
     collect_problem_files, compare, load_problems, solver_entries, CompareSettings, LoadedProblem,
-    SolverEntry, SOLVERS,
+    SolverEntry,
 };
 
 /// The normalisation of every error in a comparison, stated with it.
@@ -61,7 +61,7 @@ pub struct ContactProblemsSpec {
     /// Time limit of one solve (s).
     #[serde(default = "default_time_limit")]
     pub time_limit_s: f64,
-    /// Solver names (see [`SOLVERS`]); empty: all.
+    /// Solver names (see `impact_solver::contact::registry`); empty: all.
     #[serde(default)]
     pub solvers: Vec<String>,
 }

@@ -290,7 +290,8 @@ impl CaseResult {
 /// Contact-solver statistics of one scene run (summed over pairs and passes).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ContactSolverStats {
-    /// `gauss-seidel`, `conic/relaxed`, `conic/coulomb`, ...
+    /// The solver's name in `impact_solver::contact::registry`: `gauss-seidel/thesis`,
+    /// `conic/coulomb`, ...
     pub solver: String,
     /// Time steps in which at least one contact problem was solved.
     pub steps_with_contact: usize,

@@ -429,7 +429,7 @@ fn contact_stats(
     let summary = run.summary.as_ref()?;
     let t = summary.contact_totals;
     Some(crate::results::ContactSolverStats {
-        solver: pair.algorithm.name(),
+        solver: pair.solver.kind.name().to_string(),
         steps_with_contact: t.steps_with_contact,
         solves: t.solves,
         not_converged: t.not_converged,

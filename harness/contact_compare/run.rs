@@ -4,21 +4,12 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use impact_solver::contact::conic::{ConicMode, ConicSolver};
-use impact_solver::contact::nsgs::{LocalSolver, NonsmoothGaussSeidel};
 use impact_solver::contact::problem::{natural_map_error, ContactProblem};
 use impact_solver::contact::problem_file::read_problem;
+use impact_solver::contact::registry::SolverKind;
 use impact_solver::contact::solver::{ContactSolver, SolveLimits};
 
 use super::{describe, Comparison, ComparisonRow, Unreadable, NORMALISATION};
-
-/// The solvers a comparison knows, by name.
-pub const SOLVERS: [&str; 4] = [
-    "gauss-seidel/thesis",
-    "gauss-seidel/exact",
-    "conic/relaxed",
-    "conic/coulomb",
-];
 
 /// Sweep cap of the Gauss-Seidel solvers: the tolerance or the time limit should stop them
 /// first (ABH's NSGS runs used the time limit).
@@ -33,48 +24,32 @@ pub struct SolverEntry {
     pub make: Box<dyn Fn() -> Box<dyn ContactSolver>>,
 }
 
-/// The entries of `names` (all of [`SOLVERS`] when empty); an unknown name is an error listing
-/// the known ones.
+/// The entries of `names` (every solver of the registry when empty); an unknown name is the
+/// registry's error listing the known ones.
 pub fn solver_entries(names: &[String]) -> Result<Vec<SolverEntry>, String> {
-    let names: Vec<String> = if names.is_empty() {
-        SOLVERS.iter().map(|s| s.to_string()).collect()
+    let kinds: Vec<SolverKind> = if names.is_empty() {
+        SolverKind::ALL.to_vec()
     } else {
-        names.to_vec()
+        names
+            .iter()
+            .map(|name| SolverKind::from_name(name).map_err(|e| e.to_string()))
+            .collect::<Result<_, _>>()?
     };
-    names
-        .iter()
-        .map(|name| {
-            let (max_iterations, make): (usize, Box<dyn Fn() -> Box<dyn ContactSolver>>) =
-                match name.as_str() {
-                    "gauss-seidel/thesis" => (
-                        GAUSS_SEIDEL_MAX_SWEEPS,
-                        Box::new(|| Box::new(NonsmoothGaussSeidel::new(LocalSolver::Thesis))),
-                    ),
-                    "gauss-seidel/exact" => (
-                        GAUSS_SEIDEL_MAX_SWEEPS,
-                        Box::new(|| Box::new(NonsmoothGaussSeidel::new(LocalSolver::Exact))),
-                    ),
-                    "conic/relaxed" => (CONIC_MAX_ITERATIONS, Box::new(conic(ConicMode::Relaxed))),
-                    "conic/coulomb" => (CONIC_MAX_ITERATIONS, Box::new(conic(ConicMode::Coulomb))),
-                    other => {
-                        return Err(format!(
-                            "unknown contact solver `{other}`: use one of {}",
-                            SOLVERS.join(", ")
-                        ))
-                    }
-                };
-            Ok(SolverEntry {
-                name: name.clone(),
-                max_iterations,
-                make,
-            })
+    Ok(kinds
+        .into_iter()
+        .map(|kind| SolverEntry {
+            name: kind.name().to_string(),
+            // Comparison caps, not the stepper's: a comparison runs each solver to the
+            // tolerance or the time limit.
+            max_iterations: match kind {
+                SolverKind::GaussSeidelThesis | SolverKind::GaussSeidelExact => {
+                    GAUSS_SEIDEL_MAX_SWEEPS
+                }
+                SolverKind::ConicRelaxed | SolverKind::ConicCoulomb => CONIC_MAX_ITERATIONS,
+            },
+            make: Box::new(move || -> Box<dyn ContactSolver> { kind.build() }),
         })
-        .collect()
-}
-
-/// A maker of conic solvers in `mode`.
-fn conic(mode: ConicMode) -> impl Fn() -> Box<dyn ContactSolver> {
-    move || Box::new(ConicSolver::new(mode))
+        .collect())
 }
 
 /// How a comparison runs.
@@ -328,6 +303,7 @@ fn panic_text(panic: &Box<dyn std::any::Any + Send>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use impact_solver::contact::registry;
     use impact_solver::contact::solver::{ContactSolverError, SolveStatus, SolverReport};
 
     /// A fake solver: returns the exact solution of a one-contact diagonal problem perturbed by
@@ -457,7 +433,7 @@ mod tests {
             e.contains("conic/fast") && e.contains("gauss-seidel/exact"),
             "{e}"
         );
-        assert_eq!(solver_entries(&[]).unwrap().len(), SOLVERS.len());
+        assert_eq!(solver_entries(&[]).unwrap().len(), registry::names().len());
         let e = collect_problem_files(&["/no/such/problem.json".into()]).unwrap_err();
         assert!(e.contains("/no/such/problem.json"), "{e}");
         assert!(collect_problem_files(&[]).is_err());

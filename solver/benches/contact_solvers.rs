@@ -19,11 +19,10 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use impact_solver::contact::conic::{ConicMode, ConicSolver};
 use impact_solver::contact::gauss_seidel::ContactConstraint;
-use impact_solver::contact::nsgs::{LocalSolver, NonsmoothGaussSeidel};
 use impact_solver::contact::problem::{natural_map_error, ContactProblem};
 use impact_solver::contact::problem_file::read_problem;
+use impact_solver::contact::registry::SolverKind;
 use impact_solver::contact::solver::{ContactSolver, SolveLimits};
 use impact_solver::rng::SplitMix64;
 use impact_solver::Vector3;
@@ -90,12 +89,16 @@ fn problems() -> Vec<(String, ContactProblem)> {
     list
 }
 
-fn solvers() -> Vec<Box<dyn ContactSolver>> {
-    vec![
-        Box::new(NonsmoothGaussSeidel::new(LocalSolver::Thesis)),
-        Box::new(NonsmoothGaussSeidel::new(LocalSolver::Exact)),
-        Box::new(ConicSolver::new(ConicMode::Coulomb)),
+/// The solvers compared, built by the registry as the stepper and the harness build them.
+fn solvers() -> Vec<Box<dyn ContactSolver + Send>> {
+    [
+        SolverKind::GaussSeidelThesis,
+        SolverKind::GaussSeidelExact,
+        SolverKind::ConicCoulomb,
     ]
+    .into_iter()
+    .map(SolverKind::build)
+    .collect()
 }
 
 fn contact_solvers(c: &mut Criterion) {

@@ -62,13 +62,13 @@ pub enum SolverError {
         count: usize,
     },
 
-    #[error("cannot read mesh file `{path}`: {message}")]
+    #[error("cannot read mesh file `{path}`: {reason}")]
     /// A mesh file could not be read or parsed (the Gmsh reader).
     MeshRead {
         /// The mesh file as given.
         path: PathBuf,
-        /// What went wrong: the I/O error or the parser's complaint.
-        message: String,
+        /// What went wrong: the I/O error, or the entity of the file at fault and the fix.
+        reason: crate::mesh::gmsh::GmshError,
     },
 
     #[error(

@@ -7,10 +7,10 @@
 #![allow(clippy::unwrap_used)]
 
 use impact_solver::contact::conic::{ConicMode, ConicSolver};
-use impact_solver::contact::gauss_seidel::GaussSeidelSettings;
 use impact_solver::contact::problem::natural_map_error;
+use impact_solver::contact::registry::{SolverChoice, SolverKind};
 use impact_solver::contact::solver::{ContactSolver, SolveLimits};
-use impact_solver::contact::{ContactAlgorithm, ContactPair};
+use impact_solver::contact::ContactPair;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
@@ -30,10 +30,22 @@ const SPEED: f64 = 1.0;
 
 /// Two bars along x, `GAP` apart, moving towards each other at `SPEED`.
 fn bars() -> Problem {
-    bars_with(ContactAlgorithm::GaussSeidel, None)
+    bars_with(gauss_seidel(), None)
 }
 
-fn bars_with(algorithm: ContactAlgorithm, record_every: Option<usize>) -> Problem {
+/// The thesis Gauss-Seidel, run to 1e-12.
+fn gauss_seidel() -> SolverChoice {
+    SolverChoice {
+        kind: SolverKind::GaussSeidelThesis,
+        limits: SolveLimits {
+            tolerance: 1e-12,
+            max_iterations: 5000,
+            time_limit: None,
+        },
+    }
+}
+
+fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
     let bar = |x0: f64| {
         box_mesh(&BoxSpec {
             origin: [x0, 0.0, 0.0],
@@ -58,11 +70,7 @@ fn bars_with(algorithm: ContactAlgorithm, record_every: Option<usize>) -> Proble
         bodies: [0, 1],
         friction: 0.0,
         beta_0: 0.0,
-        solver: GaussSeidelSettings {
-            tolerance: 1e-12,
-            max_iterations: 5000,
-        },
-        algorithm,
+        solver,
         record_every,
         record_ccd_every: None,
         detection_tolerance: 1e-9,
@@ -206,19 +214,22 @@ fn contact_runs_are_bitwise_identical_on_one_and_two_threads() {
 fn the_conic_solver_reproduces_the_gauss_seidel_impact() {
     let c = (SOFT.youngs_modulus / SOFT.density).sqrt();
     let end = GAP / (2.0 * SPEED) + 0.6 * 2.0 * LENGTH / c;
-    let run = |algorithm: ContactAlgorithm| {
-        let p = bars_with(algorithm, Some(7));
+    let run = |choice: SolverChoice| {
+        let p = bars_with(choice, Some(7));
         let mut solver = ExplicitSolver::new(&p, settings(end), OutputSettings::default()).unwrap();
         let summary = solver
             .run(&mut |_| {})
-            .unwrap_or_else(|e| panic!("{algorithm:?}: {e}"));
+            .unwrap_or_else(|e| panic!("{choice:?}: {e}"));
         (summary, solver.take_recorded_problems())
     };
-    let (gs, recorded) = run(ContactAlgorithm::GaussSeidel);
-    let conic = ContactAlgorithm::Conic {
-        mode: ConicMode::Coulomb,
-        tolerance: 1e-10,
-        max_iterations: 200,
+    let (gs, recorded) = run(gauss_seidel());
+    let conic = SolverChoice {
+        kind: SolverKind::ConicCoulomb,
+        limits: SolveLimits {
+            tolerance: 1e-10,
+            max_iterations: 200,
+            time_limit: None,
+        },
     };
     let (ipm, _) = run(conic);
     assert_eq!(ipm.contact_totals.not_converged, 0);

@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use impact_solver::mesh::gmsh::{parse_msh, read_msh};
+use impact_solver::mesh::gmsh::{parse_msh, read_msh, GmshError};
 use impact_solver::mesh::{Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
 use impact_solver::SolverError;
 
@@ -176,4 +176,39 @@ fn quadratic_tetrahedra_are_rejected() {
                  $Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
     let message = message_of(parse_msh(tet10.as_bytes(), "tet10.msh"), "tet10.msh");
     assert!(message.contains("only linear tetrahedra"), "{message}");
+}
+
+/// The reader's errors are values a caller can match on, each naming what is wrong.
+#[test]
+fn errors_are_typed() {
+    let reason = |result: impact_solver::error::Result<Mesh>| match result {
+        Err(SolverError::MeshRead { reason, .. }) => reason,
+        Err(e) => panic!("expected MeshRead, got {e}"),
+        Ok(_) => panic!("expected an error"),
+    };
+    assert_eq!(
+        reason(read_msh(&path("cube_v22.msh"))),
+        GmshError::UnsupportedVersion("2.2".into())
+    );
+    assert_eq!(
+        reason(read_msh(&path("cube_surface_only.msh"))),
+        GmshError::NoTetrahedra
+    );
+    assert!(matches!(
+        reason(read_msh(&path("no_such_mesh.msh"))),
+        GmshError::Read(_)
+    ));
+    assert_eq!(
+        reason(parse_msh(b"solid cube\n", "stl.msh")),
+        GmshError::NotGmsh
+    );
+    let text = std::fs::read_to_string(path("cube_sparse.msh")).unwrap();
+    let broken = text.replace("120 7 21 99 15", "120 7 21 99 16");
+    assert_eq!(
+        reason(parse_msh(broken.as_bytes(), "broken.msh")),
+        GmshError::UnknownNode {
+            element: 120,
+            tag: 16
+        }
+    );
 }

@@ -5,47 +5,10 @@ use nalgebra::Vector3;
 
 use crate::crosscheck::ccd_queries::CcdQuery;
 
-/// Distance from `p` to the triangle `(a, b, c)` (closest point by regions, Ericson 2005, 5.1.5).
-pub fn point_triangle_distance(
-    p: &Vector3<f64>,
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    c: &Vector3<f64>,
-) -> f64 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.norm();
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return bp.norm();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (p - (a + v * ab)).norm();
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return cp.norm();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (p - (a + w * ac)).norm();
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (p - (b + w * (c - b))).norm();
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    (p - (a + ab * v + ac * w)).norm()
-}
+/// The exact distance from a point to a triangle (Ericson 2005, 5.1.5) is the solver's, so the
+/// cross-check and contact detection share one geometry; it is independent of both CCD
+/// algorithms, which never call it.
+pub use impact_solver::contact::geometry::point_triangle_distance;
 
 /// The distance below which the point counts as touching the triangle: the rounding level of
 /// the query's coordinates, `1e-12` times the largest.
@@ -97,21 +60,6 @@ pub fn min_distance(q: &CcdQuery) -> f64 {
 mod tests {
     use super::*;
     use crate::crosscheck::ccd_queries::QuerySource;
-
-    #[test]
-    fn point_triangle_distance_in_each_region() {
-        let (a, b, c) = (
-            Vector3::new(0.0, 0.0, 0.0),
-            Vector3::new(1.0, 0.0, 0.0),
-            Vector3::new(0.0, 1.0, 0.0),
-        );
-        let d = |p: [f64; 3]| point_triangle_distance(&Vector3::from(p), &a, &b, &c);
-        assert_eq!(d([0.25, 0.25, 2.0]), 2.0); // face
-        assert_eq!(d([-3.0, -4.0, 0.0]), 5.0); // vertex a
-        assert_eq!(d([0.5, -2.0, 0.0]), 2.0); // edge ab
-        assert!((d([1.0, 1.0, 0.0]) - 0.5f64.sqrt()).abs() < 1e-15); // edge bc
-        assert_eq!(d([2.0, 0.0, 0.0]), 1.0); // vertex b
-    }
 
     #[test]
     fn the_smallest_distance_over_a_step_finds_a_crossing_and_a_near_miss() {

@@ -3,15 +3,20 @@
 //!
 //! The matrix-free `gauss_seidel` of the time stepper is this iteration with the thesis local
 //! step on our own problems (it reads the gaps from the corrected positions instead of `W r + q`;
-//! the two are equal, see the test `the_stepper_iteration_is_nsgs_with_the_thesis_step`).
+//! the two are equal, see the test `the_stepper_iteration_is_nsgs_with_the_thesis_step`); it is
+//! what [`ContactSolver::solve_matrix_free`] of the thesis variant runs, so the stepper reaches it
+//! through the trait without assembling W.
 
 use std::time::Instant;
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::gauss_seidel::{gauss_seidel, ContactSolution, GaussSeidelSettings};
 use super::local::{exact_step, thesis_step, LocalCase};
 use super::problem::{natural_map_error, ContactProblem};
-use super::solver::{ContactSolver, ContactSolverError, SolveLimits, SolveStatus, SolverReport};
+use super::solver::{
+    ContactSolver, ContactSolverError, PositionProblem, SolveLimits, SolveStatus, SolverReport,
+};
 
 /// The one-contact step of each Gauss-Seidel update.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -132,12 +137,37 @@ impl ContactSolver for NonsmoothGaussSeidel {
             notes,
         })
     }
+
+    /// The thesis variant runs the stepper's matrix-free iteration
+    /// ([`gauss_seidel`](super::gauss_seidel::gauss_seidel), Box 6.1) with `limits.tolerance`
+    /// and `limits.max_iterations` as its stopping rule; it has no clock, so `time_limit` is not
+    /// read. The exact local step needs the off-diagonal terms of each block, hence W: `None`.
+    fn solve_matrix_free(
+        &mut self,
+        problem: &PositionProblem<'_>,
+        x: &mut [Vector3<f64>],
+        limits: &SolveLimits,
+    ) -> Option<ContactSolution> {
+        (self.local == LocalSolver::Thesis).then(|| {
+            let settings = GaussSeidelSettings {
+                tolerance: limits.tolerance,
+                max_iterations: limits.max_iterations,
+            };
+            gauss_seidel(
+                problem.constraints,
+                problem.inverse_mass,
+                problem.beta_dt2,
+                x,
+                &settings,
+            )
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::gauss_seidel::{gauss_seidel, ContactConstraint, GaussSeidelSettings};
+    use crate::contact::gauss_seidel::ContactConstraint;
     use crate::contact::problem::SparseMatrix;
 
     /// Three slaves over one shared face, with friction, as in the stepper.
@@ -201,6 +231,41 @@ mod tests {
             }
             assert!(natural_map_error(&problem, &nsgs.r).relative < 1e-12);
         }
+    }
+
+    #[test]
+    fn only_the_thesis_step_works_matrix_free_and_it_is_the_stepper_iteration() {
+        let (c, inverse_mass, x) = coupled(0.3);
+        let problem = PositionProblem {
+            constraints: &c,
+            inverse_mass: &inverse_mass,
+            beta_dt2: 1e-2,
+        };
+        let limits = SolveLimits {
+            tolerance: 1e-12,
+            max_iterations: 1000,
+            time_limit: None,
+        };
+        // The exact step needs W: no answer, and the positions are left for the caller to
+        // assemble from.
+        let mut untouched = x.clone();
+        assert!(NonsmoothGaussSeidel::new(LocalSolver::Exact)
+            .solve_matrix_free(&problem, &mut untouched, &limits)
+            .is_none());
+        assert_eq!(untouched, x);
+        let mut through_trait = x.clone();
+        let solved = NonsmoothGaussSeidel::new(LocalSolver::Thesis)
+            .solve_matrix_free(&problem, &mut through_trait, &limits)
+            .unwrap();
+        let mut direct = x.clone();
+        let settings = GaussSeidelSettings {
+            tolerance: 1e-12,
+            max_iterations: 1000,
+        };
+        let expected = gauss_seidel(&c, &inverse_mass, 1e-2, &mut direct, &settings);
+        assert!(expected.converged);
+        assert_eq!(solved, expected);
+        assert_eq!(through_trait, direct);
     }
 
     #[test]

@@ -1,8 +1,17 @@
 //! The interface every contact solver offers on FC(W, q, mu) (see `problem.rs`), so the harness
-//! can run them on identical problems and measure them with one residual.
+//! can run them on identical problems and measure them with one residual, and the time stepper
+//! calls each of them the same way.
+//!
+//! Two inputs, one trait: [`ContactSolver::solve`] takes the assembled problem (W, q, mu), which
+//! every solver accepts; [`ContactSolver::solve_matrix_free`] takes the stepper's constraints on
+//! the predicted positions, which a solver that never needs W (the thesis Gauss-Seidel, Box 6.1)
+//! solves directly, so the stepper assembles W only for the solvers that need it or to record.
 
 use std::time::Duration;
 
+use nalgebra::Vector3;
+
+use super::gauss_seidel::{ContactConstraint, ContactSolution};
 use super::problem::ContactProblem;
 
 /// How a solve ended. Non-convergence is a result to report, not an error.
@@ -83,9 +92,22 @@ impl Default for SolveLimits {
     }
 }
 
+/// The time stepper's contact problem before assembly: the constraints of one detection pass on
+/// the predicted positions, with the masses that turn forces into corrections,
+/// `dx = beta dt^2 M^-1 C^T r` (thesis (6.71d)).
+#[derive(Debug, Clone, Copy)]
+pub struct PositionProblem<'a> {
+    pub constraints: &'a [ContactConstraint],
+    /// Inverse lumped mass per node and component; zero where a component is prescribed.
+    pub inverse_mass: &'a [Vector3<f64>],
+    /// `(beta_0 + 1/2) dt^2` (6.4.2.4).
+    pub beta_dt2: f64,
+}
+
 /// A contact solver on FC(W, q, mu).
 pub trait ContactSolver {
-    /// Name for tables and plots, for example `gauss-seidel/exact` or `conic/coulomb`.
+    /// Name for tables and plots, the solver's spelling in the registry
+    /// (`contact::registry`), for example `gauss-seidel/exact` or `conic/coulomb`.
     fn name(&self) -> String;
 
     /// Solves from zero multipliers.
@@ -94,4 +116,20 @@ pub trait ContactSolver {
         problem: &ContactProblem,
         limits: &SolveLimits,
     ) -> Result<SolverReport, ContactSolverError>;
+
+    /// Solves the stepper's constraints matrix-free from zero forces, correcting the positions
+    /// `x` in place, and returns the global force on each constraint's slave node.
+    ///
+    /// `None`, with `x` untouched, when this solver needs the assembled problem: the caller then
+    /// assembles FC(W, q, mu) from the same constraints and positions and calls
+    /// [`ContactSolver::solve`]. Only solvers that can work without W override this.
+    fn solve_matrix_free(
+        &mut self,
+        problem: &PositionProblem<'_>,
+        x: &mut [Vector3<f64>],
+        limits: &SolveLimits,
+    ) -> Option<ContactSolution> {
+        let _ = (problem, x, limits);
+        None
+    }
 }

@@ -33,24 +33,99 @@ type Group = (i32, i32);
 
 const REEXPORT: &str = "re-export it from Gmsh as format 4.1 (`gmsh -3 -format msh41 model.geo`)";
 
+/// What is wrong with a mesh file, and the fix.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GmshError {
+    /// The file could not be read (the system's message).
+    #[error("{0}. Fix: check the path (relative paths start at the working directory)")]
+    Read(String),
+    #[error("not a Gmsh mesh: it does not start with `$MeshFormat`; {r}", r = REEXPORT)]
+    NotGmsh,
+    /// A format version other than 4.1.
+    #[error(
+        "Gmsh format {0} is not supported: re-export with `-format msh41` \
+         (or `Mesh.MshFileVersion = 4.1;`)"
+    )]
+    UnsupportedVersion(String),
+    #[error("the file ends inside `$MeshFormat`; {r}", r = REEXPORT)]
+    TruncatedHeader,
+    #[error("`$PhysicalNames` has no `$EndPhysicalNames`; {r}", r = REEXPORT)]
+    UnterminatedPhysicalNames,
+    /// A `$PhysicalNames` line that is not `dim tag "name"`.
+    #[error("`$PhysicalNames` line `{0}` is not `dim tag \"name\"`; {r}", r = REEXPORT)]
+    BadPhysicalName(String),
+    #[error(
+        "`$PhysicalNames` announces {announced} names but lists {listed}; {r}",
+        r = REEXPORT
+    )]
+    PhysicalNameCount { announced: usize, listed: usize },
+    /// The parser stopped at `place` (a line, or a byte of a binary file, and the sections
+    /// around it) for the reason `reason`.
+    #[error(
+        "parse error at {place}: {reason}. The file is damaged or truncated; {r}",
+        r = REEXPORT
+    )]
+    Parse { place: String, reason: String },
+    #[error("the file is malformed; {r}", r = REEXPORT)]
+    Malformed,
+    #[error("the file is malformed (the parser gave up); {r}", r = REEXPORT)]
+    ParserGaveUp,
+    /// A node tag listed twice in the `$Nodes` block of entity `dim:tag`.
+    #[error(
+        "a node tag appears twice in the `$Nodes` block of entity {dim}:{tag}; {r}",
+        r = REEXPORT
+    )]
+    RepeatedTagInBlock { dim: i32, tag: i32 },
+    #[error("node tag {0} is defined twice in `$Nodes`; {r}", r = REEXPORT)]
+    RepeatedNodeTag(u64),
+    /// Quadratic tetrahedra in volume `entity`.
+    #[error(
+        "volume {entity} holds quadratic tetrahedra (type 11); only linear tetrahedra \
+         (type 4) are supported: re-mesh with `-order 1` (`Mesh.ElementOrder = 1;`)"
+    )]
+    QuadraticTetrahedra { entity: i32 },
+    /// Volume elements other than tetrahedra (`kind`, Gmsh type `code`) in volume `entity`.
+    #[error(
+        "volume {entity} holds {kind} elements (type {code}); only linear tetrahedra (type 4) \
+         are supported: re-mesh the volume with tetrahedra (no `Recombine`)"
+    )]
+    OtherVolumeElements {
+        entity: i32,
+        kind: String,
+        code: i32,
+    },
+    /// Element `element` refers to node tag `tag`, which `$Nodes` does not define.
+    #[error(
+        "element {element} refers to node tag {tag}, which `$Nodes` does not define; {r}",
+        r = REEXPORT
+    )]
+    UnknownNode { element: u64, tag: u64 },
+    #[error(
+        "the file holds no linear tetrahedra (type 4): mesh the volume in 3D (`gmsh -3`) and, \
+         when physical groups are defined, put the volume in one (Gmsh then saves only elements \
+         of physical groups)"
+    )]
+    NoTetrahedra,
+    #[error("the mesh has more than 2^32 nodes, beyond u32 node ids")]
+    TooManyNodes,
+}
+
 /// Reads a Gmsh 4.1 mesh (ASCII or binary) and returns its linear tetrahedra.
 ///
 /// See the module documentation for which nodes, elements and node sets are kept.
 pub fn read_msh(path: &Path) -> Result<Mesh> {
     let bytes = std::fs::read(path).map_err(|e| SolverError::MeshRead {
         path: path.to_path_buf(),
-        message: format!(
-            "{e}. Fix: check the path (relative paths start at the working directory)"
-        ),
+        reason: GmshError::Read(e.to_string()),
     })?;
     parse_msh(&bytes, &path.to_string_lossy())
 }
 
 /// Same from bytes already in memory; `name` labels error messages.
 pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh> {
-    let fail = |message: String| SolverError::MeshRead {
+    let fail = |reason: GmshError| SolverError::MeshRead {
         path: name.into(),
-        message,
+        reason,
     };
     let binary = check_format(bytes).map_err(fail)?;
     let names = physical_names(bytes).map_err(fail)?;
@@ -59,43 +134,33 @@ pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh> {
     let parsed = std::panic::catch_unwind(|| {
         mshio::parse_msh_bytes(bytes).map_err(|e| describe_parse_error(&e, bytes, binary))
     })
-    .unwrap_or_else(|_| {
-        Err(format!(
-            "the file is malformed (the parser gave up); {REEXPORT}"
-        ))
-    });
+    .unwrap_or(Err(GmshError::ParserGaveUp));
     build(&parsed.map_err(fail)?, &names).map_err(fail)
 }
 
 /// Rejects other versions up front: mshio would only say "unsupported version", without which.
 /// Returns whether the file is binary.
-fn check_format(bytes: &[u8]) -> std::result::Result<bool, String> {
+fn check_format(bytes: &[u8]) -> std::result::Result<bool, GmshError> {
     let head = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]);
     let mut lines = head.lines();
     if lines.next().map(str::trim_end) != Some("$MeshFormat") {
-        return Err(format!(
-            "not a Gmsh mesh: it does not start with `$MeshFormat`; {REEXPORT}"
-        ));
+        return Err(GmshError::NotGmsh);
     }
     let mut header = lines.next().unwrap_or("").split_whitespace();
     match header.next() {
         Some("4.1") => Ok(header.next() == Some("1")),
-        Some(version) => Err(format!(
-            "Gmsh format {version} is not supported: re-export with `-format msh41` \
-             (or `Mesh.MshFileVersion = 4.1;`)"
-        )),
-        None => Err(format!("the file ends inside `$MeshFormat`; {REEXPORT}")),
+        Some(version) => Err(GmshError::UnsupportedVersion(version.to_string())),
+        None => Err(GmshError::TruncatedHeader),
     }
 }
 
 /// Maps each named physical group to its name, from the optional `$PhysicalNames` section.
-fn physical_names(bytes: &[u8]) -> std::result::Result<HashMap<Group, String>, String> {
+fn physical_names(bytes: &[u8]) -> std::result::Result<HashMap<Group, String>, GmshError> {
     let Some(start) = find_line(bytes, b"$PhysicalNames") else {
         return Ok(HashMap::new());
     };
     let body = &bytes[start + b"$PhysicalNames".len()..];
-    let end = find_line(body, b"$EndPhysicalNames")
-        .ok_or_else(|| format!("`$PhysicalNames` has no `$EndPhysicalNames`; {REEXPORT}"))?;
+    let end = find_line(body, b"$EndPhysicalNames").ok_or(GmshError::UnterminatedPhysicalNames)?;
     let text = String::from_utf8_lossy(&body[..end]);
     let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
     let count: usize = lines.next().and_then(|l| l.parse().ok()).unwrap_or(0);
@@ -106,17 +171,15 @@ fn physical_names(bytes: &[u8]) -> std::result::Result<HashMap<Group, String>, S
         let tag = fields.next().and_then(|f| f.parse().ok());
         let name = fields.next().map(|f| f.trim().trim_matches('"'));
         let (Some(dim), Some(tag), Some(name)) = (dim, tag, name) else {
-            return Err(format!(
-                "`$PhysicalNames` line `{line}` is not `dim tag \"name\"`; {REEXPORT}"
-            ));
+            return Err(GmshError::BadPhysicalName(line.to_string()));
         };
         names.insert((dim, tag), name.to_string());
     }
     if names.len() != count {
-        return Err(format!(
-            "`$PhysicalNames` announces {count} names but lists {}; {REEXPORT}",
-            names.len()
-        ));
+        return Err(GmshError::PhysicalNameCount {
+            announced: count,
+            listed: names.len(),
+        });
     }
     Ok(names)
 }
@@ -133,10 +196,10 @@ fn find_line(bytes: &[u8], tag: &[u8]) -> Option<usize> {
 
 /// mshio's own `Display` appends a hex dump of the whole rest of the file; name the place
 /// instead.
-fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: bool) -> String {
+fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: bool) -> GmshError {
     let trace = e.filtered_backtrace();
     let Some((rest, kind)) = trace.first() else {
-        return format!("the file is malformed; {REEXPORT}");
+        return GmshError::Malformed;
     };
     let offset = (rest.as_ptr() as usize).saturating_sub(bytes.as_ptr() as usize);
     let mut place = format!("byte {offset}");
@@ -153,17 +216,17 @@ fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: 
             k.context().map_or_else(|| k.to_string(), str::to_string)
         );
     }
-    format!(
-        "parse error at {place}: {}. The file is damaged or truncated; {REEXPORT}",
-        kind.to_string().trim_end_matches('.')
-    )
+    GmshError::Parse {
+        place,
+        reason: kind.to_string().trim_end_matches('.').to_string(),
+    }
 }
 
 /// Turns the parsed file into a [`Mesh`] following the rules in the module documentation.
 fn build(
     msh: &MshFile<u64, i32, f64>,
     names: &HashMap<Group, String>,
-) -> std::result::Result<Mesh, String> {
+) -> std::result::Result<Mesh, GmshError> {
     // mshio keeps a block's node tags only when the file's tags are sparse; when they are dense
     // it drops them, so they are rebuilt as min_node_tag, min_node_tag + 1, ... in file order,
     // which is how Gmsh writes them.
@@ -175,11 +238,10 @@ fn build(
             let first = coords.len();
             let tags: Vec<u64> = match &block.node_tags {
                 Some(map) if map.len() != block.nodes.len() => {
-                    return Err(format!(
-                        "a node tag appears twice in the `$Nodes` block of entity {}:{}; \
-                         {REEXPORT}",
-                        block.entity_dim, block.entity_tag
-                    ));
+                    return Err(GmshError::RepeatedTagInBlock {
+                        dim: block.entity_dim,
+                        tag: block.entity_tag,
+                    });
                 }
                 Some(map) => {
                     let mut tags = vec![0; block.nodes.len()];
@@ -192,9 +254,7 @@ fn build(
             };
             for (k, (tag, node)) in tags.into_iter().zip(&block.nodes).enumerate() {
                 if index_of.insert(tag, first + k).is_some() {
-                    return Err(format!(
-                        "node tag {tag} is defined twice in `$Nodes`; {REEXPORT}"
-                    ));
+                    return Err(GmshError::RepeatedNodeTag(tag));
                 }
                 coords.push(Vector3::new(node.x, node.y, node.z));
             }
@@ -235,18 +295,15 @@ fn build(
     for block in msh.data.elements.iter().flat_map(|e| &e.element_blocks) {
         let (dim, entity) = (block.entity_dim, block.entity_tag);
         if block.element_type == ElementType::Tet10 {
-            return Err(format!(
-                "volume {entity} holds quadratic tetrahedra (type 11); only linear tetrahedra \
-                 (type 4) are supported: re-mesh with `-order 1` (`Mesh.ElementOrder = 1;`)"
-            ));
+            return Err(GmshError::QuadraticTetrahedra { entity });
         }
         let is_tet = block.element_type == ElementType::Tet4;
         if dim == 3 && !is_tet {
-            return Err(format!(
-                "volume {entity} holds {:?} elements (type {}); only linear tetrahedra (type 4) \
-                 are supported: re-mesh the volume with tetrahedra (no `Recombine`)",
-                block.element_type, block.element_type as i32
-            ));
+            return Err(GmshError::OtherVolumeElements {
+                entity,
+                kind: format!("{:?}", block.element_type),
+                code: block.element_type as i32,
+            });
         }
         let entity_groups = physical.get(&(dim, entity)).copied().unwrap_or_default();
         for element in &block.elements {
@@ -254,15 +311,12 @@ fn build(
                 .nodes
                 .iter()
                 .map(|tag| {
-                    index_of.get(tag).copied().ok_or_else(|| {
-                        format!(
-                            "element {} refers to node tag {tag}, which `$Nodes` does not \
-                             define; {REEXPORT}",
-                            element.element_tag
-                        )
+                    index_of.get(tag).copied().ok_or(GmshError::UnknownNode {
+                        element: element.element_tag,
+                        tag: *tag,
                     })
                 })
-                .collect::<std::result::Result<Vec<usize>, String>>()?;
+                .collect::<std::result::Result<Vec<usize>, GmshError>>()?;
             if is_tet {
                 tets.push([ids[0], ids[1], ids[2], ids[3]]);
             }
@@ -272,11 +326,7 @@ fn build(
         }
     }
     if tets.is_empty() {
-        let hint = "mesh the volume in 3D (`gmsh -3`) and, when physical groups are defined, \
-                    put the volume in one (Gmsh then saves only elements of physical groups)";
-        return Err(format!(
-            "the file holds no linear tetrahedra (type 4): {hint}"
-        ));
+        return Err(GmshError::NoTetrahedra);
     }
 
     let mut used = vec![false; coords.len()];
@@ -287,8 +337,7 @@ fn build(
     let mut new_id = vec![u32::MAX; coords.len()];
     let mut kept = Vec::new();
     for (i, x) in coords.into_iter().enumerate().filter(|&(i, _)| used[i]) {
-        new_id[i] = u32::try_from(kept.len())
-            .map_err(|_| "the mesh has more than 2^32 nodes, beyond u32 node ids".to_string())?;
+        new_id[i] = u32::try_from(kept.len()).map_err(|_| GmshError::TooManyNodes)?;
         kept.push(x);
     }
 

@@ -328,39 +328,24 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                     .to_string(),
             ));
         }
-        if let super::ContactSolverSpec::Conic(spec) = &c.solver {
-            if !(spec.tolerance > 0.0 && spec.tolerance < 1.0) || spec.max_iterations == 0 {
-                return Err(invalid(
-                    &entity,
-                    format!(
-                        "conic tolerance {} must lie in (0, 1) and max_iterations {} be positive",
-                        spec.tolerance, spec.max_iterations
-                    ),
-                ));
-            }
+        let solver = c.solver.choice();
+        if !(solver.limits.tolerance > 0.0 && solver.limits.tolerance < 1.0)
+            || solver.limits.max_iterations == 0
+        {
+            return Err(invalid(
+                &entity,
+                format!(
+                    "{} tolerance {} must lie in (0, 1) and max_iterations {} be positive",
+                    solver.kind, solver.limits.tolerance, solver.limits.max_iterations
+                ),
+            ));
         }
         contact.push(crate::contact::ContactPair {
             name: c.name.clone(),
             bodies,
             friction: c.friction,
             beta_0: c.beta_0,
-            solver: crate::contact::gauss_seidel::GaussSeidelSettings {
-                tolerance: c.tolerance,
-                max_iterations: c.max_iterations,
-            },
-            algorithm: match &c.solver {
-                super::ContactSolverSpec::GaussSeidel => {
-                    crate::contact::ContactAlgorithm::GaussSeidel
-                }
-                super::ContactSolverSpec::Conic(spec) => crate::contact::ContactAlgorithm::Conic {
-                    mode: match spec.mode {
-                        super::ConicModeSpec::Relaxed => crate::contact::conic::ConicMode::Relaxed,
-                        super::ConicModeSpec::Coulomb => crate::contact::conic::ConicMode::Coulomb,
-                    },
-                    tolerance: spec.tolerance,
-                    max_iterations: spec.max_iterations,
-                },
-            },
+            solver,
             record_every: c.record_problems_every,
             record_ccd_every: c.record_ccd_every,
             detection_tolerance: 1e-9,

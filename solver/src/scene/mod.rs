@@ -3,6 +3,7 @@
 
 mod build;
 mod selector;
+mod solver_spec;
 
 use std::path::{Path, PathBuf};
 
@@ -10,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 pub use build::build_problem;
 pub use selector::Selector;
+pub use solver_spec::ContactSolverSpec;
 
 use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
@@ -68,14 +70,6 @@ pub struct ContactSpec {
     /// High-frequency damping of the beta-2 corrections (the thesis uses 0.45).
     #[serde(default)]
     pub beta_0: f64,
-    /// Convergence tolerance of the Gauss-Seidel solver, relative, in (0, 1): the change of the
-    /// contact forces over a sweep against their size (thesis (6.72)) and the natural-map
-    /// residual; default 1e-10.
-    #[serde(default = "default_gs_tolerance")]
-    pub tolerance: f64,
-    /// Most Gauss-Seidel sweeps per step (default 500); at least 1.
-    #[serde(default = "default_gs_iterations")]
-    pub max_iterations: usize,
     /// Detect and resolve a second time with the slave and master roles swapped (thesis 7.2);
     /// default `true`.
     #[serde(default = "default_true")]
@@ -88,7 +82,8 @@ pub struct ContactSpec {
     /// normals do not average across; default 30.
     #[serde(default = "default_crease_angle")]
     pub crease_angle: f64,
-    /// `gauss_seidel` (the thesis, default) or `{ conic: { mode: relaxed | coulomb } }`.
+    /// A name from `contact::registry` (default `gauss-seidel/thesis`), alone or as
+    /// `{ name, tolerance, max_iterations }` (see `solver_spec`).
     #[serde(default)]
     pub solver: ContactSolverSpec,
     /// Record the contact problems of every n-th step as `contact-problem/1` JSON files in the
@@ -101,63 +96,10 @@ pub struct ContactSpec {
     pub record_ccd_every: Option<usize>,
 }
 
-/// Which algorithm solves a contact pair's problem each step.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactSolverSpec {
-    /// The thesis's Gauss-Seidel with clamp and radial return (`tolerance`, `max_iterations`).
-    #[default]
-    GaussSeidel,
-    /// The problem as a conic program solved by Clarabel (FORMULATION 4).
-    Conic(ConicSpec),
-}
-
-/// Settings of the conic (Clarabel) contact solver, `{ conic: { mode, tolerance,
-/// max_iterations } }`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConicSpec {
-    /// `relaxed`: one SOCP, associated friction (sliding contacts open); `coulomb`: a fixed point
-    /// of Tresca problems that converges to Coulomb's law. Frictionless and sticking pairs solve
-    /// the same program in both modes.
-    #[serde(default)]
-    pub mode: ConicModeSpec,
-    /// Clarabel's gap and feasibility tolerances, relative (default 1e-10).
-    #[serde(default = "default_conic_tolerance")]
-    pub tolerance: f64,
-    /// Most interior-point iterations per solve (default 200).
-    #[serde(default = "default_conic_iterations")]
-    pub max_iterations: usize,
-}
-
-/// How the conic solver treats friction (see [`ConicSpec::mode`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ConicModeSpec {
-    /// One second-order cone program with associated friction: sliding contacts open slightly.
-    Relaxed,
-    /// A fixed point of Tresca problems converging to Coulomb friction (the default).
-    #[default]
-    Coulomb,
-}
-
-fn default_conic_tolerance() -> f64 {
-    1e-10
-}
-fn default_conic_iterations() -> usize {
-    200
-}
-
 fn default_crease_angle() -> f64 {
     30.0
 }
 
-fn default_gs_tolerance() -> f64 {
-    1e-10
-}
-fn default_gs_iterations() -> usize {
-    500
-}
 fn default_true() -> bool {
     true
 }

@@ -1,20 +1,26 @@
-//! Global and local contact detection (thesis 7.3 and 7.4; FORMULATION section 4).
+//! Contact detection of one pass (thesis 7.3 and 7.4; FORMULATION section 4): the contact
+//! surfaces, and the pass that turns predicted positions into constraints.
 //!
-//! Global detection finds the slave boundary nodes whose predicted position lies inside a
-//! master element of the boundary layer (signed volumes, Box 7.2), with a uniform grid so each
-//! node is tested only against nearby elements (7.3.3). Local detection then picks the master
-//! boundary face the node went through and the contact point on it: continuous collision
-//! detection first (7.4.4), then the intersection of the node's trajectory with the predicted
-//! face (7.4.3), then the closest point (7.4.2); a node none of them resolves is counted.
+//! Global detection (`global`) finds the slave boundary nodes whose predicted position lies
+//! inside a master element of the boundary layer (signed volumes, Box 7.2), with a uniform grid
+//! so each node is tested only against nearby elements (7.3.3). Local detection (`local`) then
+//! picks the master boundary face the node went through and the contact point on it: continuous
+//! collision detection first (7.4.4), then the intersection of the node's trajectory with the
+//! predicted face (7.4.3), then the closest point (7.4.2); a node none of them resolves is
+//! counted. Both work on the primitives of `contact::geometry`.
+
+mod global;
+mod local;
 
 use nalgebra::Vector3;
 
-use super::broad_phase::{Aabb, UniformGrid};
-use super::ccd::{vertex_face_ccd, Trajectory};
+use super::ccd::Trajectory;
 use super::gauss_seidel::ContactConstraint;
 use super::normals::{contact_normal, facet_normals, NormalSettings};
 use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
+use global::GlobalSearch;
+use local::{LocalSearch, Strategy};
 
 /// The contact surface of one body: its boundary faces (outward), boundary nodes and the
 /// elements of its boundary layer (those with a node on the boundary).
@@ -80,21 +86,6 @@ impl ContactSurface {
     }
 }
 
-/// Barycentric coordinates of `p` in the tetrahedron `x` from signed sub-volumes (3.46):
-/// `xi_k = V(x with node k replaced by p) / V(x)`.
-pub fn tetrahedron_barycentric(p: &Vector3<f64>, x: &[Vector3<f64>; 4]) -> [f64; 4] {
-    let vol = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>, d: &Vector3<f64>| {
-        (b - a).cross(&(c - a)).dot(&(d - a))
-    };
-    let v = vol(&x[0], &x[1], &x[2], &x[3]);
-    [
-        vol(p, &x[1], &x[2], &x[3]) / v,
-        vol(&x[0], p, &x[2], &x[3]) / v,
-        vol(&x[0], &x[1], p, &x[3]) / v,
-        vol(&x[0], &x[1], &x[2], p) / v,
-    ]
-}
-
 /// How each detected contact was resolved in one pass.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DetectionStats {
@@ -157,72 +148,15 @@ pub fn detect_recording(
 ) -> (Vec<ContactConstraint>, DetectionStats) {
     let mut stats = DetectionStats::default();
     let mut constraints = Vec::new();
-    // Skip the pass when the slave nodes cannot reach the master's boundary layer.
-    let slave_box = Aabb::of_points(slave.nodes.iter().map(|&n| &x1[n as usize]));
-    let element_boxes: Vec<Aabb> = master
-        .layer
-        .iter()
-        .map(|&e| Aabb::of_points(model.tets[e as usize].iter().map(|&n| &x1[n as usize])))
-        .collect();
-    let master_box = element_boxes
-        .iter()
-        .fold(slave_box.grown(f64::NEG_INFINITY), |a, b| a.union(b));
-    if element_boxes.is_empty() || !slave_box.overlaps(&master_box) {
+    let Some(global) = GlobalSearch::new(model, slave, master, x1) else {
         return (constraints, stats);
-    }
-    // Only the master elements and faces where the two bodies' boxes overlap can be reached:
-    // for two spheres, a thin slab around the contact instead of the whole boundary layer.
-    let overlap = slave_box.intersection(&master_box);
-    let near: Vec<u32> = (0..element_boxes.len() as u32)
-        .filter(|&i| element_boxes[i as usize].overlaps(&overlap))
-        .collect();
-    if near.is_empty() {
-        return (constraints, stats);
-    }
-    let near_boxes: Vec<Aabb> = near.iter().map(|&i| element_boxes[i as usize]).collect();
-    let typical = near_boxes
-        .iter()
-        .map(|b| (b.max - b.min).max())
-        .sum::<f64>()
-        / near_boxes.len() as f64;
-    let element_grid = UniformGrid::build(&near_boxes, typical);
-    // A node's faces are searched within `typical` of its path, which is shorter than an
-    // element (the step is below the stable one), so faces farther out are never candidates.
-    let face_region = overlap.grown(3.0 * typical);
-    let near_faces: Vec<u32> = (0..master.faces.len() as u32)
-        .filter(|&f| {
-            master.faces[f as usize]
-                .iter()
-                .any(|&n| face_region.contains(&x1[n as usize]))
-        })
-        .collect();
-    let swept_faces: Vec<Aabb> = near_faces
-        .iter()
-        .map(|&f| {
-            Aabb::of_points(
-                master.faces[f as usize]
-                    .iter()
-                    .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
-            )
-        })
-        .collect();
-    let face_grid = UniformGrid::build(&swept_faces, typical);
-    let (mut elements, mut faces) = (Vec::new(), Vec::new());
+    };
+    let mut local = LocalSearch::new(master, &global.overlap, global.typical, x0, x1);
+    let mut elements = Vec::new();
     let mut facet: Option<Vec<Vector3<f64>>> = None;
     for &s in &slave.nodes {
         let p = x1[s as usize];
-        if !overlap.contains(&p) {
-            continue;
-        }
-        element_grid.query(&Aabb { min: p, max: p }, &mut elements);
-        let inside = elements.iter().any(|&i| {
-            let e = master.layer[near[i as usize] as usize];
-            let tet = model.tets[e as usize].map(|n| x1[n as usize]);
-            tetrahedron_barycentric(&p, &tet)
-                .iter()
-                .all(|&xi| xi >= -settings.tolerance)
-        });
-        if !inside {
+        if !global.penetrates(model, master, x1, &p, settings.tolerance, &mut elements) {
             continue;
         }
         stats.penetrating += 1;
@@ -230,38 +164,13 @@ pub fn detect_recording(
             start: x0[s as usize],
             end: p,
         };
-        // Faces whose swept box meets `region`, as master face ids.
-        let candidates = |region: Aabb, out: &mut Vec<u32>| {
-            face_grid.query(&region, out);
-            out.retain(|&f| swept_faces[f as usize].overlaps(&region));
-            out.iter_mut().for_each(|f| *f = near_faces[*f as usize]);
-        };
-        // A face the node crosses holds the crossing point, which lies on the node's path: the
-        // path's box (grown by the detection tolerance) finds every such face.
-        let path = Aabb::of_points([&node.start, &node.end]);
-        candidates(path.grown(settings.tolerance * typical), &mut faces);
-        let resolved = earliest_ccd(
-            master,
-            &faces,
-            &node,
-            x0,
-            x1,
-            settings.tolerance,
-            ccd_calls.as_deref_mut(),
-        )
-        .map(|(f, w)| (f, w, &mut stats.by_ccd))
-        .or_else(|| {
-            trajectory_intersection(master, &faces, &node, x1, settings.tolerance)
-                .map(|(f, w)| (f, w, &mut stats.by_trajectory))
-        })
-        .or_else(|| {
-            candidates(path.grown(typical), &mut faces);
-            closest_point(master, &faces, &p, x1, typical)
-                .map(|(f, w)| (f, w, &mut stats.by_closest_point))
-        });
-        match resolved {
-            Some((face, weights, counter)) => {
-                *counter += 1;
+        match local.contact_point(&node, x0, x1, settings, ccd_calls.as_deref_mut()) {
+            Some((face, weights, strategy)) => {
+                *match strategy {
+                    Strategy::Ccd => &mut stats.by_ccd,
+                    Strategy::Trajectory => &mut stats.by_trajectory,
+                    Strategy::ClosestPoint => &mut stats.by_closest_point,
+                } += 1;
                 let facet = facet.get_or_insert_with(|| facet_normals(master, x1));
                 let normal =
                     contact_normal(master, facet, face as usize, &weights, &settings.normals);
@@ -277,143 +186,6 @@ pub fn detect_recording(
         }
     }
     (constraints, stats)
-}
-
-/// The face (among `candidates`) the node crosses first during the step (7.4.4); every CCD
-/// call is appended to `calls` when given.
-fn earliest_ccd(
-    master: &ContactSurface,
-    candidates: &[u32],
-    node: &Trajectory,
-    x0: &[Vector3<f64>],
-    x1: &[Vector3<f64>],
-    tolerance: f64,
-    mut calls: Option<&mut Vec<CcdCall>>,
-) -> Option<(u32, [f64; 3])> {
-    let mut best: Option<(f64, u32, [f64; 3])> = None;
-    let tolerance = tolerance.max(1e-12);
-    for &i in candidates {
-        let face = master.faces[i as usize];
-        let traj = face.map(|n| Trajectory {
-            start: x0[n as usize],
-            end: x1[n as usize],
-        });
-        let found = vertex_face_ccd(node, [&traj[0], &traj[1], &traj[2]], tolerance);
-        if let Some(calls) = calls.as_deref_mut() {
-            calls.push(CcdCall {
-                node: *node,
-                face: traj,
-                tolerance,
-                hit: found.map(|h| h.t),
-            });
-        }
-        if let Some(hit) = found {
-            if !moves_into(node, &traj, &hit) {
-                continue;
-            }
-            if best.is_none_or(|(t, _, _)| hit.t < t) {
-                best = Some((hit.t, i, hit.weights));
-            }
-        }
-    }
-    best.map(|(_, f, w)| (f, w))
-}
-
-/// Whether the node, at the contact `hit`, moves into the face relative to its contact point,
-/// `n(t) . (d_s - sum_c N_c d_c) < 0`, or does not move relative to it at all (resting). CCD
-/// is geometric and also reports a node that slides within the face's plane (a block's side
-/// face, when the node runs down that side) or leaves the face; neither crosses it, and taking
-/// such a face would push along a normal the motion does not need.
-fn moves_into(node: &Trajectory, face: &[Trajectory; 3], hit: &super::ccd::CcdHit) -> bool {
-    let at = |tr: &Trajectory| tr.start + (tr.end - tr.start) * hit.t;
-    let [a, b, c] = [at(&face[0]), at(&face[1]), at(&face[2])];
-    let normal = (b - a).cross(&(c - a));
-    let relative = (node.end - node.start)
-        - (0..3).fold(Vector3::zeros(), |sum, k| {
-            sum + (face[k].end - face[k].start) * hit.weights[k]
-        });
-    relative == Vector3::zeros() || against(&normal, &relative)
-}
-
-/// Whether `v` points against the (unnormalised) normal `n`, beyond rounding.
-fn against(n: &Vector3<f64>, v: &Vector3<f64>) -> bool {
-    n.dot(v) < -1e-12 * n.norm() * v.norm()
-}
-
-/// Barycentric weights of the point of the triangle `(a, b, c)`'s plane nearest `p`.
-fn triangle_weights(
-    p: &Vector3<f64>,
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    c: &Vector3<f64>,
-) -> [f64; 3] {
-    let n = (b - a).cross(&(c - a));
-    let area2 = n.norm_squared();
-    let wa = (b - p).cross(&(c - p)).dot(&n) / area2;
-    let wb = (c - p).cross(&(a - p)).dot(&n) / area2;
-    [wa, wb, 1.0 - wa - wb]
-}
-
-/// The predicted face that the segment from the node's start to its predicted position passes
-/// through (7.4.3), the crossing nearest the start.
-fn trajectory_intersection(
-    master: &ContactSurface,
-    candidates: &[u32],
-    node: &Trajectory,
-    x1: &[Vector3<f64>],
-    tolerance: f64,
-) -> Option<(u32, [f64; 3])> {
-    let mut best: Option<(f64, u32, [f64; 3])> = None;
-    let d = node.end - node.start;
-    for &i in candidates {
-        let face = master.faces[i as usize];
-        let [a, b, c] = face.map(|n| x1[n as usize]);
-        let n = (b - a).cross(&(c - a));
-        let denom = n.dot(&d);
-        if denom.abs() <= f64::EPSILON * n.norm() * d.norm() {
-            continue;
-        }
-        let s = n.dot(&(a - node.start)) / denom;
-        if !(-tolerance..=1.0 + tolerance).contains(&s) {
-            continue;
-        }
-        let w = triangle_weights(&(node.start + d * s), &a, &b, &c);
-        if w.iter().all(|&x| x >= -tolerance) && best.is_none_or(|(t, _, _)| s < t) {
-            best = Some((s, i, w));
-        }
-    }
-    best.map(|(_, f, w)| (f, w))
-}
-
-/// The candidate face whose nearest point to `p` is closest (7.4.2), with the weights of that
-/// point clamped into the triangle. Faces within `reach` (the depth of the boundary layer,
-/// where global detection found the node) that the node lies behind (`n . (p - q) < 0`) come
-/// first: a node that went in near an edge also lies on the plane of the side face there, at
-/// distance zero, but it went in through the face it is behind.
-fn closest_point(
-    master: &ContactSurface,
-    candidates: &[u32],
-    p: &Vector3<f64>,
-    x1: &[Vector3<f64>],
-    reach: f64,
-) -> Option<(u32, [f64; 3])> {
-    // Key: (not behind, distance), compared lexicographically.
-    let mut best: Option<((bool, f64), u32, [f64; 3])> = None;
-    for &i in candidates {
-        let face = master.faces[i as usize];
-        let [a, b, c] = face.map(|n| x1[n as usize]);
-        let mut w = triangle_weights(p, &a, &b, &c).map(|x| x.max(0.0));
-        let sum: f64 = w.iter().sum();
-        w.iter_mut().for_each(|x| *x /= sum);
-        let q = a * w[0] + b * w[1] + c * w[2];
-        let behind = against(&(b - a).cross(&(c - a)), &(p - q));
-        let distance = (q - p).norm();
-        let key = (!(behind && distance <= reach), distance);
-        if best.is_none_or(|(k, _, _)| key < k) {
-            best = Some((key, i, w));
-        }
-    }
-    best.map(|(_, f, w)| (f, w))
 }
 
 #[cfg(test)]
@@ -435,19 +207,6 @@ mod tests {
                 divisions: [3, 3, 2],
             },
         ])
-    }
-
-    #[test]
-    fn barycentric_coordinates_sum_to_one_and_locate_points() {
-        let x = [Vector3::zeros(), Vector3::x(), Vector3::y(), Vector3::z()];
-        let xi = tetrahedron_barycentric(&Vector3::new(0.1, 0.2, 0.3), &x);
-        assert!((xi.iter().sum::<f64>() - 1.0).abs() < 1e-15);
-        assert!(
-            (xi[1] - 0.1).abs() < 1e-15
-                && (xi[2] - 0.2).abs() < 1e-15
-                && (xi[3] - 0.3).abs() < 1e-15
-        );
-        assert!(tetrahedron_barycentric(&Vector3::new(0.6, 0.6, 0.1), &x)[0] < 0.0);
     }
 
     #[test]
