@@ -39,6 +39,7 @@ pub enum GmshError {
     /// The file could not be read (the system's message).
     #[error("{0}. Fix: check the path (relative paths start at the working directory)")]
     Read(String),
+    /// The file does not start with `$MeshFormat`: not a Gmsh mesh.
     #[error("not a Gmsh mesh: it does not start with `$MeshFormat`; {r}", r = REEXPORT)]
     NotGmsh,
     /// A format version other than 4.1.
@@ -47,8 +48,10 @@ pub enum GmshError {
          (or `Mesh.MshFileVersion = 4.1;`)"
     )]
     UnsupportedVersion(String),
+    /// The file ends before `$EndMeshFormat`.
     #[error("the file ends inside `$MeshFormat`; {r}", r = REEXPORT)]
     TruncatedHeader,
+    /// A `$PhysicalNames` section without its `$EndPhysicalNames`.
     #[error("`$PhysicalNames` has no `$EndPhysicalNames`; {r}", r = REEXPORT)]
     UnterminatedPhysicalNames,
     /// A `$PhysicalNames` line that is not `dim tag "name"`.
@@ -58,16 +61,29 @@ pub enum GmshError {
         "`$PhysicalNames` announces {announced} names but lists {listed}; {r}",
         r = REEXPORT
     )]
-    PhysicalNameCount { announced: usize, listed: usize },
+    /// The count on the first line of `$PhysicalNames` differs from the lines that follow.
+    PhysicalNameCount {
+        /// The number of names the section's first line announces.
+        announced: usize,
+        /// The number of name lines the section holds.
+        listed: usize,
+    },
     /// The parser stopped at `place` (a line, or a byte of a binary file, and the sections
     /// around it) for the reason `reason`.
     #[error(
         "parse error at {place}: {reason}. The file is damaged or truncated; {r}",
         r = REEXPORT
     )]
-    Parse { place: String, reason: String },
+    Parse {
+        /// Where the parser stopped: a line (ASCII) or byte offset (binary), with the section.
+        place: String,
+        /// What the parser expected there.
+        reason: String,
+    },
+    /// The parser failed without saying where.
     #[error("the file is malformed; {r}", r = REEXPORT)]
     Malformed,
+    /// The parser crashed (a panic in `mshio`, caught) on a malformed file.
     #[error("the file is malformed (the parser gave up); {r}", r = REEXPORT)]
     ParserGaveUp,
     /// A node tag listed twice in the `$Nodes` block of entity `dim:tag`.
@@ -75,7 +91,13 @@ pub enum GmshError {
         "a node tag appears twice in the `$Nodes` block of entity {dim}:{tag}; {r}",
         r = REEXPORT
     )]
-    RepeatedTagInBlock { dim: i32, tag: i32 },
+    RepeatedTagInBlock {
+        /// Dimension of the entity (0 to 3).
+        dim: i32,
+        /// Tag of the entity.
+        tag: i32,
+    },
+    /// A node tag defined in two blocks of `$Nodes`; holds the tag.
     #[error("node tag {0} is defined twice in `$Nodes`; {r}", r = REEXPORT)]
     RepeatedNodeTag(u64),
     /// Quadratic tetrahedra in volume `entity`.
@@ -83,15 +105,21 @@ pub enum GmshError {
         "volume {entity} holds quadratic tetrahedra (type 11); only linear tetrahedra \
          (type 4) are supported: re-mesh with `-order 1` (`Mesh.ElementOrder = 1;`)"
     )]
-    QuadraticTetrahedra { entity: i32 },
+    QuadraticTetrahedra {
+        /// Tag of the volume entity.
+        entity: i32,
+    },
     /// Volume elements other than tetrahedra (`kind`, Gmsh type `code`) in volume `entity`.
     #[error(
         "volume {entity} holds {kind} elements (type {code}); only linear tetrahedra (type 4) \
          are supported: re-mesh the volume with tetrahedra (no `Recombine`)"
     )]
     OtherVolumeElements {
+        /// Tag of the volume entity.
         entity: i32,
+        /// Name of the element type, e.g. "hexahedron".
         kind: String,
+        /// Gmsh's element type number.
         code: i32,
     },
     /// Element `element` refers to node tag `tag`, which `$Nodes` does not define.
@@ -99,13 +127,21 @@ pub enum GmshError {
         "element {element} refers to node tag {tag}, which `$Nodes` does not define; {r}",
         r = REEXPORT
     )]
-    UnknownNode { element: u64, tag: u64 },
+    UnknownNode {
+        /// Tag of the element in the file.
+        element: u64,
+        /// The node tag it refers to.
+        tag: u64,
+    },
     #[error(
         "the file holds no linear tetrahedra (type 4): mesh the volume in 3D (`gmsh -3`) and, \
          when physical groups are defined, put the volume in one (Gmsh then saves only elements \
          of physical groups)"
     )]
+    /// The file holds no linear tetrahedra (a surface mesh, or the volume outside every
+    /// physical group).
     NoTetrahedra,
+    /// More nodes than `u32` node indices can address.
     #[error("the mesh has more than 2^32 nodes, beyond u32 node ids")]
     TooManyNodes,
 }

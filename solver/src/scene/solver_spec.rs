@@ -24,6 +24,7 @@ const KEYS: &[&str] = &["name", "tolerance", "max_iterations"];
 /// defaults ([`SolverChoice::new`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactSolverSpec {
+    /// The solver, by its one name in `contact::registry` (default `gauss-seidel/thesis`).
     pub kind: SolverKind,
     /// What the solver's stopping test bounds (default 1e-10).
     pub tolerance: Option<f64>,
