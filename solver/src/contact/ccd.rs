@@ -473,7 +473,9 @@ fn roots_in(
         origin,
         lo,
         hi,
-        (&mut knots[1..5]).try_into().unwrap(),
+        (&mut knots[1..5])
+            .try_into()
+            .expect("knots[1..5] has exactly four elements"),
     );
     knots[0] = lo;
     knots[critical + 1] = hi;

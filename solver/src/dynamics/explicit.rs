@@ -438,11 +438,9 @@ impl<'p> ExplicitSolver<'p> {
                     let motion = &problem.constraints[c as usize].motion;
                     self.v_next[i][d] = match motion {
                         Motion::Velocity(_, f) => f.eval(t + 0.5 * dt),
-                        Motion::AffineVelocity { .. } => {
-                            motion
-                                .velocity(&x, t)
-                                .expect("an affine velocity gives a velocity at every point")[d]
-                        }
+                        Motion::AffineVelocity { .. } => motion
+                            .velocity(&x, t)
+                            .expect("an affine velocity gives a velocity at every point")[d],
                         _ => {
                             let u = motion
                                 .displacement(&x, t + dt)

@@ -51,7 +51,14 @@ impl ContactSurface {
             .collect();
         let corners: Vec<[u32; 3]> = faces
             .iter()
-            .map(|f: &[u32; 3]| f.map(|n| nodes.binary_search(&n).unwrap() as u32))
+            .map(|f: &[u32; 3]| {
+                f.map(|n| {
+                    nodes
+                        .binary_search(&n)
+                        .expect("`nodes` holds every node of the boundary faces")
+                        as u32
+                })
+            })
             .collect();
         let mut offsets = vec![0u32; nodes.len() + 1];
         for c in corners.iter().flatten() {
