@@ -27,11 +27,15 @@ pub use phase::ContactPhase;
 /// A contact problem recorded during a run, with the multipliers the run's solver returned.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RecordedProblem {
+    /// Index of the time step (from 0) whose contact phase built the problem.
     pub step: usize,
+    /// Name of the contact pair.
     pub pair: String,
     /// 0: the first body's nodes as slaves; 1: the roles swapped (7.2).
     pub pass: usize,
+    /// The problem FC(W, q, mu) as the solver received it.
     pub problem: ContactProblem,
+    /// Name of the run's solver (`registry` spelling).
     pub solver: String,
     /// Local multipliers `[r_N, r_T1, r_T2]` per contact.
     pub r: Vec<f64>,
@@ -43,7 +47,9 @@ pub struct RecordedProblem {
 /// [`ccd::vertex_face_ccd`] against another implementation on real inputs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RecordedCcdQuery {
+    /// Index of the time step (from 0) whose detection made the query.
     pub step: usize,
+    /// Name of the contact pair.
     pub pair: String,
     /// 0: the first body's nodes as slaves; 1: the roles swapped (7.2).
     pub pass: usize,
@@ -61,7 +67,10 @@ pub struct RecordedCcdQuery {
 /// Two bodies that may touch, and how their contact is solved (FORMULATION section 4).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPair {
+    /// Name of the pair; labels its history columns and recorded problems.
     pub name: String,
+    /// Indices of the two bodies in the model; the first one's nodes are the slaves of the
+    /// first pass (7.2).
     pub bodies: [usize; 2],
     /// Coulomb coefficient; `f64::INFINITY` sticks, `0` is frictionless.
     pub friction: f64,
@@ -78,15 +87,21 @@ pub struct ContactPair {
     pub detection_tolerance: f64,
     /// Repeat detection and resolution with the slave and master roles swapped (7.2).
     pub two_pass: bool,
+    /// How contact normals are formed (facet or smoothed corner normals).
     pub normals: NormalSettings,
 }
 
 /// What the contact phase did in one step, per pair.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactStep {
+    /// Contacts that carry a force after resolution, over both passes.
     pub active: usize,
+    /// Solver iterations (Gauss-Seidel sweeps or interior-point iterations) over the step.
     pub iterations: usize,
+    /// Whether every solve of the step met its stopping test.
     pub converged: bool,
+    /// Contacts detected but not enforced: no face found for a crossing node, or a normal no
+    /// free node can move along.
     pub unresolved: usize,
     /// Sum of the normal components of the contact multipliers `r`; the time stepper turns
     /// multipliers into forces (N).

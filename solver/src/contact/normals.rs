@@ -30,6 +30,7 @@ pub enum NormalKind {
 /// How the normal of a contact is formed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NormalSettings {
+    /// Facet normals (the thesis) or smoothed corner normals.
     pub kind: NormalKind,
     /// Facets meeting at a corner at more than this angle (radians) are not averaged.
     pub crease_angle: f64,

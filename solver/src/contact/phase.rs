@@ -17,6 +17,7 @@ use crate::model::Model;
 
 /// The contact phase of a run: the pairs with their surfaces and solvers, made once.
 pub struct ContactPhase {
+    /// The contact pairs of the problem, in scene order.
     pub pairs: Vec<ContactPair>,
     surfaces: Vec<[ContactSurface; 2]>,
     /// One solver per pair, built once from its [`SolverChoice`]: the stepper calls every
@@ -29,6 +30,7 @@ pub struct ContactPhase {
 }
 
 impl ContactPhase {
+    /// Extracts each pair's two boundary surfaces from `model` and builds its solver.
     pub fn new(model: &Model, pairs: Vec<ContactPair>) -> Self {
         let surfaces = pairs
             .iter()

@@ -15,31 +15,43 @@ use serde::{Deserialize, Serialize};
 
 use super::problem::{ContactProblem, SparseMatrix};
 
+/// The format tag every file carries in its `format` field.
 pub const FORMAT: &str = "contact-problem/1";
 
 /// Why a contact-problem file could not be read, checked or written. Each names the file (or
 /// the problem) and what is wrong with it.
 #[derive(Debug, thiserror::Error)]
 pub enum ProblemFileError {
+    /// The file could not be read.
     #[error("cannot read contact problem `{}`: {source}", path.display())]
     Read {
+        /// The problem file.
         path: PathBuf,
+        /// The operating system's error.
         source: std::io::Error,
     },
+    /// The file is not JSON of the `contact-problem/1` layout.
     #[error("contact problem `{}` is not `{FORMAT}` JSON: {source}", path.display())]
     NotJson {
+        /// The problem file.
         path: PathBuf,
+        /// The JSON reader's error, with line and column.
         source: serde_json::Error,
     },
+    /// The file could not be written.
     #[error("cannot write contact problem `{}`: {source}", path.display())]
     Write {
+        /// The problem file.
         path: PathBuf,
+        /// The operating system's error.
         source: std::io::Error,
     },
     /// The file reads, but the problem it holds does not check.
     #[error("contact problem `{}`: {problem}", path.display())]
     Invalid {
+        /// The problem file.
         path: PathBuf,
+        /// What does not check.
         problem: InvalidProblem,
     },
 }
@@ -47,24 +59,52 @@ pub enum ProblemFileError {
 /// What is wrong with a problem that reads as JSON ([`ProblemFile::to_problem`]).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum InvalidProblem {
+    /// The `format` field is not [`FORMAT`]; holds what the file says.
     #[error("format is `{0}`, expected `{FORMAT}`")]
     Format(String),
+    /// The `dimension` field is not 3; holds it.
     #[error("dimension {0} is not supported; only 3-D contact problems are")]
     Dimension(usize),
+    /// The lengths of `mu` and `q` do not match the number of contacts.
     #[error("{contacts} contacts need {contacts} mu and {} q values, found {mu} and {q}", 3 * contacts)]
     Sizes {
+        /// The `contacts` field: the number of contacts.
         contacts: usize,
+        /// Length of `mu` (should be `contacts`).
         mu: usize,
+        /// Length of `q` (should be `3 contacts`).
         q: usize,
     },
+    /// `W` is not the `3 contacts` square matrix.
     #[error("W is {rows} x {cols}, expected {n} x {n}")]
-    MatrixShape { rows: usize, cols: usize, n: usize },
+    MatrixShape {
+        /// Rows the file gives for `W`.
+        rows: usize,
+        /// Columns the file gives for `W`.
+        cols: usize,
+        /// The size required, `3 contacts`.
+        n: usize,
+    },
+    /// A negative (or NaN) friction coefficient.
     #[error("mu of contact {contact} is {mu}; it must be >= 0")]
-    Friction { contact: usize, mu: f64 },
+    Friction {
+        /// Index of the contact, from 0.
+        contact: usize,
+        /// Its friction coefficient (dimensionless).
+        mu: f64,
+    },
+    /// A NaN or infinite entry of `q` or `W`.
     #[error("q or W holds a value that is not finite")]
     NotFinite,
+    /// The number of local frames differs from the number of contacts.
     #[error("{frames} frames for {contacts} contacts")]
-    Frames { frames: usize, contacts: usize },
+    Frames {
+        /// Number of frames the file gives.
+        frames: usize,
+        /// The number of contacts.
+        contacts: usize,
+    },
+    /// A `compliance` that is zero, negative or not finite; holds it.
     #[error("compliance {0} must be positive and finite")]
     Compliance(f64),
     /// A triplet of `W` outside the matrix (the message of [`SparseMatrix::from_triplets`]).
@@ -76,35 +116,54 @@ const CONVENTION: &str = "find r, u with u = W r + q, r in K_mu (per contact [no
                           |r_T| <= mu r_N), u_hat = u + [mu |u_T|, 0, 0] in the dual cone, \
                           u_hat . r = 0 (Coulomb); mu null: stick (r_T free, u_T = 0)";
 
+/// A sparse matrix as the file stores it: its shape and `(row, column, value)` triplets.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MatrixFile {
+    /// Number of rows.
     pub rows: usize,
+    /// Number of columns.
     pub cols: usize,
+    /// Entries `(row, column, value)`, 0-based; repeated positions add up.
     pub triplets: Vec<(usize, usize, f64)>,
 }
 
 /// A solution stored with a problem.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StoredSolution {
+    /// Name of the solver that returned it (`contact::registry` spelling).
     pub solver: String,
+    /// The multipliers, `3 contacts` values `[r_N, r_T1, r_T2]` per contact, in the unit of the
+    /// file's `compliance`.
     pub r: Vec<f64>,
 }
 
+/// A contact problem FC(W, q, mu) as the `contact-problem/1` JSON file holds it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProblemFile {
+    /// The format tag, [`FORMAT`].
     pub format: String,
+    /// The problem's statement in words (what `W`, `q`, `mu` and `r` mean); informative.
     #[serde(default)]
     pub convention: String,
+    /// Where the problem comes from (run, pair, step, pass); informative.
     #[serde(default)]
     pub source: String,
+    /// Space dimension; only 3 is read.
     pub dimension: usize,
+    /// Number of contacts `nc`.
     pub contacts: usize,
+    /// Friction coefficient of each contact; `null` (`None`) sticks.
     pub mu: Vec<Option<f64>>,
+    /// The free term `q` of `u = W r + q`, `[normal, t1, t2]` per contact (`3 nc` values), in the
+    /// unit of `u` (a length for our scaled problems).
     pub q: Vec<f64>,
+    /// The Delassus operator `W` (`3 nc` square), in local contact coordinates.
     #[serde(rename = "W")]
     pub w: MatrixFile,
+    /// Local frame of each contact: the rows `n, t1, t2` in global axes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frames: Option<Vec<[f64; 9]>>,
+    /// Solutions stored with the problem, for comparison.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub solutions: Vec<StoredSolution>,
     /// `r = compliance * force` (m/N for our scaled problems); absent: 1.
@@ -113,6 +172,7 @@ pub struct ProblemFile {
 }
 
 impl ProblemFile {
+    /// The file of `problem`, with `solutions` stored beside it.
     pub fn from_problem(problem: &ContactProblem, solutions: Vec<StoredSolution>) -> Self {
         let n = problem.w.size;
         Self {
@@ -207,6 +267,7 @@ impl ProblemFile {
         })
     }
 
+    /// Reads and parses a problem file (unchecked: see [`Self::to_problem`]).
     pub fn read(path: &Path) -> Result<Self, ProblemFileError> {
         let text = std::fs::read_to_string(path).map_err(|source| ProblemFileError::Read {
             path: path.to_path_buf(),
@@ -218,6 +279,7 @@ impl ProblemFile {
         })
     }
 
+    /// Writes the problem as JSON to `path`.
     pub fn write(&self, path: &Path) -> Result<(), ProblemFileError> {
         let text = serde_json::to_string(self).expect("a problem serialises");
         std::fs::write(path, text).map_err(|source| ProblemFileError::Write {

@@ -29,6 +29,7 @@ pub enum SolveStatus {
 }
 
 impl SolveStatus {
+    /// Whether the solver met its stopping test.
     pub fn converged(&self) -> bool {
         matches!(self, SolveStatus::Converged)
     }
@@ -50,11 +51,13 @@ pub struct SolverReport {
     /// Local multipliers, `3 nc`, `[normal, tangent1, tangent2]` per contact: the best the
     /// solver has, also when it did not converge.
     pub r: Vec<f64>,
+    /// How the solve ended.
     pub status: SolveStatus,
     /// Sweeps (Gauss-Seidel) or interior-point iterations summed over all conic solves.
     pub iterations: usize,
     /// Outer fixed-point iterations (the conic `coulomb` mode); 1 otherwise.
     pub outer_iterations: usize,
+    /// Wall-clock time of the solve (s of real time).
     pub seconds: f64,
     /// Anything the solver wants a reader to know (removed asymmetry, fallbacks taken).
     pub notes: Vec<String>,
@@ -63,13 +66,24 @@ pub struct SolverReport {
 /// Setup failures: the problem cannot be posed to this solver at all.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ContactSolverError {
+    /// The problem itself is inconsistent (sizes, values).
     #[error("contact problem `{problem}`: {message}")]
-    InvalidProblem { problem: String, message: String },
+    InvalidProblem {
+        /// The problem's source (file, run, step).
+        problem: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The solver cannot take this problem (for example a structure it does not support).
     #[error("contact solver `{solver}` on `{problem}`: {message}. Fix: {fix}")]
     Setup {
+        /// The solver's name (`registry` spelling).
         solver: String,
+        /// The problem's source (file, run, step).
         problem: String,
+        /// What went wrong.
         message: String,
+        /// How to get a problem or a solver that works.
         fix: String,
     },
 }
@@ -77,8 +91,13 @@ pub enum ContactSolverError {
 /// Stopping rule shared by all solvers; each states what `tolerance` bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveLimits {
+    /// The bound of the solver's stopping test (relative or in the problem's scaled units, as
+    /// each solver states); default 1e-8.
     pub tolerance: f64,
+    /// Most iterations (sweeps, interior-point iterations) before `MaxIterations`; default
+    /// 10 000.
     pub max_iterations: usize,
+    /// Wall-clock budget of one solve; `None` (default): no limit.
     pub time_limit: Option<Duration>,
 }
 
@@ -97,6 +116,7 @@ impl Default for SolveLimits {
 /// `dx = beta dt^2 M^-1 C^T r` (thesis (6.71d)).
 #[derive(Debug, Clone, Copy)]
 pub struct PositionProblem<'a> {
+    /// The contacts of the pass: slave node, master face, weights, normal, friction.
     pub constraints: &'a [ContactConstraint],
     /// Inverse lumped mass per node and component; zero where a component is prescribed.
     pub inverse_mass: &'a [Vector3<f64>],
