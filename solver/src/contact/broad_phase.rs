@@ -7,7 +7,9 @@ use nalgebra::Vector3;
 /// An axis-aligned box.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
+    /// Corner with the smallest coordinates (m); `+inf` for the empty box.
     pub min: Vector3<f64>,
+    /// Corner with the largest coordinates (m); `-inf` for the empty box.
     pub max: Vector3<f64>,
 }
 
@@ -34,10 +36,12 @@ impl Aabb {
         }
     }
 
+    /// Whether `p` lies in the box, faces included.
     pub fn contains(&self, p: &Vector3<f64>) -> bool {
         (0..3).all(|a| self.min[a] <= p[a] && p[a] <= self.max[a])
     }
 
+    /// Whether the two boxes share a point (touching counts).
     pub fn overlaps(&self, other: &Aabb) -> bool {
         (0..3).all(|a| self.min[a] <= other.max[a] && other.min[a] <= self.max[a])
     }
@@ -51,6 +55,7 @@ impl Aabb {
         }
     }
 
+    /// The smallest box holding both.
     pub fn union(&self, other: &Aabb) -> Aabb {
         Aabb {
             min: self.min.inf(&other.min),

@@ -37,7 +37,9 @@ use nalgebra::Vector3;
 /// Straight-line motion of a point over one step: position at t = 0 and at t = 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Trajectory {
+    /// Position at the start of the step, `t = 0` (m).
     pub start: Vector3<f64>,
+    /// Position at the end of the step, `t = 1` (m).
     pub end: Vector3<f64>,
 }
 

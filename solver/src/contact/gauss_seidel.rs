@@ -9,7 +9,10 @@ use super::problem::{contact_natural_map, local_frame};
 /// face `(a, b, c)` (thesis 6.4.1.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactConstraint {
+    /// Global index of the slave node `s`.
     pub slave: u32,
+    /// Global indices of the master face's nodes `(a, b, c)`, counter-clockwise seen from
+    /// outside the master body.
     pub face: [u32; 3],
     /// Barycentric weights `N_c` of the contact point on the face.
     pub weights: [f64; 3],
@@ -118,6 +121,7 @@ pub struct GaussSeidelSettings {
     /// units) is at most `tolerance` too: the change of a sweep alone can be small long before
     /// the law holds, on stiffly coupled contacts.
     pub tolerance: f64,
+    /// Most sweeps over the contacts before the iteration stops unconverged (default 500).
     pub max_iterations: usize,
 }
 
@@ -135,7 +139,9 @@ impl Default for GaussSeidelSettings {
 pub struct ContactSolution {
     /// Force `r_i` on each slave node (and `-N_c r_i` on its face nodes).
     pub forces: Vec<Vector3<f64>>,
+    /// Sweeps made.
     pub iterations: usize,
+    /// Whether both stopping tests held before `max_iterations`.
     pub converged: bool,
     /// `||dr|| / ||r||` of the last sweep.
     pub residual: f64,

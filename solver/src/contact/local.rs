@@ -45,9 +45,13 @@ fn cylinder_return(r: Vector3<f64>, mu: f64) -> Vector3<f64> {
 /// How the exact local solve ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LocalCase {
+    /// The free normal velocity opens the contact (`b_N >= 0`): no force.
     Separated,
+    /// Closed contact without friction (`mu = 0`): a normal force only.
     Frictionless,
+    /// Closed and sticking: the force lies strictly inside the Coulomb cone.
     Stick,
+    /// Closed and sliding: the force lies on the Coulomb cone, opposing the slip.
     Slide,
     /// No slip direction satisfies the law (a singular or strongly non-symmetric block): the
     /// thesis step was taken instead.

@@ -37,10 +37,12 @@ pub enum LocalSolver {
 /// final" of Siconos).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NonsmoothGaussSeidel {
+    /// The one-contact step of each update: the thesis step or the exact one.
     pub local: LocalSolver,
 }
 
 impl NonsmoothGaussSeidel {
+    /// The solver with the one-contact step `local`.
     pub fn new(local: LocalSolver) -> Self {
         Self { local }
     }

@@ -18,9 +18,14 @@ use super::gauss_seidel::ContactConstraint;
 /// summed, and each row's columns are sorted, so products are deterministic.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SparseMatrix {
+    /// Number of rows and of columns.
     pub size: usize,
+    /// Start of each row in `columns` and `values`, `size + 1` entries (the last is the number
+    /// of stored entries).
     pub row_start: Vec<usize>,
+    /// Column of each stored entry, ascending within a row.
     pub columns: Vec<usize>,
+    /// Value of each stored entry.
     pub values: Vec<f64>,
 }
 
@@ -59,6 +64,7 @@ impl SparseMatrix {
         })
     }
 
+    /// Number of stored entries.
     pub fn nonzeros(&self) -> usize {
         self.values.len()
     }
@@ -77,6 +83,7 @@ impl SparseMatrix {
         self.row(i).map(|(j, v)| v * x[j]).sum()
     }
 
+    /// The product `A x`; `x` has `size` entries.
     pub fn mul(&self, x: &[f64]) -> Vec<f64> {
         (0..self.size).map(|i| self.row_dot(i, x)).collect()
     }
@@ -136,6 +143,7 @@ pub struct ContactProblem {
 }
 
 impl ContactProblem {
+    /// Number of contacts `nc` (the problem has `3 nc` unknowns).
     pub fn contacts(&self) -> usize {
         self.mu.len()
     }
@@ -298,10 +306,14 @@ pub fn local_frame(n: &Vector3<f64>) -> Matrix3<f64> {
 /// elsewhere.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NaturalMapError {
+    /// `||F||_2`, in the problem's units of `r` (lengths for our scaled problems).
     pub absolute: f64,
+    /// `||F||_2 / ||q||_2`, dimensionless; `absolute` when `q = 0`.
     pub relative: f64,
 }
 
+/// The natural-map residual of `problem` at the multipliers `r` (`3 nc` values, local
+/// components), see [`NaturalMapError`].
 pub fn natural_map_error(problem: &ContactProblem, r: &[f64]) -> NaturalMapError {
     let u = problem.velocity(r);
     let mut sum = 0.0;

@@ -92,6 +92,7 @@ pub struct UnknownSolver(pub String);
 /// Which solver a contact pair uses in the time stepper, and its stopping rule.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverChoice {
+    /// The solver, by its one name.
     pub kind: SolverKind,
     /// `tolerance` is what the solver's own stopping test bounds (see each solver's `solve`);
     /// the stepper never sets a time limit, so that runs are reproducible.

@@ -52,12 +52,14 @@ pub enum ConicMode {
 /// FC(W, q, mu) as conic programs for Clarabel (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConicSolver {
+    /// One relaxed SOCP, or the Tresca fixed point that converges to Coulomb's law.
     pub mode: ConicMode,
     /// Cap on the Tresca solves of the Coulomb fixed point (ignored by the relaxed mode).
     pub max_outer: usize,
 }
 
 impl ConicSolver {
+    /// The solver in `mode`, with at most 50 Tresca solves for the Coulomb fixed point.
     pub fn new(mode: ConicMode) -> Self {
         Self {
             mode,

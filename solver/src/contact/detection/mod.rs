@@ -26,10 +26,15 @@ use local::{LocalSearch, Strategy};
 /// elements of its boundary layer (those with a node on the boundary).
 #[derive(Debug, Clone)]
 pub struct ContactSurface {
+    /// Index of the body in the model.
     pub body: usize,
+    /// Boundary faces as global node indices, counter-clockwise seen from outside (outward
+    /// right-hand normal).
     pub faces: Vec<[u32; 3]>,
     /// Sorted boundary nodes.
     pub nodes: Vec<u32>,
+    /// Global indices of the boundary-layer elements (a node on the boundary), ascending: the
+    /// elements global detection tests slave nodes against (Box 7.2).
     pub layer: Vec<u32>,
     /// Each face's corners as indices into `nodes`.
     corners: Vec<[u32; 3]>,
@@ -40,6 +45,7 @@ pub struct ContactSurface {
 }
 
 impl ContactSurface {
+    /// The surface of body `body` of `model`: its boundary faces, nodes and layer.
     pub fn new(model: &Model, body: usize) -> Self {
         let range = model.bodies[body].elements.clone();
         let boundary = boundary_faces_of(&model.tets[range.clone()]);
@@ -98,8 +104,11 @@ impl ContactSurface {
 pub struct DetectionStats {
     /// Slave nodes found inside a master element.
     pub penetrating: usize,
+    /// Of those, assigned to a face by continuous collision detection (7.4.4).
     pub by_ccd: usize,
+    /// Assigned by the intersection of the node's trajectory with the predicted face (7.4.3).
     pub by_trajectory: usize,
+    /// Assigned by the closest point on the master surface (7.4.2).
     pub by_closest_point: usize,
     /// Penetrations no local strategy could assign to a face: reported, never dropped silently.
     pub unresolved: usize,
@@ -112,6 +121,7 @@ pub struct DetectionSettings {
     pub tolerance: f64,
     /// Coulomb coefficient given to the constraints.
     pub friction: f64,
+    /// How the constraints' normals are formed.
     pub normals: NormalSettings,
 }
 
@@ -119,6 +129,7 @@ pub struct DetectionSettings {
 /// cross-check of our CCD against another implementation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CcdCall {
+    /// The slave node's straight-line motion over the step.
     pub node: Trajectory,
     /// The face's node trajectories, in the face's node order.
     pub face: [Trajectory; 3],
