@@ -9,8 +9,6 @@
 //! Units are SI throughout (m, kg, s, Pa, J) and every quantity is `f64`.
 
 pub mod analysis;
-// Documented in a follow-up: the module is being restructured (issue 19).
-#[allow(missing_docs)]
 pub mod contact;
 pub mod dynamics;
 pub mod error;
