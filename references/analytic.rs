@@ -46,13 +46,20 @@ pub fn plane_wave_stress(c: &IsotropicElastic, velocity: f64) -> f64 {
 /// `P11 = l S11 = E l (l^2 - 1)/2`, and the Cauchy stress `sigma11 = P11 l / J = P11 / l_t^2`
 /// with the lateral stretch `l_t = sqrt(1 + 2 E22)`.
 pub struct SvkUniaxial {
+    /// Axial Green-Lagrange strain `E11 = (l^2 - 1) / 2` (dimensionless).
     pub e11: f64,
+    /// Lateral Green-Lagrange strain `E22 = E33 = -nu E11` (dimensionless).
     pub e22: f64,
+    /// Axial second Piola-Kirchhoff stress `S11 = E E11` (Pa).
     pub s11: f64,
+    /// Axial first Piola-Kirchhoff (nominal) stress `P11 = l S11` (Pa).
     pub p11: f64,
+    /// Axial Cauchy (true) stress `sigma11 = P11 / l_t^2` (Pa).
     pub sigma11: f64,
 }
 
+/// The uniaxial-stress state of Saint-Venant-Kirchhoff with constants `c` at axial stretch
+/// `stretch` (see [`SvkUniaxial`]).
 pub fn svk_uniaxial(c: &IsotropicElastic, stretch: f64) -> SvkUniaxial {
     let e11 = 0.5 * (stretch * stretch - 1.0);
     let e22 = -c.poisson_ratio * e11;
@@ -110,12 +117,18 @@ pub fn cantilever_first_frequency(c: &IsotropicElastic, length: f64, depth: f64)
 /// duration `2.943 delta_max / v` (2.9432 = 2 * 1.4716, the quasi-static Hertz integral).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HertzImpact {
+    /// Largest approach of the sphere centres `delta_max` (m).
     pub max_approach: f64,
+    /// Largest contact force `F_max` (N).
     pub max_force: f64,
+    /// Contact radius `a` at the largest approach (m).
     pub contact_radius: f64,
+    /// Duration of the contact (s).
     pub duration: f64,
 }
 
+/// The Hertz impact of two identical spheres of constants `c`, radius `radius` (m) and mass
+/// `mass` (kg) each, approaching at `relative_speed` (m/s); see [`HertzImpact`].
 pub fn hertz_impact(
     c: &IsotropicElastic,
     radius: f64,

@@ -17,9 +17,13 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticStiffnessSpec {
+    /// Name of the scene's boundary condition that prescribes the displacement.
     pub condition: String,
+    /// The displacement component the condition prescribes and the reaction is read along.
     pub component: impact_solver::scene::Component,
+    /// Cells along `x, y, z` of the first body's box mesh.
     pub divisions: [usize; 3],
+    /// The prescribed displacement (m).
     pub displacement: f64,
 }
 

@@ -32,14 +32,34 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq)]
 pub enum SofteningLaw {
     /// `sigma = f_t (1 - w / w_c)` up to `w_c`.
-    Linear { ft: f64, wc: f64 },
+    Linear {
+        /// Tensile strength `f_t` (Pa).
+        ft: f64,
+        /// Opening `w_c` where the stress reaches zero (m).
+        wc: f64,
+    },
     /// fib MC2010 §5.1.8.2 bilinear law (`concrete::mc2010_bilinear_softening`).
-    Mc2010 { ft: f64, gf: f64 },
+    Mc2010 {
+        /// Tensile strength `f_t` (Pa).
+        ft: f64,
+        /// Fracture energy `G_F` (N/m = J/m^2).
+        gf: f64,
+    },
     /// Hordijk (1991): `sigma / f_t = (1 + (c1 x)^3) exp(-c2 x) - x (1 + c1^3) exp(-c2)`,
     /// `x = w / w_c`, `c1 = 3`, `c2 = 6.93`, `w_c = 5.14 G_F / f_t`.
-    Hordijk { ft: f64, gf: f64 },
+    Hordijk {
+        /// Tensile strength `f_t` (Pa).
+        ft: f64,
+        /// Fracture energy `G_F` (N/m = J/m^2).
+        gf: f64,
+    },
     /// Piecewise linear through the points (`w` increasing from 0), zero past the last point.
-    Tabulated { w: Vec<f64>, sigma: Vec<f64> },
+    Tabulated {
+        /// Crack openings (m), increasing from 0.
+        w: Vec<f64>,
+        /// Stress at each opening (Pa).
+        sigma: Vec<f64>,
+    },
 }
 
 impl SofteningLaw {
@@ -181,12 +201,15 @@ fn bracketed_root(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f
 pub struct Hinge {
     /// Depth `h`, width `b`, span `L` (m).
     pub depth: f64,
+    /// Width `b` (m).
     pub width: f64,
+    /// Span `L` between the supports (m).
     pub span: f64,
     /// Hinge length `s` (m); Olesen takes `s = 0.5 h`.
     pub length: f64,
     /// Young's modulus `E` (Pa).
     pub youngs_modulus: f64,
+    /// The stress-crack opening law of the layers once cracked.
     pub law: SofteningLaw,
     /// Number of layers over the depth.
     pub layers: usize,
@@ -205,7 +228,9 @@ pub struct Hinge {
 /// `eps_p - f_t / E`: the linear-hinge layer law at `eps - (eps_p - f_t / E)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrePeak {
+    /// Strains `eps` of the branch, increasing from 0 to `eps_p` (dimensionless).
     pub strain: Vec<f64>,
+    /// Stress at each strain (Pa), ending at `f_t`.
     pub stress: Vec<f64>,
 }
 
@@ -249,6 +274,7 @@ pub struct HingePoint {
 /// The response of the hinge to a rising rotation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HingeCurve {
+    /// The states at the grid rotations, from zero rotation upwards.
     pub points: Vec<HingePoint>,
     /// The point of largest moment, refined between the grid points around it.
     pub peak: HingePoint,
@@ -494,14 +520,23 @@ pub enum HingeQuantity {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HingeSpec {
+    /// Beam depth `h` (m).
     pub depth: f64,
+    /// Beam width `b` (m).
     pub width: f64,
+    /// Span `L` between the supports (m).
     pub span: f64,
+    /// The softening law the hinge's layers follow.
     pub law: HingeLaw,
+    /// Element size (m) at which the material's own crack-opening curve is taken (the crack
+    /// band of the case's mesh).
     pub element_size: f64,
+    /// What the reference gives: the peak moment or the peak load.
     pub quantity: HingeQuantity,
+    /// The microplane body whose material is used; the first one of the scene when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<String>,
+    /// The layers' law before the crack opens (default linear).
     #[serde(default)]
     pub pre_peak: HingePrePeak,
     /// Depth of a notch at mid-span (m; default none): the hinge spans the ligament.

@@ -31,7 +31,9 @@ type V = Vector3<f64>;
 /// One vertex-face CCD query: the node's and the face's motions over a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Query {
+    /// The node's straight-line motion over the step (m).
     pub node: Trajectory,
+    /// The face's three node motions, in the face's node order (m).
     pub face: [Trajectory; 3],
 }
 

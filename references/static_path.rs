@@ -15,7 +15,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StaticPathSpec {
+    /// Load steps, tolerance and `end_time` of the static path.
     pub settings: StaticSettings,
+    /// Name of the history column (a probe or reaction component) whose largest magnitude
+    /// along the path is the reference.
     pub peak_of: String,
 }
 
