@@ -1,6 +1,9 @@
 //! Reading case files of every kind through the registry: the two passes, the errors that name
 //! the key to change, and a `contact_problems` case run and judged end to end.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use impact_vv::case_file::load_case as load;
 use impact_vv::case_kind::{LoadedCase, RunOptions};
 use impact_vv::contact_compare::Comparison;

@@ -1,6 +1,9 @@
 //! The `impact-vv` command line end to end: reports, history, exit statuses and messages for
 //! bad input, and a deliberately wrong solver setting caught by its metric.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -7,6 +7,9 @@
 //! the section, and the checks of the implementation itself (isotropy against Hooke, the rate
 //! law's unit check, rate-independent stiffness, no healing) pass.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::path::{Path, PathBuf};
 
 use impact_vv::case_file::{load_case, load_catalogue};

@@ -1,6 +1,9 @@
 //! The report writer: the page shows every case, escapes what it quotes, draws every plot, and
 //! survives bad plot data; the history file round-trips and tolerates a bad line.
 
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::PathBuf;

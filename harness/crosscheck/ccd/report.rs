@@ -81,7 +81,11 @@ pub(super) fn disagreement_table(compared: &[Compared], queries: &[CcdQuery]) ->
     let mut by_dt: Vec<usize> = (0..compared.len())
         .filter(|&i| compared[i].agreement == Agreement::BothHit)
         .collect();
-    let dt = |i: usize| (compared[i].ours.unwrap() - compared[i].theirs.unwrap()).abs();
+    let dt = |i: usize| {
+        let c = &compared[i];
+        let both = "`BothHit` means both answers are a hit time";
+        (c.ours.expect(both) - c.theirs.expect(both)).abs()
+    };
     by_dt.sort_by(|&a, &b| dt(b).total_cmp(&dt(a)));
     idx.extend(by_dt.into_iter().take(10));
     let t = |x: Option<f64>| x.map_or("none".to_string(), |t| format!("{t:.9}"));
