@@ -76,8 +76,8 @@ pub enum SolverError {
          dilatational wave speed, element {element}). Fix: lower `time_step` or set \
          `allow_unstable_time_step: true` to run above the limit on purpose"
     )]
-    /// The scene's time step exceeds the explicit stability limit (thesis section on the
-    /// central-difference scheme: `dt <= h_min / c_d`) and the scene did not allow it.
+    /// The scene's time step exceeds the stability limit of the central-difference scheme,
+    /// `dt <= h_min / c_d` (FORMULATION section 2), and the scene did not allow it.
     TimeStepAboveStable {
         /// The time step the scene asks for (s).
         requested: f64,

@@ -49,7 +49,8 @@ pub enum LocalCase {
     Separated,
     /// Closed contact without friction (`mu = 0`): a normal force only.
     Frictionless,
-    /// Closed and sticking: the force lies strictly inside the Coulomb cone.
+    /// Closed and sticking: no slip, the force inside the Coulomb cone (any force for
+    /// `mu = inf`).
     Stick,
     /// Closed and sliding: the force lies on the Coulomb cone, opposing the slip.
     Slide,

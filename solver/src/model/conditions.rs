@@ -212,7 +212,7 @@ pub struct Constraint {
 /// A force on each node of a set: `force_per_node * function(t)` (N).
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodalLoad {
-    /// Label of the load in messages and histories.
+    /// Label of the load in error messages.
     pub name: String,
     /// Loaded nodes, as indices into the model's node arrays.
     pub nodes: Vec<u32>,

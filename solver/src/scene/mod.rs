@@ -25,7 +25,7 @@ use crate::statics::StaticSettings;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
-    /// Name of the scene; it names the run's output files.
+    /// Name of the scene; the harness's scene runs use it as the stem of their output files.
     pub name: String,
     /// Free text on what the scene models; not used by the solver.
     #[serde(default)]
@@ -424,7 +424,7 @@ pub enum MotionSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
-    /// Labels the load in messages and the history; defaults to `load<index>`.
+    /// Labels the load in error messages; defaults to `load<index>`.
     #[serde(default)]
     pub name: Option<String>,
     /// Name of the loaded body.

@@ -34,7 +34,8 @@ pub struct StaticSettings {
     /// `tolerance` times the largest of the reaction and external force norms.
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
-    /// Most Newton iterations per load step before `SolverError::StaticNotConverged`.
+    /// Most Newton iterations per load step (default 25); beyond, the step fails or, for bodies
+    /// with a history, is halved (`max_cuts`).
     #[serde(default = "default_iterations")]
     pub max_iterations: usize,
     /// Bodies with a history only: how many times a load step that does not converge is halved

@@ -55,8 +55,8 @@ pub struct MicroplaneConcrete {
 pub struct CrackBand {
     /// Element size `h = (6 V)^(1/3)` (m).
     pub size: f64,
-    /// Factor on the post-peak strain of the tension law (exponent `m`) so that `h` times its
-    /// energy equals that at `h_ref` (dimensionless, 1 at `h = h_ref`).
+    /// Crack-band factor of the tension law (exponent `m`): its post-peak area is divided by it
+    /// so that `h` times its energy equals that at `h_ref` (dimensionless, 1 at `h = h_ref`).
     pub tension: f64,
     /// The same factor for the shear law (exponent `k`).
     pub shear: f64,
