@@ -29,7 +29,9 @@ pub struct TargetsFile {
     pub density: f64,
     /// Pa.
     pub youngs_modulus: f64,
+    /// Poisson's ratio (dimensionless).
     pub poisson_ratio: f64,
+    /// The strengths, strains, fracture energy and bands the calibration aims at.
     pub targets: Targets,
 }
 

@@ -11,7 +11,9 @@ use crate::catalogue::{CaseSpec, Sweep};
 #[derive(Debug, thiserror::Error)]
 #[error("{path}: {message}")]
 pub struct CatalogueError {
+    /// The case file, with the line (`path:line`) when known.
     pub path: String,
+    /// What is wrong and how to fix it.
     pub message: String,
 }
 

@@ -36,8 +36,11 @@ pub struct RunOptions {
 /// A case with the file it came from and its kind.
 #[derive(Debug, Clone)]
 pub struct LoadedCase {
+    /// The case file it was read from.
     pub path: PathBuf,
+    /// The common part of the case: name, tier, metrics, bands.
     pub spec: CaseSpec,
+    /// What the case runs and how it measures its metrics.
     pub kind: Arc<dyn CaseKind>,
 }
 
@@ -67,7 +70,9 @@ pub trait CaseKind: std::fmt::Debug + Send + Sync {
 /// block blanked, so that errors inside it give the file's own line numbers.
 #[derive(Debug, Clone)]
 pub struct Block {
+    /// The kind's key in the case file (e.g. `material_point`, `crosscheck`).
     pub key: String,
+    /// The whole file's text with the lines outside the block blanked.
     pub text: String,
 }
 
@@ -117,7 +122,9 @@ pub type ParseKind = fn(
 /// A kind registered under its key in a case file.
 #[derive(Debug, Clone, Copy)]
 pub struct KindEntry {
+    /// The top-level key of a case file that selects the kind.
     pub key: &'static str,
+    /// Builds the kind from its block of the case file.
     pub parse: ParseKind,
 }
 
@@ -125,7 +132,9 @@ pub struct KindEntry {
 /// none.
 #[derive(Debug, Clone, Copy)]
 pub struct Registry {
+    /// The kinds selected by a key of the case file.
     pub keyed: &'static [KindEntry],
+    /// The kind of a case file that holds none of the keys.
     pub default: ParseKind,
 }
 

@@ -31,10 +31,14 @@ pub enum ComparisonMeasure {
     /// of them when `problems` is empty), reduced by `statistic`. A failed solve counts as an
     /// infinite error.
     ContactProblemError {
+        /// The solver's name (`contact::registry` spelling).
         solver: String,
+        /// Names of the problems to solve; all of the case's problems when empty.
         #[serde(default)]
         problems: Vec<String>,
+        /// The tolerance the solver is given (what its stopping test bounds).
         tolerance: f64,
+        /// How the errors of the problems reduce to one value (default: the largest).
         #[serde(default)]
         statistic: Statistic,
     },
@@ -47,6 +51,7 @@ pub enum Statistic {
     /// The largest (the worst error).
     #[default]
     Max,
+    /// The smallest (the best error).
     Min,
     /// The arithmetic mean.
     Mean,

@@ -25,6 +25,7 @@ use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DeterminismSpec {
+    /// Thread counts of the runs, each at least 1; the first run is the reference.
     pub threads: Vec<usize>,
 }
 
@@ -49,6 +50,7 @@ enum DeterminismMeasure {
 /// A case that runs its scene on several thread counts.
 #[derive(Debug)]
 pub struct DeterminismCase {
+    /// The case's `determinism:` block.
     pub spec: DeterminismSpec,
     measures: Vec<Quantity>,
 }

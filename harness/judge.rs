@@ -8,6 +8,7 @@ use crate::results::{MetricResult, Status, ToleranceKind};
 /// The metrics of one case, judged, and why any could not be.
 #[derive(Debug, Default)]
 pub struct Judgement {
+    /// Each judged metric with its value, reference, band and verdict.
     pub metrics: Vec<MetricResult>,
     /// Metrics that could not be judged: no reference, a reference or a measurement that failed.
     pub failures: Vec<String>,

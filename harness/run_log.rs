@@ -50,6 +50,7 @@ impl RunLog {
         file.write_all(line.as_bytes())
     }
 
+    /// The log file, `<run>/cases.jsonl`.
     pub fn path(&self) -> &Path {
         &self.path
     }

@@ -26,6 +26,7 @@ pub enum SceneRunError {
 }
 
 impl SceneRunError {
+    /// The process exit status for the error: 2 input, 1 failed run, 130 interrupted.
     pub fn exit_code(&self) -> u8 {
         match self {
             SceneRunError::Input(_) => 2,
@@ -63,7 +64,9 @@ impl From<SolverError> for SceneRunError {
 
 /// What a finished scene run prints.
 pub struct SceneReport {
+    /// The summary lines (plan, steps, energies, phase times), printed in order.
     pub lines: Vec<String>,
+    /// Every file the run wrote.
     pub written: Vec<PathBuf>,
 }
 
