@@ -39,17 +39,22 @@ pub enum PointPath {
     Bonded,
     /// Uniaxial stress to the tensile peak, then lateral strains held and the shear strain
     /// `gamma_xy = 2 E_12` rising with the normal strain at `ratio` (d gamma / d eps_xx).
-    TensionShear { ratio: f64 },
+    TensionShear {
+        /// `d gamma_xy / d eps_xx` after the peak (dimensionless).
+        ratio: f64,
+    },
 }
 
 /// A material point's curve against the crack opening.
 #[derive(Debug, Clone)]
 pub struct PointCurve {
+    /// Crack opening `w = h (eps - sigma / E)` at each point (m).
     pub w: Vec<f64>,
     /// `sigma_xx` (Pa).
     pub sigma: Vec<f64>,
     /// `sigma_xy` (Pa), zero except in tension with shear.
     pub shear: Vec<f64>,
+    /// Largest `sigma_xx`, the point's tensile strength (Pa).
     pub peak: f64,
     /// `h int sigma : d eps` over the path (N/m).
     pub fracture_energy: f64,
@@ -203,6 +208,7 @@ pub struct BandSpec {
     pub end_displacement: String,
     /// Mean displacement columns of the band's two faces (m).
     pub band_left: String,
+    /// Mean displacement column of the band's right face (m); see `band_left`.
     pub band_right: String,
     /// Cross-section (m^2).
     pub area: f64,
@@ -238,17 +244,23 @@ pub enum BandQuantity {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BandMeasure {
+    /// What the measure returns.
     pub quantity: BandQuantity,
+    /// Where the band and its history columns are.
     pub spec: BandSpec,
 }
 
 /// The traction-opening curve of a run.
 #[derive(Debug, Clone)]
 pub struct RunCurve {
+    /// Band opening `w = (u_right - u_left) - t h / K_b` at each history row (m).
     pub w: Vec<f64>,
+    /// Traction `t = F / A` at each history row (Pa).
     pub t: Vec<f64>,
     /// Index of the peak traction.
     pub peak: usize,
+    /// Dissipated energy per crack area `G` (N/m = J/m^2): external work less the elastic
+    /// energy still stored, over the cross-section.
     pub fracture_energy: f64,
 }
 
@@ -316,6 +328,8 @@ fn softening_pairs(run: &RunCurve, point: &PointCurve) -> Vec<(f64, f64, f64)> {
 }
 
 impl BandMeasure {
+    /// The measure's value from the run's history columns (`column(name)`), with the band's
+    /// material taken from `model`; the error says which column or curve is missing.
     pub fn evaluate(
         &self,
         model: &impact_solver::model::Model,
@@ -360,13 +374,17 @@ impl BandMeasure {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointMeasure {
+    /// The scene's body or region of microplane concrete whose parameters are used.
     pub band: String,
+    /// Element size `h` of the point (m), the band width.
     pub element_size: f64,
+    /// The path the point is driven along.
     pub path: PointPath,
     /// Axial strain at the end of the path (default 0.05; the uniaxial paths stop earlier once
     /// the stress has fallen below 1e-3 of its peak).
     #[serde(default = "default_end")]
     pub end_strain: f64,
+    /// What the measure returns.
     pub quantity: PointQuantity,
 }
 
@@ -374,6 +392,7 @@ fn default_end() -> f64 {
     0.05
 }
 
+/// What a material-point diagnostic returns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PointQuantity {
@@ -389,6 +408,7 @@ pub enum PointQuantity {
 }
 
 impl PointMeasure {
+    /// Drives the point with the band's parameters from `model` and returns the quantity.
     pub fn evaluate(&self, model: &impact_solver::model::Model) -> Result<f64, String> {
         let c = point_curve(
             &model_parameters(model, &self.band)?,

@@ -64,7 +64,8 @@ impl From<SolverError> for SceneRunError {
 
 /// What a finished scene run prints.
 pub struct SceneReport {
-    /// The summary lines (plan, steps, energies, phase times), printed in order.
+    /// The lines printed after the run: the plan, the explicit summary (steps, wall time,
+    /// energy balance, time per phase) and the static iterations and reactions.
     pub lines: Vec<String>,
     /// Every file the run wrote.
     pub written: Vec<PathBuf>,

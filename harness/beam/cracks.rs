@@ -100,6 +100,7 @@ impl FailureMode {
         .find(|m| m.code() == code)
     }
 
+    /// The mode's name in reports and case files (`none`, `bending`, `mixed`, `shear`).
     pub fn name(self) -> &'static str {
         match self {
             FailureMode::None => "none",
@@ -128,8 +129,11 @@ pub enum CrackKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Side {
+    /// Left of the loaded strip (smaller `x`).
     Left,
+    /// Under the loaded strip.
     Under,
+    /// Right of the loaded strip (larger `x`).
     Right,
 }
 
@@ -138,8 +142,11 @@ pub enum Side {
 pub struct Crack {
     /// Index of the connected zone it belongs to.
     pub zone: usize,
+    /// Which side of the loaded strip it lies on.
     pub side: Side,
+    /// What it is taken for: bending, shear or other.
     pub kind: CrackKind,
+    /// Number of cracked elements in it.
     pub elements: usize,
     /// Mean `x` of its element centroids (m).
     pub x_center: f64,
@@ -150,6 +157,7 @@ pub struct Crack {
     pub length: f64,
     /// Lowest and highest centroid above the bottom face (m): `top` is the height it reached.
     pub bottom: f64,
+    /// Highest centroid above the bottom face (m); see `bottom`.
     pub top: f64,
     /// Whether it starts in the bottom layer of cells.
     pub from_bottom: bool,

@@ -9,21 +9,28 @@ use super::{BeamSpec, Side};
 /// The geometry the classification works in (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BeamFrame {
+    /// `x` of the load's centre line (m); mid-span by default.
     pub x_load: f64,
+    /// Half width of the loaded strip (m); a quarter of the beam height by default.
     pub load_half_width: f64,
+    /// `y` of the beam's bottom face (m).
     pub y_bottom: f64,
+    /// Beam height (m).
     pub height: f64,
     /// Cell size (m).
     pub cell: f64,
     /// `[x_min, x_max]` of each support strip.
     pub supports: Vec<[f64; 2]>,
+    /// Cracks (zone parts) of fewer elements are ignored.
     pub min_elements: usize,
 }
 
 /// An element of the beam: reference centroid and nodes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BeamElement {
+    /// Centroid of the element in the reference configuration (m).
     pub centroid: Vector3<f64>,
+    /// Its four global node indices.
     pub nodes: [u32; 4],
 }
 
