@@ -25,6 +25,8 @@ pub enum Tier {
 }
 
 impl Tier {
+    /// The tier's name in case files and on the command line (`quick`, `nightly`, `stress`,
+    /// `long`).
     pub fn name(self) -> &'static str {
         match self {
             Tier::Quick => "quick",
@@ -50,23 +52,29 @@ impl Tier {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CaseSpec {
+    /// Unique id of the case, `<group>/<name>` (e.g. `fracture/band-in-prism-h25`).
     pub id: String,
     /// One line: what the case checks.
     pub description: String,
+    /// The tier the case runs in.
     pub tier: Tier,
+    /// Free labels for selecting cases (`impact-vv run tag:<label>`).
     #[serde(default)]
     pub tags: Vec<String>,
     /// The scene: what a scene case runs, and what kinds that compare with it (a cross-check)
     /// read. Its kind (`crate::case_kind`) says whether it needs one.
     #[serde(default)]
     pub scene: Option<Scene>,
+    /// A refinement sweep: the case runs once per level; none without one.
     #[serde(default)]
     pub sweep: Option<Sweep>,
     /// Solver configurations to compare on the same scene; each runs and is judged on its own.
     /// Empty: the scene's own analysis, reported as variant `default`.
     #[serde(default)]
     pub variants: Vec<Variant>,
+    /// The measurements, each judged against its reference.
     pub metrics: Vec<MetricSpec>,
+    /// Plots of the report page of the case.
     #[serde(default)]
     pub plots: Vec<PlotSpec>,
     /// Wall-time limit of one solver run of this case (s).
@@ -109,7 +117,9 @@ pub struct MeshLevel {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Variant {
+    /// Name of the variant in results and reports.
     pub name: String,
+    /// The analysis (integrator and settings) replacing the scene's; the scene's when absent.
     #[serde(default)]
     pub analysis: Option<impact_solver::scene::Analysis>,
     /// A solver name from `impact_solver::contact::registry` (`gauss-seidel/thesis`,
@@ -147,7 +157,12 @@ pub enum Tolerance {
     AtLeast(f64),
     /// `|value - reference| <= fraction * max |column|` over the run's history: relative to a
     /// scale such as the peak force or the largest energy, for quantities that pass through zero.
-    RelativeToPeak { fraction: f64, column: String },
+    RelativeToPeak {
+        /// Fraction of the scale (dimensionless).
+        fraction: f64,
+        /// History column whose largest magnitude is the scale.
+        column: String,
+    },
     /// `value >= tolerance * reference` (a quantity that must exceed a multiple of a reference,
     /// e.g. a peak impact force far above the static peak load): the error is
     /// `value / reference`.
@@ -158,7 +173,9 @@ pub enum Tolerance {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MetricSpec {
+    /// Name of the metric, unique within the case.
     pub name: String,
+    /// Unit of the value as printed in reports (e.g. `N`, `mm`, `-`); informative.
     #[serde(default)]
     pub unit: String,
     /// What to measure, in the terms of the case's kind, which reads it
@@ -167,6 +184,7 @@ pub struct MetricSpec {
     /// Required: a metric without a reference fails the case (never skipped).
     #[serde(default)]
     pub reference: Option<Reference>,
+    /// How far the value may lie from the reference.
     pub tolerance: Tolerance,
 }
 
@@ -174,6 +192,7 @@ pub struct MetricSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlotSpec {
+    /// Title of the plot.
     pub title: String,
     /// History columns to draw against time (or against `x_column`).
     pub columns: Vec<String>,
@@ -181,6 +200,7 @@ pub struct PlotSpec {
     /// (thesis Fig. 10.5); default `time`.
     #[serde(default)]
     pub x_column: Option<String>,
+    /// Label of the y axis, with its unit.
     #[serde(default)]
     pub y_label: String,
     /// Draw the reference (and band) of this metric as a horizontal line.
@@ -209,10 +229,14 @@ pub struct PlotSpec {
 pub struct ReferenceCurve {
     /// The file, relative to the case file.
     pub file: PathBuf,
+    /// Name of the file's column drawn on the x axis.
     pub x: String,
+    /// Name of the file's column drawn on the y axis.
     pub y: String,
+    /// Factor from the file's x unit to the plot's (default 1).
     #[serde(default = "one")]
     pub x_scale: f64,
+    /// Factor from the file's y unit to the plot's (default 1).
     #[serde(default = "one")]
     pub y_scale: f64,
     /// The legend entry.
