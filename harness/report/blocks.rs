@@ -23,7 +23,9 @@ pub fn badge(status: Status) -> String {
 
 /// A table cell: escaped HTML content, or a number (right-aligned, tabular figures).
 pub enum Cell {
+    /// HTML content, already escaped, left-aligned.
     Html(String),
+    /// A number already formatted, right-aligned in tabular figures.
     Num(String),
 }
 
@@ -39,11 +41,14 @@ pub fn number(v: f64) -> Cell {
 
 /// A table row with an optional CSS class (`bad` for failing rows).
 pub struct Row {
+    /// CSS class of the row (`bad` for a failing row), empty for none.
     pub class: &'static str,
+    /// The row's cells, in column order.
     pub cells: Vec<Cell>,
 }
 
 impl Row {
+    /// A row of `cells` without a class.
     pub fn new(cells: Vec<Cell>) -> Self {
         Row { class: "", cells }
     }

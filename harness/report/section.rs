@@ -15,8 +15,11 @@ use serde::de::DeserializeOwned;
 /// What a section sees of the run: its results, the summaries of its cases (with their
 /// anchors), and the run folder (for records the kinds wrote beside the results).
 pub struct Page<'a> {
+    /// The results of every case of the run.
     pub results: &'a RunResults,
+    /// One summary per case, in run order, with its anchor.
     pub summaries: &'a [CaseSummary<'a>],
+    /// The run's folder.
     pub run_dir: &'a Path,
 }
 

@@ -57,17 +57,23 @@ pub fn worst_text(m: &MetricResult) -> String {
 
 /// The acceptance band of a metric around its reference, where the tolerance kind says how
 /// wide it is in the metric's own units (not for `relative_to_scale`, whose scale is unknown).
+/// The acceptance band `[low, high]` of a metric in its own units, where its tolerance kind
+/// defines one.
 pub fn acceptance_band(m: &MetricResult) -> Option<[f64; 2]> {
     m.tolerance_kind.band(m.reference, m.tolerance)
 }
 
 /// One row of the summary table.
 pub struct CaseSummary<'a> {
+    /// The case's result.
     pub case: &'a CaseResult,
     /// Fragment id of the case's section, unique within the page.
     pub anchor: String,
+    /// Metrics that passed.
     pub passed: usize,
+    /// Metrics of the case.
     pub total: usize,
+    /// The metric with the largest error over tolerance, if the case has metrics.
     pub worst: Option<&'a MetricResult>,
 }
 
@@ -116,7 +122,9 @@ pub fn count(results: &RunResults, status: Status) -> usize {
 
 /// The run's overall verdict: the headline and whether it is good news.
 pub struct Verdict {
+    /// The headline, e.g. `All 12 cases passed` or `2 failed (1 known), 1 error`.
     pub text: String,
+    /// Whether the run is good news: cases ran, none failed or errored, none interrupted.
     pub ok: bool,
 }
 

@@ -7,7 +7,9 @@ use crate::results::{CaseResult, RunResults};
 
 /// One case of the failure-mode comparison.
 pub struct FailureRow<'a> {
+    /// The case's result (id, variant, status, metrics).
     pub case: &'a CaseResult,
+    /// What the case recorded for its pictures (crack side views, failure mode).
     pub record: &'a BeamRecord,
     /// The `failure_mode` metric, if the case has one.
     pub metric: Option<&'a crate::results::MetricResult>,

@@ -25,7 +25,9 @@ pub struct SideView {
     pub time: f64,
     /// Whether this is the final state of the run.
     pub last: bool,
+    /// Number of grid cells along the beam (x).
     pub nx: usize,
+    /// Number of grid cells over the beam's height (y).
     pub ny: usize,
     /// Row-major, row 0 at the bottom of the beam; NaN (`null`) where no element lies.
     #[serde(deserialize_with = "crate::results::lenient::vec")]
@@ -35,7 +37,9 @@ pub struct SideView {
 /// What a beam case records for its pictures (see the module's documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BeamRecord {
+    /// Id of the case that recorded it.
     pub case: String,
+    /// Name of the variant that recorded it.
     pub variant: String,
     /// Lower-left corner of the beam's side view (x, y) (m).
     pub origin: [f64; 2],
