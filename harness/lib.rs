@@ -9,20 +9,26 @@ pub mod calibrate;
 pub mod case_file;
 pub mod case_kind;
 pub mod catalogue;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod contact_compare;
 pub mod contact_problems;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod crosscheck;
 pub mod determinism;
 pub mod judge;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod material_point;
 pub mod metadata;
 pub mod progress;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod reference;
 pub mod registry;
 pub mod replay;
 pub mod report;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod results;
 pub mod run_log;
 pub mod runner;
+#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod scene_case;
 pub mod scene_run;
