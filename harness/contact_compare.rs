@@ -56,6 +56,8 @@ pub const DEFAULT_TIME_LIMIT_S: f64 = 10.0;
 pub struct ContactProblemsSpec {
     /// Folder of `contact-problem/1` JSON files, relative to the case file.
     pub folder: PathBuf,
+    /// Tolerances each solver is run at (what its stopping test bounds); default
+    /// [`DEFAULT_TOLERANCES`].
     #[serde(default = "default_tolerances")]
     pub tolerances: Vec<f64>,
     /// Time limit of one solve (s).
@@ -77,8 +79,11 @@ fn default_time_limit() -> f64 {
 /// One solve: a solver on a problem at a tolerance.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ComparisonRow {
+    /// Name of the problem (its file stem).
     pub problem: String,
+    /// The solver's name (`contact::registry` spelling).
     pub solver: String,
+    /// The tolerance the solver was given.
     #[serde(deserialize_with = "lenient::f64")]
     pub tolerance: f64,
     /// Natural-map error of the returned multipliers over `||q||_2` ([`NORMALISATION`]); NaN
@@ -103,6 +108,7 @@ pub struct ComparisonRow {
     /// Whether this counts as solved in the profiles: `error <= tolerance` within the time
     /// limit, whatever the solver's own status says.
     pub solved: bool,
+    /// What the solver wanted a reader to know (fallbacks taken, removed asymmetry).
     #[serde(default)]
     pub notes: Vec<String>,
 }
@@ -118,22 +124,30 @@ impl ComparisonRow {
 /// A problem file that could not be read, with the reason (naming the file).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Unreadable {
+    /// The problem file.
     pub file: String,
+    /// Why it could not be read or checked.
     pub message: String,
 }
 
 /// A whole comparison: settings, problems, and one row per problem x solver x tolerance.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Comparison {
+    /// How the error is normalised, in words ([`NORMALISATION`]).
     pub normalisation: String,
+    /// The tolerances every solver ran at.
     pub tolerances: Vec<f64>,
+    /// Time limit of one solve (s of wall time).
     #[serde(deserialize_with = "lenient::f64")]
     pub time_limit_s: f64,
     /// Solver names in the order they ran.
     pub solvers: Vec<String>,
+    /// The problems read, with their size and structure descriptors.
     pub problems: Vec<ProblemDescriptors>,
+    /// The problem files that could not be read.
     #[serde(default)]
     pub unreadable: Vec<Unreadable>,
+    /// One row per problem, solver and tolerance.
     pub rows: Vec<ComparisonRow>,
 }
 

@@ -9,7 +9,6 @@ pub mod calibrate;
 pub mod case_file;
 pub mod case_kind;
 pub mod catalogue;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod contact_compare;
 pub mod contact_problems;
 #[allow(missing_docs)] // Documented in a follow-up (issue 19).

@@ -10,10 +10,15 @@ use super::{collect_problem_files, compare, load_problems, solver_entries, Compa
 /// What the command was asked.
 #[derive(Debug, Clone)]
 pub struct CompareArgs {
+    /// Problem files or folders of them.
     pub inputs: Vec<PathBuf>,
+    /// Output folder: the comparison JSON, tables, profiles and a README.
     pub out: PathBuf,
+    /// The tolerances every solver runs at.
     pub tolerances: Vec<f64>,
+    /// Time limit of one solve (s of wall time).
     pub time_limit_s: f64,
+    /// Solver names (`contact::registry` spelling); empty: all.
     pub solvers: Vec<String>,
 }
 

@@ -27,10 +27,12 @@ pub struct ProblemDescriptors {
     /// Smallest and largest finite Coulomb coefficient (NaN when every contact sticks).
     #[serde(deserialize_with = "lenient::f64")]
     pub mu_min: f64,
+    /// Largest finite Coulomb coefficient (NaN when every contact sticks).
     #[serde(deserialize_with = "lenient::f64")]
     pub mu_max: f64,
     /// Contacts with `mu = inf` (stick) and with `mu = 0` (frictionless).
     pub stick_contacts: usize,
+    /// Contacts with `mu = 0`.
     pub frictionless_contacts: usize,
     /// `||W - W^T||_F / ||W||_F`.
     #[serde(deserialize_with = "lenient::f64")]
@@ -44,6 +46,7 @@ pub struct ProblemDescriptors {
     /// Smallest and largest eigenvalue of `S` (a negative smallest one: `S` is indefinite).
     #[serde(deserialize_with = "lenient::f64")]
     pub eigenvalue_min: f64,
+    /// Largest eigenvalue of `S`.
     #[serde(deserialize_with = "lenient::f64")]
     pub eigenvalue_max: f64,
     /// `||q||_2`, the normalisation of the error.

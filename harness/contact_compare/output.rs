@@ -14,6 +14,7 @@ pub fn profile_file(tolerance: f64) -> String {
     format!("profile-{tolerance:e}.svg")
 }
 
+/// File name of the work-precision diagram of the comparison in the output folder.
 pub const WORK_PRECISION_FILE: &str = "work-precision.svg";
 
 /// Writes every file into `dir` (created if needed); returns the paths written.

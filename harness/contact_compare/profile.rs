@@ -17,8 +17,11 @@ use crate::results::{PlotData, ReferenceLine, Series};
 /// The performance profile of a comparison at one tolerance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PerformanceProfile {
+    /// The tolerance of the profile.
     pub tolerance: f64,
+    /// Solver names, the index `s` of `ratios`.
     pub solvers: Vec<String>,
+    /// Problem names, the index `p` of `ratios`.
     pub problems: Vec<String>,
     /// `ratios[s][p] = r_{p,s}`; infinite where `s` did not solve `p`.
     pub ratios: Vec<Vec<f64>>,

@@ -89,7 +89,9 @@ pub fn seconds_per_step(c: &CaseResult) -> Option<f64> {
 /// The table of one case run with several contact solvers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverTable {
+    /// Id of the case.
     pub id: String,
+    /// The table itself, one row per variant (contact solver) of the case.
     pub table: Table,
     /// The variant with the least contact time per step, among the passing ones when any
     /// passed, with that time.

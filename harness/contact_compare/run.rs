@@ -19,8 +19,11 @@ pub const CONIC_MAX_ITERATIONS: usize = 200;
 
 /// A solver to compare: its name, its iteration cap, and how to make a fresh one.
 pub struct SolverEntry {
+    /// The solver's name (`contact::registry` spelling).
     pub name: String,
+    /// Most iterations per solve (sweeps, or interior-point iterations per conic solve).
     pub max_iterations: usize,
+    /// Builds a fresh solver, so that no state carries over between solves.
     pub make: Box<dyn Fn() -> Box<dyn ContactSolver>>,
 }
 
@@ -55,6 +58,7 @@ pub fn solver_entries(names: &[String]) -> Result<Vec<SolverEntry>, String> {
 /// How a comparison runs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CompareSettings {
+    /// The tolerances every solver runs at.
     pub tolerances: Vec<f64>,
     /// Time limit of one solve (s), passed to the solver and applied to the profiles.
     pub time_limit_s: f64,
@@ -80,7 +84,9 @@ impl Default for CompareSettings {
 pub struct LoadedProblem {
     /// The file stem.
     pub name: String,
+    /// The problem file.
     pub file: PathBuf,
+    /// The problem, checked.
     pub problem: ContactProblem,
 }
 

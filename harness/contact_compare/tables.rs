@@ -7,7 +7,9 @@ use crate::report::format::{markdown_cell, num, seconds};
 /// A table of plain-text cells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
+    /// The column headings.
     pub head: Vec<String>,
+    /// The rows, each with one cell per heading.
     pub rows: Vec<Vec<String>>,
 }
 
