@@ -37,11 +37,14 @@ pub use cache::{AnswerMode, Provenance};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum CrosscheckSpec {
+    /// The elastic beam of the case's scene against scikit-fem (`references/crosscheck/`).
     ElasticBeam(elastic_beam::ElasticBeamSpec),
+    /// Our vertex-face CCD against ipctk on seeded random and recorded queries.
     Ccd(ccd::CcdSpec),
 }
 
 impl CrosscheckSpec {
+    /// The comparison's name with the independent code, as the report shows it.
     pub fn name(&self) -> &'static str {
         match self {
             CrosscheckSpec::ElasticBeam(_) => "elastic_beam (scikit-fem)",
@@ -61,18 +64,23 @@ impl CrosscheckSpec {
 /// What a cross-check case recorded, for the report.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CrosscheckRecord {
+    /// The comparison's name ([`CrosscheckSpec::name`]).
     pub kind: String,
     /// Fresh or cached, with the date and versions of the independent answer.
     pub provenance: Option<Provenance>,
+    /// Lines describing the setup (sizes, settings) of both sides.
     #[serde(default)]
     pub setup: Vec<String>,
     /// Every quantity measured, judged or not.
     #[serde(default)]
     pub quantities: std::collections::BTreeMap<String, f64>,
+    /// Tables of the report (per-query disagreements, per-point differences).
     #[serde(default)]
     pub tables: Vec<RecordTable>,
+    /// Plots of the report.
     #[serde(default)]
     pub plots: Vec<MaterialPlot>,
+    /// What a reader should know (fallbacks, skipped parts).
     #[serde(default)]
     pub notes: Vec<String>,
 }
@@ -86,12 +94,14 @@ impl CrosscheckRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum CrosscheckMeasure {
+    /// The name of a quantity the comparison gives ([`CrosscheckSpec::quantities`]).
     Crosscheck(String),
 }
 
 /// A case that compares the solver with independent code.
 #[derive(Debug)]
 pub struct CrosscheckCase {
+    /// The case's `crosscheck:` block.
     pub spec: CrosscheckSpec,
     /// The quantity each metric measures.
     quantities: Vec<String>,

@@ -11,7 +11,6 @@ pub mod case_kind;
 pub mod catalogue;
 pub mod contact_compare;
 pub mod contact_problems;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod crosscheck;
 pub mod determinism;
 pub mod judge;

@@ -23,10 +23,13 @@ pub enum AnswerMode {
 /// Where an independent answer came from, as the report states it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {
+    /// Computed in this run or read from the cache.
     pub mode: AnswerMode,
+    /// Name of the Python script that computed the answer.
     pub script: String,
     /// When the answer was computed (the script's own UTC time stamp).
     pub date: String,
+    /// The Python version that ran the script.
     pub python: String,
     /// Package name to version, as the script read them.
     #[serde(default)]
@@ -65,7 +68,9 @@ impl Provenance {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CacheEntry {
+    /// The JSON request sent to the script; a cached answer is used only for the same request.
     pub request: Value,
+    /// The script's JSON answer, with its provenance.
     pub answer: Value,
 }
 
@@ -111,6 +116,7 @@ fn provenance(answer: &Value, mode: AnswerMode, cache: &Path) -> Result<Provenan
     })
 }
 
+/// Reads the cache file at `path`; the error names the file.
 pub fn read_cache(path: &Path) -> Result<CacheEntry, String> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         format!(

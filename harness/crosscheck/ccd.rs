@@ -44,6 +44,7 @@ pub struct CcdSpec {
     pub record: Vec<RecordSpec>,
     /// Constructed random queries added to the recorded ones, and their seed.
     pub random: usize,
+    /// Seed of the random queries' generator.
     pub seed: u64,
     /// Barycentric tolerance given to our CCD (the contact detection's).
     pub tolerance: f64,
@@ -57,11 +58,13 @@ pub struct CcdSpec {
 pub struct RecordSpec {
     /// A catalogue case file, relative to this case's file.
     pub case: PathBuf,
+    /// Simulated time the run is cut at (s).
     pub end_time: f64,
     /// Record every n-th step.
     pub every: usize,
     /// Keep at most this many queries (evenly subsampled).
     pub max: usize,
+    /// The label its queries carry.
     pub source: QuerySource,
 }
 
@@ -129,11 +132,17 @@ pub const QUANTITIES: [&str; 9] = [
 
 /// Everything the case measured.
 pub struct Outcome {
+    /// Each quantity the metrics may measure, by name.
     pub quantities: std::collections::BTreeMap<String, f64>,
+    /// Where the independent answer came from.
     pub provenance: Provenance,
+    /// Lines describing the setup of both sides.
     pub setup: Vec<String>,
+    /// Tables of the report.
     pub tables: Vec<RecordTable>,
+    /// Plots of the report.
     pub plots: Vec<MaterialPlot>,
+    /// What a reader should know.
     pub notes: Vec<String>,
 }
 

@@ -45,8 +45,10 @@ pub enum QuerySource {
 }
 
 impl QuerySource {
+    /// Every source, in code order.
     pub const ALL: [QuerySource; 3] = [QuerySource::Sphere, QuerySource::Beam, QuerySource::Random];
 
+    /// The source's name in tables (`sphere`, `beam`, `random`).
     pub fn name(self) -> &'static str {
         match self {
             QuerySource::Sphere => "sphere",
@@ -64,6 +66,7 @@ impl QuerySource {
         }
     }
 
+    /// The source of a stored byte; `None` for an unknown code.
     pub fn from_code(code: u8) -> Option<Self> {
         Self::ALL.into_iter().find(|s| s.code() == code)
     }
@@ -73,7 +76,9 @@ impl QuerySource {
 /// `v_t0, f0_t0, f1_t0, f2_t0, v_t1, f0_t1, f1_t1, f2_t1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CcdQuery {
+    /// Where the query comes from.
     pub source: QuerySource,
+    /// Vertex and face positions at the start and end of the step (m), in ipctk's order.
     pub points: [[f64; 3]; 8],
 }
 

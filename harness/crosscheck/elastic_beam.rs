@@ -67,7 +67,9 @@ pub struct BeamValues {
     pub reaction: BTreeMap<String, f64>,
     /// Plate force over plate displacement (N/m).
     pub stiffness: f64,
+    /// Number of elements of the solution's mesh.
     pub elements: usize,
+    /// Wall time of the solution (s of real time).
     pub seconds: f64,
 }
 
@@ -94,10 +96,15 @@ fn values_of(
 
 /// Everything the case measured: the named quantities for its metrics, and the record.
 pub struct Outcome {
+    /// Each quantity the metrics may measure, by name.
     pub quantities: BTreeMap<String, f64>,
+    /// Where the independent answer came from.
     pub provenance: Provenance,
+    /// Lines describing the setup of both sides.
     pub setup: Vec<String>,
+    /// Tables of the report.
     pub tables: Vec<RecordTable>,
+    /// What a reader should know.
     pub notes: Vec<String>,
 }
 

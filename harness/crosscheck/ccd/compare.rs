@@ -10,7 +10,9 @@ use crate::crosscheck::ccd_queries::{our_time_of_impact, CcdQuery, QuerySource};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Agreement {
+    /// Neither finds an impact in the step.
     BothNone,
+    /// Both find one (their times are compared).
     BothHit,
     /// ipctk finds an impact in the step, we find none: must not happen.
     Missed,
@@ -25,9 +27,13 @@ pub enum Agreement {
 /// One query compared.
 #[derive(Debug, Clone, Copy)]
 pub struct Compared {
+    /// Where the query comes from.
     pub source: QuerySource,
+    /// How the two answers compare.
     pub agreement: Agreement,
+    /// Our time of impact as a step fraction in `[0, 1]`; `None`: no impact.
     pub ours: Option<f64>,
+    /// ipctk's time of impact as a step fraction; `None`: no impact.
     pub theirs: Option<f64>,
     /// Smallest distance between the point and the triangle over the step (m).
     pub min_distance: f64,
