@@ -14,7 +14,6 @@ pub mod contact_problems;
 pub mod crosscheck;
 pub mod determinism;
 pub mod judge;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod material_point;
 pub mod metadata;
 pub mod progress;

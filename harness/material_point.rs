@@ -92,6 +92,7 @@ fn positive(name: &str, v: f64) -> Result<(), String> {
 /// A case that runs a virtual experiment on one material point.
 #[derive(Debug)]
 pub struct MaterialPointCase {
+    /// The case's `material_point:` block: material, experiment, its settings.
     pub spec: MaterialPointSpec,
     measures: Vec<MaterialMeasure>,
 }

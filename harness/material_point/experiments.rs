@@ -31,12 +31,15 @@ pub const ISOTROPY_STRAIN: f64 = 1e-20;
 pub const ISOTROPY_SAMPLES: usize = 200;
 /// Defaults of the compressive paths: to 6e-3 in increments of 1e-5.
 pub const COMPRESSION_END: f64 = 6e-3;
+/// Default number of increments of the compressive paths.
 pub const COMPRESSION_STEPS: usize = 600;
 /// Defaults of the hydrostatic path: all normal strains to -0.05 and back.
 pub const HYDROSTATIC_END: f64 = 0.05;
+/// Default number of increments of the hydrostatic path (each way).
 pub const HYDROSTATIC_STEPS: usize = 500;
 /// The unit check of the rate law: uniaxial strain to 4e-4 in 200 increments (past the peak).
 pub const UNIT_CHECK_END: f64 = 4e-4;
+/// Number of increments of the rate law's unit check.
 pub const UNIT_CHECK_STEPS: usize = 200;
 /// Strain of the initial-stiffness probe: the laws' nonlinearity there, about `eps / e1`, is
 /// 1e-7 of the stress or less.

@@ -85,6 +85,7 @@ pub fn sampled(
 }
 
 impl MaterialPlot {
+    /// An empty plot with its title and axis labels (with units), linear axes.
     pub fn new(title: impl Into<String>, x_label: &str, y_label: &str) -> Self {
         MaterialPlot {
             plot: PlotData {
@@ -138,11 +139,13 @@ impl MaterialPlot {
         self
     }
 
+    /// The plot with a logarithmic x axis.
     pub fn log_x(mut self) -> Self {
         self.log_x = true;
         self
     }
 
+    /// The plot with a logarithmic y axis.
     pub fn log_y(mut self) -> Self {
         self.log_y = true;
         self

@@ -31,7 +31,9 @@ pub enum Quantity {
     PostPeakRise,
     /// Apparent Poisson ratio `-eps_22 / eps_11` at the first increment.
     InitialPoisson,
+    /// Apparent Poisson ratio at the peak stress.
     PoissonAtPeak,
+    /// Largest apparent Poisson ratio after the peak (above 0.5 once the material dilates).
     LargestPoissonAfterPeak,
     /// Axial strain where the volumetric strain is most compressive (NaN if it never turns).
     DilatancyOnset,
@@ -49,6 +51,7 @@ pub enum Quantity {
     CompactionThenStiffening,
     /// Smallest and largest secant bulk modulus over the initial one on loading.
     SmallestSecantRatio,
+    /// Largest secant bulk modulus over the initial one on loading.
     LargestSecantRatio,
     /// Bulk modulus of the first increment (MPa).
     InitialBulkModulus,
@@ -93,15 +96,18 @@ pub enum Quantity {
     RateScalingMisfit,
     /// Uniaxial tensile peak at a rate (MPa) and its ratio to the peak at `relative_to`.
     TensionPeakStress,
+    /// Uniaxial tensile peak at a rate over the peak at `relative_to`.
     TensionPeakRatio,
     /// Uniaxial compressive peak at a rate (MPa) and its ratio to the peak at `relative_to`.
     CompressionPeakStress,
+    /// Uniaxial compressive peak at a rate over the peak at `relative_to`.
     CompressionPeakRatio,
     /// `(max - min) / mean` of the initial slopes (`initial_slope`) over the rates.
     InitialSlopeSpread,
 }
 
 impl Quantity {
+    /// The quantity's name as a case file writes it (`peak_stress`, ...).
     pub fn name(self) -> String {
         serde_json::to_value(self)
             .ok()
@@ -109,6 +115,7 @@ impl Quantity {
             .unwrap_or_default()
     }
 
+    /// The unit the quantity is reported in (`MPa`, `N/mm`, `mm`, `J/m^3`, `-`).
     pub fn unit(self) -> &'static str {
         use Quantity::*;
         match self {
@@ -132,7 +139,10 @@ impl Quantity {
 /// One measured value of an experiment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Value {
+    /// What was measured.
     pub quantity: Quantity,
+    /// Which run of the experiment gave it.
     pub at: Selector,
+    /// The value, in [`Quantity::unit`].
     pub value: f64,
 }

@@ -12,6 +12,7 @@ use crate::catalogue::{CaseSpec, Tolerance};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialMeasure {
+    /// What to measure.
     pub quantity: Quantity,
     /// Element size (m) of a crack-band run.
     #[serde(default)]
@@ -50,6 +51,7 @@ pub struct Selector {
     pub element_size: Option<f64>,
     /// Strain rate (1/s).
     pub rate: Option<f64>,
+    /// Microplane direction rule.
     pub rule: Option<SphereRule>,
     /// A cycle's name (`name#k` for its k-th repetition).
     pub cycle: Option<String>,
@@ -118,6 +120,7 @@ pub fn rule_name(r: SphereRule) -> &'static str {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum PointMeasure {
+    /// The quantity and the run it is taken from.
     MaterialPoint(MaterialMeasure),
 }
 

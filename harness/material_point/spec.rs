@@ -16,6 +16,7 @@ use super::Quantity;
 pub struct MaterialPointSpec {
     /// The parameter file, relative to the case file.
     pub material: PathBuf,
+    /// The virtual experiment to run on the material point.
     pub experiment: Experiment,
     /// Element size `h` of the crack band (m); default the file's `h_ref`.
     #[serde(default)]
@@ -95,6 +96,7 @@ pub enum Experiment {
 }
 
 impl Experiment {
+    /// The experiment's name as a case file writes it (`isotropy`, ...).
     pub fn name(self) -> &'static str {
         match self {
             Experiment::Isotropy => "isotropy",
@@ -205,11 +207,14 @@ impl Experiment {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CycleSpec {
+    /// Name of the cycle; a measure selects its k-th repetition as `name#k`.
     pub name: String,
     /// Strain corners `[11, 22, 33, 23, 13, 12]` (tensor shears).
     pub corners: Vec<[f64; 6]>,
+    /// Number of times the closed path is run (default 1).
     #[serde(default = "one")]
     pub repeat: usize,
+    /// Increments per leg between two corners (default 50).
     #[serde(default = "default_cycle_steps")]
     pub steps: usize,
 }
@@ -227,11 +232,31 @@ fn default_cycle_steps() -> usize {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ReferenceCurve {
     /// fib MC2010 compressive stress-strain curve (Sargin form), `reference::concrete`.
-    Mc2010Compression { f_cm: f64, e_ci: f64, eps_c1: f64 },
+    Mc2010Compression {
+        /// Mean compressive strength `f_cm` (MPa).
+        f_cm: f64,
+        /// Tangent modulus at the origin `E_ci` (MPa).
+        e_ci: f64,
+        /// Strain at the peak `eps_c1` (magnitude).
+        eps_c1: f64,
+    },
     /// fib MC2010 bilinear softening in tension (`f_t` in MPa, `g_f` in N/mm).
-    Mc2010Softening { f_t: f64, g_f: f64 },
+    Mc2010Softening {
+        /// Tensile strength (MPa).
+        f_t: f64,
+        /// Fracture energy (N/mm).
+        g_f: f64,
+    },
     /// Hordijk's (1991) softening curve, `w_c = 5.14 GF / ft` (`f_t` in MPa, `g_f` in N/mm).
-    Hordijk1991Softening { f_t: f64, g_f: f64 },
+    Hordijk1991Softening {
+        /// Tensile strength (MPa).
+        f_t: f64,
+        /// Fracture energy (N/mm).
+        g_f: f64,
+    },
     /// CEB-FIP MC1990 dynamic increase factors for `f_cm` (MPa).
-    CebFip1990Dif { f_cm: f64 },
+    CebFip1990Dif {
+        /// Mean compressive strength `f_cm` (MPa).
+        f_cm: f64,
+    },
 }
