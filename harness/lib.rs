@@ -17,7 +17,6 @@ pub mod judge;
 pub mod material_point;
 pub mod metadata;
 pub mod progress;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod reference;
 pub mod registry;
 pub mod replay;

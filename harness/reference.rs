@@ -15,12 +15,22 @@ pub use impact_references::{analytic, concrete, elastic_refinement, hinge, stati
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Reference {
     /// A published or experimental number, with its source.
-    Value { value: f64, source: String },
+    Value {
+        /// The value, in the metric's unit.
+        value: f64,
+        /// Where it comes from (publication, table, figure).
+        source: String,
+    },
     /// A closed-form solution.
     Analytic(Analytic),
     /// A published or experimental value from a data file in `references/published/`, which
     /// gives each value with its unit and source.
-    Published { file: String, key: String },
+    Published {
+        /// The data file's name in `references/published/`.
+        file: String,
+        /// The entry of the file.
+        key: String,
+    },
     /// An observed failure mode of a beam (thesis 10.3.2), as the code of the `failure_mode`
     /// measure (`crate::beam::FailureMode::code`): `{ failure_mode: bending }`.
     FailureMode(crate::beam::FailureMode),
@@ -39,9 +49,12 @@ pub enum Reference {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PublishedValue {
+    /// The value, in `unit`.
     pub value: f64,
+    /// Its unit as the file states it.
     #[serde(default)]
     pub unit: String,
+    /// Where it comes from (publication, table, figure).
     pub source: String,
 }
 
@@ -71,9 +84,13 @@ fn published(file: &str, key: &str) -> Result<PublishedValue, String> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SvkQuantity {
+    /// Green-Lagrange strain along the stretch (dimensionless).
     E11,
+    /// Lateral Green-Lagrange strain (dimensionless).
     E22,
+    /// Second Piola-Kirchhoff stress along the stretch (Pa).
     S11,
+    /// First Piola-Kirchhoff (nominal) stress along the stretch (Pa).
     P11,
     /// Cauchy stress along the stretch.
     Sigma11,
@@ -85,66 +102,99 @@ pub enum SvkQuantity {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialRef {
+    /// Elastic constants stated in the reference.
     Material(IsotropicElastic),
+    /// The constants of the scene's body of this name.
     Body(String),
 }
 
+/// A closed-form reference value (formulas in `impact_references::analytic` and `concrete`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Analytic {
     /// Zero: the reference of error measures (patch-test residuals, drifts).
     Zero,
+    /// Dilatational (P-wave) speed `sqrt((lambda + 2 mu) / rho)` (m/s).
     DilatationalWaveSpeed {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
     },
+    /// Rayleigh surface-wave speed (m/s).
     RayleighWaveSpeed {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
     },
     /// Stress behind a plane wave driven at `velocity` into `body`: `-rho c_d v`.
     PlaneWaveStress {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
+        /// Particle velocity imposed at the driven face (m/s).
         velocity: f64,
     },
+    /// Saint-Venant-Kirchhoff in uniaxial stress at an axial stretch: one quantity.
     SvkUniaxial {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
+        /// Axial stretch `l` (dimensionless, 1 undeformed).
         stretch: f64,
+        /// Which quantity of the solution.
         quantity: SvkQuantity,
     },
     /// Cauchy stress along the stretch of Saint-Venant-Kirchhoff in uniaxial strain (laterally
     /// confined).
     SvkUniaxialStrainStress {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
+        /// Axial stretch `l` (dimensionless, 1 undeformed).
         stretch: f64,
     },
+    /// First bending frequency of a clamped-free Euler-Bernoulli beam of rectangular section
+    /// (Hz).
     CantileverFirstFrequency {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
+        /// Free length `L` (m).
         length: f64,
+        /// Section depth `h` in the bending plane (m).
         depth: f64,
     },
     /// Head-on impact of two identical spheres (Hertz): one quantity.
     HertzImpact {
+        /// The material: stated in the reference or taken from a body of the scene.
         of: MaterialRef,
+        /// Radius of each sphere (m); the mass follows from the density.
         radius: f64,
+        /// Approach speed of the two spheres (m/s).
         relative_speed: f64,
+        /// Which quantity of the solution.
         quantity: HertzQuantity,
     },
     /// Mid-span load at which the extreme fibre of a simply supported beam reaches `f_r`.
     ModulusOfRuptureLoad {
+        /// Modulus of rupture (flexural strength) `f_r` (Pa).
         f_r: f64,
+        /// Section width `b` (m).
         width: f64,
+        /// Section depth `h` (m).
         depth: f64,
+        /// Span between the supports `L` (m).
         span: f64,
     },
     /// fib Model Code 2010 dynamic increase factor of strength at a strain rate.
     Mc2010DynamicIncreaseFactor {
+        /// Strain rate (1/s).
         rate: f64,
+        /// Tensile strength when true, compressive when false.
         tension: bool,
     },
     /// The ratio of the fib Model Code 2010 dynamic increase factors at `rate` and at
     /// `relative_to` (`concrete::mc2010_dif_ratio`).
     Mc2010DifRatio {
+        /// Strain rate of the numerator (1/s).
         rate: f64,
+        /// Strain rate of the denominator (1/s).
         relative_to: f64,
+        /// Tensile strength when true, compressive when false.
         tension: bool,
     },
 }
@@ -153,9 +203,13 @@ pub enum Analytic {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum HertzQuantity {
+    /// Largest approach of the centres `delta_max` (m).
     MaxApproach,
+    /// Largest contact force `F_max` (N).
     MaxForce,
+    /// Contact radius at the largest approach (m).
     ContactRadius,
+    /// Duration of the contact (s).
     Duration,
 }
 
