@@ -21,7 +21,6 @@ pub mod reference;
 pub mod registry;
 pub mod replay;
 pub mod report;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod results;
 pub mod run_log;
 pub mod runner;

@@ -33,7 +33,9 @@ pub(crate) mod lenient {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
+    /// Every metric met its reference.
     Pass,
+    /// At least one metric missed its reference.
     Fail,
     /// Not run, with the reason in `CaseResult::message`.
     Skipped,
@@ -100,17 +102,23 @@ impl ToleranceKind {
 /// One measured quantity against its reference.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricResult {
+    /// Name of the metric, as the case file gives it.
     pub name: String,
+    /// The measured value, in `unit`.
     #[serde(deserialize_with = "lenient::f64")]
     pub value: f64,
+    /// The reference value, in `unit` (0 for error measures).
     #[serde(deserialize_with = "lenient::f64")]
     pub reference: f64,
     /// `|value - reference|`, divided by the reference scale for relative tolerances.
     #[serde(deserialize_with = "lenient::f64")]
     pub error: f64,
+    /// The bound on `error` (or the floor, see `tolerance_kind`).
     #[serde(deserialize_with = "lenient::f64")]
     pub tolerance: f64,
+    /// Unit of `value` and `reference` as printed.
     pub unit: String,
+    /// Whether the metric met its reference.
     pub pass: bool,
     /// How `error` and `tolerance` are to be read.
     #[serde(default)]
@@ -123,9 +131,12 @@ pub struct MetricResult {
 /// A curve of a plot.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
+    /// Legend entry.
     pub name: String,
+    /// Abscissae, in the plot's x unit.
     #[serde(deserialize_with = "lenient::vec")]
     pub x: Vec<f64>,
+    /// Ordinates, one per abscissa, in the plot's y unit.
     #[serde(deserialize_with = "lenient::vec")]
     pub y: Vec<f64>,
 }
@@ -133,19 +144,27 @@ pub struct Series {
 /// A horizontal reference line with an optional acceptance band `[lo, hi]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceLine {
+    /// Legend entry.
     pub label: String,
+    /// Height of the line, in the plot's y unit.
     #[serde(deserialize_with = "lenient::f64")]
     pub y: f64,
+    /// The acceptance band `[lo, hi]` drawn around it, if any.
     pub band: Option<[f64; 2]>,
 }
 
 /// A plot of a case: curves plus reference lines and bands.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlotData {
+    /// Title of the plot.
     pub title: String,
+    /// Label of the x axis, with its unit.
     pub x_label: String,
+    /// Label of the y axis, with its unit.
     pub y_label: String,
+    /// The curves.
     pub series: Vec<Series>,
+    /// Horizontal reference lines with their bands.
     #[serde(default)]
     pub reference_lines: Vec<ReferenceLine>,
     /// Draw both axes logarithmically (convergence and work-precision diagrams).
@@ -159,11 +178,14 @@ pub struct SweepLevel {
     /// The swept parameter's value (element size in m, or time-step factor).
     #[serde(deserialize_with = "lenient::f64")]
     pub parameter: f64,
+    /// Wall time of the level's run (s of real time).
     #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
     /// Error of each metric against its reference at this level.
     pub errors: BTreeMap<String, f64>,
+    /// Value of each metric at this level, in the metric's unit.
     pub values: BTreeMap<String, f64>,
+    /// How the level's run ended.
     #[serde(default)]
     pub status: LevelStatus,
 }
@@ -173,6 +195,7 @@ pub struct SweepLevel {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(from = "String", into = "String")]
 pub enum LevelStatus {
+    /// The run reached its end.
     #[default]
     Completed,
     /// Stopped by the instability check (a time step above the stable limit, on purpose).
@@ -213,7 +236,9 @@ impl std::fmt::Display for LevelStatus {
 /// A refinement sweep: levels and the observed convergence order of each metric's error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepResult {
+    /// What is swept, with its unit (element size, time-step factor).
     pub parameter: String,
+    /// The levels, coarse to fine.
     pub levels: Vec<SweepLevel>,
     /// Least-squares slope of log(error) against log(parameter) over the levels.
     pub observed_order: BTreeMap<String, f64>,
@@ -222,23 +247,33 @@ pub struct SweepResult {
 /// The result of one case under one solver variant.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CaseResult {
+    /// Id of the case.
     pub id: String,
+    /// Name of the solver variant (`default` for the scene's own analysis).
     pub variant: String,
+    /// The case's verdict.
     pub status: Status,
+    /// Wall time of the case (s of real time).
     #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
+    /// Each metric, judged.
     pub metrics: Vec<MetricResult>,
+    /// One line: what the case checks.
     #[serde(default)]
     pub description: String,
+    /// The case's tier by name.
     #[serde(default)]
     pub tier: String,
+    /// The case's tags.
     #[serde(default)]
     pub tags: Vec<String>,
     /// Why a case failed, was skipped or errored; the solver's plan otherwise.
     #[serde(default)]
     pub message: Option<String>,
+    /// The case's plots, with their data.
     #[serde(default)]
     pub plots: Vec<PlotData>,
+    /// The refinement sweep, if the case has one.
     #[serde(default)]
     pub sweep: Option<SweepResult>,
     /// How the contact solver fared over the judged run, for scenes with contact.
@@ -311,18 +346,27 @@ pub struct ContactSolverStats {
 /// Everything one `impact-vv run` produced: written as `results.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunResults {
+    /// Id of the run, from its start time; names its folder under `reports/`.
     pub run_id: String,
+    /// Short commit hash, `+dirty` when the tree had uncommitted changes.
     pub commit: String,
+    /// The tier that ran, by name.
     pub tier: String,
+    /// One result per case and variant, in run order.
     pub cases: Vec<CaseResult>,
+    /// Start time of the run (UTC).
     #[serde(default)]
     pub date: String,
+    /// Host name and core count.
     #[serde(default)]
     pub machine: String,
+    /// Worker threads of the solver.
     #[serde(default)]
     pub threads: usize,
+    /// Versions of the harness, the solver and the compiler.
     #[serde(default)]
     pub versions: BTreeMap<String, String>,
+    /// Wall time of the whole run (s of real time).
     #[serde(default)]
     #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
@@ -331,17 +375,28 @@ pub struct RunResults {
 /// One line of `reports/history.jsonl`: one case of one run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HistoryRecord {
+    /// Id of the run ([`RunResults::run_id`]).
     pub run_id: String,
+    /// The run's commit.
     pub commit: String,
+    /// Start time of the run (UTC).
     pub date: String,
+    /// Host name and core count.
     pub machine: String,
+    /// Worker threads of the solver.
     pub threads: usize,
+    /// Versions of the harness, the solver and the compiler.
     pub versions: BTreeMap<String, String>,
+    /// Id of the case.
     pub case: String,
+    /// Name of the solver variant.
     pub variant: String,
+    /// The case's verdict.
     pub status: Status,
+    /// Wall time of the case (s of real time).
     #[serde(deserialize_with = "lenient::f64")]
     pub wall_s: f64,
+    /// Value of each metric, in its unit.
     pub metrics: BTreeMap<String, f64>,
     /// Wall time of each phase of the explicit step (s), for scene runs: the trend of where the
     /// time goes.
@@ -388,8 +443,11 @@ impl RunResults {
 /// cross-checks): title, head, rows of text, and how to read it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RecordTable {
+    /// Title of the table.
     pub title: String,
+    /// Column headings.
     pub head: Vec<String>,
+    /// Rows of text cells, one per heading.
     pub rows: Vec<Vec<String>>,
     /// What the table shows and how to read it.
     #[serde(default)]
@@ -400,11 +458,15 @@ pub struct RecordTable {
 /// reference curves where it needs them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MaterialPlot {
+    /// The curves, labels and reference lines.
     pub plot: PlotData,
+    /// Logarithmic x axis.
     #[serde(default)]
     pub log_x: bool,
+    /// Logarithmic y axis.
     #[serde(default)]
     pub log_y: bool,
+    /// Target windows drawn as boxes.
     #[serde(default)]
     pub boxes: Vec<TargetBox>,
     /// Names of the series that are references (drawn dashed).
@@ -415,9 +477,12 @@ pub struct MaterialPlot {
 /// A target window `[x_lo, x_hi] x [y_lo, y_hi]` in the plot's units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TargetBox {
+    /// Legend entry.
     pub label: String,
+    /// `[x_lo, x_hi]`, in the plot's x unit.
     #[serde(deserialize_with = "lenient::vec")]
     pub x: Vec<f64>,
+    /// `[y_lo, y_hi]`, in the plot's y unit.
     #[serde(deserialize_with = "lenient::vec")]
     pub y: Vec<f64>,
 }
