@@ -24,6 +24,5 @@ pub mod report;
 pub mod results;
 pub mod run_log;
 pub mod runner;
-#[allow(missing_docs)] // Documented in a follow-up (issue 19).
 pub mod scene_case;
 pub mod scene_run;

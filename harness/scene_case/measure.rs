@@ -12,6 +12,7 @@ pub enum NodeScope {
     /// Nodes not on the boundary of the body.
     #[default]
     Interior,
+    /// Every node of the body.
     All,
 }
 
@@ -19,7 +20,9 @@ pub enum NodeScope {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FieldQuantity {
+    /// Nodal displacement (m).
     Displacement,
+    /// Nodal velocity (m/s).
     Velocity,
 }
 
@@ -27,11 +30,17 @@ pub enum FieldQuantity {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TensorComponent {
+    /// `xx`, index 0.
     Xx,
+    /// `yy`, index 1.
     Yy,
+    /// `zz`, index 2.
     Zz,
+    /// `xy`, index 3 (tensor shear).
     Xy,
+    /// `yz`, index 4 (tensor shear).
     Yz,
+    /// `xz`, index 5 (tensor shear).
     Xz,
 }
 
@@ -40,32 +49,66 @@ pub enum TensorComponent {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Measure {
     /// Largest value of a history column.
-    HistoryMax { column: String },
+    HistoryMax {
+        /// Name of the history column.
+        column: String,
+    },
     /// Smallest value of a history column.
-    HistoryMin { column: String },
+    HistoryMin {
+        /// Name of the history column.
+        column: String,
+    },
     /// Largest |value| of a history column (a peak load whose sign is a convention).
-    HistoryPeakMagnitude { column: String },
-    /// Last recorded value of a history column.
+    HistoryPeakMagnitude {
+        /// Name of the history column.
+        column: String,
+    },
     /// Last recorded value of a history column, times `scale` (for example `-1 / area` to turn
     /// a contact force into a compressive stress).
     HistoryFinal {
+        /// Name of the history column.
         column: String,
+        /// Factor on the value (default 1).
         #[serde(default = "one")]
         scale: f64,
     },
     /// Time of the largest absolute value of a column.
-    PeakTime { column: String },
+    PeakTime {
+        /// Name of the history column.
+        column: String,
+    },
     /// Total time during which the column exceeds `threshold`.
-    DurationAbove { column: String, threshold: f64 },
+    DurationAbove {
+        /// Name of the history column.
+        column: String,
+        /// The level, in the column's unit.
+        threshold: f64,
+    },
     /// Mean of a column over the time window `[from, to]`.
-    PlateauMean { column: String, from: f64, to: f64 },
+    PlateauMean {
+        /// Name of the history column.
+        column: String,
+        /// Start of the window (s).
+        from: f64,
+        /// End of the window (s).
+        to: f64,
+    },
     /// First time the column reaches `level` (linear interpolation between records).
-    ArrivalTime { column: String, level: f64 },
+    ArrivalTime {
+        /// Name of the history column.
+        column: String,
+        /// The level, in the column's unit.
+        level: f64,
+    },
     /// `distance / (t_to - t_from)` from the arrival of `level` at two probes: the front speed.
     FrontSpeed {
+        /// History column of the first probe.
         from: String,
+        /// History column of the second probe.
         to: String,
+        /// Distance between the probes (m).
         distance: f64,
+        /// The level whose arrival is timed, in the columns' unit.
         level: f64,
     },
     /// Largest |energy balance error| over the run, over the largest energy scale.
@@ -74,10 +117,18 @@ pub enum Measure {
     KineticEnergyDrift,
     /// Largest |column(t) - column(0)| over the history, divided by `scale` (for example the
     /// drift of the total momentum over one body's initial momentum).
-    MaxChange { column: String, scale: f64 },
+    MaxChange {
+        /// Name of the history column.
+        column: String,
+        /// The divisor, in the column's unit.
+        scale: f64,
+    },
     /// Largest |v(t) - v(0)| / |v(0)| of the vector whose components are `columns` (for
     /// example the total angular momentum).
-    RelativeDrift { columns: [String; 3] },
+    RelativeDrift {
+        /// The history columns of the `x`, `y`, `z` components.
+        columns: [String; 3],
+    },
     /// (kinetic + stored energy) at the end over the initial kinetic energy: the energy left in
     /// the bodies after an impact, elastic vibration included.
     FinalEnergyRatio,
@@ -85,7 +136,9 @@ pub enum Measure {
     /// inertia tensor in the current configuration (`omega = I^-1 L`), times `scale` (for
     /// example `R / v` to make it dimensionless).
     BodySpin {
+        /// Name of the body.
         body: String,
+        /// Factor on `|omega|` (s, default 1).
         #[serde(default = "one")]
         scale: f64,
     },
@@ -93,47 +146,73 @@ pub enum Measure {
     /// `scale (translation + gradient (X - center))`, where `scale` is the final time for an
     /// explicit displacement (constant velocity field) and 1 otherwise.
     AffineFieldError {
+        /// The field compared: displacement or velocity.
         quantity: FieldQuantity,
+        /// Uniform part of the exact field (m or m/s, per unit `scale`).
         #[serde(default)]
         translation: [f64; 3],
+        /// Gradient of the exact field, row `i` for component `i`.
         gradient: [[f64; 3]; 3],
+        /// Reference point `X` of the gradient (m).
         #[serde(default)]
         center: [f64; 3],
+        /// Which nodes are compared (default the interior ones).
         #[serde(default)]
         nodes: NodeScope,
     },
     /// Largest relative deviation of any element's Cauchy stress from the exact stress of the
     /// homogeneous deformation `F = I + scale gradient` (scale as in `affine_field_error`).
-    UniformStressError { gradient: [[f64; 3]; 3] },
+    UniformStressError {
+        /// Displacement gradient of the deformation per unit `scale`, row `i` for component `i`.
+        gradient: [[f64; 3]; 3],
+    },
     /// Largest |sigma_ij| over all elements, divided by Young's modulus of its body.
     MaxStressOverModulus,
     /// Mean Cauchy stress component over the elements whose centroid lies in `[min, max]`.
     ElementStressMean {
+        /// The stress component.
         component: TensorComponent,
+        /// Lower corner of the box (m).
         min: [f64; 3],
+        /// Upper corner of the box (m).
         max: [f64; 3],
     },
     /// `(max - min) / |mean|` of a Cauchy stress component over the elements whose centroid
     /// lies in `[min, max]`: the scatter of a stress that should be uniform.
     ElementStressScatter {
+        /// The stress component.
         component: TensorComponent,
+        /// Lower corner of the box (m).
         min: [f64; 3],
+        /// Upper corner of the box (m).
         max: [f64; 3],
     },
     /// Mean Green-Lagrange strain component over all elements.
-    ElementStrainMean { component: TensorComponent },
+    ElementStrainMean {
+        /// The strain component.
+        component: TensorComponent,
+    },
     /// Reaction of a constraint (static: at equilibrium; explicit: the last record), divided by
     /// `divide_by` (for example an area, giving a nominal stress).
     Reaction {
+        /// Name of the boundary condition.
         constraint: String,
+        /// The reaction's component.
         component: TensorAxis,
+        /// The divisor (default 1), e.g. an area (m^2).
         #[serde(default = "one")]
         divide_by: f64,
     },
     /// Frequency from the mean spacing of upward zero crossings of a column (Hz).
-    ZeroCrossingFrequency { column: String },
+    ZeroCrossingFrequency {
+        /// Name of the history column.
+        column: String,
+    },
     /// Observed convergence order of another metric's error over the sweep.
-    ObservedOrder { metric: String },
+    ObservedOrder {
+        /// Name of the other metric of the case.
+        metric: String,
+    },
     /// 1 if every sweep level with time-step factor up to 1 ran stably, else 0.
     StableUpToEstimate,
     /// Smallest time-step factor of the sweep whose run went unstable: the measured stability
@@ -145,8 +224,11 @@ pub enum Measure {
     /// `recorded`: the run's own multipliers); `quantity` is the worst over the problems (see
     /// `crate::replay`).
     ContactReplay {
+        /// The solver's name (`contact::registry` spelling), or `recorded`.
         solver: String,
+        /// What is measured on each replayed problem.
         quantity: crate::replay::ReplayQuantity,
+        /// The tolerance the solver is given (default 1e-10).
         #[serde(default = "replay_tolerance")]
         tolerance: f64,
         /// Only the problems the run's solver converged on.
@@ -164,10 +246,13 @@ pub enum Measure {
     /// `max K / W_int` over the records where `W_int` exceeds `above_fraction` (default 5 %)
     /// of its largest value (`crate::beam::history::kinetic_over_internal_work`).
     KineticOverInternalWork {
+        /// History column of the kinetic energy `K` (default `kinetic`).
         #[serde(default = "kinetic_column")]
         kinetic: String,
+        /// History column of the internal work `W_int` (default `internal_work`).
         #[serde(default = "internal_work_column")]
         internal_work: String,
+        /// Fraction of the largest `W_int` above which records count (default 0.05).
         #[serde(default = "five_percent")]
         above_fraction: f64,
         /// Only the records up to the largest |value| of this column (the peak load): past the
@@ -184,8 +269,11 @@ pub enum Measure {
     /// Least-squares slope of `force` against `displacement` up to the first record where
     /// |force| reaches `up_to_fraction` of its peak (`crate::beam::history::secant_stiffness`).
     SecantStiffness {
+        /// History column of the force (N).
         force: String,
+        /// History column of the displacement (m).
         displacement: String,
+        /// Fraction of the peak |force| up to which records are fitted.
         up_to_fraction: f64,
     },
     /// Largest |bending moment| about the z axis at the section `x = section_x` over the run,
@@ -196,7 +284,9 @@ pub enum Measure {
     /// it does not depend on where a rigid plate or support strip carries its force, so it
     /// compares with a sectional (hinge) model of the beam.
     PeakBendingMoment {
+        /// `x` of the section (m).
         section_x: f64,
+        /// Boundary conditions or reaction probes on one side of the section.
         conditions: Vec<String>,
         /// Only the records up to the largest |value| of this column (the peak load): after a
         /// brittle beam snaps, inertia forces make the reactions' moment differ from the
@@ -206,19 +296,30 @@ pub enum Measure {
     },
     /// `max |numerator| / max |denominator|` over the history.
     PeakRatio {
+        /// History column of the numerator.
         numerator: String,
+        /// History column of the denominator.
         denominator: String,
     },
     /// Time of the largest |column| minus that of the largest |after| (s).
-    PeakTimeLag { column: String, after: String },
+    PeakTimeLag {
+        /// Name of the history column.
+        column: String,
+        /// History column whose peak time is subtracted.
+        after: String,
+    },
     /// The force balance (6.48) of `body` along y summed over its nodes: `max |-contact + m g_y
     /// + sum reactions - dp/dt| / max |contact|`, with `contact` the force the body exerts on
     /// the other body of the pair, `dp/dt` by central differences of `momentum`, `m` the body's
     /// mass (`crate::beam::history::force_equilibrium_error`).
     ForceEquilibriumError {
+        /// Name of the body.
         body: String,
+        /// History column of the contact force the body exerts on the other body (N).
         contact: String,
+        /// History columns of the reactions on the body (N).
         reactions: Vec<String>,
+        /// History column of the body's momentum along y (kg m/s).
         momentum: String,
     },
     /// The crack band of a prism run against the material point of its size (`crate::band`):
@@ -249,8 +350,11 @@ fn replay_tolerance() -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TensorAxis {
+    /// The `x` axis.
     X,
+    /// The `y` axis.
     Y,
+    /// The `z` axis.
     Z,
 }
 
