@@ -25,7 +25,7 @@ pub mod state;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::MicroplaneMaterial;
-pub use parameters::{MicroplaneParameters, RateEffect, TensionDriver};
+pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
@@ -68,7 +68,7 @@ pub struct UpdateInfo {
 }
 
 impl MicroplaneConcrete {
-    pub fn new(parameters: MicroplaneParameters) -> Result<Self, String> {
+    pub fn new(parameters: MicroplaneParameters) -> Result<Self, ParameterError> {
         parameters.validate()?;
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
         Ok(Self {
