@@ -89,7 +89,7 @@ pub fn point_curve(
 ) -> Result<PointCurve, String> {
     let mut params = *params;
     params.rate_effect = None;
-    let model = MicroplaneConcrete::new(params)?;
+    let model = MicroplaneConcrete::new(params).map_err(|e| e.to_string())?;
     let mut point = MaterialPoint::new(&model, h).map_err(|e| e.to_string())?;
     let mut pts = vec![([0.0; 6], [0.0; 6])];
     let mut peak: f64 = 0.0;

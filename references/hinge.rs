@@ -608,7 +608,7 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
                 "the hinge reference needs a microplane body or region in the scene".to_string()
             }
         })?;
-    let model = MicroplaneConcrete::new(parameters)?;
+    let model = MicroplaneConcrete::new(parameters).map_err(|e| e.to_string())?;
     let branches = tension_branches(&model, spec.element_size);
     let (w, sigma) = branches.opening.clone();
     if w.len() < 2 {

@@ -78,7 +78,7 @@ pub fn run(
     match mp.experiment {
         Experiment::Isotropy => isotropy(mp, params, targets, &mut out)?,
         Experiment::UniaxialTension => {
-            let model = MicroplaneConcrete::new(*params)?;
+            let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
             let rate = rate_of(mp, &mut out);
             let (curve, values) = tension_run(
                 &model,

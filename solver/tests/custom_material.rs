@@ -148,14 +148,7 @@ fn a_neo_hookean_body_defined_in_a_test_runs_statically_and_explicitly() {
     let lowest = tip.iter().cloned().fold(f64::INFINITY, f64::min);
     let highest = tip.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     assert!(highest > 0.5 * tip[0].abs() && lowest < 0.9 * tip[0]);
-    let kinetic = history.column("kinetic").unwrap();
-    let strain = history.column("stored_energy").unwrap();
-    let drift = kinetic
-        .iter()
-        .zip(&strain)
-        .map(|(k, w)| (k + w - stored).abs())
-        .fold(0.0, f64::max)
-        / stored;
+    let drift = kinetic_plus_stored_drift(&history, stored);
     assert!(
         drift < 1e-3,
         "K + W drifted by {drift:.2e} of the stored energy"

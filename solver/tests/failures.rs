@@ -6,29 +6,13 @@ mod common;
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::MaterialModel;
-use impact_solver::model::{Constraint, Model, Motion, TimeFunction};
+use impact_solver::model::Model;
 use impact_solver::output::HistoryTable;
 use impact_solver::SolverError;
 
-fn column_problem() -> impact_solver::model::Problem {
-    let mut p = problem(
-        box_body([0.5, 0.05, 0.05], [20, 2, 2], 0.0, 0),
-        MaterialModel::LinearElastic(STEEL),
-    );
-    let end: Vec<u32> = (0..p.model.node_count() as u32)
-        .filter(|&n| p.model.reference[n as usize].x < 1e-12)
-        .collect();
-    p.constraints.push(Constraint {
-        name: "impact".into(),
-        nodes: end,
-        motion: Motion::Velocity([true, false, false], TimeFunction::Constant(1.0)),
-    });
-    p
-}
-
 #[test]
 fn a_time_step_above_the_stable_limit_is_refused_with_both_numbers() {
-    let p = column_problem();
+    let p = pushed_column();
     let (dt_cr, _) = p.model.critical_time_step();
     let mut settings = ExplicitSettings::new(1e-3);
     settings.time_step = Some(1.2 * dt_cr);
@@ -47,7 +31,7 @@ fn a_time_step_above_the_stable_limit_is_refused_with_both_numbers() {
 
 #[test]
 fn an_unstable_run_stops_with_a_report_and_writes_its_output() {
-    let p = column_problem();
+    let p = pushed_column();
     let (dt_cr, _) = p.model.critical_time_step();
     let mut settings = ExplicitSettings::new(2e-3);
     settings.time_step = Some(2.0 * dt_cr);

@@ -234,3 +234,38 @@ fn tension_shear_cycle_dissipates() {
         );
     }
 }
+
+/// Parameters out of range are refused with a value naming the parameter and its range.
+#[test]
+fn parameters_out_of_range_are_typed_errors() {
+    use impact_solver::material::microplane::ParameterError;
+    use impact_solver::material::ConstantsError;
+    let refused = |change: &dyn Fn(&mut MicroplaneParameters)| {
+        let mut p = thesis_concrete();
+        change(&mut p);
+        MicroplaneConcrete::new(p).expect_err("out of range")
+    };
+    assert_eq!(
+        refused(&|p| p.k = -1.0),
+        ParameterError::NotPositive {
+            name: "k",
+            value: -1.0
+        }
+    );
+    assert_eq!(
+        refused(&|p| p.beta = 1.5),
+        ParameterError::UnloadingFraction {
+            name: "beta",
+            value: 1.5
+        }
+    );
+    assert_eq!(
+        refused(&|p| p.poisson_ratio = 0.5),
+        ParameterError::Elastic(ConstantsError::PoissonRatio(0.5))
+    );
+    let message = refused(&|p| p.s_i_min = 1.0).to_string();
+    assert!(
+        message.contains("s_i_min must be a small negative stress"),
+        "{message}"
+    );
+}

@@ -6,8 +6,6 @@ mod common;
 
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
-use impact_solver::material::MaterialModel;
-use impact_solver::model::{Constraint, Motion, TimeFunction};
 use impact_solver::output::{FieldFrame, Halt, HistoryTable, RunObserver};
 use impact_solver::SolverError;
 
@@ -55,22 +53,6 @@ impl RunObserver for Watcher {
     }
 }
 
-fn bar() -> impact_solver::model::Problem {
-    let mut p = problem(
-        box_body([0.5, 0.05, 0.05], [20, 2, 2], 0.0, 0),
-        MaterialModel::LinearElastic(STEEL),
-    );
-    let end: Vec<u32> = (0..p.model.node_count() as u32)
-        .filter(|&n| p.model.reference[n as usize].x < 1e-12)
-        .collect();
-    p.constraints.push(Constraint {
-        name: "push".into(),
-        nodes: end,
-        motion: Motion::Velocity([true, false, false], TimeFunction::Constant(1.0)),
-    });
-    p
-}
-
 fn settings() -> ExplicitSettings {
     let mut settings = ExplicitSettings::new(1e-4);
     settings.history_interval = Some(1e-5);
@@ -80,7 +62,7 @@ fn settings() -> ExplicitSettings {
 
 #[test]
 fn an_observer_sees_every_row_and_frame_of_the_run() {
-    let p = bar();
+    let p = pushed_column();
     let mut solver = ExplicitSolver::new(&p, settings(), OutputSettings::default()).unwrap();
     let mut watcher = Watcher::default();
     let summary = solver.run_with(&mut [&mut watcher]).unwrap();
@@ -96,7 +78,7 @@ fn an_observer_sees_every_row_and_frame_of_the_run() {
 
 #[test]
 fn an_observer_halts_the_run_and_the_history_file_holds_every_row_so_far() {
-    let p = bar();
+    let p = pushed_column();
     let dir = std::env::temp_dir().join(format!("impact-observers-{}", std::process::id()));
     let output = OutputSettings {
         dir: Some(dir.clone()),

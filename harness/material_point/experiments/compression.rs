@@ -26,7 +26,7 @@ pub(super) fn compression(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let rate = rate_of(mp, out);
     let (end, steps) = compression_paths(mp, out);
     let (curve, r) =
@@ -193,7 +193,7 @@ pub(super) fn biaxial(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let (end, steps) = compression_paths(mp, out);
     let (bi, peak_bi) =
         equal_biaxial_compression(&model, h, end, steps).map_err(|e| e.to_string())?;

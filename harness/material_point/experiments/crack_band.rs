@@ -22,7 +22,7 @@ pub(super) fn crack_band(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let rate = rate_of(mp, out);
     out.setup.push(format!(
         "element sizes {} mm; the parameters were calibrated at h_ref = {} mm",

@@ -72,7 +72,8 @@ pub(super) fn cyclic(
             let model = MicroplaneConcrete::new(MicroplaneParameters {
                 deviatoric_trace_term: trace,
                 ..*params
-            })?;
+            })
+            .map_err(|e| e.to_string())?;
             let (curve, _, healed) =
                 closed_strain_cycle(&model, h, &corners, cycle.steps).map_err(|e| e.to_string())?;
             let per = n * cycle.steps;
@@ -176,7 +177,7 @@ fn unloading(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let (monotonic, r) =
         uniaxial_tension(&model, h, QUASI_STATIC_RATE).map_err(|e| e.to_string())?;
     let unload_at = mp.unload_at.unwrap_or(2.5 * r.peak_strain);

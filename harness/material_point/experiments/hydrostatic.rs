@@ -20,7 +20,7 @@ pub(super) fn hydrostatic(
     h: f64,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let end = mp.end.unwrap_or(HYDROSTATIC_END);
     let steps = mp.steps.unwrap_or(HYDROSTATIC_STEPS);
     out.setup.push(format!(

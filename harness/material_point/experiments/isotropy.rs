@@ -61,7 +61,8 @@ pub(super) fn isotropy(
     .log_y();
     let mut rows = Vec::new();
     for rule in rules {
-        let model = MicroplaneConcrete::new(MicroplaneParameters { rule, ..*params })?;
+        let model = MicroplaneConcrete::new(MicroplaneParameters { rule, ..*params })
+            .map_err(|e| e.to_string())?;
         let band = model.crack_band(params.h_ref)?;
         let c = model.elastic_stiffness();
         // A seed of our own, so that the directions differ from the solver's check.

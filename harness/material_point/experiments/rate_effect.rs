@@ -45,7 +45,7 @@ pub(super) fn rate_effect(
     targets: &Targets,
     out: &mut Outcome,
 ) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params)?;
+    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
     let relative_to = mp.relative_to.ok_or("rate_effect needs relative_to")?;
     let (end, steps) = compression_paths(mp, out);
     match params.rate_effect {

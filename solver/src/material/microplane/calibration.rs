@@ -151,7 +151,7 @@ impl Evaluation {
     /// hydrostatic compression) at quasi-static rate on `parameters`; errors carry the message of
     /// the parameter check or of the failed experiment.
     pub fn of(parameters: &MicroplaneParameters, targets: &Targets) -> Result<Self, String> {
-        let model = MicroplaneConcrete::new(*parameters)?;
+        let model = MicroplaneConcrete::new(*parameters).map_err(|e| e.to_string())?;
         let h = targets.element_size;
         let rate = QUASI_STATIC_RATE;
         let (curve, tension) = targets
@@ -528,7 +528,7 @@ fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), S
             (|p| &mut p.h_ref, 20)
         };
     for _ in 0..iterations {
-        let model = MicroplaneConcrete::new(*p)?;
+        let model = MicroplaneConcrete::new(*p).map_err(|e| e.to_string())?;
         let (_, r) = t
             .fracture_path
             .tension(&model, t.element_size, QUASI_STATIC_RATE)

@@ -29,11 +29,10 @@ impl MicroplaneMaterial {
         volumes: &[f64],
         first_element: usize,
     ) -> Result<Self> {
-        let model =
-            MicroplaneConcrete::new(parameters).map_err(|message| SolverError::InvalidScene {
-                entity: format!("body `{body}` material.microplane.parameters"),
-                message,
-            })?;
+        let model = MicroplaneConcrete::new(parameters).map_err(|e| SolverError::InvalidScene {
+            entity: format!("body `{body}` material.microplane.parameters"),
+            message: e.to_string(),
+        })?;
         let mut bands = Vec::with_capacity(volumes.len());
         let mut too_large: Option<(usize, String)> = None;
         let mut count = 0;

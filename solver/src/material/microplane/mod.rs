@@ -25,7 +25,7 @@ pub mod state;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::MicroplaneMaterial;
-pub use parameters::{MicroplaneParameters, RateEffect, TensionDriver};
+pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
@@ -73,8 +73,8 @@ pub struct UpdateInfo {
 
 impl MicroplaneConcrete {
     /// Validates `parameters` and precomputes the microplanes, the elastic split and the laws;
-    /// the error says which parameter is out of range.
-    pub fn new(parameters: MicroplaneParameters) -> Result<Self, String> {
+    /// the error names the parameter out of range and its admissible range.
+    pub fn new(parameters: MicroplaneParameters) -> Result<Self, ParameterError> {
         parameters.validate()?;
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
         Ok(Self {

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::directions::SphereRule;
-use crate::material::IsotropicElastic;
+use crate::material::{ConstantsError, IsotropicElastic};
 
 /// Everything that defines the model. Strains are dimensionless, stresses in Pa, lengths in m.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -146,8 +146,8 @@ impl MicroplaneParameters {
     }
 
     /// Checks every parameter, naming the offending one and its admissible range.
-    pub fn validate(&self) -> Result<(), String> {
-        self.elastic().validate().map_err(|e| e.to_string())?;
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        self.elastic().validate()?;
         let positive = [
             ("e1", self.e1),
             ("e2", self.e2),
@@ -162,47 +162,63 @@ impl MicroplaneParameters {
         ];
         for (name, value) in positive {
             if !(value > 0.0 && value.is_finite()) {
-                return Err(format!("{name} must be positive and finite, got {value}"));
+                return Err(ParameterError::NotPositive { name, value });
             }
         }
         if !(self.hordijk_tail >= 0.0 && self.hordijk_tail.is_finite()) {
-            return Err(format!(
-                "hordijk_tail must be >= 0 (0: exponential softening), got {}",
-                self.hordijk_tail
-            ));
+            return Err(ParameterError::HordijkTail(self.hordijk_tail));
         }
         if !(self.dilatancy >= 0.0 && self.dilatancy.is_finite()) {
-            return Err(format!(
-                "dilatancy must be >= 0 (0: none), got {}",
-                self.dilatancy
-            ));
+            return Err(ParameterError::Dilatancy(self.dilatancy));
         }
-        if !(self.e4 >= 0.0 && self.e4.is_finite()) {
-            return Err(format!("e4 must be >= 0, got {}", self.e4));
-        }
-        if !(self.p >= 0.0 && self.p.is_finite()) {
-            return Err(format!("p must be >= 0, got {}", self.p));
+        for (name, value) in [("e4", self.e4), ("p", self.p)] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(ParameterError::Negative { name, value });
+            }
         }
         if !(self.s_i_min < 0.0 && self.s_i_min.is_finite()) {
-            return Err(format!(
-                "s_i_min must be a small negative stress (Pa), got {}",
-                self.s_i_min
-            ));
+            return Err(ParameterError::PrincipalStressFloor(self.s_i_min));
         }
-        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
-            return Err(format!("alpha must lie in (0, 1], got {}", self.alpha));
-        }
-        if !(self.beta > 0.0 && self.beta <= 1.0) {
-            return Err(format!("beta must lie in (0, 1], got {}", self.beta));
+        for (name, value) in [("alpha", self.alpha), ("beta", self.beta)] {
+            if !(value > 0.0 && value <= 1.0) {
+                return Err(ParameterError::UnloadingFraction { name, value });
+            }
         }
         if let Some(rate) = self.rate_effect {
             if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
-                return Err(format!(
-                    "rate_effect needs c1 > 0 and c2 >= 0, got c1 = {}, c2 = {}",
-                    rate.c1, rate.c2
-                ));
+                return Err(ParameterError::RateEffect {
+                    c1: rate.c1,
+                    c2: rate.c2,
+                });
             }
         }
         Ok(())
     }
+}
+
+/// A microplane parameter outside its admissible range: which, its value and the range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParameterError {
+    /// The elastic constants (density, E, nu).
+    #[error(transparent)]
+    Elastic(#[from] ConstantsError),
+    /// A parameter that must be positive and finite (`e1`-`e3`, `m`, `n`, `k`, `a`, `b`, `q`,
+    /// `h_ref`).
+    #[error("{name} must be positive and finite, got {value}")]
+    NotPositive { name: &'static str, value: f64 },
+    #[error("hordijk_tail must be >= 0 (0: exponential softening), got {0}")]
+    HordijkTail(f64),
+    #[error("dilatancy must be >= 0 (0: none), got {0}")]
+    Dilatancy(f64),
+    /// `e4` or `p`, which must not be negative.
+    #[error("{name} must be >= 0, got {value}")]
+    Negative { name: &'static str, value: f64 },
+    /// `s_i_min` (Pa), which must be a small negative stress.
+    #[error("s_i_min must be a small negative stress (Pa), got {0}")]
+    PrincipalStressFloor(f64),
+    /// `alpha` or `beta` of the unloading rules, in (0, 1].
+    #[error("{name} must lie in (0, 1], got {value}")]
+    UnloadingFraction { name: &'static str, value: f64 },
+    #[error("rate_effect needs c1 > 0 and c2 >= 0, got c1 = {c1}, c2 = {c2}")]
+    RateEffect { c1: f64, c2: f64 },
 }
