@@ -205,20 +205,43 @@ pub enum ParameterError {
     /// A parameter that must be positive and finite (`e1`-`e3`, `m`, `n`, `k`, `a`, `b`, `q`,
     /// `h_ref`).
     #[error("{name} must be positive and finite, got {value}")]
-    NotPositive { name: &'static str, value: f64 },
+    NotPositive {
+        /// The parameter's name as the parameter file writes it.
+        name: &'static str,
+        /// The value given, in the parameter's unit.
+        value: f64,
+    },
+    /// A negative `hordijk_tail` (the tail length in units of the strain scale); holds it.
     #[error("hordijk_tail must be >= 0 (0: exponential softening), got {0}")]
     HordijkTail(f64),
+    /// A negative `dilatancy` (dilatant volumetric per inelastic deviatoric strain); holds it.
     #[error("dilatancy must be >= 0 (0: none), got {0}")]
     Dilatancy(f64),
     /// `e4` or `p`, which must not be negative.
     #[error("{name} must be >= 0, got {value}")]
-    Negative { name: &'static str, value: f64 },
+    Negative {
+        /// The parameter's name as the parameter file writes it.
+        name: &'static str,
+        /// The value given, in the parameter's unit.
+        value: f64,
+    },
     /// `s_i_min` (Pa), which must be a small negative stress.
     #[error("s_i_min must be a small negative stress (Pa), got {0}")]
     PrincipalStressFloor(f64),
     /// `alpha` or `beta` of the unloading rules, in (0, 1].
     #[error("{name} must lie in (0, 1], got {value}")]
-    UnloadingFraction { name: &'static str, value: f64 },
+    UnloadingFraction {
+        /// The parameter's name as the parameter file writes it.
+        name: &'static str,
+        /// The value given, in the parameter's unit.
+        value: f64,
+    },
+    /// Constants of the rate law (5.110) out of range.
     #[error("rate_effect needs c1 > 0 and c2 >= 0, got c1 = {c1}, c2 = {c2}")]
-    RateEffect { c1: f64, c2: f64 },
+    RateEffect {
+        /// The reference strain rate `c1` (1/s), which must be positive.
+        c1: f64,
+        /// The strength gain per unit of `asinh` `c2` (dimensionless), which must not be negative.
+        c2: f64,
+    },
 }
