@@ -66,7 +66,8 @@ pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Resul
     let started = std::time::Instant::now();
     let (parameters, evaluation) = calibrate(&start, &targets, evaluations, &mut |line| {
         eprintln!("[{:6.1} s] {line}", started.elapsed().as_secs_f64())
-    })?;
+    })
+    .map_err(|e| format!("calibration failed: {e}"))?;
     let outcomes = evaluation.outcomes(&targets);
     let met = outcomes.iter().all(|o| o.met);
     for o in &outcomes {

@@ -269,3 +269,27 @@ fn parameters_out_of_range_are_typed_errors() {
         "{message}"
     );
 }
+
+/// A calibration that cannot evaluate a parameter set says why, as a value: inadmissible
+/// parameters, or the experiment that failed.
+#[test]
+fn calibration_errors_are_typed() {
+    use impact_solver::material::microplane::calibration::{CalibrationError, Evaluation, Targets};
+    use impact_solver::material::microplane::ParameterError;
+    let mut p = thesis_concrete();
+    p.alpha = 0.0;
+    assert_eq!(
+        Evaluation::of(&p, &Targets::thesis_concrete()).expect_err("alpha = 0 is refused"),
+        CalibrationError::Parameters(ParameterError::UnloadingFraction {
+            name: "alpha",
+            value: 0.0
+        })
+    );
+    // An element far beyond the crack band's limit: the tension experiment cannot run.
+    let mut targets = Targets::thesis_concrete();
+    targets.element_size = 10.0;
+    match Evaluation::of(&thesis_concrete(), &targets) {
+        Err(CalibrationError::Experiment { experiment, .. }) => assert_eq!(experiment, "tension"),
+        other => panic!("expected the tension experiment to fail, got {other:?}"),
+    }
+}

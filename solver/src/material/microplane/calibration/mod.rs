@@ -12,13 +12,43 @@
 //! Every target is a band; the misfit of a target is zero at the centre of its band and one at its
 //! edge, and the optimiser minimises the sum of squared misfits.
 
+use super::driver::DriverError;
 pub use super::experiments::FracturePath;
 use super::experiments::{
     equal_biaxial_compression, hydrostatic_compression, softening_shape, uniaxial_compression,
     CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
 };
-use super::{MicroplaneConcrete, MicroplaneParameters, TensionDriver};
+use super::{MicroplaneConcrete, MicroplaneParameters, ParameterError, TensionDriver};
 use serde::{Deserialize, Serialize};
+
+mod optimiser;
+mod stages;
+
+pub use optimiser::{nelder_mead, Free};
+pub use stages::{calibrate, Log};
+
+/// Why a parameter set could not be evaluated or calibrated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CalibrationError {
+    /// A parameter is outside its admissible range.
+    #[error("the parameters are not admissible: {0}")]
+    Parameters(#[from] ParameterError),
+    /// A virtual experiment failed (its name and the driver's reason).
+    #[error("the {experiment} experiment failed: {error}")]
+    Experiment {
+        /// `tension`, `uniaxial compression`, `equal-biaxial compression` or
+        /// `hydrostatic compression`.
+        experiment: &'static str,
+        /// What stopped the material-point driver.
+        error: DriverError,
+    },
+}
+
+impl CalibrationError {
+    fn experiment(experiment: &'static str, error: DriverError) -> Self {
+        CalibrationError::Experiment { experiment, error }
+    }
+}
 
 /// The measurable targets of the thesis concrete (MICROPLANE "Parameters and calibration").
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -150,14 +180,17 @@ impl Evaluation {
     /// Runs the single-element experiments (tension at every target size, uniaxial, biaxial and
     /// hydrostatic compression) at quasi-static rate on `parameters`; errors carry the message of
     /// the parameter check or of the failed experiment.
-    pub fn of(parameters: &MicroplaneParameters, targets: &Targets) -> Result<Self, String> {
-        let model = MicroplaneConcrete::new(*parameters).map_err(|e| e.to_string())?;
+    pub fn of(
+        parameters: &MicroplaneParameters,
+        targets: &Targets,
+    ) -> Result<Self, CalibrationError> {
+        let model = MicroplaneConcrete::new(*parameters)?;
         let h = targets.element_size;
         let rate = QUASI_STATIC_RATE;
         let (curve, tension) = targets
             .fracture_path
             .tension(&model, h, rate)
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| CalibrationError::experiment("tension", e))?;
         let softening = softening_shape(
             &curve,
             h,
@@ -172,7 +205,7 @@ impl Evaluation {
                 targets
                     .fracture_path
                     .tension(&model, size, rate)
-                    .map_err(|e| e.to_string())?
+                    .map_err(|e| CalibrationError::experiment("tension", e))?
                     .1
                     .fracture_energy
             };
@@ -181,12 +214,12 @@ impl Evaluation {
         // dilatancy of the softening branch.
         let (_, compression) =
             uniaxial_compression(&model, h, rate, 3.0 * targets.fc_strain[1], 300)
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| CalibrationError::experiment("uniaxial compression", e))?;
         let (_, biaxial_peak) =
             equal_biaxial_compression(&model, h, 2.0 * targets.fc_strain[1], 200)
-                .map_err(|e| e.to_string())?;
-        let (_, hydrostatic_damage) =
-            hydrostatic_compression(&model, h, 5e-3, 100).map_err(|e| e.to_string())?;
+                .map_err(|e| CalibrationError::experiment("equal-biaxial compression", e))?;
+        let (_, hydrostatic_damage) = hydrostatic_compression(&model, h, 5e-3, 100)
+            .map_err(|e| CalibrationError::experiment("hydrostatic compression", e))?;
         Ok(Self {
             tension,
             fracture_energy,
@@ -356,257 +389,6 @@ impl Evaluation {
         ]);
         out
     }
-}
-
-/// Nelder-Mead simplex minimisation of `f` from `x0` with initial steps `step`, for at most
-/// `evaluations` evaluations (standard coefficients 1, 2, 1/2, 1/2).
-pub fn nelder_mead(
-    f: &mut dyn FnMut(&[f64]) -> f64,
-    x0: &[f64],
-    step: &[f64],
-    evaluations: usize,
-) -> (Vec<f64>, f64) {
-    let n = x0.len();
-    let mut simplex: Vec<(Vec<f64>, f64)> = Vec::with_capacity(n + 1);
-    simplex.push((x0.to_vec(), f(x0)));
-    for i in 0..n {
-        let mut x = x0.to_vec();
-        x[i] += step[i];
-        let v = f(&x);
-        simplex.push((x, v));
-    }
-    let mut count = n + 1;
-    while count < evaluations {
-        simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
-        if (simplex[n].1 - simplex[0].1).abs() < 1e-10 * (1.0 + simplex[0].1.abs()) {
-            break;
-        }
-        let centroid: Vec<f64> = (0..n)
-            .map(|j| simplex[..n].iter().map(|p| p.0[j]).sum::<f64>() / n as f64)
-            .collect();
-        let along = |t: f64| -> Vec<f64> {
-            (0..n)
-                .map(|j| centroid[j] + t * (simplex[n].0[j] - centroid[j]))
-                .collect()
-        };
-        let reflected = along(-1.0);
-        let fr = f(&reflected);
-        count += 1;
-        if fr < simplex[0].1 {
-            let expanded = along(-2.0);
-            let fe = f(&expanded);
-            count += 1;
-            simplex[n] = if fe < fr {
-                (expanded, fe)
-            } else {
-                (reflected, fr)
-            };
-        } else if fr < simplex[n - 1].1 {
-            simplex[n] = (reflected, fr);
-        } else {
-            let contracted = if fr < simplex[n].1 {
-                along(-0.5)
-            } else {
-                along(0.5)
-            };
-            let fc = f(&contracted);
-            count += 1;
-            if fc < simplex[n].1.min(fr) {
-                simplex[n] = (contracted, fc);
-            } else {
-                let best = simplex[0].0.clone();
-                for p in simplex.iter_mut().skip(1) {
-                    p.0 = (0..n).map(|j| best[j] + 0.5 * (p.0[j] - best[j])).collect();
-                    p.1 = f(&p.0);
-                    count += 1;
-                }
-            }
-        }
-    }
-    simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
-    simplex.swap_remove(0)
-}
-
-/// A parameter the optimiser may change, searched in the logarithm of its value.
-#[derive(Debug, Clone, Copy)]
-pub enum Free {
-    /// `e1`, strain scale of tension (5.19).
-    E1,
-    /// `m`, exponent of tension (5.19), kept in `[0.5, 20]`.
-    M,
-    /// `e2`, strain scale of deviatoric compression (5.19).
-    E2,
-    /// `n`, exponent of deviatoric compression (5.19), kept in `[0.5, 20]`.
-    N,
-    /// `e3`, strain scale of shear (5.20).
-    E3,
-    /// `e4`, growth of the shear strain scale with volumetric compression (5.20).
-    E4,
-    /// `k`, exponent of shear (5.20), kept in `[0.5, 20]`.
-    K,
-    /// The dilatancy (MICROPLANE "Dilatancy"), kept at most 10.
-    Dilatancy,
-}
-
-impl Free {
-    fn get(self, p: &MicroplaneParameters) -> f64 {
-        match self {
-            Free::E1 => p.e1,
-            Free::M => p.m,
-            Free::E2 => p.e2,
-            Free::N => p.n,
-            Free::E3 => p.e3,
-            Free::E4 => p.e4,
-            Free::K => p.k,
-            Free::Dilatancy => p.dilatancy,
-        }
-    }
-
-    /// Sets the value, keeping exponents within `[0.5, 20]`: beyond, the laws become step
-    /// functions whose parameters no target can pin down.
-    fn set(self, p: &mut MicroplaneParameters, v: f64) {
-        let exponent = v.clamp(0.5, 20.0);
-        match self {
-            Free::E1 => p.e1 = v,
-            Free::M => p.m = exponent,
-            Free::E2 => p.e2 = v,
-            Free::N => p.n = exponent,
-            Free::E3 => p.e3 = v,
-            Free::E4 => p.e4 = v,
-            Free::K => p.k = exponent,
-            Free::Dilatancy => p.dilatancy = v.min(10.0),
-        }
-    }
-}
-
-/// Progress of a calibration: a line per stage.
-pub type Log<'a> = &'a mut dyn FnMut(&str);
-
-/// Minimises `cost` over the `free` parameters; with `refit`, the fracture energy is fitted
-/// (`fit_reference_size`) at every evaluation, so that shapes are compared at the target `GF`.
-fn optimise(
-    start: &MicroplaneParameters,
-    free: &[Free],
-    evaluations: usize,
-    cost: &dyn Fn(&Evaluation) -> f64,
-    targets: &Targets,
-    refit: bool,
-) -> MicroplaneParameters {
-    let x0: Vec<f64> = free.iter().map(|v| v.get(start).ln()).collect();
-    let step = vec![0.15; free.len()];
-    let mut f = |x: &[f64]| {
-        let mut p = *start;
-        for (v, &xi) in free.iter().zip(x) {
-            v.set(&mut p, xi.exp());
-        }
-        if refit && fit_reference_size(&mut p, targets).is_err() {
-            return 1e6;
-        }
-        match Evaluation::of(&p, targets) {
-            Ok(e) => cost(&e),
-            Err(_) => 1e6,
-        }
-    };
-    let (x, _) = nelder_mead(&mut f, &x0, &step, evaluations);
-    let mut p = *start;
-    for (v, &xi) in free.iter().zip(&x) {
-        v.set(&mut p, xi.exp());
-    }
-    p
-}
-
-/// Fits `h_ref` so that `h int sigma d eps` at `element_size` equals `GF` (secant iterations:
-/// the energy is close to proportional to `h_ref`). With a Hordijk tail, `h_ref` is the element
-/// size of the strength tests and the tail length is fitted instead (the energy is affine in it;
-/// only the product of `h_ref` and the tail, the opening where the law ends, matters).
-fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), String> {
-    let (scaled, iterations): (fn(&mut MicroplaneParameters) -> &mut f64, usize) =
-        if p.hordijk_tail > 0.0 {
-            p.h_ref = t.element_size;
-            (|p| &mut p.hordijk_tail, 60)
-        } else {
-            (|p| &mut p.h_ref, 20)
-        };
-    for _ in 0..iterations {
-        let model = MicroplaneConcrete::new(*p).map_err(|e| e.to_string())?;
-        let (_, r) = t
-            .fracture_path
-            .tension(&model, t.element_size, QUASI_STATIC_RATE)
-            .map_err(|e| e.to_string())?;
-        let ratio = t.gf / r.fracture_energy;
-        if (ratio - 1.0).abs() < 1e-4 {
-            break;
-        }
-        *scaled(p) *= ratio;
-    }
-    Ok(())
-}
-
-/// The three stages (module doc) from `start`, with `evaluations` per optimiser stage; returns
-/// the parameters and their evaluation.
-pub fn calibrate(
-    start: &MicroplaneParameters,
-    targets: &Targets,
-    evaluations: usize,
-    log: Log,
-) -> Result<(MicroplaneParameters, Evaluation), String> {
-    let mut p = *start;
-    p.rate_effect = None;
-    p.tension_driver = targets.tension_driver;
-    p.dilatancy = targets.dilatancy;
-    let tension = |p: &mut MicroplaneParameters, stage: &str, log: &mut dyn FnMut(&str)| {
-        *p = optimise(
-            p,
-            &[Free::E1, Free::M],
-            evaluations,
-            &|e| e.tension_cost(targets),
-            targets,
-            p.hordijk_tail > 0.0,
-        );
-        fit_reference_size(p, targets)?;
-        log(&format!(
-            "{stage}, tension: e1 = {:.4e}, m = {:.3}, h_ref = {:.4} m, hordijk_tail = {:.3}",
-            p.e1, p.m, p.h_ref, p.hordijk_tail
-        ));
-        Ok::<(), String>(())
-    };
-    // The dilatancy is fitted with the compression only when the start has some (a start of 0
-    // keeps the thesis' volumetric law, MICROPLANE "Dilatancy").
-    let compression_parameters: &[Free] = if p.dilatancy > 0.0 {
-        &[
-            Free::E2,
-            Free::N,
-            Free::E3,
-            Free::E4,
-            Free::K,
-            Free::Dilatancy,
-        ]
-    } else {
-        &[Free::E2, Free::N, Free::E3, Free::E4, Free::K]
-    };
-    for round in 1..=2 {
-        tension(&mut p, &format!("round {round}"), log)?;
-        // Shear also carries some of the tension, so the tensile targets stay in the cost.
-        p = optimise(
-            &p,
-            compression_parameters,
-            evaluations,
-            &|e| e.compression_cost(targets) + e.tension_cost(targets),
-            targets,
-            false,
-        );
-        log(&format!(
-            "round {round}, compression: e2 = {:.4e}, n = {:.3}, e3 = {:.4e}, e4 = {:.3}, k = {:.3}, \
-             dilatancy = {:.3}",
-            p.e2, p.n, p.e3, p.e4, p.k, p.dilatancy
-        ));
-    }
-    tension(&mut p, "final", log)?;
-    p.rate_effect = start.rate_effect;
-    let mut quasi_static = p;
-    quasi_static.rate_effect = None;
-    let evaluation = Evaluation::of(&quasi_static, targets)?;
-    Ok((p, evaluation))
 }
 
 /// The record written beside the parameters: how to reproduce them and what they achieve.
