@@ -13,7 +13,9 @@ use std::sync::Arc;
 
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
-use impact_solver::material::{Deformation, IsotropicElastic, Material, MaterialModel, Stress};
+use impact_solver::material::{
+    Deformation, ElementState, IsotropicElastic, Material, MaterialModel,
+};
 use impact_solver::model::{
     BodyMaterial, Constraint, Model, Motion, NodalLoad, Probe, ProbeQuantity, Problem, TimeFunction,
 };
@@ -43,19 +45,19 @@ impl Material for NeoHookean {
         self.c
     }
 
-    fn update(&self, _element: usize, d: &Deformation, _history: &mut [f32]) -> Option<Stress> {
+    fn update(
+        &self,
+        _element: usize,
+        d: &Deformation,
+        _state: ElementState,
+    ) -> Option<Matrix3<f64>> {
         if !(d.det > 0.0) {
             return None;
         }
         let f_inv_t = d.f.try_inverse()?.transpose();
         let h = &d.h;
         let b_minus_i = h + h.transpose() + h * h.transpose();
-        Some(Stress {
-            first_piola: (self.c.mu() * b_minus_i
-                + self.c.lambda() * ln_j(h) * Matrix3::identity())
-                * f_inv_t,
-            cauchy: None,
-        })
+        Some((self.c.mu() * b_minus_i + self.c.lambda() * ln_j(h) * Matrix3::identity()) * f_inv_t)
     }
 
     /// With `I_C - 3 = 2 tr H + tr(H^T H)` so that small strains keep their digits.

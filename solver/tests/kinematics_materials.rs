@@ -8,13 +8,15 @@ use impact_references::strategies::displacement_gradient;
 use impact_solver::kinematics::{
     cofactor, polar_decomposition, polar_rotation, shape_gradients, signed_volume,
 };
-use impact_solver::material::{Deformation, LinearElastic, Material, SaintVenantKirchhoff};
+use impact_solver::material::{
+    Deformation, ElementState, LinearElastic, Material, SaintVenantKirchhoff,
+};
 
 /// First Piola-Kirchhoff stress of a model without history at `F`.
 fn first_piola(m: &dyn Material, f: &Matrix3<f64>) -> Matrix3<f64> {
-    m.update(0, &Deformation::at_rest(f - Matrix3::identity()), &mut [])
+    let at = Deformation::at_rest(f - Matrix3::identity());
+    m.update(0, &at, ElementState::stateless())
         .expect("an elastic model updates every element")
-        .first_piola
 }
 use impact_solver::mesh::{boundary_faces, boundary_nodes, box_mesh, element_quality};
 use nalgebra::{Matrix3, Vector3};

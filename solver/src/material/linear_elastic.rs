@@ -2,7 +2,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{Deformation, Hooke, IsotropicElastic, Material, MaterialModel, Stress};
+use super::{Deformation, ElementState, Hooke, IsotropicElastic, Material, MaterialModel};
 use crate::kinematics::{cofactor, green_lagrange_from_h};
 
 /// Hooke's law between the back-rotated Cauchy stress `s` and the Green-Lagrange strain `E`,
@@ -57,11 +57,13 @@ impl Material for LinearElastic {
     }
 
     #[inline(always)]
-    fn update(&self, _element: usize, d: &Deformation, _history: &mut [f32]) -> Option<Stress> {
-        Some(Stress {
-            first_piola: self.first_piola(&d.f, &d.h),
-            cauchy: None,
-        })
+    fn update(
+        &self,
+        _element: usize,
+        d: &Deformation,
+        _state: ElementState,
+    ) -> Option<Matrix3<f64>> {
+        Some(self.first_piola(&d.f, &d.h))
     }
 
     /// `dP = d(sigma) cof F + sigma d(cof F)`, with `d sigma = hooke(sym(dF F^T))` and the

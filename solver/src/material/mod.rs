@@ -56,14 +56,25 @@ impl Deformation {
     }
 }
 
-/// What an update gives the element: its stress, and for models with a history the Cauchy stress
-/// the analysis keeps for the output.
-#[derive(Debug, Clone, Copy)]
-pub struct Stress {
-    /// First Piola-Kirchhoff stress `P`; the element forces are `V P grad_X N_a`.
-    pub first_piola: Matrix3<f64>,
-    /// Cauchy stress `[xx, yy, zz, xy, yz, xz]` to keep, where the model reports one.
-    pub cauchy: Option<[f64; 6]>,
+/// What an update may change of its element besides the stress it returns: the history, and the
+/// Cauchy stress the analysis keeps for the output of models with a history.
+#[derive(Debug)]
+pub struct ElementState<'a> {
+    /// The element's history, `history_len` values (empty for a model without one).
+    pub history: &'a mut [f32],
+    /// Where a model with a history writes the Cauchy stress `[xx, yy, zz, xy, yz, xz]` (Pa) of
+    /// the update, when the analysis keeps it.
+    pub cauchy: Option<&'a mut [f64; 6]>,
+}
+
+impl ElementState<'_> {
+    /// The state of an element of a model without history.
+    pub fn stateless() -> ElementState<'static> {
+        ElementState {
+            history: &mut [],
+            cauchy: None,
+        }
+    }
 }
 
 /// A constitutive model: the one trait a new model implements, whether it keeps a history or not.
@@ -105,15 +116,17 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
         false
     }
 
-    /// The update of element `element` (its id in the body) at `deformation`, advancing its
-    /// `history` (`history_len` values). `None` when the model cannot update the element (an
-    /// inverted one): its history is then left as it was, its forces are zero and the run stops.
+    /// The first Piola-Kirchhoff stress `P` of element `element` (its id in the body) at
+    /// `deformation`, advancing its history in `state` (`history_len` values) and writing the
+    /// Cauchy stress there where asked. `None` when the model cannot update the element (an
+    /// inverted one): its state is then left as it was, its forces are zero and the run stops.
+    /// The element forces are `V P grad_X N_a`.
     fn update(
         &self,
         element: usize,
         deformation: &Deformation,
-        history: &mut [f32],
-    ) -> Option<Stress>;
+        state: ElementState<'_>,
+    ) -> Option<Matrix3<f64>>;
 
     /// The consistent tangent `dP = (dP/dF) : dF` for Newton's method (3.68a), where the model has
     /// one in closed form. `None` (the default) makes the static solver take forward differences

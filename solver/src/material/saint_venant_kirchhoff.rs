@@ -2,7 +2,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{Deformation, Hooke, IsotropicElastic, Material, MaterialModel, Stress};
+use super::{Deformation, ElementState, Hooke, IsotropicElastic, Material, MaterialModel};
 use crate::kinematics::green_lagrange_from_h;
 
 /// `W(E) = lambda/2 (tr E)^2 + mu tr E^2` (2.120), `S = lambda tr(E) I + 2 mu E` (2.123),
@@ -50,11 +50,13 @@ impl Material for SaintVenantKirchhoff {
     }
 
     #[inline(always)]
-    fn update(&self, _element: usize, d: &Deformation, _history: &mut [f32]) -> Option<Stress> {
-        Some(Stress {
-            first_piola: self.first_piola(&d.f, &d.h),
-            cauchy: None,
-        })
+    fn update(
+        &self,
+        _element: usize,
+        d: &Deformation,
+        _state: ElementState,
+    ) -> Option<Matrix3<f64>> {
+        Some(self.first_piola(&d.f, &d.h))
     }
 
     /// `dP = dF S + F dS`, `dS = lambda tr(dE) I + 2 mu dE`, `dE = sym(F^T dF)`.

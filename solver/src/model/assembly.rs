@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use super::element::element_forces;
 use super::history::MaterialHistory;
 use super::Model;
-use crate::material::Material;
+use crate::material::{ElementState, Material};
 
 /// Chunks per thread (on more than one thread). More chunks let rayon move work off a thread that
 /// runs slow (a busy core, a preempted vCPU); each extra boundary costs slot traffic. Linear
@@ -379,20 +379,22 @@ pub(super) fn chunk_forces<M: Material>(material: &M, job: &ChunkJob<'_>) -> usi
         } else {
             None
         };
-        let history: &mut [f32] = match writes {
+        let state = match writes {
             // SAFETY: the body's history holds `len` values and one stress per element
             // (asserted in `assemble_with`), `local` is an element of the body, and only the
-            // chunk holding element `e` touches its values; the history outlives the loop.
-            Some(w) => unsafe { std::slice::from_raw_parts_mut(w.values.0.add(local * len), len) },
-            None => &mut [],
+            // chunk holding element `e` touches its values and its stress; the history outlives
+            // the loop.
+            Some(w) => unsafe {
+                ElementState {
+                    history: std::slice::from_raw_parts_mut(w.values.0.add(local * len), len),
+                    cauchy: Some(&mut *w.cauchy.0.add(local)),
+                }
+            },
+            None => ElementState::stateless(),
         };
-        let update = element_forces(material, local, grad_n, volume, &ue, rate, history);
+        let update = element_forces(material, local, grad_n, volume, &ue, rate, state);
         if !(update.det > 0.0) {
             first_inverted = first_inverted.min(e);
-        }
-        if let (Some(w), Some(cauchy)) = (writes, update.cauchy) {
-            // SAFETY: as for `history`.
-            unsafe { *w.cauchy.0.add(local) = cauchy };
         }
         for (&n, fa) in tet.iter().zip(update.forces) {
             // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() == f.len()`).

@@ -10,7 +10,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::assembly::{chunk_forces, ChunkJob};
 use crate::kinematics::{element_gradient, triple_product_determinant};
-use crate::material::{Deformation, Material};
+use crate::material::{Deformation, ElementState, Material};
 
 /// What one element gives the assembly.
 #[derive(Debug, Clone, Copy)]
@@ -18,14 +18,12 @@ pub struct ElementForces {
     /// Nodal forces `V P grad_X N_a`.
     pub forces: [Vector3<f64>; 4],
     /// `det F`; not positive (or not finite) for an inverted element. An element the model could
-    /// not update has zero forces and an unchanged history (the run stops).
+    /// not update has zero forces and an unchanged state (the run stops).
     pub det: f64,
-    /// The Cauchy stress the model reports, for models with a history.
-    pub cauchy: Option<[f64; 6]>,
 }
 
 /// Forces `f_a = V P grad_X N_a` of element `element` (its id in the body) at displacements `u`,
-/// advancing its `history` (thesis 3.102, in the total Lagrangian form of FORMULATION 1). With
+/// advancing its `state` (thesis 3.102, in the total Lagrangian form of FORMULATION 1). With
 /// `rate` (the nodal velocities of the half step before and the time step) a model that reads the
 /// strain rate gets `Fdot`; without, the rate is zero (statics).
 #[inline(always)]
@@ -37,7 +35,7 @@ pub fn element_forces<M: Material + ?Sized>(
     volume: f64,
     u: &[Vector3<f64>; 4],
     rate: Option<(&[Vector3<f64>; 4], f64)>,
-    history: &mut [f32],
+    state: ElementState<'_>,
 ) -> ElementForces {
     let h = element_gradient(u, grad_n);
     let f = Matrix3::identity() + h;
@@ -53,20 +51,18 @@ pub fn element_forces<M: Material + ?Sized>(
         f_dot,
         dt,
     };
-    match material.update(element, &deformation, history) {
-        Some(stress) => {
+    match material.update(element, &deformation, state) {
+        Some(first_piola) => {
             let [g0, g1, g2, g3] = grad_n;
-            let p = stress.first_piola * volume;
+            let p = first_piola * volume;
             ElementForces {
                 forces: [p * g0, p * g1, p * g2, p * g3],
                 det,
-                cauchy: stress.cauchy,
             }
         }
         None => ElementForces {
             forces: [Vector3::zeros(); 4],
             det: if det.is_finite() { det.min(0.0) } else { det },
-            cauchy: None,
         },
     }
 }
@@ -84,7 +80,7 @@ pub trait BodyMaterial: Material {
         grad_n: &[Vector3<f64>; 4],
         volume: f64,
         u: &[Vector3<f64>; 4],
-        history: &mut [f32],
+        state: ElementState<'_>,
     ) -> ElementForces;
 }
 
@@ -99,8 +95,8 @@ impl<M: Material> BodyMaterial for M {
         grad_n: &[Vector3<f64>; 4],
         volume: f64,
         u: &[Vector3<f64>; 4],
-        history: &mut [f32],
+        state: ElementState<'_>,
     ) -> ElementForces {
-        element_forces(self, element, grad_n, volume, u, None, history)
+        element_forces(self, element, grad_n, volume, u, None, state)
     }
 }

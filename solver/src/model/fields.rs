@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{MaterialHistory, Model};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h, principal_values, voigt};
-use crate::material::Deformation;
+use crate::material::{Deformation, ElementState};
 use crate::output::vtu::{FieldData, FieldFrame};
 
 /// The crack indicator `eps_1 / eps_r` of every element (FORMULATION 5, thesis 5.1): an element
@@ -120,10 +120,11 @@ impl Model {
                     let deformation = Deformation::at_rest(strains(&mut out, e));
                     let f = deformation.f;
                     let local = e - body.elements.start;
-                    let cauchy = match material.update(local, &deformation, &mut []) {
+                    let stateless = ElementState::stateless();
+                    let cauchy = match material.update(local, &deformation, stateless) {
                         // sigma = P F^T / det F, symmetrised.
-                        Some(stress) => {
-                            let s = stress.first_piola * f.transpose() / f.determinant();
+                        Some(first_piola) => {
+                            let s = first_piola * f.transpose() / f.determinant();
                             voigt(&(0.5 * (s + s.transpose())))
                         }
                         None => [f64::NAN; 6],

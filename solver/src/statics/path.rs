@@ -41,6 +41,7 @@ use super::opening_control::Control;
 use super::tangent::{forward_difference_tangents, solve_tangent};
 use super::{prescribe, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
+use crate::material::ElementState;
 use crate::model::{MaterialHistory, Problem};
 use crate::output::HistoryTable;
 
@@ -343,11 +344,11 @@ fn trial_forces(
                 &model.grad_n[e],
                 model.volume[e],
                 &model.element_displacements(e, u),
-                state,
+                ElementState {
+                    history: state,
+                    cauchy,
+                },
             );
-            if let (Some(out), Some(c)) = (cauchy, update.cauchy) {
-                *out = c;
-            }
             (update.forces, update.det)
         };
         let forces: Vec<([Vector3<f64>; 4], f64)> = match history.bodies[b].as_mut() {

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::deformation_gradient;
+use crate::material::ElementState;
 use crate::model::{BodyMaterial, MaterialHistory, Model, Problem};
 
 /// Relative size of the forward-difference step of the element tangent, times the element size.
@@ -92,7 +93,10 @@ pub(super) fn forward_difference_tangents(
                                     &model.grad_n[e],
                                     model.volume[e],
                                     ue,
-                                    state,
+                                    ElementState {
+                                        history: state,
+                                        cauchy: None,
+                                    },
                                 )
                                 .forces
                         };

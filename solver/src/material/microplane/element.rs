@@ -6,7 +6,7 @@ use nalgebra::Matrix3;
 use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
-use crate::material::{Deformation, IsotropicElastic, Material, MaterialModel, Stress};
+use crate::material::{Deformation, ElementState, IsotropicElastic, Material, MaterialModel};
 
 /// Microplane concrete prepared for a body: the model with its microplanes and laws precomputed,
 /// and the crack band of each element from its reference volume.
@@ -120,7 +120,7 @@ impl Material for MicroplaneMaterial {
     /// - back-rotated Cauchy stress `s` from the model, `sigma = R s R^T`, first Piola
     ///   `P = J sigma F^-T = sigma cof F`.
     #[inline]
-    fn update(&self, element: usize, d: &Deformation, history: &mut [f32]) -> Option<Stress> {
+    fn update(&self, element: usize, d: &Deformation, state: ElementState) -> Option<Matrix3<f64>> {
         let rotation = match polar_rotation(&d.f) {
             Some(r) if d.det > 0.0 && d.det.is_finite() => r,
             _ => return None,
@@ -132,12 +132,12 @@ impl Material for MicroplaneMaterial {
         let gamma_dot = (0.5 * e_dot.norm_squared()).sqrt();
         let (s, _) = self
             .model
-            .update(history, &strain, gamma_dot, &self.bands[element]);
+            .update(state.history, &strain, gamma_dot, &self.bands[element]);
         let sigma = rotation * matrix(&s) * rotation.transpose();
-        Some(Stress {
-            first_piola: sigma * cofactor(&d.f),
-            cauchy: Some(voigt(&sigma)),
-        })
+        if let Some(cauchy) = state.cauchy {
+            *cauchy = voigt(&sigma);
+        }
+        Some(sigma * cofactor(&d.f))
     }
 
     fn rate_factor(&self, history: &[f32]) -> f64 {

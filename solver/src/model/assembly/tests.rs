@@ -1,6 +1,7 @@
 //! The assembly against the serial scatter it must reproduce bitwise.
 
 use super::*;
+use crate::material::ElementState;
 use crate::material::IsotropicElastic;
 use crate::material::MaterialModel;
 use crate::mesh::{box_mesh, perturb_interior, BoxSpec};
@@ -63,7 +64,7 @@ fn serial(model: &Model, u: &[Vector3<f64>]) -> (Vec<Vector3<f64>>, Option<usize
                 &model.grad_n[e],
                 model.volume[e],
                 &ue,
-                &mut [],
+                ElementState::stateless(),
             );
             if !(update.det > 0.0) && inverted.is_none() {
                 inverted = Some(e);
