@@ -1,7 +1,12 @@
-//! Isotropic elastic constants and Hooke's law, written once for every model that uses them.
+//! Isotropic elastic constants and Hooke's law, written once for every model that uses them, and
+//! [`Elastic`]: what the elastic models have to say beyond that, from which their [`Material`]
+//! implementation follows.
 
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
+
+use super::{Deformation, ElementState, Material, MaterialModel};
+use crate::kinematics::green_lagrange_from_h;
 
 /// What is wrong with a set of elastic constants, and the admissible range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -96,5 +101,58 @@ impl Hooke {
         s[(1, 1)] += p;
         s[(2, 2)] += p;
         s
+    }
+}
+
+/// An isotropic elastic model: no history, a stress that depends on `F` alone with a closed-form
+/// tangent, and the energy `lambda/2 (tr E)^2 + mu tr E^2` of its constants (exact for
+/// Saint-Venant-Kirchhoff (2.120), to second order in the strain for the co-rotated linear
+/// model). Every such model is a [`Material`].
+pub trait Elastic: std::fmt::Debug + Send + Sync + 'static {
+    /// Name in reports and messages.
+    const NAME: &'static str;
+
+    /// The elastic constants.
+    fn constants(&self) -> IsotropicElastic;
+
+    /// The model as a scene names it.
+    fn model(&self) -> MaterialModel;
+
+    /// First Piola-Kirchhoff stress `P` at `F = I + H`.
+    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64>;
+
+    /// The consistent tangent `dP = (dP/dF) : dF` (3.68a).
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64>;
+}
+
+impl<T: Elastic> Material for T {
+    fn name(&self) -> &'static str {
+        T::NAME
+    }
+
+    fn constants(&self) -> IsotropicElastic {
+        Elastic::constants(self)
+    }
+
+    fn model(&self) -> Option<MaterialModel> {
+        Some(Elastic::model(self))
+    }
+
+    #[inline(always)]
+    fn update(
+        &self,
+        _element: usize,
+        d: &Deformation,
+        _state: ElementState<'_>,
+    ) -> Option<Matrix3<f64>> {
+        Some(self.first_piola(&d.f, &d.h))
+    }
+
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+        Some(Elastic::first_piola_derivative(self, f, df))
+    }
+
+    fn strain_energy_density(&self, h: &Matrix3<f64>) -> Option<f64> {
+        Some(Elastic::constants(self).strain_energy_density(&green_lagrange_from_h(h)))
     }
 }

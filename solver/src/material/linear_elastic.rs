@@ -2,8 +2,8 @@
 
 use nalgebra::Matrix3;
 
-use super::{Deformation, ElementState, Hooke, IsotropicElastic, Material, MaterialModel};
-use crate::kinematics::{cofactor, green_lagrange_from_h};
+use super::{Elastic, Hooke, IsotropicElastic, MaterialModel};
+use crate::kinematics::cofactor;
 
 /// Hooke's law between the back-rotated Cauchy stress `s` and the Green-Lagrange strain `E`,
 /// `s = lambda tr(E) I + 2 mu E`, with `sigma = R s R^T` (FORMULATION 1; MICROPLANE.md gives the
@@ -35,40 +35,28 @@ impl LinearElastic {
     fn spatial_strain(h: &Matrix3<f64>) -> Matrix3<f64> {
         0.5 * (h + h.transpose() + h * h.transpose())
     }
-
-    /// First Piola-Kirchhoff stress `P = sigma cof F` at `F = I + H`.
-    #[inline(always)]
-    pub fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
-        self.hooke.stress(&Self::spatial_strain(h)) * cofactor(f)
-    }
 }
 
-impl Material for LinearElastic {
-    fn name(&self) -> &'static str {
-        "linear_elastic"
-    }
+impl Elastic for LinearElastic {
+    const NAME: &'static str = "linear_elastic";
 
     fn constants(&self) -> IsotropicElastic {
         self.c
     }
 
-    fn model(&self) -> Option<MaterialModel> {
-        Some(MaterialModel::LinearElastic(self.c))
+    fn model(&self) -> MaterialModel {
+        MaterialModel::LinearElastic(self.c)
     }
 
+    /// `P = sigma cof F` with `sigma = hooke(e_b)`.
     #[inline(always)]
-    fn update(
-        &self,
-        _element: usize,
-        d: &Deformation,
-        _state: ElementState,
-    ) -> Option<Matrix3<f64>> {
-        Some(self.first_piola(&d.f, &d.h))
+    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
+        self.hooke.stress(&Self::spatial_strain(h)) * cofactor(f)
     }
 
     /// `dP = d(sigma) cof F + sigma d(cof F)`, with `d sigma = hooke(sym(dF F^T))` and the
     /// derivative of the cofactor taken column by column from `cof F = [f1 x f2 | ...]`.
-    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64> {
         let h = f - Matrix3::identity();
         let sigma = self.hooke.stress(&Self::spatial_strain(&h));
         let df_ft = df * f.transpose();
@@ -80,12 +68,6 @@ impl Material for LinearElastic {
             d2.cross(&c0) + c2.cross(&d0),
             d0.cross(&c1) + c0.cross(&d1),
         ]);
-        Some(dsigma * cofactor(f) + sigma * dcof)
-    }
-
-    /// The small-strain energy `lambda/2 (tr E)^2 + mu tr E^2`: exact to second order in the
-    /// strain for this Cauchy-elastic model.
-    fn strain_energy_density(&self, h: &Matrix3<f64>) -> Option<f64> {
-        Some(self.c.strain_energy_density(&green_lagrange_from_h(h)))
+        dsigma * cofactor(f) + sigma * dcof
     }
 }

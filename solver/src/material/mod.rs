@@ -19,7 +19,7 @@ mod saint_venant_kirchhoff;
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
-pub use isotropic::{ConstantsError, Hooke, IsotropicElastic};
+pub use isotropic::{ConstantsError, Elastic, Hooke, IsotropicElastic};
 pub use linear_elastic::LinearElastic;
 pub use microplane::MicroplaneMaterial;
 pub use parameter_file::{read_microplane_file, MicroplaneFile};

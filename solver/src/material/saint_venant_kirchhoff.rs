@@ -2,7 +2,7 @@
 
 use nalgebra::Matrix3;
 
-use super::{Deformation, ElementState, Hooke, IsotropicElastic, Material, MaterialModel};
+use super::{Elastic, Hooke, IsotropicElastic, MaterialModel};
 use crate::kinematics::green_lagrange_from_h;
 
 /// `W(E) = lambda/2 (tr E)^2 + mu tr E^2` (2.120), `S = lambda tr(E) I + 2 mu E` (2.123),
@@ -28,47 +28,31 @@ impl SaintVenantKirchhoff {
     pub fn second_piola(&self, e: &Matrix3<f64>) -> Matrix3<f64> {
         self.hooke.stress(e)
     }
-
-    /// First Piola-Kirchhoff stress `P = F S` at `F = I + H`.
-    #[inline(always)]
-    pub fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
-        f * self.second_piola(&green_lagrange_from_h(h))
-    }
 }
 
-impl Material for SaintVenantKirchhoff {
-    fn name(&self) -> &'static str {
-        "saint_venant_kirchhoff"
-    }
+impl Elastic for SaintVenantKirchhoff {
+    const NAME: &'static str = "saint_venant_kirchhoff";
 
     fn constants(&self) -> IsotropicElastic {
         self.c
     }
 
-    fn model(&self) -> Option<MaterialModel> {
-        Some(MaterialModel::SaintVenantKirchhoff(self.c))
+    fn model(&self) -> MaterialModel {
+        MaterialModel::SaintVenantKirchhoff(self.c)
     }
 
+    /// `P = F S` with `S = hooke(E)`.
     #[inline(always)]
-    fn update(
-        &self,
-        _element: usize,
-        d: &Deformation,
-        _state: ElementState,
-    ) -> Option<Matrix3<f64>> {
-        Some(self.first_piola(&d.f, &d.h))
+    fn first_piola(&self, f: &Matrix3<f64>, h: &Matrix3<f64>) -> Matrix3<f64> {
+        f * self.second_piola(&green_lagrange_from_h(h))
     }
 
     /// `dP = dF S + F dS`, `dS = lambda tr(dE) I + 2 mu dE`, `dE = sym(F^T dF)`.
-    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    fn first_piola_derivative(&self, f: &Matrix3<f64>, df: &Matrix3<f64>) -> Matrix3<f64> {
         let h = f - Matrix3::identity();
         let s = self.second_piola(&green_lagrange_from_h(&h));
         let ft_df = f.transpose() * df;
         let de = 0.5 * (ft_df + ft_df.transpose());
-        Some(df * s + f * self.second_piola(&de))
-    }
-
-    fn strain_energy_density(&self, h: &Matrix3<f64>) -> Option<f64> {
-        Some(self.c.strain_energy_density(&green_lagrange_from_h(h)))
+        df * s + f * self.second_piola(&de)
     }
 }
