@@ -2,6 +2,7 @@ use super::*;
 use impact_solver::material::microplane::experiments::{
     crack_opening_curve, FracturePath, QUASI_STATIC_RATE,
 };
+use impact_solver::material::microplane::MicroplaneConcrete;
 
 /// The thesis beam (chapter 10): 600 x 300 mm, span 2.8 m; concrete E 30 GPa, f_t 2.7 MPa,
 /// G_F 100 N/m (cases/materials/thesis-concrete.yaml and its calibration targets).
