@@ -14,7 +14,7 @@ use std::sync::Arc;
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{
-    Deformation, ElementState, IsotropicElastic, Material, MaterialModel,
+    Deformation, ElementState, IsotropicElastic, Material, SaintVenantKirchhoff,
 };
 use impact_solver::model::{
     BodyMaterial, Constraint, Model, Motion, NodalLoad, Probe, ProbeQuantity, Problem, TimeFunction,
@@ -130,9 +130,7 @@ fn release(
 #[test]
 fn a_neo_hookean_body_defined_in_a_test_runs_statically_and_explicitly() {
     let neo: Arc<dyn BodyMaterial> = Arc::new(NeoHookean { c: STEEL });
-    let svk = MaterialModel::SaintVenantKirchhoff(STEEL)
-        .prepare("beam", &[], 0)
-        .unwrap();
+    let svk: Arc<dyn BodyMaterial> = Arc::new(SaintVenantKirchhoff::new(STEEL));
     let (tip, stored, history) = release(neo);
     let (tip_svk, stored_svk, _) = release(svk);
 

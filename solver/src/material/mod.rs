@@ -4,8 +4,8 @@
 //! to the first Piola-Kirchhoff stress `P`, from which the element forces follow as
 //! `f_a = V P grad_X N_a`. Elastic models have no state; the microplane concrete model keeps a
 //! history per element, which the analysis owns (`model::MaterialHistory`) and advances once per
-//! step. A scene names a model with [`MaterialModel`], which [`MaterialModel::prepare`] turns into
-//! the `Material` of a body; any other `Material` (a model under test, say) can be given to
+//! step. A scene names a model with [`MaterialModel`], which the model turns into the `Material`
+//! of a body (`model::MaterialSource`); any other `Material` (a model under test, say) can be given to
 //! `model::Model::new` directly, and the element loops, the static tangent and the output treat
 //! it as they treat the built-in ones (`solver/tests/custom_material.rs` adds a Neo-Hookean body
 //! in one file).
@@ -191,37 +191,5 @@ impl MaterialModel {
             MaterialModel::SaintVenantKirchhoff(_) => "saint_venant_kirchhoff",
             MaterialModel::Microplane(_) => "microplane",
         }
-    }
-
-    /// Mass density (kg/m^3).
-    pub fn density(&self) -> f64 {
-        self.constants().density
-    }
-
-    /// Dilatational (P-wave) speed of the initial elastic constants (m/s), which sets the
-    /// stable time step.
-    pub fn dilatational_wave_speed(&self) -> f64 {
-        self.constants().dilatational_wave_speed()
-    }
-
-    /// The model prepared for a body whose elements have the reference volumes `volumes`
-    /// (`first_element` is the global id of the first): the elastic models need nothing from
-    /// them, microplane concrete the crack band of each element. An element too large for the
-    /// crack band is an error naming the body and the element.
-    pub fn prepare(
-        &self,
-        body: &str,
-        volumes: &[f64],
-        first_element: usize,
-    ) -> crate::error::Result<std::sync::Arc<dyn crate::model::BodyMaterial>> {
-        Ok(match *self {
-            MaterialModel::LinearElastic(c) => std::sync::Arc::new(LinearElastic::new(c)),
-            MaterialModel::SaintVenantKirchhoff(c) => {
-                std::sync::Arc::new(SaintVenantKirchhoff::new(c))
-            }
-            MaterialModel::Microplane(p) => {
-                std::sync::Arc::new(MicroplaneMaterial::new(body, p, volumes, first_element)?)
-            }
-        })
     }
 }

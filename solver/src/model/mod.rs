@@ -23,7 +23,7 @@ pub use problem::{Probe, ProbeQuantity, Problem};
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};
-use crate::material::MaterialModel;
+use crate::material::{LinearElastic, MaterialModel, MicroplaneMaterial, SaintVenantKirchhoff};
 use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
 
 /// One body of the model: a mesh of one material.
@@ -76,6 +76,10 @@ impl MaterialSource {
         })
     }
 
+    /// The material of a body whose elements have the reference volumes `volumes`
+    /// (`first_element` is the global id of the first): the elastic models need nothing from
+    /// them, microplane concrete the crack band of each element. An element too large for the
+    /// crack band is an error naming the body and the element.
     fn prepare(
         self,
         body: &str,
@@ -83,7 +87,15 @@ impl MaterialSource {
         first_element: usize,
     ) -> Result<Arc<dyn BodyMaterial>> {
         match self {
-            MaterialSource::Model(m) => m.prepare(body, volumes, first_element),
+            MaterialSource::Model(MaterialModel::LinearElastic(c)) => {
+                Ok(Arc::new(LinearElastic::new(c)))
+            }
+            MaterialSource::Model(MaterialModel::SaintVenantKirchhoff(c)) => {
+                Ok(Arc::new(SaintVenantKirchhoff::new(c)))
+            }
+            MaterialSource::Model(MaterialModel::Microplane(p)) => Ok(Arc::new(
+                MicroplaneMaterial::new(body, p, volumes, first_element)?,
+            )),
             MaterialSource::Prepared(m) => Ok(m),
         }
     }
