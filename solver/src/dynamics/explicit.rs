@@ -331,11 +331,13 @@ impl<'p> ExplicitSolver<'p> {
             }
             self.phases.output += clock.lap();
             let fraction = (n % progress_every == 0).then(|| n as f64 / steps.max(1) as f64);
-            if let Some(halt) = set.poll(fraction) {
-                return Err(self.halt(halt, &mut set));
-            }
-            if last {
-                break;
+            // Every observer sees the last step's progress, but a run whose last step is done
+            // completes: there is nothing left to halt (before the observers, a stop flag was
+            // not read after the last step either).
+            match set.poll(fraction) {
+                Some(halt) if !last => return Err(self.halt(halt, &mut set)),
+                _ if last => break,
+                _ => {}
             }
             self.finish_step();
         }
