@@ -4,36 +4,12 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+mod cli_common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-vv-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn impact_vv(args: &[&str], envs: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_impact-vv"));
-    cmd.args(args).current_dir(repo());
-    for (k, v) in envs {
-        cmd.env(k, v);
-    }
-    cmd.output().expect("impact-vv runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use cli_common::*;
 
 /// A catalogue folder holding one case file with `content`.
 fn catalogue_with(name: &str, content: &str) -> (PathBuf, PathBuf) {
@@ -42,10 +18,6 @@ fn catalogue_with(name: &str, content: &str) -> (PathBuf, PathBuf) {
     std::fs::create_dir_all(&cases).unwrap();
     std::fs::write(cases.join("case.yaml"), content).unwrap();
     (cases, dir.join("reports"))
-}
-
-fn confined_wave() -> String {
-    std::fs::read_to_string(repo().join("cases/elastic/confined-wave.yaml")).unwrap()
 }
 
 fn run_in(cases: &Path, reports: &Path) -> Output {
@@ -61,24 +33,6 @@ fn run_in(cases: &Path, reports: &Path) -> Output {
         ],
         &[],
     )
-}
-
-fn only_run_dir(reports: &Path) -> PathBuf {
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(reports)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.is_dir())
-        .collect();
-    dirs.sort();
-    dirs.pop().expect("a run folder")
-}
-
-fn results(reports: &Path) -> serde_json::Value {
-    serde_json::from_str(
-        &std::fs::read_to_string(only_run_dir(reports).join("results.json")).unwrap(),
-    )
-    .unwrap()
 }
 
 /// The material-point cases (`cases/material/`) that fail today carry `known_failure` (a model
@@ -580,223 +534,4 @@ fn a_case_file_outside_the_catalogue_with_an_unknown_key_names_it() {
         "{}",
         text(&out)
     );
-}
-
-/// The confined column of `cases/examples/` run for 10 s of simulated time (millions of steps:
-/// it runs until stopped), written into `dir`.
-fn endless_column(dir: &Path) -> PathBuf {
-    let scene = std::fs::read_to_string(repo().join("cases/examples/confined-column.yaml"))
-        .unwrap()
-        .replace("end_time: 3.0e-4", "end_time: 10.0");
-    assert!(scene.contains("end_time: 10.0"));
-    let file = dir.join("long-column.yaml");
-    std::fs::write(&file, scene).unwrap();
-    file
-}
-
-/// A catalogue folder in `dir` of the confined-wave case under each id, in order; the case
-/// marked `endless` runs 40 s of simulated time (hours of steps).
-fn catalogue_of(dir: &Path, cases: &[(&str, bool)]) -> PathBuf {
-    let folder = dir.join("cases");
-    let wave = confined_wave();
-    for (id, endless) in cases {
-        let text = if *endless {
-            wave.replace("end_time: 2.36e-4", "end_time: 40.0")
-        } else {
-            wave.clone()
-        };
-        let sub = folder.join(id.replace('/', "_"));
-        std::fs::create_dir_all(&sub).unwrap();
-        std::fs::write(
-            sub.join("case.yaml"),
-            text.replace("id: elastic/confined-wave", &format!("id: {id}")),
-        )
-        .unwrap();
-    }
-    folder
-}
-
-/// `impact-vv` with `args` started in the background, its output captured.
-fn spawn_impact_vv(args: &[&str]) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_impact-vv"))
-        .args(args)
-        .current_dir(repo())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap()
-}
-
-/// A serial run of the quick tier of `cases`, reporting into `reports`, started in the
-/// background.
-fn spawn_serial_run(cases: &Path, reports: &Path) -> std::process::Child {
-    spawn_impact_vv(&[
-        "run",
-        "--tier",
-        "quick",
-        "--serial",
-        "--catalogue",
-        cases.to_str().unwrap(),
-        "--reports",
-        reports.to_str().unwrap(),
-    ])
-}
-
-/// Sends SIGINT to `child` after `seconds` and waits for it.
-/// `impact-vv scene FILE --out OUT`, started in the background.
-fn spawn_scene(file: &Path, out: &Path) -> std::process::Child {
-    spawn_impact_vv(&[
-        "scene",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ])
-}
-
-fn interrupt_after(child: std::process::Child, seconds: u64) -> Output {
-    std::thread::sleep(std::time::Duration::from_secs(seconds));
-    let sent = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
-    child.wait_with_output().unwrap()
-}
-
-/// Kills `child` outright (SIGKILL: no handler runs) after `seconds`.
-fn kill_after(mut child: std::process::Child, seconds: u64) {
-    std::thread::sleep(std::time::Duration::from_secs(seconds));
-    child.kill().unwrap();
-    child.wait().unwrap();
-}
-
-/// The data rows of a history CSV, each checked to be whole; column 1 is the step.
-fn history_rows(path: &Path) -> Vec<Vec<f64>> {
-    let history = std::fs::read_to_string(path).unwrap();
-    let mut lines = history.lines();
-    let width = lines.next().expect("a header").split(',').count();
-    lines
-        .enumerate()
-        .map(|(k, l)| {
-            let row: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            assert_eq!(row.len(), width, "row {k} is cut");
-            row
-        })
-        .collect()
-}
-
-/// A scene run stopped by SIGINT after a few seconds exits with status 130 and leaves the history
-/// CSV with every record up to the stop (consecutive steps, nothing after the last) and a PVD
-/// collection whose every frame file exists.
-#[test]
-fn a_scene_run_interrupted_by_sigint_writes_what_it_has() {
-    let dir = temp_dir("sigint");
-    let file = endless_column(&dir);
-    let out = dir.join("out");
-    let child = spawn_scene(&file, &out);
-    let output = interrupt_after(child, 3);
-    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
-    assert!(text(&output).contains("interrupted"), "{}", text(&output));
-    let rows = history_rows(&out.join("confined-column_history.csv"));
-    assert!(rows.len() > 10, "{} rows", rows.len());
-    // Every record from the start, one per step (history_interval 1e-6 s is below the time step
-    // here), none missing.
-    for (k, r) in rows.iter().enumerate() {
-        assert_eq!(r[1], k as f64, "row {k}");
-    }
-    let pvd = std::fs::read_to_string(out.join("confined-column.pvd")).unwrap();
-    let frames: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| s.split('"').next().unwrap())
-        .collect();
-    assert!(!frames.is_empty(), "{pvd}");
-    for f in frames {
-        assert!(out.join(f).is_file(), "{f} listed in the PVD is missing");
-    }
-}
-
-/// A catalogue run sent SIGINT while its second case runs: exit status 130; `results.json` and
-/// `index.html` are written; the first case is judged and is the only one in the history; the
-/// second (stopped mid-run) and the third (never started) are `interrupted`.
-#[test]
-fn a_catalogue_run_interrupted_by_sigint_reports_the_finished_cases() {
-    let dir = temp_dir("sigint-run");
-    let cases = catalogue_of(
-        &dir,
-        &[("a/first", false), ("b/second", true), ("c/third", false)],
-    );
-    let reports = dir.join("reports");
-    let output = interrupt_after(spawn_serial_run(&cases, &reports), 4);
-    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
-    let json = results(&reports);
-    assert!(only_run_dir(&reports).join("index.html").is_file());
-    for case in json["cases"].as_array().unwrap() {
-        let expected = if case["id"] == "a/first" {
-            "pass"
-        } else {
-            "interrupted"
-        };
-        assert_eq!(
-            case["status"], expected,
-            "{}: {}",
-            case["id"], case["message"]
-        );
-    }
-    let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
-    let lines: Vec<&str> = history.lines().collect();
-    assert!(!lines.is_empty());
-    assert!(
-        lines.iter().all(|l| l.contains("\"case\":\"a/first\"")),
-        "{history}"
-    );
-}
-
-/// A scene run killed outright (SIGKILL: no handler runs) still leaves its history CSV up to the
-/// last flush: the header, and whole rows of consecutive steps from the start.
-#[test]
-fn a_scene_run_killed_outright_leaves_the_history_written_so_far() {
-    let dir = temp_dir("sigkill");
-    let file = endless_column(&dir);
-    let out = dir.join("out");
-    let child = spawn_scene(&file, &out);
-    // Past two flush intervals.
-    kill_after(child, 5);
-    let rows = history_rows(&out.join("confined-column_history.csv"));
-    assert!(rows.len() > 10, "{} rows", rows.len());
-    for (k, r) in rows.iter().enumerate() {
-        assert_eq!(r[1], k as f64, "row {k}");
-    }
-}
-
-/// A catalogue run killed outright (SIGKILL) while its second case runs leaves `run.json` and the
-/// first case's lines in `cases.jsonl`; `impact-vv report` rebuilds `results.json`, the page and
-/// the history lines from them, with exactly the cases that finished.
-#[test]
-fn a_catalogue_run_killed_outright_is_rebuilt_from_its_case_lines() {
-    let dir = temp_dir("sigkill-run");
-    let cases = catalogue_of(&dir, &[("a/first", false), ("b/second", true)]);
-    let reports = dir.join("reports");
-    kill_after(spawn_serial_run(&cases, &reports), 4);
-    let run = only_run_dir(&reports);
-    assert!(!run.join("results.json").exists());
-    let out = impact_vv(
-        &[
-            "report",
-            run.to_str().unwrap(),
-            "--reports",
-            reports.to_str().unwrap(),
-        ],
-        &[],
-    );
-    assert!(text(&out).contains("rebuilt"), "{}", text(&out));
-    let json = results(&reports);
-    let finished = json["cases"].as_array().unwrap();
-    assert!(!finished.is_empty());
-    assert!(finished
-        .iter()
-        .all(|c| c["id"] == "a/first" && c["status"] == "pass"));
-    assert!(run.join("index.html").is_file());
-    let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
-    assert_eq!(history.lines().count(), finished.len(), "{history}");
 }

@@ -1,0 +1,66 @@
+//! What the command-line tests share: the repository, scratch folders, running `impact-vv`
+//! and reading what a run wrote.
+
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository root.
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// An empty scratch folder named after the test and the process.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("impact-vv-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `impact-vv` with `args` and environment `envs` from the repository root.
+pub fn impact_vv(args: &[&str], envs: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_impact-vv"));
+    cmd.args(args).current_dir(repo());
+    for (k, v) in envs {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("impact-vv runs")
+}
+
+/// What a run printed, stdout then stderr.
+pub fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// The newest run folder under `reports`.
+pub fn only_run_dir(reports: &Path) -> PathBuf {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(reports)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    dirs.pop().expect("a run folder")
+}
+
+/// The `results.json` of the newest run under `reports`.
+pub fn results(reports: &Path) -> serde_json::Value {
+    serde_json::from_str(
+        &std::fs::read_to_string(only_run_dir(reports).join("results.json")).unwrap(),
+    )
+    .unwrap()
+}
+
+/// The text of the confined-wave case, a small elastic case to copy into a scratch catalogue.
+pub fn confined_wave() -> String {
+    std::fs::read_to_string(repo().join("cases/elastic/confined-wave.yaml")).unwrap()
+}
