@@ -16,11 +16,9 @@ use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{
     Deformation, ElementState, IsotropicElastic, Material, SaintVenantKirchhoff,
 };
-use impact_solver::model::{
-    BodyMaterial, Constraint, Model, Motion, NodalLoad, Probe, ProbeQuantity, Problem, TimeFunction,
-};
+use impact_solver::model::{BodyMaterial, Probe, ProbeQuantity, Problem};
 use impact_solver::statics::{solve_static, StaticSettings};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Matrix3;
 
 /// `W = mu/2 (I_C - 3) - mu ln J + lambda/2 (ln J)^2`,
 /// `P = mu (F - F^-T) + lambda ln(J) F^-T`, written in `H = F - I` so that small strains keep
@@ -77,27 +75,9 @@ const DEPTH: f64 = 0.1;
 /// few 1e-4.
 const TIP_LOAD: f64 = -2e3;
 
-/// A steel cantilever clamped at `x = 0` with a tip probe, of the given material.
+/// A steel cantilever clamped at `x = 0` with a tip load and a tip probe, of the given material.
 fn cantilever(material: Arc<dyn BodyMaterial>) -> Problem {
-    let mesh = box_body([LENGTH, DEPTH, DEPTH], [20, 2, 2], 0.0, 0);
-    let mut p = Problem::new(Model::new(vec![("beam".to_string(), mesh, material)]).unwrap());
-    let at = |x: f64| -> Vec<u32> {
-        (0..p.model.node_count() as u32)
-            .filter(|&n| (p.model.reference[n as usize].x - x).abs() < 1e-12)
-            .collect()
-    };
-    let (clamp, tip) = (at(0.0), at(LENGTH));
-    p.constraints.push(Constraint {
-        name: "clamp".into(),
-        nodes: clamp,
-        motion: Motion::Fixed([true; 3]),
-    });
-    p.loads.push(NodalLoad {
-        name: "tip".into(),
-        nodes: tip.clone(),
-        force_per_node: Vector3::new(0.0, 0.0, TIP_LOAD),
-        function: TimeFunction::Constant(1.0),
-    });
+    let (mut p, tip) = tip_loaded_cantilever(material, LENGTH, DEPTH, TIP_LOAD);
     p.probes.push(Probe {
         name: "tip".into(),
         nodes: tip,

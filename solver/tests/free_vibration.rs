@@ -7,9 +7,7 @@ use common::*;
 use impact_references::analytic::cantilever_first_frequency;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::MaterialModel;
-use impact_solver::model::{Constraint, Motion, NodalLoad, TimeFunction};
 use impact_solver::statics::{solve_static, StaticSettings};
-use nalgebra::Vector3;
 
 #[test]
 fn cantilever_keeps_its_energy_for_ten_periods() {
@@ -18,24 +16,7 @@ fn cantilever_keeps_its_energy_for_ten_periods() {
         MaterialModel::SaintVenantKirchhoff(STEEL),
         MaterialModel::LinearElastic(STEEL),
     ] {
-        let mut p = problem(box_body([l, h, h], [20, 2, 2], 0.0, 0), material);
-        let clamp: Vec<u32> = (0..p.model.node_count() as u32)
-            .filter(|&n| p.model.reference[n as usize].x < 1e-12)
-            .collect();
-        let tip: Vec<u32> = (0..p.model.node_count() as u32)
-            .filter(|&n| (p.model.reference[n as usize].x - l).abs() < 1e-12)
-            .collect();
-        p.constraints.push(Constraint {
-            name: "clamp".into(),
-            nodes: clamp,
-            motion: Motion::Fixed([true; 3]),
-        });
-        p.loads.push(NodalLoad {
-            name: "tip".into(),
-            nodes: tip.clone(),
-            force_per_node: Vector3::new(0.0, 0.0, -2e4),
-            function: TimeFunction::Constant(1.0),
-        });
+        let (mut p, _) = tip_loaded_cantilever(material, l, h, -2e4);
         let bent = solve_static(&p, &StaticSettings::default()).unwrap();
         let stored = p.model.stored_energy(&bent.u);
         p.loads.clear();

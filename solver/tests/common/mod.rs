@@ -106,3 +106,34 @@ pub fn kinetic_plus_stored_drift(
         .fold(0.0, f64::max)
         / stored
 }
+
+/// A cantilever `length x depth x depth` on 20 x 2 x 2 cells of `material`, clamped at `x = 0`
+/// and loaded at `x = length` by a constant `tip_force` (N) per node along z; with its tip nodes.
+pub fn tip_loaded_cantilever<M: Into<impact_solver::model::MaterialSource>>(
+    material: M,
+    length: f64,
+    depth: f64,
+    tip_force: f64,
+) -> (Problem, Vec<u32>) {
+    use impact_solver::model::{Constraint, Motion, NodalLoad, TimeFunction};
+    let mesh = box_body([length, depth, depth], [20, 2, 2], 0.0, 0);
+    let mut p = Problem::new(Model::new(vec![("body".to_string(), mesh, material)]).unwrap());
+    let at = |x: f64| -> Vec<u32> {
+        (0..p.model.node_count() as u32)
+            .filter(|&n| (p.model.reference[n as usize].x - x).abs() < 1e-12)
+            .collect()
+    };
+    let (clamp, tip) = (at(0.0), at(length));
+    p.constraints.push(Constraint {
+        name: "clamp".into(),
+        nodes: clamp,
+        motion: Motion::Fixed([true; 3]),
+    });
+    p.loads.push(NodalLoad {
+        name: "tip".into(),
+        nodes: tip.clone(),
+        force_per_node: Vector3::new(0.0, 0.0, tip_force),
+        function: TimeFunction::Constant(1.0),
+    });
+    (p, tip)
+}
