@@ -12,6 +12,6 @@ pub mod cracks;
 pub mod history;
 
 pub use cracks::{
-    classify, crack_tip_history, failure_mode_details, BeamFrame, BeamSpec, Crack, CrackKind,
-    FailureMode,
+    classify, crack_tip_history, failure_mode_details, failure_mode_judged, BeamFrame, BeamSpec,
+    Crack, CrackKind, FailureMode, JudgedAt,
 };

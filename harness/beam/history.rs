@@ -1,6 +1,36 @@
 //! Checks on history columns for the beam cases: quasi-static loading, elastic stiffness, peak
 //! ratios, and the force balance of a body (thesis 6.48).
 
+/// End of the contact (s): the first time after the peak of `|force|` at which `|force|` falls
+/// below `fraction` of that peak, interpolated linearly between the two records around it
+/// (thesis 10.3.2.1 judges the failure mode "up to the moment when the beam-hammer contact force
+/// drops approximately to zero"). An error when the force never rises or never falls that low.
+pub fn contact_end_time(time: &[f64], force: &[f64], fraction: f64) -> Result<f64, String> {
+    let magnitude: Vec<f64> = force.iter().map(|f| f.abs()).collect();
+    let (peak_at, peak) = magnitude
+        .iter()
+        .copied()
+        .enumerate()
+        .fold(
+            (0, 0.0),
+            |best, (i, f)| if f > best.1 { (i, f) } else { best },
+        );
+    if !(peak > 0.0) {
+        return Err("the contact force never rises above zero".into());
+    }
+    let level = fraction * peak;
+    let end = (peak_at + 1..magnitude.len())
+        .find(|&i| magnitude[i] < level)
+        .ok_or_else(|| {
+            format!(
+                "the contact force never falls below {fraction} of its peak {peak:.4e} N after \
+                 it: the contact lasts to the end of the run"
+            )
+        })?;
+    let (f0, f1) = (magnitude[end - 1], magnitude[end]);
+    Ok(time[end - 1] + (f0 - level) / (f0 - f1) * (time[end] - time[end - 1]))
+}
+
 /// `max K_i / W_i` over the records where the internal work `W_i` exceeds `fraction` of its
 /// largest value: a loading is quasi-static when the kinetic energy `K` stays a small part of
 /// the work stored (CATALOGUE, `beam/static-3pt`: below 1 %). The first records, where `W` is
@@ -347,5 +377,32 @@ analysis:
         // Forgetting the reaction shows.
         let e = force_equilibrium_error(&t, &c, &[], &p, -20.0).unwrap();
         assert!(e > 0.1);
+    }
+
+    #[test]
+    fn contact_ends_when_the_force_falls_below_a_fraction_of_its_peak() {
+        // A half-sine pulse of 0.5 ms sampled every 10 us, then a later small touch.
+        let t: Vec<f64> = (0..100).map(|i| i as f64 * 1e-5).collect();
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&t| {
+                if t <= 5e-4 {
+                    (std::f64::consts::PI * t / 5e-4).sin() * 1e6
+                } else if (7e-4..8e-4).contains(&t) {
+                    5e4
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        // sin falls below 1 % at pi t / T = pi - asin(0.01): the linear interpolation between
+        // the records at 490 and 500 us lands within the record spacing of it.
+        let exact = 5e-4 * (1.0 - 0.01f64.asin() / std::f64::consts::PI);
+        let end = contact_end_time(&t, &f, 0.01).unwrap();
+        assert!((end - exact).abs() < 1e-5, "{end} {exact}");
+        assert!(end <= 5e-4);
+        // The later touch does not move the end; a force that never falls is an error.
+        assert!(contact_end_time(&t, &vec![1.0; 100], 0.01).is_err());
+        assert!(contact_end_time(&t, &vec![0.0; 100], 0.01).is_err());
     }
 }

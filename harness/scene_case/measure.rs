@@ -235,13 +235,14 @@ pub enum Measure {
         #[serde(default)]
         only_converged: bool,
     },
-    /// Failure mode of a beam in the final state (FORMULATION 5, thesis 10.3.2), as its code:
-    /// 0 none, 1 bending, 2 mixed, 3 shear (`crate::beam::classify`). Judged against
+    /// Failure mode of a beam (FORMULATION 5, thesis 10.3.2) in the final state or at the end
+    /// of the contact (`at`), as its code: 0 none, 1 bending, 2 mixed, 3 shear, 4 bending with
+    /// inclined damage zones (`crate::beam::classify`). Judged against
     /// `{ failure_mode: <mode> }` with `absolute: 0`.
     FailureMode(#[serde(default)] crate::beam::BeamSpec),
-    /// Largest speed of the bending-crack tip over the snapshots (`crate::beam::
-    /// crack_tip_history`) over the Rayleigh speed `c_R` of the beam's elastic constants: a
-    /// crack cannot outrun `c_R` (Freund 1990), the thesis finds about 0.55 `c_R`.
+    /// Largest speed of the bending-crack tip, tracked on the crack opening over every snapshot
+    /// (`crate::beam::crack_tip_history`), over the Rayleigh speed `c_R` of the beam's elastic
+    /// constants: a crack cannot outrun `c_R` (Freund 1990), the thesis finds about 0.55 `c_R`.
     CrackTipSpeedRatio(#[serde(default)] crate::beam::BeamSpec),
     /// `max K / W_int` over the records where `W_int` exceeds `above_fraction` (default 5 %)
     /// of its largest value (`crate::beam::history::kinetic_over_internal_work`).

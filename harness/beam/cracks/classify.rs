@@ -3,10 +3,14 @@
 
 use std::collections::HashMap;
 
+use impact_solver::analysis::Execution;
 use impact_solver::model::Problem;
 use impact_solver::Vector3;
 
-use super::{cracked_at, BeamElement, BeamFrame, BeamSpec, Crack, CrackKind, FailureMode, Side};
+use super::{
+    indicator_at, BeamElement, BeamFrame, BeamSpec, Crack, CrackKind, FailureMode, JudgedAt, Side,
+    DAMAGE_LEVEL,
+};
 
 /// Connected zones of the flagged elements: elements sharing a node (hence also those sharing
 /// a face or an edge) are in the same zone. Zones and their elements come in ascending order.
@@ -70,37 +74,23 @@ fn principal_axis(points: &[(f64, f64)]) -> (f64, f64) {
     (theta.abs().to_degrees().min(90.0), hi - lo)
 }
 
-/// The cracks of the flagged (cracked) elements and the failure mode they make.
-///
-/// 1. Connected zones ([`zones`]); each zone is cut into its parts left of, under and right of
-///    the loaded strip `|x - x_load| <= a`, so that a bending crack at mid-span and the inclined
-///    cracks branching from it are judged separately.
-/// 2. A part is ignored when it has fewer than `min_elements` elements, or when every element
-///    of it lies in the loading region (within one cell of the loaded strip, top two cell
-///    layers) or a support region (within one cell of a support strip, bottom two layers):
-///    local crushing and bearing, not cracks through the beam.
-/// 3. Each remaining part gets its plane from the principal axes of its element centroids in
-///    the side view (angle of the major axis to the beam axis).
-/// 4. **Bending** crack: starts in the bottom layer of cells, its centre within one beam height
-///    of `x_load`, plane at least 60 degrees to the axis (within 30 degrees of vertical).
-///    **Shear** crack: left or right of the strip, plane 25 to 65 degrees to the axis.
-///    Otherwise **other**.
-/// 5. Mode: a bending crack counts when its top reaches half the height. `mixed` with a
-///    counting bending crack and a shear crack, `bending` with only the first, `shear` with
-///    only shear cracks (short bending cracks or not), `none` otherwise.
-pub fn classify(
+/// The parts of the connected zones of the flagged elements, cut at the loaded strip, that
+/// count (steps 1 to 3 of [`classify`]): each as a [`Crack`] of kind `Other`, with the element
+/// indices it holds.
+fn zone_parts(
     frame: &BeamFrame,
     elements: &[BeamElement],
-    cracked: &[bool],
-) -> (FailureMode, Vec<Crack>) {
-    let mut cracks = Vec::new();
-    for (z, zone) in zones(elements, cracked).iter().enumerate() {
+    flagged: &[bool],
+) -> Vec<(Crack, Vec<usize>)> {
+    let mut out = Vec::new();
+    for (z, zone) in zones(elements, flagged).iter().enumerate() {
         for side in [Side::Left, Side::Under, Side::Right] {
-            let part: Vec<&Vector3<f64>> = zone
+            let members: Vec<usize> = zone
                 .iter()
-                .map(|&e| &elements[e].centroid)
-                .filter(|c| frame.side(c) == side)
+                .copied()
+                .filter(|&e| frame.side(&elements[e].centroid) == side)
                 .collect();
+            let part: Vec<&Vector3<f64>> = members.iter().map(|&e| &elements[e].centroid).collect();
             if part.len() < frame.min_elements
                 || part
                     .iter()
@@ -116,37 +106,91 @@ pub fn classify(
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
                     (a.0.min(p.1 - frame.y_bottom), a.1.max(p.1 - frame.y_bottom))
                 });
-            let from_bottom = bottom < frame.cell;
-            let kind = if from_bottom
-                && (x_center - frame.x_load).abs() <= frame.height
-                && angle_deg >= 60.0
-            {
-                CrackKind::Bending
-            } else if side != Side::Under && (25.0..=65.0).contains(&angle_deg) {
-                CrackKind::Shear
-            } else {
-                CrackKind::Other
-            };
-            cracks.push(Crack {
+            let crack = Crack {
                 zone: z,
                 side,
-                kind,
+                kind: CrackKind::Other,
                 elements: part.len(),
                 x_center,
                 angle_deg,
                 length: extent + frame.cell,
                 bottom,
                 top,
-                from_bottom,
-            });
+                from_bottom: bottom < frame.cell,
+            };
+            out.push((crack, members));
         }
     }
+    out
+}
+
+/// Whether a part beside the loaded strip is inclined as a shear crack (25 to 65 degrees).
+fn inclined(c: &Crack) -> bool {
+    c.side != Side::Under && (25.0..=65.0).contains(&c.angle_deg)
+}
+
+/// The cracks of a beam from its elements' crack indicators `eps_1 / eps_r`, and the failure
+/// mode they make.
+///
+/// 1. Connected zones ([`zones`]) of the cracked elements (indicator at least 1); each zone is
+///    cut into its parts left of, under and right of the loaded strip `|x - x_load| <= a`, so
+///    that a bending crack at mid-span and the inclined cracks branching from it are judged
+///    separately.
+/// 2. A part is ignored when it has fewer than `min_elements` elements, or when every element
+///    of it lies in the loading region (within one cell of the loaded strip, top two cell
+///    layers) or a support region (within one cell of a support strip, bottom two layers):
+///    local crushing and bearing, not cracks through the beam.
+/// 3. Each remaining part gets its plane from the principal axes of its element centroids in
+///    the side view (angle of the major axis to the beam axis).
+/// 4. **Bending** crack: starts in the bottom layer of cells, its centre within one beam height
+///    of `x_load`, plane at least 60 degrees to the axis (within 30 degrees of vertical).
+///    **Shear** crack: left or right of the strip, plane 25 to 65 degrees to the axis.
+///    Otherwise **other**.
+/// 5. The same for the damaged elements (indicator at least [`DAMAGE_LEVEL`]): a part left or
+///    right of the strip, inclined 25 to 65 degrees, that holds no element of a shear crack is
+///    an **inclined damage** zone.
+/// 6. Mode: a bending crack counts when its top reaches half the height. `mixed` with a
+///    counting bending crack and a shear crack; `bending_inclined` with a counting bending
+///    crack and inclined damage but no shear crack; `bending` with the bending crack alone;
+///    `shear` with only shear cracks (short bending cracks or not); `none` otherwise.
+pub fn classify(
+    frame: &BeamFrame,
+    elements: &[BeamElement],
+    indicator: &[f64],
+) -> (FailureMode, Vec<Crack>) {
+    let cracked: Vec<bool> = indicator.iter().map(|&i| i >= 1.0).collect();
+    let mut in_shear_crack = vec![false; elements.len()];
+    let mut cracks = Vec::new();
+    for (mut crack, members) in zone_parts(frame, elements, &cracked) {
+        crack.kind = if crack.from_bottom
+            && (crack.x_center - frame.x_load).abs() <= frame.height
+            && crack.angle_deg >= 60.0
+        {
+            CrackKind::Bending
+        } else if inclined(&crack) {
+            members.iter().for_each(|&e| in_shear_crack[e] = true);
+            CrackKind::Shear
+        } else {
+            CrackKind::Other
+        };
+        cracks.push(crack);
+    }
+    let damaged: Vec<bool> = indicator.iter().map(|&i| i >= DAMAGE_LEVEL).collect();
+    let zone_offset = cracks.iter().map(|c| c.zone + 1).max().unwrap_or(0);
+    for (mut zone, members) in zone_parts(frame, elements, &damaged) {
+        if inclined(&zone) && !members.iter().any(|&e| in_shear_crack[e]) {
+            zone.kind = CrackKind::InclinedDamage;
+            zone.zone += zone_offset;
+            cracks.push(zone);
+        }
+    }
+    let has = |kind: CrackKind| cracks.iter().any(|c| c.kind == kind);
     let bending = cracks
         .iter()
         .any(|c| c.kind == CrackKind::Bending && c.top >= 0.5 * frame.height);
-    let shear = cracks.iter().any(|c| c.kind == CrackKind::Shear);
-    let mode = match (bending, shear) {
+    let mode = match (bending, has(CrackKind::Shear)) {
         (true, true) => FailureMode::Mixed,
+        (true, false) if has(CrackKind::InclinedDamage) => FailureMode::BendingInclined,
         (true, false) => FailureMode::Bending,
         (false, true) => FailureMode::Shear,
         (false, false) => FailureMode::None,
@@ -161,9 +205,53 @@ pub fn failure_mode_at(
     u: &[Vector3<f64>],
 ) -> Result<(FailureMode, Vec<Crack>, BeamFrame), String> {
     let (frame, elements) = BeamFrame::of(problem, spec)?;
-    let cracked = cracked_at(problem, spec, u)?;
-    let (mode, cracks) = classify(&frame, &elements, &cracked);
+    let indicator = indicator_at(problem, spec, u)?;
+    let (mode, cracks) = classify(&frame, &elements, &indicator);
     Ok((mode, cracks, frame))
+}
+
+/// The failure mode in the state that `spec.at` names ([`JudgedAt`]): the mode, the cracks,
+/// the frame and the time of the state judged (s; NaN for the end of a run without a summary).
+pub fn failure_mode_judged(
+    problem: &Problem,
+    spec: &BeamSpec,
+    run: &Execution,
+) -> Result<(FailureMode, Vec<Crack>, BeamFrame, f64), String> {
+    let (u, time) = match &spec.at {
+        JudgedAt::End => (&run.u, run.summary.as_ref().map_or(f64::NAN, |s| s.time)),
+        JudgedAt::ContactEnd { column, fraction } => {
+            let end = contact_end(run, column, *fraction)?;
+            let s = run
+                .snapshots()
+                .iter()
+                .find(|s| s.time >= end)
+                .ok_or_else(|| {
+                    format!(
+                        "no snapshot at or after the end of the contact ({:.4} ms): set the \
+                         explicit analysis' snapshot_interval",
+                        end * 1e3
+                    )
+                })?;
+            (&s.u, s.time)
+        }
+    };
+    let (mode, cracks, frame) = failure_mode_at(problem, spec, u)?;
+    Ok((mode, cracks, frame, time))
+}
+
+/// End of the contact in a run's history (`crate::beam::history::contact_end_time`).
+pub fn contact_end(run: &Execution, column: &str, fraction: f64) -> Result<f64, String> {
+    let history = run.history.as_ref().ok_or("the run kept no history")?;
+    let (time, force) = (
+        history
+            .column("time")
+            .ok_or("the history has no `time` column")?,
+        history
+            .column(column)
+            .ok_or_else(|| format!("the history has no column `{column}`"))?,
+    );
+    crate::beam::history::contact_end_time(&time, &force, fraction)
+        .map_err(|e| format!("`{column}`: {e}"))
 }
 
 /// The mode by name and the table of cracks, for the report.
@@ -188,7 +276,7 @@ pub fn failure_mode_details(mode: FailureMode, cracks: &[Crack], frame: &BeamFra
 
 #[cfg(test)]
 mod tests {
-    use super::super::fixtures::{flag, frame, grid, shear_left, vertical};
+    use super::super::fixtures::{flag, frame, grid, raise, shear_left, vertical};
     use super::*;
 
     #[test]
@@ -253,7 +341,8 @@ mod tests {
             .chain((0..7).map(|k| (28 - k, 6 - k)))
             .collect();
         let flags = flag(&e, &cells);
-        assert_eq!(zones(&e, &flags).len(), 1);
+        let cracked: Vec<bool> = flags.iter().map(|&i| i >= 1.0).collect();
+        assert_eq!(zones(&e, &cracked).len(), 1);
         let (_, cracks) = classify(&frame(), &e, &flags);
         assert!(cracks
             .iter()
@@ -274,5 +363,41 @@ mod tests {
         let (mode, cracks) = classify(&frame(), &e, &flag(&e, &cells));
         assert_eq!(mode, FailureMode::None);
         assert!(cracks.is_empty(), "{cracks:?}");
+    }
+
+    #[test]
+    fn inclined_damage_beside_a_bending_crack_is_the_transition_mode() {
+        let e = grid(60, 12, 0.05);
+        let mut cells = shear_left();
+        // Mirror image on the right: columns 43..35 over rows 0..8.
+        cells.extend((0..8).map(|k| (43 - k, k)));
+        let with_zones = |level: f64| {
+            let mut indicator = flag(&e, &vertical(9));
+            raise(&mut indicator, &cells, level);
+            classify(&frame(), &e, &indicator)
+        };
+        // Damaged (between DAMAGE_LEVEL and 1), not cracked: the transition mode.
+        let (mode, cracks) = with_zones(0.6);
+        assert_eq!(mode, FailureMode::BendingInclined);
+        let zones: Vec<&Crack> = cracks
+            .iter()
+            .filter(|c| c.kind == CrackKind::InclinedDamage)
+            .collect();
+        assert_eq!(zones.len(), 2, "{cracks:?}");
+        assert!(zones.iter().all(|c| (c.angle_deg - 45.0).abs() < 1e-9));
+        // Cracked: shear cracks, mixed; and the shear cracks are not also damage zones.
+        let (mode, cracks) = with_zones(1.0);
+        assert_eq!(mode, FailureMode::Mixed);
+        assert!(!cracks.iter().any(|c| c.kind == CrackKind::InclinedDamage));
+        // Below the damage level: bending alone.
+        assert_eq!(with_zones(0.4).0, FailureMode::Bending);
+        // A vertical damage zone beside the crack is no transition.
+        let mut indicator = flag(&e, &vertical(9));
+        raise(
+            &mut indicator,
+            &(0..8).map(|j| (20, j)).collect::<Vec<_>>(),
+            0.6,
+        );
+        assert_eq!(classify(&frame(), &e, &indicator).0, FailureMode::Bending);
     }
 }

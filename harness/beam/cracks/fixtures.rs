@@ -34,12 +34,18 @@ pub(super) fn frame() -> BeamFrame {
     }
 }
 
-pub(super) fn flag(elements: &[BeamElement], cells: &[(usize, usize)]) -> Vec<bool> {
-    let mut f = vec![false; elements.len()];
-    for &(i, j) in cells {
-        f[j * 60 + i] = true;
-    }
+/// Crack indicators of a 60-column grid: 1 (cracked) in `cells`, 0 elsewhere.
+pub(super) fn flag(elements: &[BeamElement], cells: &[(usize, usize)]) -> Vec<f64> {
+    let mut f = vec![0.0; elements.len()];
+    raise(&mut f, cells, 1.0);
     f
+}
+
+/// Sets the indicator of `cells` of a 60-column grid to `level`.
+pub(super) fn raise(indicator: &mut [f64], cells: &[(usize, usize)], level: f64) {
+    for &(i, j) in cells {
+        indicator[j * 60 + i] = level;
+    }
 }
 
 /// A vertical crack at mid-span, from the bottom up to row `rows - 1`.

@@ -25,6 +25,9 @@ pub struct SideView {
     pub time: f64,
     /// Whether this is the final state of the run.
     pub last: bool,
+    /// Whether this is the state the failure mode is judged in at the end of the contact.
+    #[serde(default)]
+    pub contact_end: bool,
     /// Number of grid cells along the beam (x).
     pub nx: usize,
     /// Number of grid cells over the beam's height (y).
@@ -57,6 +60,34 @@ pub struct BeamRecord {
     pub peak_force_label: String,
     /// The filmstrip, the final state last.
     pub frames: Vec<SideView>,
+    /// The beam's mesh in words: `box 60 x 12 x 6` or the Gmsh file's name.
+    #[serde(default)]
+    pub mesh: String,
+    /// The failure mode judged at the end of the contact, `None` without a contact force
+    /// that ends (a static case).
+    #[serde(default)]
+    pub contact_end: Option<JudgedMode>,
+    /// The failure mode of the final state.
+    #[serde(default)]
+    pub mode_at_end: Option<String>,
+    /// The bending-crack tip, `[t (s), height reached (m), speed (m/s)]` per snapshot
+    /// (`crate::beam::crack_tip_history`).
+    #[serde(default)]
+    pub tip: Vec<[f64; 3]>,
+    /// Rayleigh wave speed of the beam's concrete `c_R` (m/s).
+    #[serde(default)]
+    pub rayleigh_speed: Option<f64>,
+}
+
+/// A failure mode judged at the end of the contact.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JudgedMode {
+    /// End of the contact: the contact force below 1 % of its peak (s).
+    pub contact_end: f64,
+    /// Time of the snapshot judged, the first at or after `contact_end` (s).
+    pub time: f64,
+    /// The mode's name (`crate::beam::FailureMode::name`).
+    pub mode: String,
 }
 
 /// The largest value per side-view cell of the elements `elements` of the mesh `reference`/`tets`
@@ -130,8 +161,9 @@ pub fn record(
     if problem.model.bodies[body].material.name() != "microplane" {
         return Vec::new();
     }
-    let plots = plots(scene, problem, run, existing);
+    let mut plots = plots(scene, problem, run, existing);
     let record = beam_record(case, scene, problem, run, body);
+    plots.extend(tip_plots(&record));
     if let Some(dir) = out {
         // The pictures are a by-product: a folder that cannot be written loses them, not the case.
         let _ = write_record(dir, &record);
@@ -193,6 +225,7 @@ fn beam_record(
         SideView {
             time,
             last,
+            contact_end: false,
             nx,
             ny,
             values: rasterise(
@@ -222,7 +255,24 @@ fn beam_record(
             }
         }
     }
+    let judged = judged_modes(problem, run);
+    if let Some(j) = &judged.0 {
+        if let Some(s) = snapshots.iter().find(|s| s.time == j.time) {
+            let at = frames.partition_point(|f| f.time < s.time);
+            if frames.get(at).is_some_and(|f| f.time == s.time) {
+                frames[at].contact_end = true;
+            } else {
+                let mut f = frame(&s.u, s.time, false);
+                f.contact_end = true;
+                frames.insert(at, f);
+            }
+        }
+    }
     frames.push(frame(&run.u, end, true));
+    let spec = crate::beam::BeamSpec::default();
+    let tip = crate::beam::crack_tip_history(problem, snapshots, &spec)
+        .map(|t| t.into_iter().map(|(t, h, v)| [t, h, v]).collect())
+        .unwrap_or_default();
     BeamRecord {
         case: case.id.clone(),
         variant: case.variant.clone(),
@@ -234,7 +284,110 @@ fn beam_record(
         peak_force,
         peak_force_label,
         frames,
+        mesh: mesh_words(scene),
+        contact_end: judged.0,
+        mode_at_end: judged.1,
+        tip,
+        rayleigh_speed: Some(crate::reference::analytic::rayleigh_wave_speed(
+            &b.material.constants(),
+        )),
     }
+}
+
+/// The bending-crack tip against time (thesis Fig. 10.19): the height it has reached, and its
+/// speed over the Rayleigh speed with the thesis' 0.55 and the bound 1; none before any crack.
+fn tip_plots(record: &BeamRecord) -> Vec<PlotData> {
+    let (Some(c_r), true) = (record.rayleigh_speed, record.tip.iter().any(|p| p[1] > 0.0)) else {
+        return Vec::new();
+    };
+    let t: Vec<f64> = record.tip.iter().map(|p| p[0]).collect();
+    let series = |name: &str, y: Vec<f64>| crate::results::Series {
+        name: name.into(),
+        x: t.clone(),
+        y,
+    };
+    let line = |label: &str, y: f64| crate::results::ReferenceLine {
+        label: label.into(),
+        y,
+        band: None,
+    };
+    vec![
+        PlotData {
+            title: "Bending-crack tip: height reached (opening at half w_cr)".into(),
+            x_label: "time (s)".into(),
+            y_label: "height above the bottom face (m)".into(),
+            series: vec![series(
+                "tip height",
+                record.tip.iter().map(|p| p[1]).collect(),
+            )],
+            reference_lines: vec![line("beam height", record.size[1])],
+            log_log: false,
+        },
+        PlotData {
+            title: "Bending-crack tip speed over the Rayleigh speed (thesis Fig. 10.19)".into(),
+            x_label: "time (s)".into(),
+            y_label: "tip speed / c_R".into(),
+            series: vec![series(
+                "tip speed / c_R",
+                record.tip.iter().map(|p| p[2] / c_r).collect(),
+            )],
+            reference_lines: vec![line("thesis maximum 0.55", 0.55), line("c_R", 1.0)],
+            log_log: false,
+        },
+    ]
+}
+
+/// The beam's mesh in words (see [`BeamRecord::mesh`]).
+fn mesh_words(scene: &Scene) -> String {
+    match scene
+        .bodies
+        .iter()
+        .find(|b| b.name == BEAM_BODY)
+        .map(|b| &b.mesh)
+    {
+        Some(MeshSource::Box(b)) => {
+            let [nx, ny, nz] = b.divisions;
+            format!("box {nx} x {ny} x {nz}")
+        }
+        Some(MeshSource::Gmsh(path)) => format!(
+            "gmsh {}",
+            path.file_name().map_or_else(
+                || path.display().to_string(),
+                |f| f.to_string_lossy().into()
+            )
+        ),
+        None => String::new(),
+    }
+}
+
+/// The failure mode at the end of the contact (when the contact force ends) and at the end of
+/// the run.
+fn judged_modes(problem: &Problem, run: &Execution) -> (Option<JudgedMode>, Option<String>) {
+    use crate::beam::{failure_mode_judged, BeamSpec, JudgedAt};
+    let at_end = failure_mode_judged(problem, &BeamSpec::default(), run)
+        .ok()
+        .map(|j| j.0.name().to_string());
+    let Some(column) = contact_column(problem, run) else {
+        return (None, at_end);
+    };
+    let spec = BeamSpec {
+        at: JudgedAt::ContactEnd {
+            column: column.clone(),
+            fraction: 0.01,
+        },
+        ..BeamSpec::default()
+    };
+    let contact = crate::beam::cracks::contact_end(run, &column, 0.01)
+        .ok()
+        .and_then(|end| {
+            let (mode, _, _, time) = failure_mode_judged(problem, &spec, run).ok()?;
+            Some(JudgedMode {
+                contact_end: end,
+                time,
+                mode: mode.name().to_string(),
+            })
+        });
+    (contact, at_end)
 }
 
 /// Lower and upper corners of a point cloud.
@@ -392,10 +545,16 @@ mod tests {
             peak_force: Some(1.0e5),
             peak_force_label: "peak contact force".into(),
             frames: Vec::new(),
+            mesh: "box 60 x 12 x 6".into(),
+            contact_end: None,
+            mode_at_end: None,
+            tip: Vec::new(),
+            rayleigh_speed: None,
         };
         let frame = SideView {
             time: 1e-3,
             last: true,
+            contact_end: false,
             nx,
             ny,
             values: grid,

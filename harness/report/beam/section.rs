@@ -89,9 +89,13 @@ fn section(
     html.push_str(&element(
         "p",
         "",
-        "The thesis' plain concrete beam (chapter 10): final crack patterns of the static and \
-         drop-weight cases side by side (side view, largest eps_1/eps_r across the width; 1 and \
-         more is cracked), ordered by impact velocity.",
+        "The thesis' plain concrete beam (chapter 10): the static and drop-weight cases side by \
+         side, ordered by impact velocity. The failure mode is classified at the end of the \
+         contact (the contact force below 1 % of its peak; thesis 10.3.2.1 judges it there) and \
+         at the end of the run; the `failure_mode` metric judges the state its case names. \
+         The crack patterns below are final states (side view, largest eps_1/eps_r across the \
+         width; 1 and more is cracked); each case's section shows the state at the end of the \
+         contact too. The tip speed is that of the bending crack's opening front (w = w_cr / 2).",
     ));
     let anchor_of = |c: &CaseResult| {
         summaries
@@ -119,8 +123,25 @@ fn section(
                 } else {
                     &r.record.peak_force_label
                 }),
+                text(&r.record.mesh),
+                r.record.contact_end.as_ref().map_or_else(
+                    || text("—"),
+                    |j| {
+                        text(&format!(
+                            "{} (judged at {} ms)",
+                            format::num(j.contact_end * 1e3),
+                            format::num(j.time * 1e3)
+                        ))
+                    },
+                ),
+                r.record
+                    .contact_end
+                    .as_ref()
+                    .map_or_else(|| text("—"), |j| text(&j.mode)),
+                text(r.record.mode_at_end.as_deref().unwrap_or("—")),
                 r.metric
                     .map_or_else(|| text("no failure_mode metric"), |m| text(&metric_text(m))),
+                tip_ratio(r.record).map_or_else(|| text("—"), |v| Cell::Num(format::num(v))),
             ])
         })
         .collect();
@@ -130,7 +151,12 @@ fn section(
             "impact velocity (m/s)",
             "peak force (kN)",
             "which force",
+            "beam mesh",
+            "end of contact (ms)",
+            "mode at the end of contact",
+            "mode at the end of the run",
             FAILURE_MODE_METRIC,
+            "largest tip speed / c_R (thesis 0.55)",
         ]),
         &table_rows,
     ));
@@ -146,4 +172,10 @@ fn section(
     });
     html.push_str(&plots("plots", finals));
     Some(html)
+}
+
+/// Largest bending-crack tip speed over the Rayleigh speed, if the record has a tip.
+fn tip_ratio(record: &BeamRecord) -> Option<f64> {
+    let c_r = record.rayleigh_speed?;
+    (!record.tip.is_empty()).then(|| record.tip.iter().map(|p| p[2]).fold(0.0, f64::max) / c_r)
 }

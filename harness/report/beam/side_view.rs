@@ -58,6 +58,8 @@ pub fn frame_title(record: &BeamRecord, f: &SideView) -> String {
     };
     if f.last {
         format!("{case}: crack pattern at the end, {when}")
+    } else if f.contact_end {
+        format!("{case}: crack pattern at the end of the contact, {when}")
     } else {
         format!("{case}: crack pattern, {when}")
     }

@@ -307,7 +307,7 @@ impl Measure {
                 *only_converged,
             )?,
             Measure::FailureMode(spec) => {
-                crate::beam::cracks::failure_mode_at(problem, spec, &run.u)?
+                crate::beam::cracks::failure_mode_judged(problem, spec, run)?
                     .0
                     .code()
             }

@@ -17,6 +17,7 @@ use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::{
     FieldFrames, HistoryFile, HistoryTable, ObserverSet, Progress, Recorder, RunObserver,
+    SnapshotView,
 };
 use contact_phase::ContactScratch;
 
@@ -325,7 +326,16 @@ impl<'p> ExplicitSolver<'p> {
             }
             if let Some(interval) = self.settings.snapshot_interval {
                 if last || self.time >= next_snapshot - 1e-9 * self.dt {
-                    set.snapshot(self.time, &self.u);
+                    let crack_opening = if self.history.is_empty() {
+                        Vec::new()
+                    } else {
+                        self.problem.model.crack_openings(&self.u, &self.history)
+                    };
+                    set.snapshot(&SnapshotView {
+                        time: self.time,
+                        u: &self.u,
+                        crack_opening: &crack_opening,
+                    });
                     next_snapshot += interval;
                 }
             }

@@ -190,11 +190,15 @@ pub struct RunSummary {
     pub written: Vec<PathBuf>,
 }
 
-/// The displacement of every node at one instant of a run.
+/// The displacement of every node, and the crack opening of every element, at one instant of a
+/// run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
     /// Simulated time of the snapshot (s).
     pub time: f64,
     /// Displacement of each node from its reference position (m), in model node order.
     pub u: Vec<Vector3<f64>>,
+    /// Crack opening `w` of each element (m, [`crate::model::Model::crack_openings`]), in model
+    /// element order; empty when no body keeps a material history (nothing can crack).
+    pub crack_opening: Vec<f32>,
 }

@@ -3,6 +3,7 @@
 
 mod assembly;
 mod conditions;
+mod crack_opening;
 mod element;
 mod fields;
 mod history;

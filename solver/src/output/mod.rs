@@ -10,6 +10,6 @@ pub mod vtu;
 pub use history::{HistoryStream, HistoryTable};
 pub use observer::{
     Deadline, FieldFrames, Halt, HistoryFile, ObserverSet, Progress, Recorder, RunObserver,
-    StopFlag,
+    SnapshotView, StopFlag,
 };
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};

@@ -31,6 +31,18 @@ pub enum Halt {
     Interrupted,
 }
 
+/// The state a snapshot hands to the observers (borrowed from the run).
+#[derive(Debug, Clone, Copy)]
+pub struct SnapshotView<'a> {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Displacement of each node (m), in model node order.
+    pub u: &'a [Vector3<f64>],
+    /// Crack opening of each element (m, [`crate::model::Model::crack_openings`]); empty when no
+    /// body keeps a material history.
+    pub crack_opening: &'a [f32],
+}
+
 /// One observer of a run. Every method has a default that does nothing, so an observer
 /// implements what it watches.
 pub trait RunObserver {
@@ -54,8 +66,9 @@ pub trait RunObserver {
         Ok(None)
     }
 
-    /// The displacement of every node at a snapshot time.
-    fn snapshot(&mut self, _time: f64, _u: &[Vector3<f64>]) {}
+    /// The state at a snapshot time: the displacement of every node and the crack opening of
+    /// every element.
+    fn snapshot(&mut self, _snapshot: &SnapshotView) {}
 
     /// Called after every step, with the fraction of the run done at about a hundred of them:
     /// a reason to halt the run at the end of this step, if any.
@@ -158,10 +171,11 @@ impl RunObserver for Recorder {
         Ok(())
     }
 
-    fn snapshot(&mut self, time: f64, u: &[Vector3<f64>]) {
+    fn snapshot(&mut self, snapshot: &SnapshotView) {
         self.snapshots.push(crate::dynamics::Snapshot {
-            time,
-            u: u.to_vec(),
+            time: snapshot.time,
+            u: snapshot.u.to_vec(),
+            crack_opening: snapshot.crack_opening.to_vec(),
         });
     }
 }
@@ -264,9 +278,9 @@ impl<'a, 'b> ObserverSet<'a, 'b> {
         Ok(())
     }
 
-    /// Hands the nodal displacements `u` (m) at `time` (s) to every observer.
-    pub fn snapshot(&mut self, time: f64, u: &[Vector3<f64>]) {
-        self.observers.iter_mut().for_each(|o| o.snapshot(time, u));
+    /// Hands a snapshot to every observer.
+    pub fn snapshot(&mut self, snapshot: &SnapshotView) {
+        self.observers.iter_mut().for_each(|o| o.snapshot(snapshot));
     }
 
     /// Polls every observer (each sees the progress); the first halt asked for, if any.
