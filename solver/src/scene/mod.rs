@@ -301,6 +301,7 @@ impl BoxMeshSpec {
             origin: self.origin,
             size: self.size,
             divisions: self.divisions,
+            mirror: Vec::new(),
         }
     }
 }
