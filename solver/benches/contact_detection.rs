@@ -46,6 +46,7 @@ fn scene(n: usize) -> Scene {
             origin: [0.0, 0.0, z],
             size: [1.0, 1.0, 0.1],
             divisions: [cells, cells, 2],
+            mirror: Vec::new(),
         })
     };
     let model = Model::new(vec![

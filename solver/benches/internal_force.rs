@@ -42,6 +42,7 @@ fn model(divisions: [usize; 3], material: MaterialModel) -> Model {
         origin: [0.0; 3],
         size: divisions.map(|n| 0.01 * n as f64),
         divisions,
+        mirror: Vec::new(),
     });
     Model::new(vec![("box".to_string(), mesh, material)]).expect("box meshes are valid")
 }

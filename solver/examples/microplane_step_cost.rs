@@ -25,6 +25,7 @@ fn problem(material: MaterialModel) -> Problem {
         origin: [0.0; 3],
         size: [0.6, 0.3, 0.3],
         divisions: [24, 12, 12],
+        mirror: Vec::new(),
     });
     let mut p = Problem::new(Model::new(vec![("block".into(), mesh, material)]).unwrap());
     let face: Vec<u32> = (0..p.model.node_count() as u32)

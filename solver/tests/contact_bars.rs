@@ -51,6 +51,7 @@ fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
             origin: [x0, 0.0, 0.0],
             size: [LENGTH, WIDTH, WIDTH],
             divisions: [40, 2, 2],
+            mirror: Vec::new(),
         })
     };
     let m = MaterialModel::LinearElastic(SOFT);

@@ -457,6 +457,7 @@ fn run_frames_carry_the_crack_indicator_and_the_rate_factor() {
             origin: [x, 0.0, 0.0],
             size: [0.05; 3],
             divisions: [1, 1, 1],
+            mirror: Vec::new(),
         })
     };
     let concrete = read_microplane_file(

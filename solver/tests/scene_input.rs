@@ -140,3 +140,43 @@ fn a_region_that_holds_no_element_is_refused() {
         "{msg}"
     );
 }
+
+const MIRROR_SCENE: &str = "
+name: mirror
+bodies:
+  - name: beam
+    mesh: { box: { origin: [0, 0, 0], size: [0.4, 0.1, 0.1], divisions: [4, 1, 2], mirror: [x, z] } }
+    material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.18 } }
+analysis: { static: { load_steps: 1 } }
+";
+
+/// `mirror: [x, z]` on a box reaches the generator: the mesh is the mirrored one, not the
+/// Kuhn split of the scene without the key.
+#[test]
+fn a_box_reads_its_mirror_axes() {
+    use impact_solver::mesh::{box_mesh, Axis};
+    let scene = Scene::from_yaml(MIRROR_SCENE, "mirror.yaml").unwrap();
+    let impact_solver::scene::MeshSource::Box(b) = &scene.bodies[0].mesh else {
+        panic!("a box mesh")
+    };
+    assert_eq!(b.mirror, [Axis::X, Axis::Z]);
+    let problem = build_problem(&scene).unwrap();
+    let mirrored = box_mesh(&b.spec());
+    assert_eq!(problem.model.tets, mirrored.tets);
+    let plain = build_problem(
+        &Scene::from_yaml(&MIRROR_SCENE.replace(", mirror: [x, z]", ""), "plain.yaml").unwrap(),
+    )
+    .unwrap();
+    assert_ne!(plain.model.tets, mirrored.tets);
+}
+
+#[test]
+fn an_odd_division_along_a_mirrored_axis_is_refused() {
+    let msg = error_of(&MIRROR_SCENE.replace("divisions: [4, 1, 2]", "divisions: [5, 1, 2]"));
+    assert!(
+        msg.contains("body `beam` mesh.box.mirror")
+            && msg.contains("5 divisions along x")
+            && msg.contains("use an even number of divisions along x"),
+        "{msg}"
+    );
+}

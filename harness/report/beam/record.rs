@@ -492,6 +492,7 @@ mod tests {
             origin: [1.0, -0.5, 0.0],
             size: [3.0, 0.6, 0.3],
             divisions: [nx, ny, nz],
+            mirror: Vec::new(),
         };
         let mesh = box_mesh(&spec);
         let cell_w = spec.size[0] / nx as f64;

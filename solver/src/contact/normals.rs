@@ -106,6 +106,7 @@ mod tests {
             origin: [0.0; 3],
             size: [1.0, 1.0, 1.0],
             divisions: [3, 3, 3],
+            mirror: Vec::new(),
         }]);
         let surface = ContactSurface::new(&model, 0);
         (model, surface)

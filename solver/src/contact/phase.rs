@@ -252,11 +252,13 @@ mod tests {
                 origin: [0.0; 3],
                 size: [0.1, 0.1, 0.05],
                 divisions: [4, 4, 2],
+                mirror: Vec::new(),
             },
             BoxSpec {
                 origin: [0.013, 0.021, 0.0501],
                 size: [0.07, 0.06, 0.05],
                 divisions: [3, 3, 2],
+                mirror: Vec::new(),
             },
         ]);
         let mut p = Problem::new(model);

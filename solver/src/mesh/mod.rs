@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 
 pub use boundary::{boundary_faces, boundary_faces_of, boundary_nodes, BoundaryFace};
-pub use generate::{box_mesh, perturb_interior, BoxSpec};
+pub use generate::{box_mesh, perturb_interior, Axis, BoxSpec};
 pub use quality::{element_quality, ElementQuality};
 
 use crate::error::{Result, SolverError};

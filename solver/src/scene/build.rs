@@ -45,6 +45,12 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                         "size must be positive and divisions at least 1 per axis",
                     ));
                 }
+                spec.check().map_err(|e| match e {
+                    SolverError::InvalidScene { entity, message } => {
+                        invalid(format!("body `{}` {entity}", body.name), message)
+                    }
+                    other => other,
+                })?;
                 let mut mesh = box_mesh(spec);
                 if let Some(p) = perturb {
                     if !(0.0..0.5).contains(&p.fraction) {

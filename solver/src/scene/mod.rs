@@ -17,7 +17,7 @@ use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
 use crate::material::microplane::MicroplaneParameters;
 use crate::material::{read_microplane_file, IsotropicElastic, MaterialModel};
-use crate::mesh::BoxSpec;
+use crate::mesh::{Axis, BoxSpec};
 use crate::model::{CrackIndicator, ProbeQuantity, TimeFunction};
 use crate::statics::StaticSettings;
 
@@ -292,6 +292,11 @@ pub struct BoxMeshSpec {
     /// Random displacement of the interior nodes; none without it.
     #[serde(default)]
     pub perturb: Option<Perturbation>,
+    /// Axes about whose mid-plane the split of the cells into tetrahedra is mirror-symmetric,
+    /// as `mirror: [x, z]`, each with an even number of divisions; empty (the default): the
+    /// plain Kuhn split, the same in every cell (see [`crate::mesh::box_mesh`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mirror: Vec<Axis>,
 }
 
 impl BoxMeshSpec {
@@ -301,6 +306,7 @@ impl BoxMeshSpec {
             origin: self.origin,
             size: self.size,
             divisions: self.divisions,
+            mirror: self.mirror.clone(),
         }
     }
 }

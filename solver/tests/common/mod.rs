@@ -20,6 +20,7 @@ pub fn spec(size: [f64; 3], divisions: [usize; 3]) -> BoxSpec {
         origin: [0.0; 3],
         size,
         divisions,
+        mirror: Vec::new(),
     }
 }
 

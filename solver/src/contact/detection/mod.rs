@@ -218,11 +218,13 @@ mod tests {
                 origin: [0.0; 3],
                 size: [1.0, 1.0, 0.5],
                 divisions: [4, 4, 2],
+                mirror: Vec::new(),
             },
             BoxSpec {
                 origin: [0.1, 0.15, 0.5 + gap],
                 size: [0.7, 0.6, 0.5],
                 divisions: [3, 3, 2],
+                mirror: Vec::new(),
             },
         ])
     }
@@ -299,6 +301,7 @@ mod tests {
             origin: [0.0, 0.0, z],
             size: [1.0, 1.0, 0.5],
             divisions: [n, n, 2],
+            mirror: Vec::new(),
         };
         let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
         let (lower, upper) = (

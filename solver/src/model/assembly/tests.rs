@@ -20,6 +20,7 @@ fn model(cells: [usize; 3]) -> Model {
             origin,
             size: [1.0, 0.6, 0.4],
             divisions,
+            mirror: Vec::new(),
         };
         let mut mesh = box_mesh(&spec);
         perturb_interior(&mut mesh, &spec, 0.2, seed);
