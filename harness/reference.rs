@@ -256,7 +256,7 @@ impl Reference {
             Reference::FailureMode(mode) => (
                 mode.code(),
                 format!(
-                    "failure mode `{}` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear)",
+                    "failure mode `{}` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear, 4 bending_inclined)",
                     mode.name()
                 ),
             ),

@@ -130,7 +130,7 @@ pub enum FailureMode {
 }
 
 impl FailureMode {
-    /// The metric value: 0 none, 1 bending, 2 mixed, 3 shear.
+    /// The metric value: 0 none, 1 bending, 2 mixed, 3 shear, 4 bending with inclined damage.
     pub fn code(self) -> f64 {
         match self {
             FailureMode::None => 0.0,
@@ -231,6 +231,28 @@ fn indicator_at(
     let range = beam_elements(problem, spec)?;
     let indicator = problem.model.element_fields(u).crack_indicator;
     Ok(indicator[range].to_vec())
+}
+
+/// Time of the first snapshot in which an element of the beam outside the loading region (the
+/// crushing under the impactor, [`BeamFrame::in_loading_region`]) is cracked (`eps_1 / eps_r`
+/// at least 1), `None` when none is.
+pub fn first_crack_time(
+    problem: &Problem,
+    spec: &BeamSpec,
+    snapshots: &[impact_solver::dynamics::Snapshot],
+) -> Result<Option<f64>, String> {
+    let (frame, elements) = BeamFrame::of(problem, spec)?;
+    for s in snapshots {
+        let indicator = indicator_at(problem, spec, &s.u)?;
+        if elements
+            .iter()
+            .zip(&indicator)
+            .any(|(e, &i)| i >= 1.0 && !frame.in_loading_region(&e.centroid))
+        {
+            return Ok(Some(s.time));
+        }
+    }
+    Ok(None)
 }
 
 /// The model's element range of the beam body.

@@ -1,6 +1,19 @@
 //! Checks on history columns for the beam cases: quasi-static loading, elastic stiffness, peak
 //! ratios, and the force balance of a body (thesis 6.48).
 
+/// `max |l - r| / max(|l|, |r|)` over the records of two reaction histories.
+pub fn reaction_asymmetry(left: &[f64], right: &[f64]) -> Result<f64, String> {
+    let scale = left.iter().chain(right).fold(0.0f64, |a, v| a.max(v.abs()));
+    if !(scale > 0.0) {
+        return Err("both reactions stay zero in the window".into());
+    }
+    Ok(left
+        .iter()
+        .zip(right)
+        .fold(0.0f64, |a, (l, r)| a.max((l - r).abs()))
+        / scale)
+}
+
 /// End of the contact (s): the first time after the peak of `|force|` at which `|force|` falls
 /// below `fraction` of that peak, interpolated linearly between the two records around it
 /// (thesis 10.3.2.1 judges the failure mode "up to the moment when the beam-hammer contact force
@@ -404,5 +417,16 @@ analysis:
         // The later touch does not move the end; a force that never falls is an error.
         assert!(contact_end_time(&t, &vec![1.0; 100], 0.01).is_err());
         assert!(contact_end_time(&t, &vec![0.0; 100], 0.01).is_err());
+    }
+
+    #[test]
+    fn reaction_asymmetry_over_the_larger_reaction() {
+        assert_eq!(
+            reaction_asymmetry(&[0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]).unwrap(),
+            0.0
+        );
+        let a = reaction_asymmetry(&[0.0, 1.0, -4.0], &[0.0, 1.2, -3.9]).unwrap();
+        assert!((a - 0.2 / 4.0).abs() < 1e-15);
+        assert!(reaction_asymmetry(&[0.0], &[0.0]).is_err());
     }
 }

@@ -17,7 +17,9 @@ mod record;
 pub mod section;
 mod side_view;
 
-pub use failure_modes::{failure_rows, markdown, metric_text, monotonic_statement, FailureRow};
+pub use failure_modes::{
+    failure_rows, markdown, metric_text, monotonic_statement, verdicts, FailureRow,
+};
 pub use plots::central_differences;
 pub use record::{load, load_one, rasterise, record, record_path, BeamRecord, SideView};
 pub use side_view::{frame_title, side_view_svg, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH};

@@ -244,6 +244,19 @@ pub enum Measure {
     /// (`crate::beam::crack_tip_history`), over the Rayleigh speed `c_R` of the beam's elastic
     /// constants: a crack cannot outrun `c_R` (Freund 1990), the thesis finds about 0.55 `c_R`.
     CrackTipSpeedRatio(#[serde(default)] crate::beam::BeamSpec),
+    /// `max |left - right| / max(|left|, |right|)` over the history records up to the first
+    /// snapshot in which an element of the beam outside the crushing under the impactor is
+    /// cracked (`eps_1 / eps_r >= 1`, `crate::beam::cracks::first_crack_time`): the two
+    /// reactions of a mirror-symmetric beam, load and mesh agree, and 0 is exact (issue 17).
+    ReactionAsymmetry {
+        /// History column of the left reaction.
+        left: String,
+        /// History column of the right reaction.
+        right: String,
+        /// The beam body (default `beam`).
+        #[serde(default = "beam_body")]
+        body: String,
+    },
     /// `max K / W_int` over the records where `W_int` exceeds `above_fraction` (default 5 %)
     /// of its largest value (`crate::beam::history::kinetic_over_internal_work`).
     KineticOverInternalWork {
@@ -374,4 +387,8 @@ impl Measure {
                 | Measure::UnstableRunsReported
         )
     }
+}
+
+fn beam_body() -> String {
+    "beam".into()
 }

@@ -15,9 +15,10 @@ pub struct FailureRow<'a> {
     pub metric: Option<&'a crate::results::MetricResult>,
 }
 
-/// The beam cases of a run in comparison order: static ones (no speed) first, then by speed
-/// (then by id). Cases with a refinement sweep are left out: they repeat a velocity on another
-/// mesh (their pictures stay in their own section).
+/// The beam cases of a run in comparison order: by mesh family (the record's mesh in words),
+/// then static ones (no speed) first, then by speed (then by id), so each family's velocities
+/// stand side by side. Cases with a refinement sweep are left out: they repeat a velocity on
+/// another mesh (their pictures stay in their own section).
 pub fn failure_rows<'a>(
     results: &'a RunResults,
     records: &'a [(usize, BeamRecord)],
@@ -35,8 +36,10 @@ pub fn failure_rows<'a>(
         .collect();
     rows.sort_by(|a, b| {
         let key = |r: &FailureRow<'_>| r.record.speed.unwrap_or(-1.0);
-        key(a)
-            .total_cmp(&key(b))
+        a.record
+            .mesh
+            .cmp(&b.record.mesh)
+            .then_with(|| key(a).total_cmp(&key(b)))
             .then_with(|| a.case.id.cmp(&b.case.id))
     });
     rows
@@ -66,6 +69,55 @@ pub fn monotonic_statement(rows: &[FailureRow<'_>]) -> Option<String> {
         },
         list.join(", ")
     ))
+}
+
+/// One line per impact velocity: the thesis' mode (the `failure_mode` metric's reference) and
+/// the mode each mesh gives at the end of the contact, with whether they all agree with it.
+pub fn verdicts(rows: &[FailureRow<'_>]) -> Vec<String> {
+    let mut speeds: Vec<f64> = rows.iter().filter_map(|r| r.record.speed).collect();
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup();
+    speeds
+        .into_iter()
+        .map(|v| {
+            let at: Vec<&FailureRow<'_>> =
+                rows.iter().filter(|r| r.record.speed == Some(v)).collect();
+            let thesis = at.iter().find_map(|r| {
+                let m = r.metric?;
+                code_name(&m.reference_source, m.reference)
+            });
+            let modes: Vec<String> = at
+                .iter()
+                .map(|r| {
+                    let mode = r
+                        .record
+                        .contact_end
+                        .as_ref()
+                        .map_or("—", |j| j.mode.as_str());
+                    format!("{} {mode}", r.record.mesh)
+                })
+                .collect();
+            let agree = thesis.as_ref().is_some_and(|t| {
+                at.iter().all(|r| {
+                    r.record
+                        .contact_end
+                        .as_ref()
+                        .is_some_and(|j| j.mode.replace('_', " ") == t.replace('_', " "))
+                })
+            });
+            format!(
+                "{} m/s: thesis {}; at the end of the contact: {}: {}.",
+                num(v),
+                thesis.as_deref().unwrap_or("unknown"),
+                modes.join(", "),
+                if agree {
+                    "every mesh agrees with the thesis"
+                } else {
+                    "NOT as in the thesis on every mesh"
+                }
+            )
+        })
+        .collect()
 }
 
 /// The metric in words: `measured mixed (2), expected bending (1): fail` where its reference
@@ -131,6 +183,10 @@ pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option
     if let Some(s) = monotonic_statement(&rows) {
         md.push_str(&format!("\n{s}\n"));
     }
+    for line in verdicts(&rows) {
+        md.push_str(&format!("\n- {line}"));
+    }
+    md.push('\n');
     Some(md)
 }
 

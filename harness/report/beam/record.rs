@@ -60,7 +60,8 @@ pub struct BeamRecord {
     pub peak_force_label: String,
     /// The filmstrip, the final state last.
     pub frames: Vec<SideView>,
-    /// The beam's mesh in words: `box 60 x 12 x 6` or the Gmsh file's name.
+    /// The beam's mesh in words: `box 60 x 12 x 6` (with the mirrored axes of its split, if
+    /// any) or the Gmsh file's name.
     #[serde(default)]
     pub mesh: String,
     /// The failure mode judged at the end of the contact, `None` without a contact force
@@ -347,7 +348,15 @@ fn mesh_words(scene: &Scene) -> String {
     {
         Some(MeshSource::Box(b)) => {
             let [nx, ny, nz] = b.divisions;
-            format!("box {nx} x {ny} x {nz}")
+            let mirror: Vec<&str> = b.mirror.iter().map(|a| a.name()).collect();
+            if mirror.is_empty() {
+                format!("box {nx} x {ny} x {nz}")
+            } else {
+                format!(
+                    "box {nx} x {ny} x {nz}, split mirrored about {}",
+                    mirror.join(", ")
+                )
+            }
         }
         Some(MeshSource::Gmsh(path)) => format!(
             "gmsh {}",

@@ -4,8 +4,8 @@
 //! peak force and `failure_mode` metric, and whether the peak contact force rises with velocity.
 
 use super::{
-    failure_rows, load, load_one, metric_text, monotonic_statement, side_view_svg, BeamRecord,
-    FAILURE_MODE_METRIC, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
+    failure_rows, load, load_one, metric_text, monotonic_statement, side_view_svg, verdicts,
+    BeamRecord, FAILURE_MODE_METRIC, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
 };
 use crate::report::blocks::{element, note, plots, table, text, titles, Cell, Row};
 use crate::report::format;
@@ -160,6 +160,22 @@ fn section(
         ]),
         &table_rows,
     ));
+    let lines = verdicts(&rows);
+    if !lines.is_empty() {
+        html.push_str(&element(
+            "h4",
+            "",
+            "Verdict per velocity (failure mode at the end of the contact)",
+        ));
+        html.push_str(&element(
+            "ul",
+            "",
+            &lines
+                .iter()
+                .map(|l| format!("<li>{}</li>", format::html(l)))
+                .collect::<String>(),
+        ));
+    }
     match monotonic_statement(&rows) {
         Some(s) => html.push_str(&element("p", "", &format::html(&s))),
         None => html.push_str(&note(

@@ -328,6 +328,17 @@ impl Measure {
                 );
                 tip.iter().map(|p| p.2).fold(0.0, f64::max) / c_r
             }
+            Measure::ReactionAsymmetry { left, right, body } => {
+                let spec = crate::beam::BeamSpec {
+                    body: body.clone(),
+                    ..Default::default()
+                };
+                let first = crate::beam::cracks::first_crack_time(problem, &spec, run.snapshots())?
+                    .ok_or("no element of the beam cracks in the snapshots: no window")?;
+                let (t, l, r) = (time()?, column(left)?, column(right)?);
+                let upto = t.partition_point(|&t| t <= first);
+                crate::beam::history::reaction_asymmetry(&l[..upto], &r[..upto])?
+            }
             Measure::KineticOverInternalWork {
                 kinetic,
                 internal_work,
