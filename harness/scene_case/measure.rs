@@ -322,17 +322,22 @@ pub enum Measure {
         /// History column whose peak time is subtracted.
         after: String,
     },
-    /// The force balance (6.48) of `body` along y summed over its nodes: `max |-contact + m g_y
-    /// + sum reactions - dp/dt| / max |contact|`, with `contact` the force the body exerts on
-    /// the other body of the pair, `dp/dt` by central differences of `momentum`, `m` the body's
-    /// mass (`crate::beam::history::force_equilibrium_error`).
+    /// The force balance (6.48) of `body` along y summed over its nodes: `max |-contact -
+    /// sum other_contacts + m g_y + sum reactions - dp/dt| / max |contact|`, with `contact` the
+    /// force the body exerts on the other body of the pair, `dp/dt` by central differences of
+    /// `momentum`, `m` the body's mass (`crate::beam::history::force_equilibrium_error`).
     ForceEquilibriumError {
         /// Name of the body.
         body: String,
-        /// History column of the contact force the body exerts on the other body (N).
+        /// History column of the contact force the body exerts on the other body (N); its
+        /// largest magnitude is the scale of the error.
         contact: String,
         /// History columns of the reactions on the body (N).
         reactions: Vec<String>,
+        /// History columns of the forces the body exerts through further contact pairs that
+        /// list it first (a beam resting on support plates), in the sign of `contact` (N).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        other_contacts: Vec<String>,
         /// History column of the body's momentum along y (kg m/s).
         momentum: String,
     },

@@ -187,7 +187,12 @@ fn beam_record(
     let size = [hi.x - lo.x, hi.y - lo.y];
     let (nx, ny) = grid_of(scene, problem, body, size);
     let tol = 1e-6 * size[1].max(f64::MIN_POSITIVE);
-    let supports = problem
+    let x_range = |xs: &mut dyn Iterator<Item = f64>| {
+        xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, z), x| {
+            (a.min(x), z.max(x))
+        })
+    };
+    let mut supports: Vec<[f64; 2]> = problem
         .constraints
         .iter()
         .filter(|c| {
@@ -197,15 +202,29 @@ fn beam_record(
                 })
         })
         .filter_map(|c| {
-            let xs = c.nodes.iter().map(|&n| model.reference[n as usize].x);
-            let (a, z) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, z), x| {
-                (a.min(x), z.max(x))
-            });
+            let (a, z) = x_range(&mut c.nodes.iter().map(|&n| model.reference[n as usize].x));
             (z - a > tol).then_some([a, z])
         })
         .collect();
+    // Bodies wholly under the beam's bottom face (support plates the beam rests on) are
+    // supports too, not part of the impactor's footprint.
+    let under: Vec<usize> = (0..model.bodies.len())
+        .filter(|&o| {
+            o != body && {
+                let nodes = model.bodies[o].nodes.clone();
+                !nodes.is_empty() && model.reference[nodes].iter().all(|p| p.y < lo.y + tol)
+            }
+        })
+        .collect();
+    for &o in &under {
+        let nodes = model.bodies[o].nodes.clone();
+        let (a, z) = x_range(&mut model.reference[nodes].iter().map(|p| p.x));
+        supports.push([a, z]);
+    }
     let others: Vec<usize> = (0..model.node_count())
-        .filter(|n| !b.nodes.contains(n))
+        .filter(|n| {
+            !b.nodes.contains(n) && !under.iter().any(|&o| model.bodies[o].nodes.contains(n))
+        })
         .collect();
     let footprint = (!others.is_empty()).then(|| {
         let (a, z) = others

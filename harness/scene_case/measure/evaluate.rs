@@ -396,6 +396,7 @@ impl Measure {
                 body,
                 contact,
                 reactions,
+                other_contacts,
                 momentum,
             } => {
                 let b = problem
@@ -408,10 +409,14 @@ impl Measure {
                     .map(|n| problem.model.mass[n])
                     .sum();
                 let g = problem.gravity.map_or(0.0, |g| g.y);
-                let reactions = reactions
+                let mut reactions = reactions
                     .iter()
                     .map(|r| column(r))
                     .collect::<Result<Vec<_>, _>>()?;
+                // A force the body exerts on another body acts on it with the opposite sign.
+                for c in other_contacts {
+                    reactions.push(column(c)?.into_iter().map(|f| -f).collect());
+                }
                 crate::beam::history::force_equilibrium_error(
                     &time()?,
                     &column(contact)?,
