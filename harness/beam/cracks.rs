@@ -294,9 +294,13 @@ mod case_run {
     fn print_beam_case() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
-        let case =
-            crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml")))
-                .unwrap();
+        // A case of cases/beam by name, or a case file's path.
+        let path = if name.ends_with(".yaml") {
+            std::path::PathBuf::from(&name)
+        } else {
+            root.join("cases/beam").join(format!("{name}.yaml"))
+        };
+        let case = crate::case_file::load_spec(&path).unwrap();
         let mut scene = case.scene.clone().unwrap();
         // BEAM_END_MS and BEAM_SNAPSHOT_US shorten the run and refine the snapshots.
         if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
@@ -333,21 +337,29 @@ mod case_run {
             },
             ..BeamSpec::default()
         };
-        let (mode, cracks, frame, t) = failure_mode_judged(&problem, &contact, &run).unwrap();
-        println!(
-            "end of contact {:.3} ms\n{}",
-            t * 1e3,
-            failure_mode_details(mode, &cracks, &frame)
-        );
-        for (t, h, v) in crack_tip_history(&problem, run.snapshots(), &spec).unwrap() {
-            println!("tip {:.3} ms {:.3} m {:.0} m/s", t * 1e3, h, v);
+        match failure_mode_judged(&problem, &contact, &run) {
+            Ok((mode, cracks, frame, t)) => println!(
+                "end of contact {:.3} ms\n{}",
+                t * 1e3,
+                failure_mode_details(mode, &cracks, &frame)
+            ),
+            Err(e) => println!("no end of contact: {e}"),
+        }
+        match crack_tip_history(&problem, run.snapshots(), &spec) {
+            Ok(tip) => {
+                for (t, h, v) in tip {
+                    println!("tip {:.3} ms {:.3} m {:.0} m/s", t * 1e3, h, v);
+                }
+            }
+            Err(e) => println!("no tip: {e}"),
         }
         // The largest opening (mm) of each cell layer of the mid-span strip, bottom first.
         let (frame, elements) = BeamFrame::of(&problem, &spec).unwrap();
         let range = beam_elements(&problem, &spec).unwrap();
         for s in run.snapshots() {
             let mut layers = [0.0f32; 12];
-            for (e, w) in elements.iter().zip(&s.crack_opening[range.clone()]) {
+            let openings = s.crack_opening.get(range.clone()).unwrap_or(&[]);
+            for (e, w) in elements.iter().zip(openings) {
                 if (e.centroid.x - frame.x_load).abs() <= frame.load_half_width + frame.cell {
                     let j = ((e.centroid.y / frame.cell) as usize).min(11);
                     layers[j] = layers[j].max(*w * 1e3);
@@ -355,6 +367,17 @@ mod case_run {
             }
             let row: Vec<String> = layers.iter().map(|w| format!("{w:.3}")).collect();
             println!("w {:.4} ms {}", s.time * 1e3, row.join(" "));
+            // ... and the largest crack indicator eps_1 / eps_r of each layer.
+            let indicator = indicator_at(&problem, &spec, &s.u).unwrap();
+            let mut layers = [0.0f64; 12];
+            for (e, i) in elements.iter().zip(&indicator) {
+                if (e.centroid.x - frame.x_load).abs() <= frame.load_half_width + frame.cell {
+                    let j = ((e.centroid.y / frame.cell) as usize).min(11);
+                    layers[j] = layers[j].max(*i);
+                }
+            }
+            let row: Vec<String> = layers.iter().map(|i| format!("{i:.3}")).collect();
+            println!("i {:.4} ms {}", s.time * 1e3, row.join(" "));
         }
     }
 }

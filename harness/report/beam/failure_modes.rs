@@ -80,7 +80,8 @@ fn monotonic_text(pts: &[(f64, f64)]) -> String {
 }
 
 /// One line per impact velocity: the thesis' mode (the `failure_mode` metric's reference) and
-/// the mode each mesh gives at the end of the contact, with whether they all agree with it.
+/// the mode each case (mesh family or support) gives at the end of the contact, with whether
+/// they all agree with it.
 pub fn verdicts(rows: &[FailureRow<'_>]) -> Vec<String> {
     let mut speeds: Vec<f64> = rows.iter().filter_map(|r| r.record.speed).collect();
     speeds.sort_by(f64::total_cmp);
@@ -102,7 +103,7 @@ pub fn verdicts(rows: &[FailureRow<'_>]) -> Vec<String> {
                         .contact_end
                         .as_ref()
                         .map_or("—", |j| j.mode.as_str());
-                    format!("{} {mode}", r.record.mesh)
+                    format!("{} {mode}", r.case.id.trim_start_matches("beam/"))
                 })
                 .collect();
             let agree = thesis.as_ref().is_some_and(|t| {
