@@ -351,6 +351,48 @@ impl Hinge {
         e / s * (wmax - w)
     }
 
+    /// Crack opening of a layer at strain `eps`: `w = s eps - s sigma / E` once it has passed
+    /// `f_t` (with a pre-peak branch, from the branch's end on, the strain shifted as in
+    /// [`Self::layer_stress`]), 0 before.
+    pub fn layer_opening(&self, eps: f64) -> f64 {
+        let (e, s) = (self.youngs_modulus, self.length);
+        let ft = self.law.tensile_strength();
+        let shifted = match &self.pre_peak {
+            Some(p) if eps > p.peak_strain() => eps - (p.peak_strain() - ft / e),
+            Some(_) => return 0.0,
+            None => eps,
+        };
+        if e * shifted <= ft {
+            return 0.0;
+        }
+        (s * shifted - s * self.layer_stress(eps) / e).max(0.0)
+    }
+
+    /// Height above the bottom face (m) where the crack opening of the state `p` falls to
+    /// `w_front` (the opening front a crack-tip tracker follows): the openings fall with height,
+    /// so the front is found by bisection between the ligament's bottom and the top; 0 when
+    /// the lowest layer opens less than `w_front`.
+    pub fn opening_front(&self, p: &HingePoint, w_front: f64) -> f64 {
+        let k = p.rotation / self.length;
+        let opening = |y: f64| self.layer_opening(p.bottom_strain - k * y);
+        if !(k > 0.0) || opening(self.notch) < w_front {
+            return 0.0;
+        }
+        let (mut lo, mut hi) = (self.notch, self.depth);
+        if opening(hi) >= w_front {
+            return hi;
+        }
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if opening(mid) >= w_front {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
     /// Normal force and moment (about mid-depth, bottom in tension positive) of the layers at
     /// curvature `k = phi / s` and bottom strain `eps_b`.
     fn section_forces(&self, k: f64, bottom_strain: f64) -> (f64, f64) {

@@ -111,8 +111,22 @@ fn counted_from_peak(
     (SofteningLaw::Tabulated { w: ws, sigma: ss }, pre)
 }
 
-/// The reference value and a line saying how it was computed.
-pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String), String> {
+/// The hinge a [`HingeSpec`] describes, built from the scene's microplane material.
+pub struct SceneHinge {
+    /// The hinge.
+    pub hinge: Hinge,
+    /// The body (or `body/region`) whose material feeds it.
+    pub body: String,
+    /// The law in words.
+    pub law_name: &'static str,
+    /// Tensile strength of the law (Pa).
+    pub ft: f64,
+    /// Fracture energy of the law (N/m).
+    pub gf: f64,
+}
+
+/// The hinge of `spec` on the material of `scene` (see [`hinge_reference`]).
+pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, String> {
     let (name, parameters) = scene
         .bodies
         .iter()
@@ -183,6 +197,24 @@ pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String),
     } else {
         hinge
     };
+    Ok(SceneHinge {
+        hinge,
+        body: name,
+        law_name: name_of_law,
+        ft,
+        gf,
+    })
+}
+
+/// The reference value and a line saying how it was computed.
+pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String), String> {
+    let SceneHinge {
+        hinge,
+        body: name,
+        law_name: name_of_law,
+        ft,
+        gf,
+    } = scene_hinge(scene, spec)?;
     let peak = hinge.peak(1e4);
     let (value, what) = match spec.quantity {
         HingeQuantity::PeakBendingMoment => (peak.moment, "peak bending moment"),

@@ -382,3 +382,41 @@ fn own_law_branches_join_at_the_peak() {
         "{counted} + {plateau} against {lumped} N/m"
     );
 }
+
+/// The opening front of a linear-softening hinge in closed form: with `sigma = f_t (1 - w /
+/// w_c)` a cracked layer at strain `eps` opens `w = s (eps - f_t / E) / (1 - s f_t / (E w_c))`,
+/// and `eps(y) = eps_b - k y`, so the opening `w_f` is reached at
+/// `y = (eps_b - f_t / E - w_f (1 - s f_t / (E w_c)) / s) / k`.
+#[test]
+fn opening_front_of_linear_softening_in_closed_form() {
+    let hinge = thesis_hinge(linear());
+    let (SofteningLaw::Linear { ft, wc }, e, s) = (&hinge.law, hinge.youngs_modulus, hinge.length)
+    else {
+        panic!("a linear law")
+    };
+    let (ft, wc) = (*ft, *wc);
+    let curve = hinge.curve(400.0);
+    let mut checked = 0;
+    for p in curve
+        .points
+        .iter()
+        .filter(|p| p.crack_tip > 0.05 && p.crack_tip < 0.55)
+    {
+        let k = p.rotation / s;
+        for w_f in [0.2 * wc, 0.5 * wc] {
+            let eps_f = ft / e + w_f * (1.0 - s * ft / (e * wc)) / s;
+            let exact = (p.bottom_strain - eps_f) / k;
+            if !(0.0..hinge.depth).contains(&exact) || p.bottom_strain - eps_f <= 0.0 {
+                continue;
+            }
+            let front = hinge.opening_front(p, w_f);
+            assert!((front - exact).abs() < 1e-9, "{front} against {exact}");
+            // The front lies below the tip of the cohesive zone (w = 0).
+            assert!(front < p.crack_tip);
+            checked += 1;
+        }
+    }
+    assert!(checked > 10, "{checked}");
+    // Before any crack, no front.
+    assert_eq!(hinge.opening_front(&curve.points[1], 1e-6), 0.0);
+}
