@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::{MaterialHistory, Model};
 use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
-use crate::material::microplane::largest_principal;
+use crate::material::microplane::{largest_principal, sym};
 
 impl Model {
     /// The crack opening `w` (m) of every element at displacement `u`, with the stresses of the
@@ -64,15 +64,7 @@ fn elastic_strain(sigma: &[f64; 6], young: f64, nu: f64) -> Matrix3<f64> {
 
 /// Largest eigenvalue of a symmetric matrix (closed form, `largest_principal`).
 fn largest(a: &Matrix3<f64>) -> f64 {
-    // The microplane module's order: [xx, yy, zz, yz, xz, xy].
-    largest_principal(&[
-        a[(0, 0)],
-        a[(1, 1)],
-        a[(2, 2)],
-        a[(1, 2)],
-        a[(0, 2)],
-        a[(0, 1)],
-    ])
+    largest_principal(&sym(a))
 }
 
 #[cfg(test)]

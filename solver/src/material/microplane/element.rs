@@ -64,7 +64,7 @@ impl MicroplaneMaterial {
 
 /// `[11, 22, 33, 23, 13, 12]` of a symmetric matrix (the microplane model's order, tensor shears).
 #[inline(always)]
-fn sym(a: &Matrix3<f64>) -> Sym {
+pub fn sym(a: &Matrix3<f64>) -> Sym {
     [
         a[(0, 0)],
         a[(1, 1)],

@@ -24,7 +24,7 @@ pub mod parameters;
 pub mod state;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
-pub use element::MicroplaneMaterial;
+pub use element::{sym, MicroplaneMaterial};
 pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
 pub use state::MicroplaneState;
 

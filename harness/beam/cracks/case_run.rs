@@ -1,0 +1,212 @@
+//! Diagnostics that run beam cases and print what the measures see (ignored tests, minutes
+//! each): the crack table, the tip and the layer openings of a case (`print_beam_case`), and the
+//! tip beside the cohesive hinge's opening front on a static beam (`tip_against_hinge`).
+//!
+//! `print_beam_case` runs a beam drop case and prints its crack table and tip history (about 30 s
+//! per case):
+//! `BEAM_CASE=drop-2ms cargo test --release -p impact-vv --lib -- --ignored print_beam_case`.
+
+use super::*;
+
+/// Builds and runs a scene without output files.
+fn run_scene(
+    scene: &impact_solver::scene::Scene,
+) -> (
+    impact_solver::model::Problem,
+    impact_solver::analysis::Execution,
+) {
+    let mut problem = impact_solver::scene::build_problem(scene).unwrap();
+    let options = impact_solver::analysis::ExecuteOptions {
+        out: None,
+        stem: "run",
+        fields: false,
+        time_limit_s: None,
+        stop: None,
+    };
+    let run =
+        impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
+            .unwrap();
+    (problem, run)
+}
+
+#[test]
+#[ignore]
+fn print_beam_case() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
+    // A case of cases/beam by name, or a case file's path.
+    let path = if name.ends_with(".yaml") {
+        std::path::PathBuf::from(&name)
+    } else {
+        root.join("cases/beam").join(format!("{name}.yaml"))
+    };
+    let case = crate::case_file::load_spec(&path).unwrap();
+    let mut scene = case.scene.clone().unwrap();
+    // BEAM_END_MS and BEAM_SNAPSHOT_US shorten the run and refine the snapshots.
+    if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
+        if let Ok(end) = std::env::var("BEAM_END_MS") {
+            x.end_time = end.parse::<f64>().unwrap() * 1e-3;
+        }
+        if let Ok(dt) = std::env::var("BEAM_SNAPSHOT_US") {
+            x.snapshot_interval = Some(dt.parse::<f64>().unwrap() * 1e-6);
+        }
+    }
+    // The microplane file is named relative to the case's folder.
+    std::env::set_current_dir(root.join("cases/beam")).unwrap();
+    let (problem, run) = run_scene(&scene);
+    let spec = BeamSpec::default();
+    let (mode, cracks, frame) = failure_mode_at(&problem, &spec, &run.u).unwrap();
+    println!(
+        "end of run\n{}",
+        failure_mode_details(mode, &cracks, &frame)
+    );
+    let contact = BeamSpec {
+        at: JudgedAt::ContactEnd {
+            column: "impact_force_y".into(),
+            fraction: 0.01,
+        },
+        ..BeamSpec::default()
+    };
+    match failure_mode_judged(&problem, &contact, &run) {
+        Ok((mode, cracks, frame, t)) => println!(
+            "end of contact {:.3} ms\n{}",
+            t * 1e3,
+            failure_mode_details(mode, &cracks, &frame)
+        ),
+        Err(e) => println!("no end of contact: {e}"),
+    }
+    match crack_tip_history(&problem, run.snapshots(), &spec) {
+        Ok(tip) => {
+            for (t, h, v) in tip {
+                println!("tip {:.3} ms {:.3} m {:.0} m/s", t * 1e3, h, v);
+            }
+        }
+        Err(e) => println!("no tip: {e}"),
+    }
+    // The largest opening (mm) of each cell layer of the mid-span strip, bottom first.
+    let (frame, elements) = BeamFrame::of(&problem, &spec).unwrap();
+    let range = beam_elements(&problem, &spec).unwrap();
+    for s in run.snapshots() {
+        let mut layers = [0.0f32; 12];
+        let openings = s.crack_opening.get(range.clone()).unwrap_or(&[]);
+        for (e, w) in elements.iter().zip(openings) {
+            if (e.centroid.x - frame.x_load).abs() <= frame.load_half_width + frame.cell {
+                let j = ((e.centroid.y / frame.cell) as usize).min(11);
+                layers[j] = layers[j].max(*w * 1e3);
+            }
+        }
+        let row: Vec<String> = layers.iter().map(|w| format!("{w:.3}")).collect();
+        println!("w {:.4} ms {}", s.time * 1e3, row.join(" "));
+        // ... and the largest crack indicator eps_1 / eps_r of each layer.
+        let indicator = indicator_at(&problem, &spec, &s.u).unwrap();
+        let mut layers = [0.0f64; 12];
+        for (e, i) in elements.iter().zip(&indicator) {
+            if (e.centroid.x - frame.x_load).abs() <= frame.load_half_width + frame.cell {
+                let j = ((e.centroid.y / frame.cell) as usize).min(11);
+                layers[j] = layers[j].max(*i);
+            }
+        }
+        let row: Vec<String> = layers.iter().map(|i| format!("{i:.3}")).collect();
+        println!("i {:.4} ms {}", s.time * 1e3, row.join(" "));
+    }
+}
+
+/// The tip tracker on a quasi-static crack against the cohesive hinge (issue 17): runs a
+/// static beam case (default `static-3pt-slice-h50`, about 3 min) with a snapshot every
+/// millisecond and prints the tracked tip (opening front at `w_cr / 2`) at the snapshot
+/// nearest the peak of `load_plate_reaction_y`, beside the hinge's opening front at its own
+/// peak (the hinge of the case's `hinge` reference):
+/// `BEAM_CASE=static-3pt-slice-h50 cargo test --release -p impact-vv --lib -- --ignored
+/// tip_against_hinge --nocapture`.
+#[test]
+#[ignore]
+fn tip_against_hinge() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "static-3pt-slice-h50".into());
+    let case =
+        crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml"))).unwrap();
+    let hinge_spec = case
+        .metrics
+        .iter()
+        .find_map(|m| match &m.reference {
+            Some(crate::reference::Reference::Hinge(h)) => Some(h.clone()),
+            _ => None,
+        })
+        .expect("a case with a hinge reference");
+    let mut scene = case.scene.clone().unwrap();
+    if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
+        x.snapshot_interval = Some(
+            std::env::var("BEAM_SNAPSHOT_MS").map_or(1e-3, |v| v.parse::<f64>().unwrap() * 1e-3),
+        );
+    }
+    std::env::set_current_dir(root.join("cases/beam")).unwrap();
+    let hinge = impact_references::hinge::scene_hinge(&scene, &hinge_spec)
+        .unwrap()
+        .hinge;
+    let (problem, run) = run_scene(&scene);
+    let history = run.history.as_ref().unwrap();
+    let (t, load) = (
+        history.column("time").unwrap(),
+        history.column("load_plate_reaction_y").unwrap(),
+    );
+    let peak_at = (0..load.len())
+        .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
+        .unwrap();
+    let spec = BeamSpec::default();
+    let tip = crack_tip_history(&problem, run.snapshots(), &spec).unwrap();
+    for (time, h, v) in &tip {
+        println!("tip {:.1} ms {:.3} m {:.1} m/s", time * 1e3, h, v);
+    }
+    let nearest = tip
+        .iter()
+        .min_by(|a, b| {
+            (a.0 - t[peak_at])
+                .abs()
+                .total_cmp(&(b.0 - t[peak_at]).abs())
+        })
+        .unwrap();
+    let w_tip = TIP_OPENING_FRACTION * problem.model.crack_indicator.crack_width;
+    let peak = hinge.peak(1e4);
+    println!(
+        "FE: peak load {:.2} kN at {:.1} ms; tip {:.3} m at {:.1} ms",
+        load[peak_at].abs() / 1e3,
+        t[peak_at] * 1e3,
+        nearest.1,
+        nearest.0 * 1e3
+    );
+    println!(
+        "hinge: peak load {:.2} kN; cohesive tip {:.3} m; opening front at {:.2} mm: {:.3} m",
+        peak.load / 1e3,
+        peak.crack_tip,
+        w_tip * 1e3,
+        hinge.opening_front(&peak, w_tip)
+    );
+    // After the peak, at the same fraction of the peak load: the FE tip at each snapshot
+    // beside the hinge's opening front on its falling branch.
+    let curve = hinge.curve(1e4);
+    let falling: Vec<(f64, f64)> = curve
+        .points
+        .iter()
+        .filter(|p| p.rotation > curve.peak.rotation)
+        .map(|p| (p.load / curve.peak.load, hinge.opening_front(p, w_tip)))
+        .collect();
+    let fe_peak = load[peak_at].abs();
+    for (time, h, _) in tip.iter().filter(|p| p.0 > t[peak_at]) {
+        let i = t.partition_point(|&x| x < *time).min(t.len() - 1);
+        let ratio = load[i].abs() / fe_peak;
+        let front = falling
+            .windows(2)
+            .find(|w| (w[1].0 - ratio) * (w[0].0 - ratio) <= 0.0)
+            .map(|w| {
+                let f = (ratio - w[0].0) / (w[1].0 - w[0].0);
+                w[0].1 + f * (w[1].1 - w[0].1)
+            });
+        println!(
+            "after the peak {:.1} ms: load / peak {:.3}; FE tip {:.3} m; hinge front {}",
+            time * 1e3,
+            ratio,
+            h,
+            front.map_or("-".into(), |f| format!("{f:.3} m"))
+        );
+    }
+}
