@@ -283,5 +283,5 @@ mod tests {
     }
 }
 
-#[cfg(test)]
+// Diagnostics that run beam cases (test builds only: the file is `#![cfg(test)]`).
 mod case_run;

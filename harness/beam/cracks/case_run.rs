@@ -6,6 +6,8 @@
 //! per case):
 //! `BEAM_CASE=drop-2ms cargo test --release -p impact-vv --lib -- --ignored print_beam_case`.
 
+#![cfg(test)]
+
 use super::*;
 
 /// Builds and runs a scene without output files.

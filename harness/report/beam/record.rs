@@ -9,7 +9,7 @@ use impact_solver::scene::{MeshSource, Scene};
 use impact_solver::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::plots::plots;
+use super::plots::{plots, tip_plots};
 use super::side_view::{side_view_svg, SIDE_VIEW_WIDTH};
 use super::{BEAM_BODY, FILMSTRIP};
 use crate::results::{CaseResult, PlotData, RunResults};
@@ -312,49 +312,6 @@ fn beam_record(
             &b.material.constants(),
         )),
     }
-}
-
-/// The bending-crack tip against time (thesis Fig. 10.19): the height it has reached, and its
-/// speed over the Rayleigh speed with the thesis' 0.55 and the bound 1; none before any crack.
-fn tip_plots(record: &BeamRecord) -> Vec<PlotData> {
-    let (Some(c_r), true) = (record.rayleigh_speed, record.tip.iter().any(|p| p[1] > 0.0)) else {
-        return Vec::new();
-    };
-    let t: Vec<f64> = record.tip.iter().map(|p| p[0]).collect();
-    let series = |name: &str, y: Vec<f64>| crate::results::Series {
-        name: name.into(),
-        x: t.clone(),
-        y,
-    };
-    let line = |label: &str, y: f64| crate::results::ReferenceLine {
-        label: label.into(),
-        y,
-        band: None,
-    };
-    vec![
-        PlotData {
-            title: "Bending-crack tip: height reached (opening at half w_cr)".into(),
-            x_label: "time (s)".into(),
-            y_label: "height above the bottom face (m)".into(),
-            series: vec![series(
-                "tip height",
-                record.tip.iter().map(|p| p[1]).collect(),
-            )],
-            reference_lines: vec![line("beam height", record.size[1])],
-            log_log: false,
-        },
-        PlotData {
-            title: "Bending-crack tip speed over the Rayleigh speed (thesis Fig. 10.19)".into(),
-            x_label: "time (s)".into(),
-            y_label: "tip speed / c_R".into(),
-            series: vec![series(
-                "tip speed / c_R",
-                record.tip.iter().map(|p| p[2] / c_r).collect(),
-            )],
-            reference_lines: vec![line("thesis maximum 0.55", 0.55), line("c_R", 1.0)],
-            log_log: false,
-        },
-    ]
 }
 
 /// The beam's mesh in words (see [`BeamRecord::mesh`]).
