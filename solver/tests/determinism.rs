@@ -9,20 +9,12 @@ use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::microplane::{state, MicroplaneConcrete};
 use impact_solver::material::{read_microplane_file, MaterialModel};
-use impact_solver::model::{Constraint, Motion, TimeFunction};
 
 /// The state, the history table and the material history (bits) after 60 steps.
 fn run(threads: usize, material: MaterialModel) -> (Vec<u64>, Vec<u64>, Vec<u64>) {
     // Enough elements for several assembly chunks, so shared nodes are exercised.
     let mut p = problem(box_body([1.0, 0.5, 0.5], [24, 12, 12], 0.2, 9), material);
-    let end: Vec<u32> = (0..p.model.node_count() as u32)
-        .filter(|&n| p.model.reference[n as usize].x < 1e-12)
-        .collect();
-    p.constraints.push(Constraint {
-        name: "hit".into(),
-        nodes: end,
-        motion: Motion::Velocity([true, true, false], TimeFunction::Constant(2.0)),
-    });
+    drive_end_face(&mut p, "hit", [true, true, false], 2.0);
     let mut settings = ExplicitSettings::new(1.0);
     settings.max_steps = Some(60);
     let pool = rayon::ThreadPoolBuilder::new()

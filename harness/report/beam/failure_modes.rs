@@ -107,12 +107,8 @@ pub fn verdicts(rows: &[FailureRow<'_>]) -> Vec<String> {
                 })
                 .collect();
             let agree = thesis.as_ref().is_some_and(|t| {
-                at.iter().all(|r| {
-                    r.record
-                        .contact_end
-                        .as_ref()
-                        .is_some_and(|j| j.mode.replace('_', " ") == t.replace('_', " "))
-                })
+                at.iter()
+                    .all(|r| r.record.contact_end.as_ref().is_some_and(|j| &j.mode == t))
             });
             format!(
                 "{} m/s: thesis {}; at the end of the contact: {}: {}.",

@@ -79,14 +79,7 @@ mod tests {
         let mu = young / (2.0 * (1.0 + nu));
         let eps = Matrix3::new(1e-4, 2e-5, -3e-5, 2e-5, -4e-5, 5e-6, -3e-5, 5e-6, 7e-5);
         let s: Matrix3<f64> = lambda * eps.trace() * Matrix3::identity() + 2.0 * mu * eps;
-        let voigt = [
-            s[(0, 0)],
-            s[(1, 1)],
-            s[(2, 2)],
-            s[(0, 1)],
-            s[(1, 2)],
-            s[(0, 2)],
-        ];
+        let voigt = crate::kinematics::voigt(&s);
         assert!((elastic_strain(&voigt, young, nu) - eps).norm() < 1e-18);
     }
 

@@ -73,20 +73,26 @@ pub fn max_element_stress(model: &Model, u: &[Vector3<f64>]) -> f64 {
 
 /// A steel column 0.5 x 0.05 x 0.05 m whose end `x = 0` is pushed along x at 1 m/s.
 pub fn pushed_column() -> Problem {
-    use impact_solver::model::{Constraint, Motion, TimeFunction};
     let mut p = problem(
         box_body([0.5, 0.05, 0.05], [20, 2, 2], 0.0, 0),
         MaterialModel::LinearElastic(STEEL),
     );
+    drive_end_face(&mut p, "push", [true, false, false], 1.0);
+    p
+}
+
+/// Drives the nodes of the face `x = 0` at a constant `speed` (m/s) along the directions
+/// `dofs`, as the constraint `name`.
+pub fn drive_end_face(p: &mut Problem, name: &str, dofs: [bool; 3], speed: f64) {
+    use impact_solver::model::{Constraint, Motion, TimeFunction};
     let end: Vec<u32> = (0..p.model.node_count() as u32)
         .filter(|&n| p.model.reference[n as usize].x < 1e-12)
         .collect();
     p.constraints.push(Constraint {
-        name: "push".into(),
+        name: name.into(),
         nodes: end,
-        motion: Motion::Velocity([true, false, false], TimeFunction::Constant(1.0)),
+        motion: Motion::Velocity(dofs, TimeFunction::Constant(speed)),
     });
-    p
 }
 
 /// Largest `|K + W - W_0| / W_0` over a history (kinetic and stored energy against the stored
