@@ -6,7 +6,10 @@
 //! its peak at `x_p = m^(-1/m)`; the constants of `g` that the crack band needs (areas before and
 //! after the peak) are computed once per exponent.
 
-/// `g(x) = x exp(-x^m)`, the dimensionless virgin law.
+use super::tabulated::DecayTable;
+
+/// `g(x) = x exp(-x^m)`, the dimensionless virgin law, by `powf` and `exp` (the constants of the
+/// law; the hot path uses the table of [`ExponentialLaw::decay`]).
 #[inline(always)]
 fn shape(x: f64, exponent: f64) -> f64 {
     x * (-power(x, exponent)).exp()
@@ -42,14 +45,25 @@ pub fn hordijk(y: f64) -> f64 {
     ((1.0 + c * c * c) * (-C2 * y).exp() - y * (1.0 + C1 * C1 * C1) * (-C2).exp()).max(0.0)
 }
 
-/// `dH/dy` of [`hordijk`] on [0, 1).
+/// `c2` of Hordijk's curve: `H` decays like `exp(-c2 y)`.
+const HORDIJK_DECAY: f64 = 6.93;
+/// `exp(-c2)`.
+const EXP_MINUS_C2: f64 = 0.000_978_000_868_395_394_6;
+
+/// `(H(y), dH/dy)` of [`hordijk`] on [0, 1), given `decay = exp(-c2 y)`: one exponential for both.
 #[inline(always)]
-fn hordijk_slope(y: f64) -> f64 {
+fn hordijk_with_slope(y: f64, decay: f64) -> (f64, f64) {
     const C1: f64 = 3.0;
-    const C2: f64 = 6.93;
+    const C2: f64 = HORDIJK_DECAY;
+    // (1 + c1^3) exp(-c2), the slope of the straight term that closes the curve at y = 1
+    // (`exp(-6.93)` to the last digit, checked in `hordijk_curve_and_tail_area`).
+    const CLOSURE: f64 = 28.0 * EXP_MINUS_C2;
     let c = C1 * y;
-    let e = (-C2 * y).exp();
-    3.0 * C1 * c * c * e - C2 * (1.0 + c * c * c) * e - (1.0 + C1 * C1 * C1) * (-C2).exp()
+    let cubic = 1.0 + c * c * c;
+    (
+        (cubic * decay - y * CLOSURE).max(0.0),
+        3.0 * C1 * c * c * decay - C2 * cubic * decay - CLOSURE,
+    )
 }
 
 /// Largest `|dH/dy|` (at `y = 0`): `c2 + (1 + c1^3) exp(-c2)`.
@@ -58,7 +72,7 @@ const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
 /// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
 /// optionally with Hordijk's (1991) softening curve after the peak instead (see
 /// [`ExponentialLaw::with_hordijk_tail`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ExponentialLaw {
     /// The exponent `m` of `exp(-x^m)` (5.19, 5.20), positive.
     pub exponent: f64,
@@ -74,6 +88,14 @@ pub struct ExponentialLaw {
     pub area_before_peak: f64,
     /// `int_x_p^inf g dx`, the post-peak area that the crack band scales (dimensionless).
     pub area_after_peak: f64,
+    /// `exp(-x^m)` tabulated (absolute error below `1e-10`), so that `g(x) = x exp(-x^m)` costs
+    /// no `powf` and no `exp` in an update.
+    pub decay: DecayTable,
+    /// `exp(-c2 y)` of Hordijk's curve, tabulated, for a law with a Hordijk tail.
+    pub hordijk_decay: Option<DecayTable>,
+    /// Evaluate `exp(-x^m)` by `powf` and `exp` instead of the table: the reference the table is
+    /// verified against (`MicroplaneConcrete::with_exact_laws`).
+    pub exact: bool,
 }
 
 impl ExponentialLaw {
@@ -103,6 +125,9 @@ impl ExponentialLaw {
             g_peak,
             area_before_peak,
             area_after_peak,
+            decay: DecayTable::new(1.0, exponent),
+            hordijk_decay: None,
+            exact: false,
         }
     }
 
@@ -122,6 +147,7 @@ impl ExponentialLaw {
                 area += if i % 2 == 1 { 4.0 } else { 2.0 } * hordijk(i as f64 * dy);
             }
             law.tail = tail;
+            law.hordijk_decay = Some(DecayTable::new(HORDIJK_DECAY, 1.0));
             law.area_after_peak = law.g_peak * tail * area * dy / 3.0;
         }
         law
@@ -144,7 +170,26 @@ impl ExponentialLaw {
             }
             x = self.x_peak + band * (x - self.x_peak);
         }
-        c0 * scale * shape(x, self.exponent)
+        c0 * scale * x * self.decay_at(x)
+    }
+
+    /// `exp(-c2 y)` of Hordijk's curve: from the table, or exactly for the reference.
+    #[inline(always)]
+    fn hordijk_decay_at(&self, y: f64) -> f64 {
+        match &self.hordijk_decay {
+            Some(table) if !self.exact => table.eval(y),
+            _ => (-HORDIJK_DECAY * y).exp(),
+        }
+    }
+
+    /// `exp(-x^m)`: from the table, or exactly for the reference.
+    #[inline(always)]
+    fn decay_at(&self, x: f64) -> f64 {
+        if self.exact {
+            (-power(x, self.exponent)).exp()
+        } else {
+            self.decay.eval(x)
+        }
     }
 
     /// The Hordijk tail at `x > x_p` in units of the law: solves `x = u + g_p H(k (u - u_p))`,
@@ -160,13 +205,19 @@ impl ExponentialLaw {
         if k * (lo - u_p) >= 1.0 {
             return 0.0;
         }
-        let mut u = (x - g_p * hordijk(k * (x - self.x_peak))).clamp(lo, hi);
+        let guess = k * (x - self.x_peak);
+        let h_guess = if guess >= 1.0 {
+            0.0
+        } else {
+            hordijk_with_slope(guess, self.hordijk_decay_at(guess)).0
+        };
+        let mut u = (x - g_p * h_guess).clamp(lo, hi);
         for _ in 0..30 {
             let y = k * (u - u_p);
             let (h, dh) = if y >= 1.0 {
                 (0.0, 0.0)
             } else {
-                (hordijk(y), hordijk_slope(y))
+                hordijk_with_slope(y, self.hordijk_decay_at(y.max(0.0)))
             };
             let f = u + g_p * h - x;
             if f > 0.0 {
@@ -174,7 +225,9 @@ impl ExponentialLaw {
             } else {
                 lo = u;
             }
-            if f.abs() <= 1e-14 * x.max(1.0) {
+            // 1e-12: the tabulated H carries absolute errors of ~1e-14 g_p, below which Newton
+            // cannot go (a tighter test would spend its 30 iterations on that noise).
+            if f.abs() <= 1e-12 * x.max(1.0) {
                 break;
             }
             let d = 1.0 + g_p * k * dh;
@@ -261,6 +314,19 @@ mod tests {
     fn hordijk_curve_and_tail_area() {
         assert!((hordijk(0.0) - 1.0).abs() < 1e-15);
         assert!(hordijk(1.0).abs() < 1e-12 && hordijk(2.0) == 0.0);
+        assert_eq!(EXP_MINUS_C2, (-HORDIJK_DECAY).exp());
+        for y in [0.0, 0.1, 0.5, 0.99] {
+            let (h, dh) = hordijk_with_slope(y, (-HORDIJK_DECAY * y).exp());
+            assert!((h - hordijk(y)).abs() < 1e-15, "H({y})");
+            // Central differences inside (0, 1); at y = 0 the curve starts, one-sided.
+            let d = 1e-6;
+            let fd = if y > 0.0 {
+                (hordijk(y + d) - hordijk(y - d)) / (2.0 * d)
+            } else {
+                (-3.0 * hordijk(0.0) + 4.0 * hordijk(d) - hordijk(2.0 * d)) / (2.0 * d)
+            };
+            assert!((dh - fd).abs() < 1e-6, "H'({y}) = {dh} against {fd}");
+        }
         // w_c = 5.14 GF / ft: the area of H is 1 / 5.14 to the rounding of Hordijk's constants.
         let law = ExponentialLaw::with_hordijk_tail(4.0, 10.0);
         let area = law.area_after_peak / (law.g_peak * 10.0);
