@@ -119,6 +119,16 @@ pub fn run_scene_file(
             s.mesh_stability_flags
         ));
         lines.push(format!("time per phase: {}", s.phase_seconds.line()));
+        if let Some(share) = run
+            .material_history
+            .as_ref()
+            .and_then(|h| problem.model.fast_update_share(h, s.steps))
+        {
+            lines.push(format!(
+                "microplane elastic path: {:.1} % of the element updates",
+                100.0 * share
+            ));
+        }
     }
     if let Some(s) = &run.static_solution {
         lines.push(format!(

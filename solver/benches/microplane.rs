@@ -19,7 +19,7 @@
 //!
 //! The restore of the prepared history is *not* timed: a batch of 32 copies is restored outside
 //! the clock, then the 32 updates run under it (`iter_custom`), so the clock's own cost is spread
-//! over 32 calls and the copies (1196 B each for 21 planes) stay in L1/L2. The numbers are thus
+//! over 32 calls and the copies (1212 B each for 21 planes) stay in L1/L2. The numbers are thus
 //! hot-cache costs of the update itself; a mesh sweep streams its histories from memory.
 //! Throughput is one element per call, so `1e9 / throughput` is ns per update; divide by 21 or 37
 //! for ns per microplane. The bench also prints the history size per element for both rules and,

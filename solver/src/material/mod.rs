@@ -152,6 +152,13 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
         0.0
     }
 
+    /// How many updates of an element took a fast path that skips the model's full update
+    /// (the microplane model's elastic path), read from its history; `None` (the default) for
+    /// models without one.
+    fn fast_updates(&self, _history: &[f32]) -> Option<f64> {
+        None
+    }
+
     /// What the run's plan says of the model beyond its name (the microplanes and element sizes).
     fn summary(&self) -> Option<String> {
         None

@@ -52,6 +52,23 @@ impl MaterialHistory {
 }
 
 impl Model {
+    /// The share of the element updates of bodies whose material has a fast path (the
+    /// microplane model's elastic path) that took it, over a run of `updates` updates per
+    /// element; `None` when no body has such a path.
+    pub fn fast_update_share(&self, history: &MaterialHistory, updates: usize) -> Option<f64> {
+        let (mut fast, mut elements) = (0.0, 0usize);
+        for (body, h) in self.bodies.iter().zip(&history.bodies) {
+            let Some(h) = h else { continue };
+            for local in 0..body.elements.len() {
+                if let Some(n) = body.material.fast_updates(h.element(local)) {
+                    fast += n;
+                    elements += 1;
+                }
+            }
+        }
+        (elements > 0 && updates > 0).then(|| fast / (elements as f64 * updates as f64))
+    }
+
     /// A virgin history for every body whose material has one.
     pub fn initial_history(&self) -> MaterialHistory {
         MaterialHistory {

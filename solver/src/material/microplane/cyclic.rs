@@ -85,8 +85,10 @@ impl Branch {
     ) -> f64 {
         if x >= self.reached {
             let mut s = envelope(x);
-            if self.reached > 0.0 {
-                s = s.min(self.stress_reached / self.reached * x);
+            // s <= (stress_reached / reached) x, compared without a division: it binds only
+            // where the virgin law has moved up since the turning point.
+            if self.reached > 0.0 && s * self.reached > self.stress_reached * x {
+                s = self.stress_reached * x / self.reached;
             }
             self.reached = x;
             self.stress_reached = s;

@@ -144,6 +144,10 @@ impl Material for MicroplaneMaterial {
         history[state::RATE_FACTOR] as f64
     }
 
+    fn fast_updates(&self, history: &[f32]) -> Option<f64> {
+        Some(history[state::ELASTIC_UPDATES] as f64)
+    }
+
     fn summary(&self) -> Option<String> {
         let (lo, hi) = self
             .bands

@@ -163,14 +163,21 @@ impl ExponentialLaw {
     /// the law's strain `x` is reached at the element strain `e*`.)
     #[inline(always)]
     pub fn stress(&self, e: f64, scale: f64, c0: f64, band: f64) -> f64 {
-        let mut x = e / scale;
+        self.scaled_stress(e / scale, c0 * scale, band)
+    }
+
+    /// [`ExponentialLaw::stress`] at `x = e / scale` with `amplitude = c0 scale`: the form for an
+    /// update that evaluates many planes at one scale (one division per update, not per plane).
+    #[inline(always)]
+    pub fn scaled_stress(&self, x: f64, amplitude: f64, band: f64) -> f64 {
+        let mut x = x;
         if x > self.x_peak {
             if self.tail > 0.0 {
-                return c0 * scale * self.tail_stress(x, band);
+                return amplitude * self.tail_stress(x, band);
             }
             x = self.x_peak + band * (x - self.x_peak);
         }
-        c0 * scale * x * self.decay_at(x)
+        amplitude * x * self.decay_at(x)
     }
 
     /// `exp(-c2 y)` of Hordijk's curve: from the table, or exactly for the reference.

@@ -53,6 +53,15 @@ pub struct MicroplaneConcrete {
     cyclic_damage: tabulated::DecayTable,
     /// Evaluate every law by `powf` and `exp` (see [`MicroplaneConcrete::with_exact_laws`]).
     exact: bool,
+    /// Largest Frobenius norm of the strain deviator, and largest positive volumetric strain, for
+    /// which every plane law is linear to `f32` precision (see [`MicroplaneConcrete::update`]).
+    elastic_limit: f64,
+    /// The planes' stress for a strain on the elastic path, `[11, 22, 33, 23, 13, 12]` with tensor
+    /// shears: deviatoric and shear laws at their initial moduli, homogenised, with the
+    /// deviatoric trace term.
+    plane_stiffness: [[f64; 6]; 6],
+    /// Whether the elastic path is used (off for [`MicroplaneConcrete::with_full_update`]).
+    elastic_path: bool,
 }
 
 /// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
@@ -82,7 +91,7 @@ impl MicroplaneConcrete {
     pub fn new(parameters: MicroplaneParameters) -> Result<Self, ParameterError> {
         parameters.validate()?;
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
-        Ok(Self {
+        let mut model = Self {
             planes: directions::microplanes(parameters.rule),
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
@@ -97,8 +106,25 @@ impl MicroplaneConcrete {
             },
             cyclic_damage: tabulated::DecayTable::new(1.2, 1.1),
             exact: false,
+            elastic_limit: elastic_limit(&parameters),
+            plane_stiffness: [[0.0; 6]; 6],
+            elastic_path: true,
             parameters,
-        })
+        };
+        model.plane_stiffness = model.plane_stiffness();
+        Ok(model)
+    }
+
+    /// The same model without the elastic path: every update takes the full path over the
+    /// planes (the reference the elastic path is verified against).
+    pub fn with_full_update(mut self) -> Self {
+        self.elastic_path = false;
+        self
+    }
+
+    /// The strain below which the elastic path is taken (see [`MicroplaneConcrete::update`]).
+    pub fn elastic_limit(&self) -> f64 {
+        self.elastic_limit
     }
 
     /// The same model evaluating `exp(-x^m)` of every law, and the cyclic damage, by `powf` and
@@ -181,6 +207,15 @@ impl MicroplaneConcrete {
     /// 5.96-5.99); on every plane the deviatoric and shear strains (5.85, 5.86), their laws (5.23)
     /// with loading-unloading rules (5.100-5.104); homogenisation (5.36); `s_I` stored for the next
     /// update.
+    ///
+    /// The elastic path: while no update of the element has left it, and the strain deviator and
+    /// the positive volumetric strain stay below [`MicroplaneConcrete::elastic_limit`], every
+    /// plane is on its virgin branch where its law equals its initial modulus to `f32` precision
+    /// (`exp(-x^m)` rounds to 1), and `psi` to 1. The planes' stress is then the linear map `D E`
+    /// (36 products instead of 63 laws with their branches) and the plane histories stay zero;
+    /// the volumetric law runs as always. A zero branch history and one at a turning point below
+    /// the limit give the same stresses later, to the `f32` rounding of the history
+    /// (`tests/microplane_elastic_path.rs`).
     pub fn update(
         &self,
         state: &mut [f32],
@@ -189,10 +224,82 @@ impl MicroplaneConcrete {
         band: &CrackBand,
     ) -> (Sym, UpdateInfo) {
         debug_assert_eq!(state.len(), self.state_len());
-        let p = &self.parameters;
         let f = self.rate_factor(gamma_dot);
         let (header, planes) = state.split_at_mut(state::HEADER);
         let e_v = (strain[0] + strain[1] + strain[2]) / 3.0;
+        let s_v = self.volumetric_stress(header, strain, e_v, f, band);
+        if self.elastic_path
+            && header[state::VIRGIN_PLANES] == 1.0
+            && self.on_elastic_path(strain, e_v)
+        {
+            return self.elastic_update(header, strain, s_v, f);
+        }
+        header[state::VIRGIN_PLANES] = 0.0;
+        self.plane_update(header, planes, strain, e_v, s_v, f, band)
+    }
+
+    /// Whether every plane law is linear to `f32` precision at `strain`: the strain deviator
+    /// bounds every plane's deviatoric and shear strain (`|n.dev.n|`, `|m.dev.n| <= |dev|_2 <=
+    /// |dev|_F`), and a positive volumetric strain drives the relaxation `psi` through the tension
+    /// law (5.91).
+    #[inline(always)]
+    fn on_elastic_path(&self, strain: &Sym, e_v: f64) -> bool {
+        let (a, b, c) = (strain[0] - e_v, strain[1] - e_v, strain[2] - e_v);
+        let deviator = a * a
+            + b * b
+            + c * c
+            + 2.0 * (strain[3] * strain[3] + strain[4] * strain[4] + strain[5] * strain[5]);
+        let limit = self.elastic_limit;
+        deviator <= limit * limit && e_v <= limit
+    }
+
+    /// The update of an element whose planes are all virgin and linear: `s = D E + s_V I`, with
+    /// the plane stiffness `D` and the volumetric stress `s_V` of the full update; the plane
+    /// histories stay zero, and the rate factor and largest principal stress are stored as the
+    /// full update stores them.
+    #[inline(always)]
+    fn elastic_update(
+        &self,
+        header: &mut [f32],
+        strain: &Sym,
+        s_v: f64,
+        f: f64,
+    ) -> (Sym, UpdateInfo) {
+        let d = &self.plane_stiffness;
+        let mut sigma: Sym = std::array::from_fn(|i| {
+            d[i][0] * strain[0]
+                + d[i][1] * strain[1]
+                + d[i][2] * strain[2]
+                + d[i][3] * strain[3]
+                + d[i][4] * strain[4]
+                + d[i][5] * strain[5]
+        });
+        for s in &mut sigma[..3] {
+            *s += s_v;
+        }
+        header[state::RATE_FACTOR] = f as f32;
+        header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
+        header[state::ELASTIC_UPDATES] += 1.0;
+        (
+            sigma,
+            UpdateInfo {
+                rate_factor: f,
+                psi: header[state::RELAXATION] as f64,
+            },
+        )
+    }
+
+    /// The volumetric stress `s_V` (5.21, 5.22), advancing the volumetric history in `header`.
+    #[inline(always)]
+    fn volumetric_stress(
+        &self,
+        header: &mut [f32],
+        strain: &Sym,
+        e_v: f64,
+        f: f64,
+        band: &CrackBand,
+    ) -> f64 {
+        let p = &self.parameters;
 
         // Volumetric stress: tension softens (with the crack band), compression does not damage
         // and unloads with the larger of E_V0 and the tangent of the law where unloading starts
@@ -204,7 +311,7 @@ impl MicroplaneConcrete {
         // The volumetric law sees the strain less the dilatant part reached so far (the previous
         // update's: MICROPLANE "Dilatancy").
         let e_v_law = e_v - header[state::DILATANCY] as f64;
-        let s_v = if e_v_law >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
+        if e_v_law >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
             // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k), with
             // k = (1 - 2 nu) / 3 sqrt(sum <e_i>^2) (MICROPLANE "Tension driver").
             let driver = self.equivalent_factor * mazars_strain(strain);
@@ -244,7 +351,25 @@ impl MicroplaneConcrete {
                 ));
                 -(s_reached - unloading * (reached - x)).max(0.0)
             }
-        };
+        }
+    }
+
+    /// The planes (5.85, 5.86, 5.23, 5.100-5.104) and the homogenisation (5.36) around the
+    /// volumetric stress `s_V`, advancing the plane histories.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn plane_update(
+        &self,
+        header: &mut [f32],
+        planes: &mut [f32],
+        strain: &Sym,
+        e_v: f64,
+        s_v: f64,
+        f: f64,
+        band: &CrackBand,
+    ) -> (Sym, UpdateInfo) {
+        let p = &self.parameters;
+        let e1 = f * p.e1;
 
         // Relaxation: psi follows the volumetric tension law at f(s_I) <e_V> (5.91), so that the
         // deviatoric secant stays proportional to the volumetric one (5.84). It is kept as damage,
@@ -262,6 +387,8 @@ impl MicroplaneConcrete {
         header[state::RELAXATION] = relaxation as f32;
         let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
         let e2 = f * p.e2;
+        let (inverse_e1, tension_amplitude) = (1.0 / e1, self.e_d0 * e1);
+        let (inverse_e2, compression_amplitude) = (1.0 / e2, self.e_d0 * e2);
         let compression_peak = self.compression.peak(e2, self.e_d0);
         let tension_peak = self.tension.peak(e1, self.e_d0);
         let shear_peak = self.shear.peak(e5, self.e_t0);
@@ -290,14 +417,16 @@ impl MicroplaneConcrete {
             let s_d = if e_d >= 0.0 {
                 let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
                 let s = b.stress(e_d, self.e_d0, tension_peak, &self.rule, |x| {
-                    self.tension.stress(x, e1, self.e_d0, band.tension)
+                    self.tension
+                        .scaled_stress(x * inverse_e1, tension_amplitude, band.tension)
                 });
                 b.store(&mut history[state::D_POSITIVE..state::D_POSITIVE + 2]);
                 s
             } else {
                 let mut b = Branch::load(&history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
                 let s = b.stress(-e_d, self.e_d0, compression_peak, &self.rule, |x| {
-                    self.compression.stress(x, e2, self.e_d0, 1.0)
+                    self.compression
+                        .scaled_stress(x * inverse_e2, compression_amplitude, 1.0)
                 });
                 b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
                 inelastic_compression += 6.0 * plane.weight * (-e_d - s / self.e_d0).max(0.0);
@@ -369,8 +498,9 @@ impl MicroplaneConcrete {
         let before = branch;
         let law = &self.shear;
         let c0 = self.e_t0;
+        let (inverse_e5, amplitude) = (1.0 / e5, c0 * e5);
         let s = branch.stress(e.abs(), c0, peak, &self.rule, |x| {
-            law.stress(x, e5, c0, band)
+            law.scaled_stress(x * inverse_e5, amplitude, band)
         });
         branch.store(&mut history[own..own + 2]);
         let mut damage = 1.0;
@@ -393,6 +523,40 @@ impl MicroplaneConcrete {
             }
         }
         s.copysign(e) * damage
+    }
+
+    /// The planes' part of the initial stiffness, `[11, 22, 33, 23, 13, 12]` with tensor shears:
+    /// deviatoric and shear laws at `E_D0`, `E_T0`, homogenised (5.36), less the deviatoric trace
+    /// term where the model keeps it. With `E_V0 e_V` on the normal components it is
+    /// [`MicroplaneConcrete::elastic_stiffness`].
+    fn plane_stiffness(&self) -> [[f64; 6]; 6] {
+        let mut c = [[0.0; 6]; 6];
+        for j in 0..6 {
+            let mut e = [0.0; 6];
+            e[j] = 1.0;
+            let e_v = (e[0] + e[1] + e[2]) / 3.0;
+            let mut s = [0.0; 6];
+            let mut sum_d = 0.0;
+            for plane in &self.planes {
+                let w = 6.0 * plane.weight;
+                let s_d = self.e_d0 * (contract(&plane.nn, &e) - e_v);
+                let s_m = self.e_t0 * contract(&plane.mn, &e);
+                let s_k = self.e_t0 * contract(&plane.kn, &e);
+                sum_d += w * s_d;
+                for i in 0..6 {
+                    s[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
+                }
+            }
+            if self.parameters.deviatoric_trace_term {
+                for v in &mut s[..3] {
+                    *v -= sum_d / 3.0;
+                }
+            }
+            for i in 0..6 {
+                c[i][j] = s[i];
+            }
+        }
+        c
     }
 
     /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
@@ -425,6 +589,19 @@ impl MicroplaneConcrete {
         }
         c
     }
+}
+
+/// The strain up to which every plane law is linear to `f32` precision, the elastic path's limit:
+/// `exp(-x^m) >= 1 - x^m` rounds to 1 in `f32` while `x^m <= 2^-25`, so the limit is
+/// `2^(-25/m)` strain scales of the least of the tension (`e1`, exponent `m`), compression (`e2`,
+/// `n`) and shear (`e3`, `k`) laws. The rate factor only widens the laws (`F >= 1`), and
+/// compression only widens the shear law (`e3 - e4 e_V`), so the limit holds at every rate and
+/// pressure.
+fn elastic_limit(p: &MicroplaneParameters) -> f64 {
+    let linear = |scale: f64, exponent: f64| scale * (-25.0 / exponent).exp2();
+    linear(p.e1, p.m)
+        .min(linear(p.e2, p.n))
+        .min(linear(p.e3, p.k))
 }
 
 /// Mazars' (1986) equivalent strain `sqrt(sum <e_i>^2)` over the principal values of `e`.

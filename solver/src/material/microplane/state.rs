@@ -1,13 +1,13 @@
 //! The history an element carries from step to step, as `f32` (damage and turning points need no
 //! more digits, and the state of 21 planes then fits in 1.2 KB).
 //!
-//! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi, dilatancy]`, then per
-//! plane
+//! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi, dilatancy, virgin
+//! planes, elastic updates]`, then per plane
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
 //! component ending with its cyclic dissipation `Lambda` (5.104).
 
 /// Number of values of the element header, before the first plane.
-pub const HEADER: usize = 7;
+pub const HEADER: usize = 9;
 /// Index of the volumetric-tension branch (5.19): largest volumetric strain reached, then the
 /// volumetric stress there (Pa), two values.
 pub const V_TENSION: usize = 0;
@@ -22,6 +22,11 @@ pub const PRINCIPAL_STRESS: usize = 4;
 pub const RELAXATION: usize = 5;
 /// The largest dilatant volumetric strain reached (MICROPLANE "Dilatancy"): it never shrinks.
 pub const DILATANCY: usize = 6;
+/// 1 while no update has taken the full plane path (every plane branch still unloaded, its
+/// history zero), 0 after: the elastic path (`MicroplaneConcrete::update`) needs the first.
+pub const VIRGIN_PLANES: usize = 7;
+/// Number of updates that took the elastic path (exact in `f32` up to 2^24 updates).
+pub const ELASTIC_UPDATES: usize = 8;
 /// Number of values of each microplane after the header.
 pub const PER_PLANE: usize = 14;
 /// Offset in a plane of the deviatoric-tension branch `D+` (5.19): largest strain, stress (Pa).
@@ -49,12 +54,18 @@ impl MicroplaneState {
         let mut values = vec![0.0; len];
         values[RATE_FACTOR] = 1.0;
         values[RELAXATION] = 1.0;
+        values[VIRGIN_PLANES] = 1.0;
         Self { values }
     }
 
     /// Bytes of history per element.
     pub fn bytes(&self) -> usize {
         std::mem::size_of_val(self.values.as_slice())
+    }
+
+    /// Number of updates that took the elastic path.
+    pub fn elastic_updates(&self) -> f64 {
+        self.values[ELASTIC_UPDATES] as f64
     }
 
     /// Rate factor of the last update.
