@@ -234,6 +234,24 @@ impl<'p> ExplicitSolver<'p> {
         })
     }
 
+    /// One time step without observers: the forces, contact and energies at `t_n`, then the
+    /// move to `u_{n+1}`; whether the mesh stability check flagged a node. For benchmarks and
+    /// callers that drive the integrator themselves ([`Self::run_with`] is the run with output,
+    /// the energy-balance stop and progress). An instability is returned as the error it is in
+    /// a run, with nothing written.
+    pub fn step(&mut self) -> Result<bool> {
+        match self.advance() {
+            Ok(moved_too_far) => {
+                self.finish_step();
+                Ok(moved_too_far)
+            }
+            Err(reason_element) => {
+                let mut none = ObserverSet::new(Vec::new());
+                Err(self.stop(reason_element, &mut none))
+            }
+        }
+    }
+
     /// Runs to the end time with the observers that write the output settings' files
     /// ([`Self::output_observers`]), calling `progress(fraction)` about a hundred times. On
     /// instability the output computed so far is written before the error is returned.

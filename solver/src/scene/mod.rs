@@ -504,8 +504,14 @@ impl Scene {
             message: format!("cannot read the scene file: {e}"),
         })?;
         let mut scene = Self::from_yaml(&text, &path.display().to_string())?;
-        let base = path.parent().unwrap_or(Path::new("."));
-        for body in &mut scene.bodies {
+        scene.resolve_paths(path.parent().unwrap_or(Path::new(".")));
+        Ok(scene)
+    }
+
+    /// Resolves the relative mesh and material file paths of the scene against `base` (the
+    /// folder of the file it was read from).
+    pub fn resolve_paths(&mut self, base: &Path) {
+        for body in &mut self.bodies {
             if let MeshSource::Gmsh(p) = &mut body.mesh {
                 if p.is_relative() {
                     *p = base.join(&*p);
@@ -528,6 +534,5 @@ impl Scene {
                 }
             }
         }
-        Ok(scene)
     }
 }

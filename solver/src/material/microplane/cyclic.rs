@@ -83,20 +83,44 @@ impl Branch {
         rule: &UnloadingRule,
         envelope: impl Fn(f64) -> f64,
     ) -> f64 {
+        match self.unloading(x, c0, peak, rule) {
+            Some(s) => s,
+            None => self.virgin(x, envelope(x)),
+        }
+    }
+
+    /// Below the turning point, the stress on the unloading-reloading line (5.102); at or beyond
+    /// it `None`: the caller evaluates the virgin law and hands it to [`Branch::virgin`]. (The
+    /// split form of [`Branch::stress`] for hot loops, where the law's closure was not inlined.)
+    #[inline(always)]
+    pub fn unloading(
+        &self,
+        x: f64,
+        c0: f64,
+        peak: (f64, f64),
+        rule: &UnloadingRule,
+    ) -> Option<f64> {
         if x >= self.reached {
-            let mut s = envelope(x);
-            // s <= (stress_reached / reached) x, compared without a division: it binds only
-            // where the virgin law has moved up since the turning point.
-            if self.reached > 0.0 && s * self.reached > self.stress_reached * x {
-                s = self.stress_reached * x / self.reached;
-            }
-            self.reached = x;
-            self.stress_reached = s;
-            s
+            None
         } else {
             let c = rule.modulus(self, c0, peak);
-            (self.stress_reached - c * (self.reached - x)).max(0.0)
+            Some((self.stress_reached - c * (self.reached - x)).max(0.0))
         }
+    }
+
+    /// Virgin loading to `x` where the law gives `envelope`, capped at the secant reached:
+    /// the new turning point.
+    #[inline(always)]
+    pub fn virgin(&mut self, x: f64, envelope: f64) -> f64 {
+        let mut s = envelope;
+        // s <= (stress_reached / reached) x, compared without a division: it binds only where
+        // the virgin law has moved up since the turning point.
+        if self.reached > 0.0 && s * self.reached > self.stress_reached * x {
+            s = self.stress_reached * x / self.reached;
+        }
+        self.reached = x;
+        self.stress_reached = s;
+        s
     }
 
     /// Whether the branch has lost at least 1 % of its secant stiffness.

@@ -202,8 +202,9 @@ impl ExponentialLaw {
     /// The Hordijk tail at `x > x_p` in units of the law: solves `x = u + g_p H(k (u - u_p))`,
     /// `k = band / tail`, `u_p = x_p - g_p`, for the inelastic strain `u` (Newton from the
     /// explicit guess; `x(u)` rises monotonically when [`ExponentialLaw::band_factor`] admits the
-    /// size) and returns `s = x - u`.
-    #[inline(always)]
+    /// size) and returns `s = x - u`. Not inlined: it is the rare, long branch of the law, and
+    /// inlined it kept the short one from being inlined into the plane loop.
+    #[inline(never)]
     fn tail_stress(&self, x: f64, band: f64) -> f64 {
         let (g_p, k) = (self.g_peak, band / self.tail);
         let u_p = self.x_peak - g_p;

@@ -389,6 +389,7 @@ impl MicroplaneConcrete {
         let e2 = f * p.e2;
         let (inverse_e1, tension_amplitude) = (1.0 / e1, self.e_d0 * e1);
         let (inverse_e2, compression_amplitude) = (1.0 / e2, self.e_d0 * e2);
+        let inverse_e_d0 = 1.0 / self.e_d0;
         let compression_peak = self.compression.peak(e2, self.e_d0);
         let tension_peak = self.tension.peak(e1, self.e_d0);
         let shear_peak = self.shear.peak(e5, self.e_t0);
@@ -429,7 +430,7 @@ impl MicroplaneConcrete {
                         .scaled_stress(x * inverse_e2, compression_amplitude, 1.0)
                 });
                 b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
-                inelastic_compression += 6.0 * plane.weight * (-e_d - s / self.e_d0).max(0.0);
+                inelastic_compression += 6.0 * plane.weight * (-e_d - s * inverse_e_d0).max(0.0);
                 -s
             };
             let e_m = contract(&plane.mn, strain) * psi_t;
@@ -499,9 +500,11 @@ impl MicroplaneConcrete {
         let law = &self.shear;
         let c0 = self.e_t0;
         let (inverse_e5, amplitude) = (1.0 / e5, c0 * e5);
-        let s = branch.stress(e.abs(), c0, peak, &self.rule, |x| {
-            law.scaled_stress(x * inverse_e5, amplitude, band)
-        });
+        let x = e.abs();
+        let s = match branch.unloading(x, c0, peak, &self.rule) {
+            Some(s) => s,
+            None => branch.virgin(x, law.scaled_stress(x * inverse_e5, amplitude, band)),
+        };
         branch.store(&mut history[own..own + 2]);
         let mut damage = 1.0;
         if self.parameters.shear_cyclic_damage {
