@@ -250,3 +250,16 @@ analysis:
         "{message}"
     );
 }
+
+/// Conjugate gradients need a symmetric tangent; a path's forward-difference tangents are not,
+/// so a path asked to use them is refused before it starts, naming the way out.
+#[test]
+fn a_path_refuses_conjugate_gradients() {
+    let (problem, analysis) = pulled_cube(1e-5, 1);
+    let Analysis::Static(mut settings) = analysis else {
+        unreachable!()
+    };
+    settings.linear_solver = impact_solver::statics::LinearSolver::conjugate_gradient();
+    let message = solve_static(&problem, &settings).unwrap_err().to_string();
+    assert!(message.contains("linear_solver: lu"), "{message}");
+}

@@ -1,8 +1,10 @@
-//! Implicit static analysis: Newton's method with a sparse LU factorisation (`faer`) and load
-//! stepping (thesis 3.3.3, (3.64)-(3.68)). Used by patch tests and for elastic references, and,
-//! for bodies of materials with a history (microplane concrete), as a path followed increment by
-//! increment with step cutting up to its limit point ([`path`]).
+//! Implicit static analysis: Newton's method with a sparse LU factorisation (`faer`) or, for the
+//! symmetric positive definite stiffness of elastic bodies, preconditioned conjugate gradients
+//! ([`LinearSolver`]), and load stepping (thesis 3.3.3, (3.64)-(3.68)). Used by patch tests and
+//! for elastic references, and, for bodies of materials with a history (microplane concrete), as
+//! a path followed increment by increment with step cutting up to its limit point ([`path`]).
 
+mod conjugate_gradient;
 mod opening_control;
 mod path;
 mod tangent;
@@ -15,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::HistoryTable;
-use tangent::{forward_difference_tangents, solve_tangent};
+use tangent::{forward_difference_tangents, solve_tangent, solve_tangent_spd};
 
 /// Settings of a static analysis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -46,6 +48,50 @@ pub struct StaticSettings {
     /// that gives an opening between two probes ([`OpeningControl`]); solved as a path.
     #[serde(default)]
     pub opening_control: Option<OpeningControl>,
+    /// How each Newton iteration solves its tangent system: sparse LU unless set.
+    #[serde(default)]
+    pub linear_solver: LinearSolver,
+}
+
+/// The solver of the tangent system `K du = r` of a Newton iteration.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum LinearSolver {
+    /// Sparse LU (`faer`): any non-singular tangent, symmetric or not (the forward-difference
+    /// tangents of a path are not), at the memory of its fill-in (5.8 GB for the 111 k unknowns
+    /// of the 25 mm beam).
+    #[default]
+    Lu,
+    /// Conjugate gradients preconditioned by incomplete Cholesky (`conjugate_gradient.rs`) on the
+    /// symmetric part of the tangent, for elastic bodies without a history (a path is refused):
+    /// memory of the order of the matrix itself. Each solve stops at the relative residual
+    /// `tolerance`; Newton's iteration then continues until its own `tolerance` holds, so the
+    /// equilibrium found is the one LU finds.
+    ConjugateGradient {
+        /// Relative residual `|r - K du| / |r|` at which an iteration's solve stops.
+        #[serde(default = "default_cg_tolerance")]
+        tolerance: f64,
+        /// Most iterations of one solve; beyond, the solve fails.
+        #[serde(default = "default_cg_iterations")]
+        max_iterations: usize,
+    },
+}
+
+impl LinearSolver {
+    /// Conjugate gradients with the default tolerance (1e-10) and iteration limit (20000).
+    pub fn conjugate_gradient() -> Self {
+        Self::ConjugateGradient {
+            tolerance: default_cg_tolerance(),
+            max_iterations: default_cg_iterations(),
+        }
+    }
+}
+
+fn default_cg_tolerance() -> f64 {
+    1e-10
+}
+fn default_cg_iterations() -> usize {
+    20_000
 }
 
 fn default_steps() -> usize {
@@ -73,6 +119,7 @@ impl Default for StaticSettings {
             max_iterations: default_iterations(),
             max_cuts: default_cuts(),
             opening_control: None,
+            linear_solver: LinearSolver::Lu,
         }
     }
 }
@@ -88,6 +135,9 @@ pub struct StaticSolution {
     pub iterations: Vec<usize>,
     /// Final relative residual per load step.
     pub residuals: Vec<f64>,
+    /// Under [`LinearSolver::ConjugateGradient`], its iterations per load step, summed over the
+    /// step's Newton iterations; empty under LU.
+    pub linear_iterations: Vec<usize>,
     /// Bodies with a history: one row per converged load step (load factor as `time`, probes,
     /// reactions of each condition, as an explicit run's history).
     pub history: Option<HistoryTable>,
@@ -148,6 +198,14 @@ pub fn solve_static_until(
     let model = &problem.model;
     let (equation, free) = free_equations(problem)?;
     if model.has_history() || settings.opening_control.is_some() {
+        if settings.linear_solver != LinearSolver::Lu {
+            return Err(SolverError::InvalidScene {
+                entity: "static settings".into(),
+                message: "conjugate gradients need a symmetric tangent, and a path's \
+                          forward-difference tangents are not symmetric: use `linear_solver: lu`"
+                    .into(),
+            });
+        }
         return path::solve_path(problem, settings, &equation, free, progress, stop);
     }
     let n = model.node_count();
@@ -159,6 +217,7 @@ pub fn solve_static_until(
     let mut f_ext = vec![Vector3::zeros(); n];
     let mut iterations = Vec::new();
     let mut residuals = Vec::new();
+    let mut linear_iterations = Vec::new();
     let steps = settings.load_steps.max(1);
     for step in 1..=steps {
         let time = step as f64 / steps as f64 * settings.end_time;
@@ -168,6 +227,7 @@ pub fn solve_static_until(
         }
         let mut converged = None;
         let mut last_residual = f64::INFINITY;
+        let mut step_linear_iterations = 0;
         for iteration in 0..=settings.max_iterations {
             if let Some(e) = model.internal_forces(&u, &mut f_int)? {
                 return Err(SolverError::ElementInverted {
@@ -198,7 +258,28 @@ pub fn solve_static_until(
                 break;
             }
             let tangents = forward_difference_tangents(problem, &u, &history);
-            let (du, _) = solve_tangent(problem, &u, &equation, free, &residual, &tangents, None)?;
+            let du = match settings.linear_solver {
+                LinearSolver::Lu => {
+                    solve_tangent(problem, &u, &equation, free, &residual, &tangents, None)?.0
+                }
+                LinearSolver::ConjugateGradient {
+                    tolerance,
+                    max_iterations,
+                } => {
+                    let (du, taken) = solve_tangent_spd(
+                        problem,
+                        &u,
+                        &equation,
+                        free,
+                        &residual,
+                        &tangents,
+                        tolerance,
+                        max_iterations,
+                    )?;
+                    step_linear_iterations += taken;
+                    du
+                }
+            };
             for i in 0..n {
                 for d in 0..3 {
                     if equation[i][d] != usize::MAX {
@@ -211,6 +292,9 @@ pub fn solve_static_until(
             Some(it) => {
                 iterations.push(it);
                 residuals.push(last_residual);
+                if settings.linear_solver != LinearSolver::Lu {
+                    linear_iterations.push(step_linear_iterations);
+                }
             }
             None => {
                 return Err(SolverError::StaticNotConverged {
@@ -239,6 +323,7 @@ pub fn solve_static_until(
         reaction,
         iterations,
         residuals,
+        linear_iterations,
         history: None,
         material_history: None,
         stopped: None,

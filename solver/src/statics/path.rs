@@ -170,6 +170,7 @@ pub(super) fn solve_path(
         reaction: committed.reaction,
         iterations,
         residuals,
+        linear_iterations: Vec::new(),
         history: Some(table),
         material_history: Some(committed.history),
         stopped,

@@ -11,6 +11,7 @@ use faer::Mat;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
+use super::conjugate_gradient::{self, SymmetricCsr};
 use crate::error::{Result, SolverError};
 use crate::kinematics::deformation_gradient;
 use crate::material::ElementState;
@@ -121,26 +122,16 @@ pub(super) fn forward_difference_tangents(
         .collect()
 }
 
-/// Solves `K du = r` on the free components, with the consistent tangent (3.68a) of the elements
-/// whose material has one, and for the other bodies the stiffness in `tangents[body]` (one
-/// [`ElementTangent`] per element of the body, in its order; from
-/// [`forward_difference_tangents`]). With `moved` (prescribed components that move together by
-/// one unknown, an [`super::OpeningControl`]), also solves `K b = k` for the sum `k` of their
-/// columns, and returns `b` second.
-pub(super) fn solve_tangent(
+/// Calls `add(e, K_e)` for every element `e` in order, with its consistent tangent (3.68a) where
+/// its material has one, and otherwise the stiffness in `tangents[body]` (one [`ElementTangent`]
+/// per element of the body, in its order; from [`forward_difference_tangents`]).
+fn for_each_element_stiffness(
     problem: &Problem,
     u: &[Vector3<f64>],
-    equation: &[[usize; 3]],
-    free: usize,
-    residual: &[f64],
     tangents: &[Vec<ElementTangent>],
-    moved: Option<&[[bool; 3]]>,
-) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    mut add: impl FnMut(usize, &ElementTangent),
+) -> Result<()> {
     let model = &problem.model;
-    let mut triplets = Vec::with_capacity(144 * model.element_count());
-    let mut moved_column = moved.map(|_| vec![0.0; free]);
-    // Where column (node, component) goes: its equation, or the moved column, or nowhere.
-    let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
     for (b_index, body) in model.bodies.iter().enumerate() {
         let differences = tangents.get(b_index).filter(|t| !t.is_empty());
         if let Some(differences) = differences {
@@ -171,27 +162,51 @@ pub(super) fn solve_tangent(
                     &closed_form
                 }
             };
-            let tet = model.tets[e];
-            for (col_dof, &node_b) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
-                let col = equation[node_b as usize][col_dof % 3];
-                let into_moved = col == usize::MAX && is_moved(node_b as usize, col_dof % 3);
-                if col == usize::MAX && !into_moved {
+            add(e, k);
+        }
+    }
+    Ok(())
+}
+
+/// Solves `K du = r` on the free components by sparse LU (`faer`), `K` assembled from the
+/// element stiffnesses of [`for_each_element_stiffness`]. With `moved` (prescribed components
+/// that move together by one unknown, an [`super::OpeningControl`]), also solves `K b = k` for
+/// the sum `k` of their columns, and returns `b` second.
+pub(super) fn solve_tangent(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    equation: &[[usize; 3]],
+    free: usize,
+    residual: &[f64],
+    tangents: &[Vec<ElementTangent>],
+    moved: Option<&[[bool; 3]]>,
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    let model = &problem.model;
+    let mut triplets = Vec::with_capacity(144 * model.element_count());
+    let mut moved_column = moved.map(|_| vec![0.0; free]);
+    // Where column (node, component) goes: its equation, or the moved column, or nowhere.
+    let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
+    for_each_element_stiffness(problem, u, tangents, |e, k| {
+        let tet = model.tets[e];
+        for (col_dof, &node_b) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+            let col = equation[node_b as usize][col_dof % 3];
+            let into_moved = col == usize::MAX && is_moved(node_b as usize, col_dof % 3);
+            if col == usize::MAX && !into_moved {
+                continue;
+            }
+            for (row_dof, &node_a) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
+                let row = equation[node_a as usize][row_dof % 3];
+                if row == usize::MAX {
                     continue;
                 }
-                for (row_dof, &node_a) in (0..12).zip(tet.iter().flat_map(|n| [n; 3])) {
-                    let row = equation[node_a as usize][row_dof % 3];
-                    if row == usize::MAX {
-                        continue;
-                    }
-                    let value = k[col_dof * 12 + row_dof];
-                    match (&mut moved_column, into_moved) {
-                        (Some(column), true) => column[row] += value,
-                        _ => triplets.push(Triplet::new(row, col, value)),
-                    }
+                let value = k[col_dof * 12 + row_dof];
+                match (&mut moved_column, into_moved) {
+                    (Some(column), true) => column[row] += value,
+                    _ => triplets.push(Triplet::new(row, col, value)),
                 }
             }
         }
-    }
+    })?;
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
         .map_err(|e| SolverError::SingularStiffness(format!("{e:?}")))?;
     let lu = k
@@ -216,3 +231,51 @@ pub(super) fn solve_tangent(
 /// Stiffness of one element, `K[col * 12 + row] = d f_row / d u_col` with the element's degrees
 /// of freedom numbered `3 a + i` (node `a` of the tetrahedron, component `i`).
 pub type ElementTangent = [f64; 144];
+
+/// Solves `K_s du = r` on the free components by conjugate gradients ([`conjugate_gradient`]),
+/// to `|r - K_s du| <= tolerance |r|`, with `K_s = (K + K^T) / 2` the symmetric part of the
+/// stiffness of [`for_each_element_stiffness`]: conjugate gradients need a symmetric matrix. The
+/// tangent of a hyperelastic material is symmetric; that of the co-rotated linear elastic model
+/// (Cauchy-elastic) differs from its symmetric part by terms of the order of the stress over the
+/// modulus, so Newton's iteration with `K_s` still contracts by about that factor per iteration,
+/// and its converged state, where the out-of-balance force vanishes, is the same. Returns the
+/// iterations taken.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_tangent_spd(
+    problem: &Problem,
+    u: &[Vector3<f64>],
+    equation: &[[usize; 3]],
+    free: usize,
+    residual: &[f64],
+    tangents: &[Vec<ElementTangent>],
+    tolerance: f64,
+    max_iterations: usize,
+) -> Result<(Vec<f64>, usize)> {
+    let model = &problem.model;
+    let mut k_s = SymmetricCsr::element_pattern(&model.tets, equation, free);
+    for_each_element_stiffness(problem, u, tangents, |e, k| {
+        let dofs = model.tets[e].map(|n| equation[n as usize]);
+        for col_dof in 0..12 {
+            let col = dofs[col_dof / 3][col_dof % 3];
+            if col == usize::MAX {
+                continue;
+            }
+            for row_dof in 0..12 {
+                let row = dofs[row_dof / 3][row_dof % 3];
+                if row != usize::MAX {
+                    let symmetric = 0.5 * (k[col_dof * 12 + row_dof] + k[row_dof * 12 + col_dof]);
+                    k_s.add(row, col, symmetric);
+                }
+            }
+        }
+    })?;
+    let (mut x, iterations) =
+        conjugate_gradient::solve(&k_s, &[residual], tolerance, max_iterations)?;
+    let du = x.pop().expect("one solution per right-hand side");
+    if du.iter().any(|v| !v.is_finite()) {
+        return Err(SolverError::SingularStiffness(
+            "the solution of the tangent system is not finite".into(),
+        ));
+    }
+    Ok((du, iterations))
+}
