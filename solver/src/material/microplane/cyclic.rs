@@ -41,11 +41,15 @@ impl UnloadingRule {
             return c0;
         }
         let (e_p, s_p) = peak;
-        let residual = if e <= e_p {
-            0.0
-        } else {
-            ((e_p - s_p / c0).max(0.0) + self.beta * (e - e_p)).min(e)
-        };
+        if e <= e_p {
+            // Before the peak the line aims at the origin: `towards` is the secant, which the
+            // virgin law keeps at or below C0, so the weighted modulus lies between the secant
+            // and C0 and only the f32 rounding of the turning point can lift it above C0. This
+            // is the common case of a vibrating structure (one division, plain comparisons).
+            let modulus = self.alpha * c0 + (1.0 - self.alpha) * (s / e);
+            return if modulus < c0 { modulus } else { c0 };
+        }
+        let residual = ((e_p - s_p / c0).max(0.0) + self.beta * (e - e_p)).min(e);
         let towards = if e > residual { s / (e - residual) } else { c0 };
         (self.alpha * c0 + (1.0 - self.alpha) * towards)
             .max(s / e)
@@ -104,7 +108,8 @@ impl Branch {
             None
         } else {
             let c = rule.modulus(self, c0, peak);
-            Some((self.stress_reached - c * (self.reached - x)).max(0.0))
+            let s = self.stress_reached - c * (self.reached - x);
+            Some(if s > 0.0 { s } else { 0.0 })
         }
     }
 
