@@ -82,6 +82,12 @@ impl UniformGrid {
     /// cells per box and the boxes per cell small). The number of cells is capped so a few huge
     /// boxes cannot make the grid explode.
     pub fn build(boxes: &[Aabb], cell: f64) -> Self {
+        Self::build_with_limit(boxes, cell, 8)
+    }
+
+    /// [`Self::build`] with at most `cells_per_box` cells per box (8 there): a grid kept over
+    /// many queries can afford more, finer cells than the bounds of a surface would get.
+    pub fn build_with_limit(boxes: &[Aabb], cell: f64, cells_per_box: usize) -> Self {
         let bounds = boxes.iter().fold(
             Aabb {
                 min: Vector3::repeat(f64::INFINITY),
@@ -100,7 +106,7 @@ impl UniformGrid {
             };
         }
         let extent = bounds.max - bounds.min;
-        let max_cells = (8 * boxes.len()).max(1) as f64;
+        let max_cells = (cells_per_box * boxes.len()).max(1) as f64;
         let mut cell = cell.max(1e-300);
         while (0..3)
             .map(|a| (extent[a] / cell).floor() + 1.0)

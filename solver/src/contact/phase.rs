@@ -49,10 +49,10 @@ impl ContactPhase {
         }
     }
 
-    /// The nodes contact reads or moves, ascending: those of the boundary-layer elements of
-    /// every pair's surfaces (which hold the surface nodes). Detection reads positions only
-    /// there, and the solvers move only surface nodes.
-    pub fn nodes(&self, model: &Model) -> Vec<u32> {
+    /// The nodes whose predicted positions contact reads, ascending: those of the
+    /// boundary-layer elements of every pair's surfaces (global detection tests slave nodes
+    /// against these elements).
+    pub fn layer_nodes(&self, model: &Model) -> Vec<u32> {
         let mut nodes: Vec<u32> = self
             .surfaces
             .iter()
@@ -64,9 +64,24 @@ impl ContactPhase {
         nodes
     }
 
+    /// The boundary nodes of every pair's surfaces, ascending: the only nodes whose start
+    /// positions contact reads and the only ones its solvers move.
+    pub fn surface_nodes(&self) -> Vec<u32> {
+        let mut nodes: Vec<u32> = self
+            .surfaces
+            .iter()
+            .flatten()
+            .flat_map(|s| s.nodes.iter().copied())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
     /// Detects and removes penetrations of the predicted positions `x1` (corrected in place)
     /// given the positions `x0` at the start of the step, pair by pair and pass by pass. Only
-    /// the positions of [`Self::nodes`] are read or changed.
+    /// `x1` of [`Self::layer_nodes`] and `x0` of [`Self::surface_nodes`] are read, and only
+    /// the surface nodes are moved.
     ///
     /// `tangential` receives the part of the corrections made by the tangential (friction)
     /// components of the contact forces, so friction work can be told from normal work; the

@@ -111,10 +111,16 @@ impl LayerBoxes {
         let scale = region.min.amax().max(region.max.amax());
         let margin = 2.0 * moved + 8.0 * f64::EPSILON * scale;
         let grid = self.grid.as_ref().expect("rebuilt above when missing");
-        grid.query_marked(&region.grown(margin), &mut self.marks, &mut self.found);
+        let reach = region.grown(margin);
+        grid.query_marked(&reach, &mut self.marks, &mut self.found);
         near.clear();
         near_boxes.clear();
         for &i in &self.found {
+            // The grid finds the boxes in the cells the region meets; the stored box tells
+            // most of those apart without reading the element's nodes.
+            if !self.boxes[i as usize].overlaps(&reach) {
+                continue;
+            }
             let b = element_box(model, master.layer[i as usize], x1);
             if b.overlaps(region) {
                 near.push(i);

@@ -31,6 +31,8 @@ pub(super) struct FaceBoxes {
     /// Positions of `master.nodes` when the grid was built (`None`: no grid yet).
     anchor: Option<Vec<Vector3<f64>>>,
     grid: Option<UniformGrid>,
+    /// Each face's box at `anchor`.
+    boxes: Vec<Aabb>,
     /// The grid's cell (m).
     cell: f64,
     /// Scratch: grid query results.
@@ -54,14 +56,20 @@ impl FaceBoxes {
         if moved <= super::REBUILD_FRACTION * self.cell {
             return moved;
         }
-        let boxes: Vec<Aabb> = master
-            .faces
-            .iter()
-            .map(|f| Aabb::of_points(f.iter().map(|&n| &x1[n as usize])))
-            .collect();
-        self.cell =
-            boxes.iter().map(|b| (b.max - b.min).max()).sum::<f64>() / boxes.len().max(1) as f64;
-        self.grid = Some(UniformGrid::build(&boxes, self.cell));
+        self.boxes.clear();
+        self.boxes.extend(
+            master
+                .faces
+                .iter()
+                .map(|f| Aabb::of_points(f.iter().map(|&n| &x1[n as usize]))),
+        );
+        // Half the mean face: a graded mesh's faces are smallest where bodies touch (the
+        // spheres' refined poles), and a query there then meets a few faces per cell. The grid
+        // is kept over many steps, so its extra cells are paid for once.
+        let boxes = &self.boxes;
+        self.cell = 0.5 * boxes.iter().map(|b| (b.max - b.min).max()).sum::<f64>()
+            / boxes.len().max(1) as f64;
+        self.grid = Some(UniformGrid::build_with_limit(boxes, self.cell, 64));
         self.anchor = Some(master.nodes.iter().map(|&n| x1[n as usize]).collect());
         self.moved(master, x0, x1)
     }
@@ -154,10 +162,14 @@ impl<'a> LocalSearch<'a> {
         let scale = region.min.amax().max(region.max.amax());
         let margin = 2.0 * self.moved + 8.0 * f64::EPSILON * scale;
         let grid = boxes.grid.as_ref().expect("`refit` builds the grid");
-        grid.query(&region.grown(margin), &mut boxes.found);
+        let reach = region.grown(margin);
+        grid.query(&reach, &mut boxes.found);
         boxes.faces.clear();
         for &f in &boxes.found {
             let f = f as usize;
+            if !boxes.boxes[f].overlaps(&reach) {
+                continue;
+            }
             if boxes.stamp[f] != boxes.epoch {
                 let corners = &self.master.faces[f];
                 let near = corners
