@@ -89,8 +89,8 @@ impl LayerBoxes {
     }
 
     /// The layer elements (indices into `master.layer`, ascending) whose box at `x1` meets
-    /// `region`, with those boxes, into `near` and `near_boxes`; `moved` is the largest
-    /// coordinate change of a layer node since the grid was built.
+    /// `region`, with those boxes; `moved` is the largest coordinate change of a layer node
+    /// since the grid was built.
     fn near(
         &mut self,
         model: &Model,
@@ -98,9 +98,7 @@ impl LayerBoxes {
         x1: &[Vector3<f64>],
         region: &Aabb,
         moved: f64,
-        near: &mut Vec<u32>,
-        near_boxes: &mut Vec<Aabb>,
-    ) {
+    ) -> (Vec<u32>, Vec<Aabb>) {
         let mut moved = moved;
         if !(moved <= super::REBUILD_FRACTION * self.cell) {
             self.rebuild(model, master, x1);
@@ -113,8 +111,8 @@ impl LayerBoxes {
         let grid = self.grid.as_ref().expect("rebuilt above when missing");
         let reach = region.grown(margin);
         grid.query_marked(&reach, &mut self.marks, &mut self.found);
-        near.clear();
-        near_boxes.clear();
+        let mut near = Vec::new();
+        let mut near_boxes = Vec::new();
         for &i in &self.found {
             // The grid finds the boxes in the cells the region meets; the stored box tells
             // most of those apart without reading the element's nodes.
@@ -127,6 +125,7 @@ impl LayerBoxes {
                 near_boxes.push(b);
             }
         }
+        (near, near_boxes)
     }
 }
 
@@ -170,17 +169,7 @@ impl GlobalSearch {
         // Only the master elements where the two bodies' boxes overlap can be reached: for two
         // spheres, a thin slab around the contact instead of the whole boundary layer.
         let overlap = slave_box.intersection(&master_box);
-        let mut near = Vec::new();
-        let mut near_boxes = Vec::new();
-        layer.near(
-            model,
-            master,
-            x1,
-            &overlap,
-            moved,
-            &mut near,
-            &mut near_boxes,
-        );
+        let (near, near_boxes) = layer.near(model, master, x1, &overlap, moved);
         if near.is_empty() {
             return None;
         }
