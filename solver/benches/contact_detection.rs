@@ -9,6 +9,10 @@
 //! printed (`eprintln`) after the criterion groups, with their ratio between the largest and the
 //! smallest mesh.
 //!
+//! `contact/detect-kept` times the same pass with a [`Detector`] kept over the calls, as the
+//! time stepper keeps one per pass: its grids of the master's layer elements and faces are
+//! built once and refitted, so a call pays for the region where the bodies meet only.
+//!
 //! Run with `cargo bench -p impact-solver --bench contact_detection` (about a minute).
 
 // Benchmark code: an `unwrap` that fails stops the benchmark (the lint is for library code).
@@ -18,7 +22,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use impact_solver::contact::detection::{detect, ContactSurface, DetectionSettings};
+use impact_solver::contact::detection::{detect, ContactSurface, DetectionSettings, Detector};
 use impact_solver::contact::normals::NormalSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
@@ -97,6 +101,31 @@ fn detection(c: &mut Criterion) {
                         &s.x0,
                         black_box(&s.x1),
                         &settings(),
+                    )
+                })
+            },
+        );
+    }
+    group.finish();
+    let mut group = c.benchmark_group("contact/detect-kept");
+    group.sample_size(20);
+    for n in SIZES {
+        let s = scene(n);
+        let mut detector = Detector::default();
+        group.throughput(Throughput::Elements(s.slave.nodes.len() as u64));
+        group.bench_with_input(
+            BenchmarkId::from_parameter(s.slave.nodes.len()),
+            &s,
+            |b, s| {
+                b.iter(|| {
+                    detector.detect(
+                        &s.model,
+                        &s.slave,
+                        &s.master,
+                        &s.x0,
+                        black_box(&s.x1),
+                        &settings(),
+                        None,
                     )
                 })
             },

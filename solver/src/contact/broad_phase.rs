@@ -73,6 +73,8 @@ pub struct UniformGrid {
     /// Items of cell `k` are `items[cell_start[k]..cell_start[k + 1]]`, in ascending box id.
     cell_start: Vec<u32>,
     items: Vec<u32>,
+    /// Number of boxes binned.
+    boxes: usize,
 }
 
 impl UniformGrid {
@@ -80,6 +82,12 @@ impl UniformGrid {
     /// cells per box and the boxes per cell small). The number of cells is capped so a few huge
     /// boxes cannot make the grid explode.
     pub fn build(boxes: &[Aabb], cell: f64) -> Self {
+        Self::build_with_limit(boxes, cell, 8)
+    }
+
+    /// [`Self::build`] with at most `cells_per_box` cells per box (8 there): a grid kept over
+    /// many queries can afford more, finer cells than the bounds of a surface would get.
+    pub fn build_with_limit(boxes: &[Aabb], cell: f64, cells_per_box: usize) -> Self {
         let bounds = boxes.iter().fold(
             Aabb {
                 min: Vector3::repeat(f64::INFINITY),
@@ -94,10 +102,11 @@ impl UniformGrid {
                 dims: [1; 3],
                 cell_start: vec![0, 0],
                 items: Vec::new(),
+                boxes: 0,
             };
         }
         let extent = bounds.max - bounds.min;
-        let max_cells = (8 * boxes.len()).max(1) as f64;
+        let max_cells = (cells_per_box * boxes.len()).max(1) as f64;
         let mut cell = cell.max(1e-300);
         while (0..3)
             .map(|a| (extent[a] / cell).floor() + 1.0)
@@ -113,6 +122,7 @@ impl UniformGrid {
             dims,
             cell_start: Vec::new(),
             items: Vec::new(),
+            boxes: boxes.len(),
         };
         let cells = dims[0] * dims[1] * dims[2];
         let mut count = vec![0u32; cells + 1];
@@ -138,8 +148,8 @@ impl UniformGrid {
     fn cell_range(&self, b: &Aabb) -> Option<[std::ops::RangeInclusive<usize>; 3]> {
         let mut r = [0..=0, 0..=0, 0..=0];
         for a in 0..3 {
-            let lo = ((b.min[a] - self.origin[a]) * self.inverse_cell).floor();
-            let hi = ((b.max[a] - self.origin[a]) * self.inverse_cell).floor();
+            let lo = floor((b.min[a] - self.origin[a]) * self.inverse_cell);
+            let hi = floor((b.max[a] - self.origin[a]) * self.inverse_cell);
             let last = (self.dims[a] - 1) as f64;
             if hi < 0.0 || lo > last || lo.is_nan() || hi.is_nan() {
                 return None;
@@ -173,6 +183,49 @@ impl UniformGrid {
         out.sort_unstable();
         out.dedup();
     }
+
+    /// [`Self::query`] for a query that meets many cells (a slab across a whole body): the ids
+    /// are marked in the bit set `marks` and read back in ascending order instead of sorted,
+    /// linear in the ids found. `marks` is scratch space, all clear between calls.
+    pub fn query_marked(&self, query: &Aabb, marks: &mut Vec<u64>, out: &mut Vec<u32>) {
+        out.clear();
+        marks.resize(marks.len().max(self.boxes.div_ceil(64)), 0);
+        let mut any = false;
+        self.for_cells(query, |k| {
+            for &i in &self.items[self.cell_start[k] as usize..self.cell_start[k + 1] as usize] {
+                marks[(i / 64) as usize] |= 1u64 << (i % 64);
+                any = true;
+            }
+        });
+        if !any {
+            return;
+        }
+        for (w, word) in marks.iter_mut().enumerate() {
+            let mut bits = std::mem::take(word);
+            while bits != 0 {
+                out.push(64 * w as u32 + bits.trailing_zeros());
+                bits &= bits - 1;
+            }
+        }
+    }
+}
+
+/// `v.floor()` without a call into libm (the baseline x86-64 target has no rounding
+/// instruction): the integer part by conversion, one less for negative non-integers. Values of
+/// magnitude `2^52` and more are integers already, as are infinities; NaN stays NaN. Equal to
+/// `v.floor()` up to the sign of a zero result, which no cell index sees.
+#[inline]
+fn floor(v: f64) -> f64 {
+    if v.abs() < 4_503_599_627_370_496.0 {
+        let t = v as i64 as f64;
+        if t > v {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        v
+    }
 }
 
 #[cfg(test)]
@@ -202,6 +255,7 @@ mod tests {
         let boxes: Vec<Aabb> = (0..2000).map(|_| random_box(0.3)).collect();
         let grid = UniformGrid::build(&boxes, 0.4);
         let mut found = Vec::new();
+        let (mut marks, mut marked) = (Vec::new(), Vec::new());
         for _ in 0..500 {
             let q = random_box(0.5);
             grid.query(&q, &mut found);
@@ -210,6 +264,40 @@ mod tests {
                     assert!(found.binary_search(&(i as u32)).is_ok(), "box {i} missed");
                 }
             }
+            grid.query_marked(&q, &mut marks, &mut marked);
+            assert_eq!(
+                marked, found,
+                "the bit-set query gives the sorted query's ids"
+            );
+            assert!(marks.iter().all(|&w| w == 0), "marks left set");
         }
+    }
+
+    #[test]
+    fn floor_without_libm_is_floor() {
+        let mut rng = SplitMix64::new(7);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            -1e-300,
+            2.5e15,
+            -2.5e15 - 0.5,
+            4503599627370495.5,
+            -4503599627370495.5,
+            4503599627370496.0,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        values.extend((0..10_000).map(|_| rng.uniform(-1e3, 1e3)));
+        values.extend((0..10_000).map(|_| rng.uniform(-3.0, 3.0)));
+        for v in values {
+            assert_eq!(floor(v), v.floor(), "{v}");
+        }
+        assert!(floor(f64::NAN).is_nan());
     }
 }

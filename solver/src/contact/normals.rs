@@ -47,14 +47,57 @@ impl Default for NormalSettings {
 
 /// Area-weighted outward normals `(b - a) x (c - a)` of every facet of `surface` at positions `x`.
 pub fn facet_normals(surface: &ContactSurface, x: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
-    surface
-        .faces
-        .iter()
-        .map(|f| {
-            let [a, b, c] = f.map(|n| x[n as usize]);
-            (b - a).cross(&(c - a))
-        })
+    (0..surface.faces.len())
+        .map(|f| facet_normal(surface, x, f))
         .collect()
+}
+
+/// The area-weighted normal of one facet, as [`facet_normals`] gives it.
+fn facet_normal(surface: &ContactSurface, x: &[Vector3<f64>], face: usize) -> Vector3<f64> {
+    let [a, b, c] = surface.faces[face].map(|n| x[n as usize]);
+    (b - a).cross(&(c - a))
+}
+
+/// Facet normals computed when first asked for and kept until [`Self::reset`]: a pass needs
+/// those of the contact facets and their neighbours, a few among all the facets of the
+/// surface.
+#[derive(Debug, Clone, Default)]
+pub struct FacetNormalCache {
+    normals: Vec<Vector3<f64>>,
+    /// `stamp[f] == epoch` when `normals[f]` holds the normal at the current positions.
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+impl FacetNormalCache {
+    /// Forgets every normal (the positions changed), for a surface of `faces` facets.
+    pub fn reset(&mut self, faces: usize) {
+        if self.stamp.len() != faces {
+            self.normals = vec![Vector3::zeros(); faces];
+            self.stamp = vec![0; faces];
+            self.epoch = 0;
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.epoch = 1;
+        }
+    }
+
+    /// The normal of facet `face` at positions `x` (those since the last reset), bitwise the
+    /// one [`facet_normals`] gives.
+    pub fn get(
+        &mut self,
+        surface: &ContactSurface,
+        x: &[Vector3<f64>],
+        face: usize,
+    ) -> Vector3<f64> {
+        if self.stamp[face] != self.epoch {
+            self.normals[face] = facet_normal(surface, x, face);
+            self.stamp[face] = self.epoch;
+        }
+        self.normals[face]
+    }
 }
 
 /// Unit normal of the contact at barycentric `weights` on facet `face` of `surface`, given the
@@ -66,7 +109,20 @@ pub fn contact_normal(
     weights: &[f64; 3],
     settings: &NormalSettings,
 ) -> Vector3<f64> {
-    let own = facet[face].normalize();
+    contact_normal_with(surface, |g| facet[g], face, weights, settings)
+}
+
+/// [`contact_normal`] with the area-weighted facet normals given by `facet(g)` (for example
+/// from a [`FacetNormalCache`]), asked for the contact facet and, for smoothed normals, the
+/// facets around its corners.
+pub fn contact_normal_with(
+    surface: &ContactSurface,
+    mut facet: impl FnMut(usize) -> Vector3<f64>,
+    face: usize,
+    weights: &[f64; 3],
+    settings: &NormalSettings,
+) -> Vector3<f64> {
+    let own = facet(face).normalize();
     if settings.kind == NormalKind::Facet {
         return own;
     }
@@ -77,7 +133,7 @@ pub fn contact_normal(
             .faces_at_corner(face, k)
             .iter()
             .fold(Vector3::zeros(), |sum, &g| {
-                let n = facet[g as usize];
+                let n = facet(g as usize);
                 if n.dot(&own) >= cos_crease * n.norm() {
                     sum + n
                 } else {

@@ -5,9 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::detection::{
-    detect_recording, CcdCall, ContactSurface, DetectionSettings, DetectionStats,
-};
+use super::detection::{CcdCall, ContactSurface, DetectionSettings, DetectionStats, Detector};
 use super::gauss_seidel::ContactConstraint;
 use super::problem::ContactProblem;
 use super::registry::SolverChoice;
@@ -20,6 +18,9 @@ pub struct ContactPhase {
     /// The contact pairs of the problem, in scene order.
     pub pairs: Vec<ContactPair>,
     surfaces: Vec<[ContactSurface; 2]>,
+    /// Each pair's detection of its two passes, kept over the run (boxes refitted, not
+    /// rebuilt).
+    detectors: Vec<[Detector; 2]>,
     /// One solver per pair, built once from its [`SolverChoice`]: the stepper calls every
     /// algorithm through [`ContactSolver`]; one virtual call per solve, none per contact.
     solvers: Vec<Box<dyn ContactSolver + Send>>,
@@ -37,17 +38,50 @@ impl ContactPhase {
             .map(|p| p.bodies.map(|b| ContactSurface::new(model, b)))
             .collect();
         let solvers = pairs.iter().map(|p| p.solver.kind.build()).collect();
+        let detectors = pairs.iter().map(|_| Default::default()).collect();
         Self {
             pairs,
             surfaces,
+            detectors,
             solvers,
             recorded: Vec::new(),
             recorded_ccd: Vec::new(),
         }
     }
 
+    /// The nodes whose predicted positions contact reads, ascending: those of the
+    /// boundary-layer elements of every pair's surfaces (global detection tests slave nodes
+    /// against these elements).
+    pub fn layer_nodes(&self, model: &Model) -> Vec<u32> {
+        let mut nodes: Vec<u32> = self
+            .surfaces
+            .iter()
+            .flatten()
+            .flat_map(|s| s.layer.iter().flat_map(|&e| model.tets[e as usize]))
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
+    /// The boundary nodes of every pair's surfaces, ascending: the only nodes whose start
+    /// positions contact reads and the only ones its solvers move.
+    pub fn surface_nodes(&self) -> Vec<u32> {
+        let mut nodes: Vec<u32> = self
+            .surfaces
+            .iter()
+            .flatten()
+            .flat_map(|s| s.nodes.iter().copied())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
     /// Detects and removes penetrations of the predicted positions `x1` (corrected in place)
-    /// given the positions `x0` at the start of the step, pair by pair and pass by pass.
+    /// given the positions `x0` at the start of the step, pair by pair and pass by pass. Only
+    /// `x1` of [`Self::layer_nodes`] and `x0` of [`Self::surface_nodes`] are read, and only
+    /// the surface nodes are moved.
     ///
     /// `tangential` receives the part of the corrections made by the tangential (friction)
     /// components of the contact forces, so friction work can be told from normal work; the
@@ -70,7 +104,8 @@ impl ContactPhase {
             .iter()
             .zip(&self.surfaces)
             .zip(&mut self.solvers)
-            .map(|((pair, [a, b]), solver)| {
+            .zip(&mut self.detectors)
+            .map(|(((pair, [a, b]), solver), detectors)| {
                 let mut step = ContactStep {
                     converged: true,
                     ..Default::default()
@@ -92,8 +127,10 @@ impl ContactPhase {
                     .record_ccd_every
                     .is_some_and(|every| every > 0 && step_index % every == 0);
                 let mut calls: Vec<CcdCall> = Vec::new();
-                for (pass, (slave, master)) in passes.iter().enumerate() {
-                    let (mut constraints, stats): (Vec<_>, DetectionStats) = detect_recording(
+                for ((pass, (slave, master)), detector) in
+                    passes.iter().enumerate().zip(detectors.iter_mut())
+                {
+                    let (mut constraints, stats): (Vec<_>, DetectionStats) = detector.detect(
                         model,
                         slave,
                         master,

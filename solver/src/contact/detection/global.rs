@@ -3,6 +3,14 @@
 //! bodies cannot touch and keep only the master elements in the region where the two bodies'
 //! boxes overlap; a uniform grid over those tests each node against nearby elements only
 //! (7.3.3).
+//!
+//! The elements in that region are found through [`LayerBoxes`], a grid of the layer elements'
+//! boxes kept over steps (a Verlet-list-style broad phase, e.g. Benson & Hallquist 1990): a box
+//! moves by at most the largest node displacement `d` since the grid was built, so the
+//! elements whose box meets the region are among those whose stored box meets the region grown
+//! by `d`. Only those get their box recomputed; the grid is rebuilt when `d` exceeds a fraction
+//! of its cell. The elements found, their order and their boxes are the ones a scan of the
+//! whole layer gives, so detection's answers do not change.
 
 use nalgebra::Vector3;
 
@@ -10,6 +18,121 @@ use super::ContactSurface;
 use crate::contact::broad_phase::{Aabb, UniformGrid};
 use crate::contact::geometry::tetrahedron_barycentric;
 use crate::model::Model;
+
+/// The boxes of a master surface's boundary-layer elements at some earlier positions, binned in
+/// a grid, kept from step to step.
+#[derive(Debug, Clone, Default)]
+pub(super) struct LayerBoxes {
+    /// The distinct nodes of the layer elements, ascending (empty until first used).
+    nodes: Vec<u32>,
+    /// Positions of `nodes` when the grid was built (`None`: no grid yet).
+    anchor: Option<Vec<Vector3<f64>>>,
+    /// Each layer element's box at `anchor`, indexed like `master.layer`.
+    boxes: Vec<Aabb>,
+    grid: Option<UniformGrid>,
+    /// The grid's cell (m): the grid is rebuilt once a node moved
+    /// `REBUILD_FRACTION` of it.
+    cell: f64,
+    /// Scratch: grid query results, and the bit set of [`UniformGrid::query_marked`].
+    found: Vec<u32>,
+    marks: Vec<u64>,
+}
+
+impl LayerBoxes {
+    /// The master layer's box at `x1` (the union of its elements' boxes, exactly: it is the box
+    /// of their nodes) and the largest coordinate change of a layer node since the grid was
+    /// built (infinite without a grid).
+    fn bounds_and_motion(
+        &mut self,
+        model: &Model,
+        master: &ContactSurface,
+        x1: &[Vector3<f64>],
+    ) -> (Aabb, f64) {
+        if self.nodes.is_empty() {
+            self.nodes = master
+                .layer
+                .iter()
+                .flat_map(|&e| model.tets[e as usize])
+                .collect();
+            self.nodes.sort_unstable();
+            self.nodes.dedup();
+        }
+        let bounds = Aabb::of_points(self.nodes.iter().map(|&n| &x1[n as usize]));
+        let Some(anchor) = &self.anchor else {
+            return (bounds, f64::INFINITY);
+        };
+        // `max` skips NaN; the sum of the changes does not, so a NaN position forces a rebuild.
+        let (moved, sum) =
+            self.nodes
+                .iter()
+                .zip(anchor)
+                .fold((0.0f64, 0.0f64), |(moved, sum), (&n, a)| {
+                    let d = x1[n as usize] - a;
+                    (moved.max(d.amax()), sum + d.sum())
+                });
+        (bounds, if sum.is_nan() { f64::INFINITY } else { moved })
+    }
+
+    /// Rebuilds the grid on the layer elements' boxes at `x1`.
+    fn rebuild(&mut self, model: &Model, master: &ContactSurface, x1: &[Vector3<f64>]) {
+        self.boxes.clear();
+        self.boxes
+            .extend(master.layer.iter().map(|&e| element_box(model, e, x1)));
+        self.cell = self
+            .boxes
+            .iter()
+            .map(|b| (b.max - b.min).max())
+            .sum::<f64>()
+            / self.boxes.len().max(1) as f64;
+        self.grid = Some(UniformGrid::build(&self.boxes, self.cell));
+        self.anchor = Some(self.nodes.iter().map(|&n| x1[n as usize]).collect());
+    }
+
+    /// The layer elements (indices into `master.layer`, ascending) whose box at `x1` meets
+    /// `region`, with those boxes; `moved` is the largest coordinate change of a layer node
+    /// since the grid was built.
+    fn near(
+        &mut self,
+        model: &Model,
+        master: &ContactSurface,
+        x1: &[Vector3<f64>],
+        region: &Aabb,
+        moved: f64,
+    ) -> (Vec<u32>, Vec<Aabb>) {
+        let mut moved = moved;
+        if !(moved <= super::REBUILD_FRACTION * self.cell) {
+            self.rebuild(model, master, x1);
+            moved = 0.0;
+        }
+        // A box moved by at most `moved` on each axis (up to the rounding of the differences,
+        // covered twice over with the slack for the rounding of the grown box's corners).
+        let scale = region.min.amax().max(region.max.amax());
+        let margin = 2.0 * moved + 8.0 * f64::EPSILON * scale;
+        let grid = self.grid.as_ref().expect("rebuilt above when missing");
+        let reach = region.grown(margin);
+        grid.query_marked(&reach, &mut self.marks, &mut self.found);
+        let mut near = Vec::new();
+        let mut near_boxes = Vec::new();
+        for &i in &self.found {
+            // The grid finds the boxes in the cells the region meets; the stored box tells
+            // most of those apart without reading the element's nodes.
+            if !self.boxes[i as usize].overlaps(&reach) {
+                continue;
+            }
+            let b = element_box(model, master.layer[i as usize], x1);
+            if b.overlaps(region) {
+                near.push(i);
+                near_boxes.push(b);
+            }
+        }
+        (near, near_boxes)
+    }
+}
+
+/// The box of element `e` at positions `x`.
+fn element_box(model: &Model, e: u32, x: &[Vector3<f64>]) -> Aabb {
+    Aabb::of_points(model.tets[e as usize].iter().map(|&n| &x[n as usize]))
+}
 
 /// The master elements one pass searches, with the region and length scale local detection
 /// reuses.
@@ -26,35 +149,30 @@ pub(super) struct GlobalSearch {
 
 impl GlobalSearch {
     /// The search of one pass on the predicted positions `x1`; `None` when no slave node can
-    /// reach the master's boundary layer, so the pass finds nothing.
+    /// reach the master's boundary layer, so the pass finds nothing. `layer` keeps the master
+    /// layer's boxes between calls (it must always be given the same `master`).
     pub(super) fn new(
         model: &Model,
         slave: &ContactSurface,
         master: &ContactSurface,
         x1: &[Vector3<f64>],
+        layer: &mut LayerBoxes,
     ) -> Option<Self> {
+        if master.layer.is_empty() {
+            return None;
+        }
         let slave_box = Aabb::of_points(slave.nodes.iter().map(|&n| &x1[n as usize]));
-        let element_boxes: Vec<Aabb> = master
-            .layer
-            .iter()
-            .map(|&e| Aabb::of_points(model.tets[e as usize].iter().map(|&n| &x1[n as usize])))
-            .collect();
-        let master_box = element_boxes
-            .iter()
-            .fold(slave_box.grown(f64::NEG_INFINITY), |a, b| a.union(b));
-        if element_boxes.is_empty() || !slave_box.overlaps(&master_box) {
+        let (master_box, moved) = layer.bounds_and_motion(model, master, x1);
+        if !slave_box.overlaps(&master_box) {
             return None;
         }
         // Only the master elements where the two bodies' boxes overlap can be reached: for two
         // spheres, a thin slab around the contact instead of the whole boundary layer.
         let overlap = slave_box.intersection(&master_box);
-        let near: Vec<u32> = (0..element_boxes.len() as u32)
-            .filter(|&i| element_boxes[i as usize].overlaps(&overlap))
-            .collect();
+        let (near, near_boxes) = layer.near(model, master, x1, &overlap, moved);
         if near.is_empty() {
             return None;
         }
-        let near_boxes: Vec<Aabb> = near.iter().map(|&i| element_boxes[i as usize]).collect();
         let typical = near_boxes
             .iter()
             .map(|b| (b.max - b.min).max())

@@ -1,8 +1,9 @@
 //! Local detection (thesis 7.4): for a slave node global detection found inside the master, the
 //! master boundary face it went through and the contact point on it. Three strategies, in
 //! order: continuous collision detection (7.4.4), the intersection of the node's trajectory with
-//! the predicted face (7.4.3), the closest point (7.4.2). Candidate faces come from a grid of the
-//! faces' swept boxes near the region global detection searched.
+//! the predicted face (7.4.3), the closest point (7.4.2). Candidate faces are those near the
+//! region global detection searched whose swept box meets the query, found through a grid of the
+//! faces' boxes kept over steps ([`FaceBoxes`]).
 
 use nalgebra::Vector3;
 
@@ -19,67 +20,174 @@ pub(super) enum Strategy {
     ClosestPoint,
 }
 
-/// The master faces one pass may assign nodes to, with their swept boxes in a grid.
+/// The boxes of a master surface's faces at some earlier positions, binned in a grid, kept
+/// from step to step. A face's swept box over a step (its corners at the start and predicted
+/// positions) lies within its stored box grown by the largest coordinate change `d` of a
+/// boundary node since the grid was built, so the faces whose swept box meets a region are
+/// among those the grid finds for the region grown by `d`; the grid is rebuilt when `d` exceeds
+/// a fraction of its cell.
+#[derive(Debug, Clone, Default)]
+pub(super) struct FaceBoxes {
+    /// Positions of `master.nodes` when the grid was built (`None`: no grid yet).
+    anchor: Option<Vec<Vector3<f64>>>,
+    grid: Option<UniformGrid>,
+    /// Each face's box at `anchor`.
+    boxes: Vec<Aabb>,
+    /// The grid's cell (m).
+    cell: f64,
+    /// Scratch: grid query results.
+    found: Vec<u32>,
+    /// The candidate faces of the last query, as master face ids.
+    faces: Vec<u32>,
+    /// Per face, its swept box over the step and whether a corner lies in the pass's face
+    /// region, computed when first asked for in a pass: `swept[f]` is current when
+    /// `stamp[f] == epoch`.
+    swept: Vec<(Aabb, bool)>,
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+impl FaceBoxes {
+    /// The largest coordinate change of a master boundary node from the grid's positions to
+    /// `x0` or `x1` (the grid is rebuilt on `x1` first when it exceeds
+    /// `REBUILD_FRACTION` of a cell).
+    fn refit(&mut self, master: &ContactSurface, x0: &[Vector3<f64>], x1: &[Vector3<f64>]) -> f64 {
+        let moved = self.moved(master, x0, x1);
+        if moved <= super::REBUILD_FRACTION * self.cell {
+            return moved;
+        }
+        self.boxes.clear();
+        self.boxes.extend(
+            master
+                .faces
+                .iter()
+                .map(|f| Aabb::of_points(f.iter().map(|&n| &x1[n as usize]))),
+        );
+        // Half the mean face: a graded mesh's faces are smallest where bodies touch (the
+        // spheres' refined poles), and a query there then meets a few faces per cell. The grid
+        // is kept over many steps, so its extra cells are paid for once.
+        let boxes = &self.boxes;
+        self.cell = 0.5 * boxes.iter().map(|b| (b.max - b.min).max()).sum::<f64>()
+            / boxes.len().max(1) as f64;
+        self.grid = Some(UniformGrid::build_with_limit(boxes, self.cell, 64));
+        self.anchor = Some(master.nodes.iter().map(|&n| x1[n as usize]).collect());
+        self.moved(master, x0, x1)
+    }
+
+    /// Forgets the swept boxes of the last pass, for a surface of `faces` faces.
+    fn forget_swept(&mut self, faces: usize) {
+        if self.stamp.len() != faces {
+            self.swept = vec![(Aabb::of_points([]), false); faces];
+            self.stamp = vec![0; faces];
+            self.epoch = 0;
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.epoch = 1;
+        }
+    }
+
+    /// The largest coordinate change from the grid's positions (infinite without a grid, or
+    /// with a NaN position: `max` skips NaN, the sum of the changes does not).
+    fn moved(&self, master: &ContactSurface, x0: &[Vector3<f64>], x1: &[Vector3<f64>]) -> f64 {
+        let Some(anchor) = &self.anchor else {
+            return f64::INFINITY;
+        };
+        let (moved, sum) =
+            master
+                .nodes
+                .iter()
+                .zip(anchor)
+                .fold((0.0f64, 0.0f64), |(moved, sum), (&n, a)| {
+                    let d0 = x0[n as usize] - a;
+                    let d1 = x1[n as usize] - a;
+                    (
+                        moved.max(d0.amax()).max(d1.amax()),
+                        sum + d0.sum() + d1.sum(),
+                    )
+                });
+        if sum.is_nan() {
+            f64::INFINITY
+        } else {
+            moved
+        }
+    }
+}
+
+/// The master faces one pass may assign nodes to: those with a corner near the region global
+/// detection searched, found through the [`FaceBoxes`] grid by their swept boxes.
 pub(super) struct LocalSearch<'a> {
     master: &'a ContactSurface,
     /// The global search's length scale (see `GlobalSearch::typical`).
     typical: f64,
-    /// Master faces with a corner near the overlap region, as master face ids.
-    near_faces: Vec<u32>,
-    /// Each near face's box over the step (start and predicted corners).
-    swept_faces: Vec<Aabb>,
-    face_grid: UniformGrid,
-    faces: Vec<u32>,
+    /// Faces with no corner (at `x1`) in this region are never candidates.
+    face_region: Aabb,
+    boxes: &'a mut FaceBoxes,
+    /// Largest coordinate change of a boundary node since `boxes` was built.
+    moved: f64,
 }
 
 impl<'a> LocalSearch<'a> {
     /// The faces of `master` within `3 typical` of `overlap`, on the positions at the start of
-    /// the step `x0` and the predicted ones `x1`.
+    /// the step `x0` and the predicted ones `x1`; `boxes` keeps the faces' grid between calls
+    /// (it must always be given the same `master`).
     pub(super) fn new(
         master: &'a ContactSurface,
         overlap: &Aabb,
         typical: f64,
         x0: &[Vector3<f64>],
         x1: &[Vector3<f64>],
+        boxes: &'a mut FaceBoxes,
     ) -> Self {
         // A node's faces are searched within `typical` of its path, which is shorter than an
         // element (the step is below the stable one), so faces farther out are never candidates.
         let face_region = overlap.grown(3.0 * typical);
-        let near_faces: Vec<u32> = (0..master.faces.len() as u32)
-            .filter(|&f| {
-                master.faces[f as usize]
-                    .iter()
-                    .any(|&n| face_region.contains(&x1[n as usize]))
-            })
-            .collect();
-        let swept_faces: Vec<Aabb> = near_faces
-            .iter()
-            .map(|&f| {
-                Aabb::of_points(
-                    master.faces[f as usize]
-                        .iter()
-                        .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
-                )
-            })
-            .collect();
-        let face_grid = UniformGrid::build(&swept_faces, typical);
+        let moved = boxes.refit(master, x0, x1);
+        boxes.forget_swept(master.faces.len());
         Self {
             master,
             typical,
-            near_faces,
-            swept_faces,
-            face_grid,
-            faces: Vec::new(),
+            face_region,
+            boxes,
+            moved,
         }
     }
 
-    /// Faces whose swept box meets `region`, as master face ids, into `self.faces`.
-    fn candidates(&mut self, region: Aabb) {
-        let out = &mut self.faces;
-        self.face_grid.query(&region, out);
-        out.retain(|&f| self.swept_faces[f as usize].overlaps(&region));
-        out.iter_mut()
-            .for_each(|f| *f = self.near_faces[*f as usize]);
+    /// Faces with a corner in `face_region` whose swept box meets `region`, as master face
+    /// ids in ascending order, into `self.boxes.faces`.
+    fn candidates(&mut self, region: Aabb, x0: &[Vector3<f64>], x1: &[Vector3<f64>]) {
+        let boxes = &mut *self.boxes;
+        // Rounding of the changes and of the grown box's corners: as in `LayerBoxes::near`.
+        let scale = region.min.amax().max(region.max.amax());
+        let margin = 2.0 * self.moved + 8.0 * f64::EPSILON * scale;
+        let grid = boxes.grid.as_ref().expect("`refit` builds the grid");
+        let reach = region.grown(margin);
+        grid.query(&reach, &mut boxes.found);
+        boxes.faces.clear();
+        for &f in &boxes.found {
+            let f = f as usize;
+            if !boxes.boxes[f].overlaps(&reach) {
+                continue;
+            }
+            if boxes.stamp[f] != boxes.epoch {
+                let corners = &self.master.faces[f];
+                let near = corners
+                    .iter()
+                    .any(|&n| self.face_region.contains(&x1[n as usize]));
+                let swept = Aabb::of_points(
+                    corners
+                        .iter()
+                        .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
+                );
+                boxes.swept[f] = (swept, near);
+                boxes.stamp[f] = boxes.epoch;
+            }
+            let (swept, near) = &boxes.swept[f];
+            if *near && swept.overlaps(&region) {
+                boxes.faces.push(f as u32);
+            }
+        }
     }
 
     /// The face the penetrating `node` is assigned to and the weights of its contact point, by
@@ -95,11 +203,11 @@ impl<'a> LocalSearch<'a> {
         // A face the node crosses holds the crossing point, which lies on the node's path: the
         // path's box (grown by the detection tolerance) finds every such face.
         let path = Aabb::of_points([&node.start, &node.end]);
-        self.candidates(path.grown(settings.tolerance * self.typical));
+        self.candidates(path.grown(settings.tolerance * self.typical), x0, x1);
         let master = self.master;
         earliest_ccd(
             master,
-            &self.faces,
+            &self.boxes.faces,
             node,
             x0,
             x1,
@@ -108,12 +216,12 @@ impl<'a> LocalSearch<'a> {
         )
         .map(|(f, w)| (f, w, Strategy::Ccd))
         .or_else(|| {
-            trajectory_intersection(master, &self.faces, node, x1, settings.tolerance)
+            trajectory_intersection(master, &self.boxes.faces, node, x1, settings.tolerance)
                 .map(|(f, w)| (f, w, Strategy::Trajectory))
         })
         .or_else(|| {
-            self.candidates(path.grown(self.typical));
-            closest_point(master, &self.faces, &node.end, x1, self.typical)
+            self.candidates(path.grown(self.typical), x0, x1);
+            closest_point(master, &self.boxes.faces, &node.end, x1, self.typical)
                 .map(|(f, w)| (f, w, Strategy::ClosestPoint))
         })
     }

@@ -16,11 +16,17 @@ use nalgebra::Vector3;
 
 use super::ccd::Trajectory;
 use super::gauss_seidel::ContactConstraint;
-use super::normals::{contact_normal, facet_normals, NormalSettings};
+use super::normals::{contact_normal_with, FacetNormalCache, NormalSettings};
 use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
-use global::GlobalSearch;
-use local::{LocalSearch, Strategy};
+use global::{GlobalSearch, LayerBoxes};
+use local::{FaceBoxes, LocalSearch, Strategy};
+
+/// The kept grids of detection ([`global::LayerBoxes`], [`local::FaceBoxes`]) are rebuilt once a
+/// node moved this fraction of a cell since: the queries grow by that motion, and a small
+/// fraction keeps them to the few cells around the query (a rebuild costs one scan of the
+/// surface; the sphere-impact scene rebuilds every few hundred steps).
+const REBUILD_FRACTION: f64 = 1.0 / 16.0;
 
 /// The contact surface of one body: its boundary faces (outward), boundary nodes and the
 /// elements of its boundary layer (those with a node on the boundary).
@@ -94,7 +100,11 @@ impl ContactSurface {
 
     /// The faces that share corner `k` of face `face` (including `face`), in ascending order.
     pub fn faces_at_corner(&self, face: usize, k: usize) -> &[u32] {
-        let l = self.corners[face][k] as usize;
+        self.faces_at_node(self.corners[face][k] as usize)
+    }
+
+    /// The faces around boundary node `nodes[l]`, in ascending order.
+    pub fn faces_at_node(&self, l: usize) -> &[u32] {
         &self.node_faces[self.offsets[l] as usize..self.offsets[l + 1] as usize]
     }
 }
@@ -162,48 +172,96 @@ pub fn detect_recording(
     x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     settings: &DetectionSettings,
-    mut ccd_calls: Option<&mut Vec<CcdCall>>,
+    ccd_calls: Option<&mut Vec<CcdCall>>,
 ) -> (Vec<ContactConstraint>, DetectionStats) {
-    let mut stats = DetectionStats::default();
-    let mut constraints = Vec::new();
-    let Some(global) = GlobalSearch::new(model, slave, master, x1) else {
-        return (constraints, stats);
-    };
-    let mut local = LocalSearch::new(master, &global.overlap, global.typical, x0, x1);
-    let mut elements = Vec::new();
-    let mut facet: Option<Vec<Vector3<f64>>> = None;
-    for &s in &slave.nodes {
-        let p = x1[s as usize];
-        if !global.penetrates(model, master, x1, &p, settings.tolerance, &mut elements) {
-            continue;
-        }
-        stats.penetrating += 1;
-        let node = Trajectory {
-            start: x0[s as usize],
-            end: p,
+    Detector::default().detect(model, slave, master, x0, x1, settings, ccd_calls)
+}
+
+/// Detection of one pass kept over a run: what it can carry from step to step (the master
+/// boundary layer's boxes in a grid, refitted instead of rebuilt; scratch space) so a step pays
+/// only for the region where the bodies' boxes overlap. Its answers are bitwise those of
+/// [`detect`]. A detector serves one master surface: keep one per pass.
+#[derive(Debug, Clone, Default)]
+pub struct Detector {
+    layer: LayerBoxes,
+    faces: FaceBoxes,
+    normals: FacetNormalCache,
+    elements: Vec<u32>,
+}
+
+impl Detector {
+    /// [`detect_recording`] for the master surface this detector serves.
+    #[allow(clippy::too_many_arguments)]
+    pub fn detect(
+        &mut self,
+        model: &Model,
+        slave: &ContactSurface,
+        master: &ContactSurface,
+        x0: &[Vector3<f64>],
+        x1: &[Vector3<f64>],
+        settings: &DetectionSettings,
+        mut ccd_calls: Option<&mut Vec<CcdCall>>,
+    ) -> (Vec<ContactConstraint>, DetectionStats) {
+        let mut stats = DetectionStats::default();
+        let mut constraints = Vec::new();
+        let Some(global) = GlobalSearch::new(model, slave, master, x1, &mut self.layer) else {
+            return (constraints, stats);
         };
-        match local.contact_point(&node, x0, x1, settings, ccd_calls.as_deref_mut()) {
-            Some((face, weights, strategy)) => {
-                *match strategy {
-                    Strategy::Ccd => &mut stats.by_ccd,
-                    Strategy::Trajectory => &mut stats.by_trajectory,
-                    Strategy::ClosestPoint => &mut stats.by_closest_point,
-                } += 1;
-                let facet = facet.get_or_insert_with(|| facet_normals(master, x1));
-                let normal =
-                    contact_normal(master, facet, face as usize, &weights, &settings.normals);
-                constraints.push(ContactConstraint {
-                    slave: s,
-                    face: master.faces[face as usize],
-                    weights,
-                    normal,
-                    friction: settings.friction,
-                });
+        let mut local = LocalSearch::new(
+            master,
+            &global.overlap,
+            global.typical,
+            x0,
+            x1,
+            &mut self.faces,
+        );
+        // Facet normals at `x1`, computed for the facets a contact asks for.
+        self.normals.reset(master.faces.len());
+        for &s in &slave.nodes {
+            let p = x1[s as usize];
+            if !global.penetrates(
+                model,
+                master,
+                x1,
+                &p,
+                settings.tolerance,
+                &mut self.elements,
+            ) {
+                continue;
             }
-            None => stats.unresolved += 1,
+            stats.penetrating += 1;
+            let node = Trajectory {
+                start: x0[s as usize],
+                end: p,
+            };
+            match local.contact_point(&node, x0, x1, settings, ccd_calls.as_deref_mut()) {
+                Some((face, weights, strategy)) => {
+                    *match strategy {
+                        Strategy::Ccd => &mut stats.by_ccd,
+                        Strategy::Trajectory => &mut stats.by_trajectory,
+                        Strategy::ClosestPoint => &mut stats.by_closest_point,
+                    } += 1;
+                    let normals = &mut self.normals;
+                    let normal = contact_normal_with(
+                        master,
+                        |g| normals.get(master, x1, g),
+                        face as usize,
+                        &weights,
+                        &settings.normals,
+                    );
+                    constraints.push(ContactConstraint {
+                        slave: s,
+                        face: master.faces[face as usize],
+                        weights,
+                        normal,
+                        friction: settings.friction,
+                    });
+                }
+                None => stats.unresolved += 1,
+            }
         }
+        (constraints, stats)
     }
-    (constraints, stats)
 }
 
 #[cfg(test)]

@@ -12,6 +12,12 @@ pub(super) struct ContactScratch {
     /// move.
     inverse_mass: Vec<Vector3<f64>>,
     beta_0: f64,
+    /// The nodes whose predicted positions contact reads
+    /// ([`crate::contact::ContactPhase::layer_nodes`]) and the surface nodes, the only ones it
+    /// moves: the loops of a step run over these only. Elsewhere the correction is zero, so the
+    /// forces stay at the zeros they start with.
+    layer_nodes: Vec<u32>,
+    surface_nodes: Vec<u32>,
     x0: Vec<Vector3<f64>>,
     x1: Vec<Vector3<f64>>,
     predicted: Vec<Vector3<f64>>,
@@ -39,8 +45,11 @@ impl ContactScratch {
                 })
             })
             .collect();
+        let phase = crate::contact::ContactPhase::new(model, problem.contact.clone());
         Self {
-            phase: crate::contact::ContactPhase::new(model, problem.contact.clone()),
+            layer_nodes: phase.layer_nodes(model),
+            surface_nodes: phase.surface_nodes(),
+            phase,
             inverse_mass,
             beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
             x0: vec![Vector3::zeros(); n],
@@ -64,12 +73,16 @@ impl ContactScratch {
         u: &[Vector3<f64>],
         v_next: &mut [Vector3<f64>],
     ) -> Vec<crate::contact::ContactStep> {
-        for i in 0..u.len() {
-            self.x0[i] = model.reference[i] + u[i];
-            self.x1[i] = self.x0[i] + v_next[i] * dt;
+        for &i in &self.layer_nodes {
+            let i = i as usize;
+            self.x1[i] = (model.reference[i] + u[i]) + v_next[i] * dt;
         }
-        self.predicted.copy_from_slice(&self.x1);
-        self.tangential_dx.fill(Vector3::zeros());
+        for &i in &self.surface_nodes {
+            let i = i as usize;
+            self.x0[i] = model.reference[i] + u[i];
+            self.predicted[i] = self.x1[i];
+            self.tangential_dx[i] = Vector3::zeros();
+        }
         let mut steps = self.phase.resolve(
             step,
             model,
@@ -85,7 +98,8 @@ impl ContactScratch {
         const GAMMA: f64 = 0.5;
         let velocity_share = GAMMA / (self.beta_0 + 0.5);
         let force_per_dx = velocity_share / dt * force_per_dv;
-        for i in 0..u.len() {
+        for &i in &self.surface_nodes {
+            let i = i as usize;
             let dx = self.x1[i] - self.predicted[i];
             let dv = dx * (velocity_share / dt);
             v_next[i] += dv;
