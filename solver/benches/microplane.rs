@@ -7,6 +7,11 @@
 //! - `microplane/elastic/{21,37}/rate_{on,off}`: a virgin history and a small strain
 //!   (`E11 = 2e-5`, `E22 = E33 = -0.18 E11`, tensor shear `E12 = 2e-6`) at 1 /s, with the rate
 //!   effect as in the file and switched off (`rate_effect = None`);
+//! - `microplane/elastic_path/{21,37}`: a virgin history at a strain ten times smaller
+//!   (`E11 = 3e-7`), below the limit of the elastic path (`MicroplaneConcrete::elastic_limit`);
+//! - `microplane/unloading/{21,37}`: a history loaded in uniaxial stress to `E11 = 6e-5` (half
+//!   the tensile peak strain), updated at half that strain: every branch on its unloading line
+//!   before the peak, the state of most of a vibrating beam;
 //! - `microplane/softening_tension/{21,37}`: a history loaded in uniaxial tension to
 //!   `E11 = 6e-4` (well past the peak, by the material-point driver at 1e-5 /s), updated at 1 %
 //!   more strain on every component, so the tensile deviatoric branches load further on their
@@ -79,6 +84,34 @@ fn elastic(model: &MicroplaneConcrete) -> Case {
         state: model.initial_state().values,
         strain: [e, -0.18 * e, -0.18 * e, 0.0, 0.0, 0.1 * e],
         gamma_dot: 1.0,
+        band: model.crack_band(H).expect("h = 5 cm is admissible"),
+    }
+}
+
+/// Virgin history and a strain below the elastic path's limit (`E11 = 3e-7`, the same shape as
+/// [`elastic`]): the update takes the elastic path.
+fn elastic_path(model: &MicroplaneConcrete) -> Case {
+    let e = 3e-7;
+    Case {
+        strain: [e, -0.18 * e, -0.18 * e, 0.0, 0.0, 0.1 * e],
+        ..elastic(model)
+    }
+}
+
+/// History after uniaxial stress to `E11 = 6e-5` (half the tensile peak strain), updated at half
+/// that strain: every branch unloads before its peak, the state of most of a vibrating beam.
+fn unloading(model: &MicroplaneConcrete) -> Case {
+    let mut point = MaterialPoint::new(model, H).expect("h = 5 cm is admissible");
+    point
+        .uniaxial_stress(&ramp(6e-5, 30), PREPARE_RATE)
+        .expect("uniaxial stress before the peak converges");
+    let from = point.strain;
+    let strain = from.map(|e| 0.5 * e);
+    let dt = (strain[0] - from[0]).abs() / PREPARE_RATE;
+    Case {
+        state: point.state.values.clone(),
+        strain,
+        gamma_dot: equivalent_rate(&from, &strain, dt),
         band: model.crack_band(H).expect("h = 5 cm is admissible"),
     }
 }
@@ -208,6 +241,16 @@ fn microplane(c: &mut Criterion) {
             describe(&format!("elastic/{label}/{rate_label}"), &m, &case);
             cases.push(("elastic", format!("{label}/{rate_label}"), m, case));
         }
+    }
+    for (rule, label) in rules {
+        let m = model(rule, true);
+        let case = elastic_path(&m);
+        describe(&format!("elastic_path/{label}"), &m, &case);
+        cases.push(("elastic_path", label.to_string(), m, case));
+        let m = model(rule, true);
+        let case = unloading(&m);
+        describe(&format!("unloading/{label}"), &m, &case);
+        cases.push(("unloading", label.to_string(), m, case));
     }
     for (rule, label) in rules {
         let m = model(rule, true);
