@@ -38,6 +38,8 @@ pub struct MicroplaneConcrete {
     /// The parameters the model was built from (validated).
     pub parameters: MicroplaneParameters,
     planes: Vec<Microplane>,
+    /// `N`, `M` and `K` of the planes, component by component (see [`Projections`]).
+    projections: Projections,
     /// `E_V0 = E / (1 - 2 nu)`, `E_D0 = E_M0 = E_K0 = E / (1 + nu)` (MICROPLANE "Elastic split").
     e_v0: f64,
     e_d0: f64,
@@ -62,6 +64,55 @@ pub struct MicroplaneConcrete {
     plane_stiffness: [[f64; 6]; 6],
     /// Whether the elastic path is used (off for [`MicroplaneConcrete::with_full_update`]).
     elastic_path: bool,
+}
+
+/// The most microplanes a rule has (37), rounded up: the size of the per-update scratch arrays.
+const MAX_PLANES: usize = 40;
+
+/// The projection tensors `N = n (x) n`, `M = sym(m (x) n)`, `K = sym(k (x) n)` of every plane,
+/// stored component by component (`nn[i][p]` is component `i` of plane `p`), so that the strains
+/// of all planes are six multiply-adds over contiguous arrays.
+#[derive(Debug, Clone, PartialEq)]
+struct Projections {
+    nn: [Vec<f64>; 6],
+    mn: [Vec<f64>; 6],
+    kn: [Vec<f64>; 6],
+}
+
+impl Projections {
+    fn new(planes: &[Microplane]) -> Self {
+        assert!(
+            planes.len() <= MAX_PLANES,
+            "{} microplanes, at most {MAX_PLANES}",
+            planes.len()
+        );
+        let component = |pick: fn(&Microplane) -> &Sym| -> [Vec<f64>; 6] {
+            std::array::from_fn(|i| planes.iter().map(|p| pick(p)[i]).collect())
+        };
+        Self {
+            nn: component(|p| &p.nn),
+            mn: component(|p| &p.mn),
+            kn: component(|p| &p.kn),
+        }
+    }
+
+    /// `N : E`, `M : E`, `K : E` of every plane into `normal`, `along_m`, `along_k` (each as long
+    /// as there are planes), with the sums in the order of [`contract`], so bitwise its values.
+    #[inline(always)]
+    fn contract_all(&self, e: &Sym, normal: &mut [f64], along_m: &mut [f64], along_k: &mut [f64]) {
+        for (tensor, out) in [(&self.nn, normal), (&self.mn, along_m), (&self.kn, along_k)] {
+            let [a0, a1, a2, a3, a4, a5] = tensor;
+            let n = out.len();
+            let (a0, a1, a2, a3, a4, a5) =
+                (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n], &a5[..n]);
+            for p in 0..n {
+                out[p] = a0[p] * e[0]
+                    + a1[p] * e[1]
+                    + a2[p] * e[2]
+                    + 2.0 * (a3[p] * e[3] + a4[p] * e[4] + a5[p] * e[5]);
+            }
+        }
+    }
 }
 
 /// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
@@ -93,6 +144,7 @@ impl MicroplaneConcrete {
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
         let mut model = Self {
             planes: directions::microplanes(parameters.rule),
+            projections: Projections::new(&directions::microplanes(parameters.rule)),
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
             e_t0: e / (1.0 + nu),
@@ -398,15 +450,29 @@ impl MicroplaneConcrete {
             * e5
             * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear);
 
+        // The kinematic constraint (5.85, 5.86) for every plane at once, in one pass per tensor
+        // over planes laid out side by side (it vectorises; the sums are those of `contract`).
+        let count = self.planes.len();
+        let mut normal = [0.0; MAX_PLANES];
+        let mut along_m = [0.0; MAX_PLANES];
+        let mut along_k = [0.0; MAX_PLANES];
+        self.projections.contract_all(
+            strain,
+            &mut normal[..count],
+            &mut along_m[..count],
+            &mut along_k[..count],
+        );
+
         let mut sum_d = 0.0;
         let mut inelastic_compression = 0.0;
         let mut sigma = [0.0; 6];
-        for (plane, history) in self
+        for (p, (plane, history)) in self
             .planes
             .iter()
             .zip(planes.chunks_exact_mut(state::PER_PLANE))
+            .enumerate()
         {
-            let e_d_total = contract(&plane.nn, strain) - e_v;
+            let e_d_total = normal[p] - e_v;
             let (e_d, psi_t) = (
                 if e_d_total < 0.0 {
                     e_d_total * relaxation
@@ -433,8 +499,8 @@ impl MicroplaneConcrete {
                 inelastic_compression += 6.0 * plane.weight * (-e_d - s * inverse_e_d0).max(0.0);
                 -s
             };
-            let e_m = contract(&plane.mn, strain) * psi_t;
-            let e_k = contract(&plane.kn, strain) * psi_t;
+            let e_m = along_m[p] * psi_t;
+            let e_k = along_k[p] * psi_t;
             let s_m = self.shear_stress(
                 e_m,
                 &mut history[state::M..state::M + 5],
