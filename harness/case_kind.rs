@@ -104,6 +104,7 @@ pub fn unfinished_result(spec: &CaseSpec, variant: &str) -> CaseResult {
         sweep: None,
         contact: None,
         phase_seconds: Default::default(),
+        fast_update_share: None,
         records: Default::default(),
         known_failure: None,
     }

@@ -282,6 +282,10 @@ pub struct CaseResult {
     /// Wall time of each phase of the explicit step (s), by phase name, for scene runs.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub phase_seconds: BTreeMap<String, f64>,
+    /// Share of the element updates of bodies with a fast path (the microplane elastic path,
+    /// issue 20) that took it over the judged explicit run; absent without such bodies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fast_update_share: Option<f64>,
     /// What the case's kind recorded for its part of the report, under the kind's key
     /// (`contact_comparison`, `material`, `crosscheck`, ...): written and read by the kind
     /// ([`CaseResult::record`], [`CaseResult::set_record`]), carried as JSON by everything else.

@@ -171,6 +171,10 @@ fn run_case(
             .iter()
             .map(|(name, t)| (name.to_string(), *t))
             .collect();
+        result.fast_update_share = run
+            .material_history
+            .as_ref()
+            .and_then(|h| problem.model.fast_update_share(h, summary.steps));
     }
     let mut sweep_levels: Vec<SweepLevel> = runs
         .iter()

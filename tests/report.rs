@@ -90,6 +90,7 @@ fn pass_case() -> CaseResult {
         sweep: None,
         contact: None,
         phase_seconds: Default::default(),
+        fast_update_share: None,
         records: Default::default(),
         known_failure: None,
     }
@@ -139,6 +140,7 @@ fn fail_case() -> CaseResult {
         sweep: Some(sweep),
         contact: None,
         phase_seconds: Default::default(),
+        fast_update_share: None,
         records: Default::default(),
         known_failure: None,
     }
@@ -159,6 +161,7 @@ fn error_case() -> CaseResult {
         sweep: None,
         contact: None,
         phase_seconds: Default::default(),
+        fast_update_share: None,
         records: Default::default(),
         known_failure: None,
     }

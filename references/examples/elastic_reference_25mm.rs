@@ -19,16 +19,7 @@ use impact_solver::statics::LinearSolver;
 
 /// The scene of a case file (its `scene:` entry), relative paths resolved against the file.
 fn case_scene(case: &Path) -> Scene {
-    let text = std::fs::read_to_string(case).unwrap();
-    let value: serde_norway::Value = serde_norway::from_str(&text).unwrap();
-    let scene_text = serde_norway::to_string(&value["scene"]).unwrap();
-    let mut scene = Scene::from_yaml(&scene_text, &case.display().to_string()).unwrap();
-    for body in &mut scene.bodies {
-        if let Some(file) = body.material.file_mut() {
-            *file = case.parent().unwrap().join(&*file);
-        }
-    }
-    scene
+    Scene::from_yaml_file_entry(case, "scene").unwrap()
 }
 
 fn main() {

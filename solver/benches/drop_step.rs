@@ -18,7 +18,7 @@
 #![allow(clippy::unwrap_used)]
 
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -36,11 +36,7 @@ const CHUNK: u64 = 50;
 /// initial constants when `elastic`.
 fn drop_scene(elastic: bool) -> Scene {
     let case = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/beam/drop-2ms.yaml");
-    let text = std::fs::read_to_string(&case).unwrap();
-    let value: serde_norway::Value = serde_norway::from_str(&text).unwrap();
-    let scene_text = serde_norway::to_string(&value["scene"]).unwrap();
-    let mut scene = Scene::from_yaml(&scene_text, &case.display().to_string()).unwrap();
-    scene.resolve_paths(case.parent().unwrap_or(Path::new(".")));
+    let mut scene = Scene::from_yaml_file_entry(&case, "scene").unwrap();
     if elastic {
         let beam = scene.bodies.iter_mut().find(|b| b.name == "beam").unwrap();
         let constants = beam.material.model(&beam.name).unwrap().constants();

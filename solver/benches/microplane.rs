@@ -105,8 +105,13 @@ fn unloading(model: &MicroplaneConcrete) -> Case {
     point
         .uniaxial_stress(&ramp(6e-5, 30), PREPARE_RATE)
         .expect("uniaxial stress before the peak converges");
+    scaled_update(model, &point, 0.5)
+}
+
+/// The update of `point`'s history to `factor` times its strain, at the rate of the driver.
+fn scaled_update(model: &MicroplaneConcrete, point: &MaterialPoint, factor: f64) -> Case {
     let from = point.strain;
-    let strain = from.map(|e| 0.5 * e);
+    let strain = from.map(|e| factor * e);
     let dt = (strain[0] - from[0]).abs() / PREPARE_RATE;
     Case {
         state: point.state.values.clone(),
@@ -138,15 +143,7 @@ fn beyond_peak(model: &MicroplaneConcrete, end: f64) -> Case {
         "  ramp to E11 = {:+.3e}: peak |s11| {:.3e} Pa, last {:+.3e} Pa",
         point.strain[0], peak, point.stress[0]
     );
-    let from = point.strain;
-    let strain = from.map(|e| 1.01 * e);
-    let dt = (strain[0] - from[0]).abs() / PREPARE_RATE;
-    Case {
-        state: point.state.values.clone(),
-        strain,
-        gamma_dot: equivalent_rate(&from, &strain, dt),
-        band: model.crack_band(H).expect("h = 5 cm is admissible"),
-    }
+    scaled_update(model, &point, 1.01)
 }
 
 /// How many branches (volumetric tension plus 6 per plane) load further on their virgin law in

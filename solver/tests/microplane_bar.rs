@@ -9,13 +9,11 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::microplane::driver::{ramp, uniaxial_controls, MaterialPoint};
 use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneParameters};
-use impact_solver::material::{read_microplane_file, MaterialModel};
+use impact_solver::material::MaterialModel;
 use impact_solver::mesh::Mesh;
 use impact_solver::model::{
     Constraint, Model, Motion, Probe, ProbeQuantity, Problem, TimeFunction,
@@ -28,12 +26,6 @@ use nalgebra::{Matrix3, Rotation3};
 const EDGE: f64 = 0.05;
 /// Velocity of the pulled face (m/s): a nominal strain rate of 1 /s.
 const SPEED: f64 = 0.05;
-
-fn thesis_concrete() -> MicroplaneParameters {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml");
-    read_microplane_file(&path).unwrap()
-}
 
 fn cube(edge: f64) -> Mesh {
     box_body([edge; 3], [1, 1, 1], 0.0, 0)

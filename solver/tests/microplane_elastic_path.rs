@@ -4,28 +4,15 @@
 //! not taken, and along paths that start elastic and go on into softening the two stay together.
 #![allow(clippy::unwrap_used)]
 
-use std::path::PathBuf;
+mod common;
 
+use common::{sym_norm, thesis_concrete};
 use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
-use impact_solver::material::microplane::{
-    state, MicroplaneConcrete, MicroplaneParameters, MicroplaneState, Sym,
-};
+use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneState, Sym};
 use impact_solver::rng::SplitMix64;
 
 /// `f32` rounding: half an ulp at 1.
 const F32_ROUNDING: f64 = 1.0 / (1u64 << 24) as f64;
-
-fn thesis_concrete() -> MicroplaneParameters {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml");
-    impact_solver::material::read_microplane_file(&path).unwrap()
-}
-
-/// Frobenius norm with tensor shears counted twice.
-fn norm(s: &Sym) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
-        .sqrt()
-}
 
 /// A random strain whose deviator has Frobenius norm `size` and whose volumetric strain is
 /// `volumetric`.
@@ -35,7 +22,7 @@ fn strain_with_deviator(rng: &mut SplitMix64, size: f64, volumetric: f64) -> Sym
     for v in &mut d[..3] {
         *v -= mean;
     }
-    let scale = size / norm(&d);
+    let scale = size / sym_norm(&d);
     std::array::from_fn(|i| d[i] * scale + if i < 3 { volumetric } else { 0.0 })
 }
 
@@ -72,7 +59,7 @@ fn elastic_path_equals_the_full_update_to_f32_rounding() {
             // The scale of the stress: E |E|; the full update's plane laws differ from their
             // initial moduli by at most 2^-25, their f32 history by one rounding.
             let d: Sym = std::array::from_fn(|j| sa[j] - sb[j]);
-            let relative = norm(&d) / (modulus * norm(&strain));
+            let relative = sym_norm(&d) / (modulus * sym_norm(&strain));
             worst = worst.max(relative);
             assert!(
                 relative <= F32_ROUNDING,
@@ -127,7 +114,7 @@ fn paths_leaving_the_elastic_path_follow_the_full_update() {
                 let pa = a.strain_step(strain, dt);
                 let pb = b.strain_step(strain, dt);
                 let d: Sym = std::array::from_fn(|j| pa.stress[j] - pb.stress[j]);
-                worst = worst.max(norm(&d) / norm(&pb.stress).max(2.7e6));
+                worst = worst.max(sym_norm(&d) / sym_norm(&pb.stress).max(2.7e6));
             }
             from = *to;
         }

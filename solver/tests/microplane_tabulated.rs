@@ -4,27 +4,17 @@
 //! material-point experiments' strengths and fracture energies within `1e-6` relative.
 #![allow(clippy::unwrap_used)]
 
-use std::path::PathBuf;
+mod common;
 
+use common::{sym_norm, thesis_concrete};
 use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
 use impact_solver::material::microplane::experiments::{
     bonded_tension, closed_strain_cycle, uniaxial_compression, uniaxial_tension,
 };
-use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters, Sym};
+use impact_solver::material::microplane::{MicroplaneConcrete, Sym};
 
 /// Largest stress difference allowed, relative to the larger of the stress norm and `f_t`.
 const RELATIVE: f64 = 1e-6;
-
-fn thesis_concrete() -> MicroplaneParameters {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/materials/thesis-concrete.yaml");
-    impact_solver::material::read_microplane_file(&path).unwrap()
-}
-
-fn norm(s: &Sym) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
-        .sqrt()
-}
 
 /// A strain path through `corners` (straight legs of `steps` increments) at `rate`, run on both
 /// models; returns the largest difference over `max(|sigma|, f_t)`.
@@ -49,7 +39,7 @@ fn path_difference(
             let pa = a.strain_step(strain, dt.max(1e-12));
             let pb = b.strain_step(strain, dt.max(1e-12));
             let d: Sym = std::array::from_fn(|j| pa.stress[j] - pb.stress[j]);
-            worst = worst.max(norm(&d) / norm(&pa.stress).max(scale));
+            worst = worst.max(sym_norm(&d) / sym_norm(&pa.stress).max(scale));
         }
         from = *to;
     }

@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::detection::ContactSurface;
+use super::epochs::EpochStamps;
 
 /// Which normal a contact's force conditions use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -64,23 +65,15 @@ fn facet_normal(surface: &ContactSurface, x: &[Vector3<f64>], face: usize) -> Ve
 #[derive(Debug, Clone, Default)]
 pub struct FacetNormalCache {
     normals: Vec<Vector3<f64>>,
-    /// `stamp[f] == epoch` when `normals[f]` holds the normal at the current positions.
-    stamp: Vec<u32>,
-    epoch: u32,
+    /// Facet `f` is current when `normals[f]` holds the normal at the current positions.
+    current: EpochStamps,
 }
 
 impl FacetNormalCache {
     /// Forgets every normal (the positions changed), for a surface of `faces` facets.
     pub fn reset(&mut self, faces: usize) {
-        if self.stamp.len() != faces {
+        if self.current.next_pass(faces) {
             self.normals = vec![Vector3::zeros(); faces];
-            self.stamp = vec![0; faces];
-            self.epoch = 0;
-        }
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.stamp.fill(0);
-            self.epoch = 1;
         }
     }
 
@@ -92,9 +85,9 @@ impl FacetNormalCache {
         x: &[Vector3<f64>],
         face: usize,
     ) -> Vector3<f64> {
-        if self.stamp[face] != self.epoch {
+        if !self.current.is_current(face) {
             self.normals[face] = facet_normal(surface, x, face);
-            self.stamp[face] = self.epoch;
+            self.current.mark(face);
         }
         self.normals[face]
     }

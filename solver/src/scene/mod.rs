@@ -508,6 +508,28 @@ impl Scene {
         Ok(scene)
     }
 
+    /// Reads the scene held under `key` of a YAML file (a case file keeps its scene under
+    /// `scene`), relative paths resolved against the file's folder: a case's scene for a
+    /// benchmark, an example or a test without the harness.
+    pub fn from_yaml_file_entry(path: &Path, key: &str) -> Result<Self> {
+        let source = path.display().to_string();
+        let invalid = |message: String| SolverError::InvalidScene {
+            entity: format!("{source} `{key}`"),
+            message,
+        };
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| invalid(format!("cannot read the file: {e}")))?;
+        let document: serde_norway::Value =
+            serde_norway::from_str(&text).map_err(|e| invalid(e.to_string()))?;
+        let entry = document
+            .get(key)
+            .ok_or_else(|| invalid(format!("the file has no `{key}` entry")))?;
+        let entry_text = serde_norway::to_string(entry).map_err(|e| invalid(e.to_string()))?;
+        let mut scene = Self::from_yaml(&entry_text, &format!("{source} `{key}`"))?;
+        scene.resolve_paths(path.parent().unwrap_or(Path::new(".")));
+        Ok(scene)
+    }
+
     /// Resolves the relative mesh and material file paths of the scene against `base` (the
     /// folder of the file it was read from).
     pub fn resolve_paths(&mut self, base: &Path) {

@@ -144,3 +144,17 @@ pub fn tip_loaded_cantilever<M: Into<impact_solver::model::MaterialSource>>(
     });
     (p, tip)
 }
+
+/// The microplane parameters of the thesis' concrete (`cases/materials/thesis-concrete.yaml`).
+pub fn thesis_concrete() -> impact_solver::material::microplane::MicroplaneParameters {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../cases/materials/thesis-concrete.yaml");
+    impact_solver::material::read_microplane_file(&path).unwrap()
+}
+
+/// Frobenius norm of a symmetric tensor `[11, 22, 33, 23, 13, 12]` with tensor shears (each
+/// counted twice).
+pub fn sym_norm(s: &[f64; 6]) -> f64 {
+    (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
+        .sqrt()
+}

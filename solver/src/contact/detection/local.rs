@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 use super::{CcdCall, ContactSurface, DetectionSettings};
 use crate::contact::broad_phase::{Aabb, UniformGrid};
 use crate::contact::ccd::{vertex_face_ccd, CcdHit, Trajectory};
+use crate::contact::epochs::EpochStamps;
 use crate::contact::geometry::{against, clamped_triangle_weights, triangle_weights};
 
 /// Which strategy found a contact.
@@ -40,11 +41,9 @@ pub(super) struct FaceBoxes {
     /// The candidate faces of the last query, as master face ids.
     faces: Vec<u32>,
     /// Per face, its swept box over the step and whether a corner lies in the pass's face
-    /// region, computed when first asked for in a pass: `swept[f]` is current when
-    /// `stamp[f] == epoch`.
+    /// region, computed when first asked for in a pass (then `swept_current` marks it).
     swept: Vec<(Aabb, bool)>,
-    stamp: Vec<u32>,
-    epoch: u32,
+    swept_current: EpochStamps,
 }
 
 impl FaceBoxes {
@@ -76,15 +75,8 @@ impl FaceBoxes {
 
     /// Forgets the swept boxes of the last pass, for a surface of `faces` faces.
     fn forget_swept(&mut self, faces: usize) {
-        if self.stamp.len() != faces {
+        if self.swept_current.next_pass(faces) {
             self.swept = vec![(Aabb::of_points([]), false); faces];
-            self.stamp = vec![0; faces];
-            self.epoch = 0;
-        }
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.stamp.fill(0);
-            self.epoch = 1;
         }
     }
 
@@ -170,7 +162,7 @@ impl<'a> LocalSearch<'a> {
             if !boxes.boxes[f].overlaps(&reach) {
                 continue;
             }
-            if boxes.stamp[f] != boxes.epoch {
+            if !boxes.swept_current.is_current(f) {
                 let corners = &self.master.faces[f];
                 let near = corners
                     .iter()
@@ -181,7 +173,7 @@ impl<'a> LocalSearch<'a> {
                         .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
                 );
                 boxes.swept[f] = (swept, near);
-                boxes.stamp[f] = boxes.epoch;
+                boxes.swept_current.mark(f);
             }
             let (swept, near) = &boxes.swept[f];
             if *near && swept.overlaps(&region) {

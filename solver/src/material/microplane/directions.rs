@@ -228,6 +228,61 @@ pub fn microplanes(rule: SphereRule) -> Vec<Microplane> {
         .collect()
 }
 
+/// The most microplanes a rule has (37), rounded up: the size of the per-update scratch arrays.
+pub(super) const MAX_PLANES: usize = 40;
+
+/// The projection tensors `N = n (x) n`, `M = sym(m (x) n)`, `K = sym(k (x) n)` of every plane,
+/// stored component by component (`nn[i][p]` is component `i` of plane `p`), so that the strains
+/// of all planes are six multiply-adds over contiguous arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Projections {
+    nn: [Vec<f64>; 6],
+    mn: [Vec<f64>; 6],
+    kn: [Vec<f64>; 6],
+}
+
+impl Projections {
+    pub(super) fn new(planes: &[Microplane]) -> Self {
+        assert!(
+            planes.len() <= MAX_PLANES,
+            "{} microplanes, at most {MAX_PLANES}",
+            planes.len()
+        );
+        let component = |pick: fn(&Microplane) -> &Sym| -> [Vec<f64>; 6] {
+            std::array::from_fn(|i| planes.iter().map(|p| pick(p)[i]).collect())
+        };
+        Self {
+            nn: component(|p| &p.nn),
+            mn: component(|p| &p.mn),
+            kn: component(|p| &p.kn),
+        }
+    }
+
+    /// `N : E`, `M : E`, `K : E` of every plane into `normal`, `along_m`, `along_k` (each as long
+    /// as there are planes), with the sums in the order of [`contract`], so bitwise its values.
+    #[inline(always)]
+    pub(super) fn contract_all(
+        &self,
+        e: &Sym,
+        normal: &mut [f64],
+        along_m: &mut [f64],
+        along_k: &mut [f64],
+    ) {
+        for (tensor, out) in [(&self.nn, normal), (&self.mn, along_m), (&self.kn, along_k)] {
+            let [a0, a1, a2, a3, a4, a5] = tensor;
+            let n = out.len();
+            let (a0, a1, a2, a3, a4, a5) =
+                (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n], &a5[..n]);
+            for p in 0..n {
+                out[p] = a0[p] * e[0]
+                    + a1[p] * e[1]
+                    + a2[p] * e[2]
+                    + 2.0 * (a3[p] * e[3] + a4[p] * e[4] + a5[p] * e[5]);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,19 +17,23 @@ pub mod cyclic;
 pub mod directions;
 pub mod discontinuity;
 pub mod driver;
+mod elastic_path;
 mod element;
 pub mod experiments;
 pub mod laws;
 pub mod parameters;
+mod principal;
 pub mod state;
 pub mod tabulated;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
 pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
+pub use principal::{largest_principal, mazars_strain, principal_values};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
+use directions::{Projections, MAX_PLANES};
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
 
 /// The model with everything that does not change during a run precomputed.
@@ -64,55 +68,6 @@ pub struct MicroplaneConcrete {
     plane_stiffness: [[f64; 6]; 6],
     /// Whether the elastic path is used (off for [`MicroplaneConcrete::with_full_update`]).
     elastic_path: bool,
-}
-
-/// The most microplanes a rule has (37), rounded up: the size of the per-update scratch arrays.
-const MAX_PLANES: usize = 40;
-
-/// The projection tensors `N = n (x) n`, `M = sym(m (x) n)`, `K = sym(k (x) n)` of every plane,
-/// stored component by component (`nn[i][p]` is component `i` of plane `p`), so that the strains
-/// of all planes are six multiply-adds over contiguous arrays.
-#[derive(Debug, Clone, PartialEq)]
-struct Projections {
-    nn: [Vec<f64>; 6],
-    mn: [Vec<f64>; 6],
-    kn: [Vec<f64>; 6],
-}
-
-impl Projections {
-    fn new(planes: &[Microplane]) -> Self {
-        assert!(
-            planes.len() <= MAX_PLANES,
-            "{} microplanes, at most {MAX_PLANES}",
-            planes.len()
-        );
-        let component = |pick: fn(&Microplane) -> &Sym| -> [Vec<f64>; 6] {
-            std::array::from_fn(|i| planes.iter().map(|p| pick(p)[i]).collect())
-        };
-        Self {
-            nn: component(|p| &p.nn),
-            mn: component(|p| &p.mn),
-            kn: component(|p| &p.kn),
-        }
-    }
-
-    /// `N : E`, `M : E`, `K : E` of every plane into `normal`, `along_m`, `along_k` (each as long
-    /// as there are planes), with the sums in the order of [`contract`], so bitwise its values.
-    #[inline(always)]
-    fn contract_all(&self, e: &Sym, normal: &mut [f64], along_m: &mut [f64], along_k: &mut [f64]) {
-        for (tensor, out) in [(&self.nn, normal), (&self.mn, along_m), (&self.kn, along_k)] {
-            let [a0, a1, a2, a3, a4, a5] = tensor;
-            let n = out.len();
-            let (a0, a1, a2, a3, a4, a5) =
-                (&a0[..n], &a1[..n], &a2[..n], &a3[..n], &a4[..n], &a5[..n]);
-            for p in 0..n {
-                out[p] = a0[p] * e[0]
-                    + a1[p] * e[1]
-                    + a2[p] * e[2]
-                    + 2.0 * (a3[p] * e[3] + a4[p] * e[4] + a5[p] * e[5]);
-            }
-        }
-    }
 }
 
 /// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
@@ -158,25 +113,13 @@ impl MicroplaneConcrete {
             },
             cyclic_damage: tabulated::DecayTable::new(1.2, 1.1),
             exact: false,
-            elastic_limit: elastic_limit(&parameters),
+            elastic_limit: elastic_path::elastic_limit_of(&parameters),
             plane_stiffness: [[0.0; 6]; 6],
             elastic_path: true,
             parameters,
         };
         model.plane_stiffness = model.plane_stiffness();
         Ok(model)
-    }
-
-    /// The same model without the elastic path: every update takes the full path over the
-    /// planes (the reference the elastic path is verified against).
-    pub fn with_full_update(mut self) -> Self {
-        self.elastic_path = false;
-        self
-    }
-
-    /// The strain below which the elastic path is taken (see [`MicroplaneConcrete::update`]).
-    pub fn elastic_limit(&self) -> f64 {
-        self.elastic_limit
     }
 
     /// The same model evaluating `exp(-x^m)` of every law, and the cyclic damage, by `powf` and
@@ -288,57 +231,6 @@ impl MicroplaneConcrete {
         }
         header[state::VIRGIN_PLANES] = 0.0;
         self.plane_update(header, planes, strain, e_v, s_v, f, band)
-    }
-
-    /// Whether every plane law is linear to `f32` precision at `strain`: the strain deviator
-    /// bounds every plane's deviatoric and shear strain (`|n.dev.n|`, `|m.dev.n| <= |dev|_2 <=
-    /// |dev|_F`), and a positive volumetric strain drives the relaxation `psi` through the tension
-    /// law (5.91).
-    #[inline(always)]
-    fn on_elastic_path(&self, strain: &Sym, e_v: f64) -> bool {
-        let (a, b, c) = (strain[0] - e_v, strain[1] - e_v, strain[2] - e_v);
-        let deviator = a * a
-            + b * b
-            + c * c
-            + 2.0 * (strain[3] * strain[3] + strain[4] * strain[4] + strain[5] * strain[5]);
-        let limit = self.elastic_limit;
-        deviator <= limit * limit && e_v <= limit
-    }
-
-    /// The update of an element whose planes are all virgin and linear: `s = D E + s_V I`, with
-    /// the plane stiffness `D` and the volumetric stress `s_V` of the full update; the plane
-    /// histories stay zero, and the rate factor and largest principal stress are stored as the
-    /// full update stores them.
-    #[inline(always)]
-    fn elastic_update(
-        &self,
-        header: &mut [f32],
-        strain: &Sym,
-        s_v: f64,
-        f: f64,
-    ) -> (Sym, UpdateInfo) {
-        let d = &self.plane_stiffness;
-        let mut sigma: Sym = std::array::from_fn(|i| {
-            d[i][0] * strain[0]
-                + d[i][1] * strain[1]
-                + d[i][2] * strain[2]
-                + d[i][3] * strain[3]
-                + d[i][4] * strain[4]
-                + d[i][5] * strain[5]
-        });
-        for s in &mut sigma[..3] {
-            *s += s_v;
-        }
-        header[state::RATE_FACTOR] = f as f32;
-        header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
-        header[state::ELASTIC_UPDATES] += 1.0;
-        (
-            sigma,
-            UpdateInfo {
-                rate_factor: f,
-                psi: header[state::RELAXATION] as f64,
-            },
-        )
     }
 
     /// The volumetric stress `s_V` (5.21, 5.22), advancing the volumetric history in `header`.
@@ -594,40 +486,6 @@ impl MicroplaneConcrete {
         s.copysign(e) * damage
     }
 
-    /// The planes' part of the initial stiffness, `[11, 22, 33, 23, 13, 12]` with tensor shears:
-    /// deviatoric and shear laws at `E_D0`, `E_T0`, homogenised (5.36), less the deviatoric trace
-    /// term where the model keeps it. With `E_V0 e_V` on the normal components it is
-    /// [`MicroplaneConcrete::elastic_stiffness`].
-    fn plane_stiffness(&self) -> [[f64; 6]; 6] {
-        let mut c = [[0.0; 6]; 6];
-        for j in 0..6 {
-            let mut e = [0.0; 6];
-            e[j] = 1.0;
-            let e_v = (e[0] + e[1] + e[2]) / 3.0;
-            let mut s = [0.0; 6];
-            let mut sum_d = 0.0;
-            for plane in &self.planes {
-                let w = 6.0 * plane.weight;
-                let s_d = self.e_d0 * (contract(&plane.nn, &e) - e_v);
-                let s_m = self.e_t0 * contract(&plane.mn, &e);
-                let s_k = self.e_t0 * contract(&plane.kn, &e);
-                sum_d += w * s_d;
-                for i in 0..6 {
-                    s[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
-                }
-            }
-            if self.parameters.deviatoric_trace_term {
-                for v in &mut s[..3] {
-                    *v -= sum_d / 3.0;
-                }
-            }
-            for i in 0..6 {
-                c[i][j] = s[i];
-            }
-        }
-        c
-    }
-
     /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
     /// shears: `sigma = C : E` homogenised from the elastic split (5.37 with undamaged moduli).
     pub fn elastic_stiffness(&self) -> [[f64; 6]; 6] {
@@ -657,87 +515,5 @@ impl MicroplaneConcrete {
             }
         }
         c
-    }
-}
-
-/// The strain up to which every plane law is linear to `f32` precision, the elastic path's limit:
-/// `exp(-x^m) >= 1 - x^m` rounds to 1 in `f32` while `x^m <= 2^-25`, so the limit is
-/// `2^(-25/m)` strain scales of the least of the tension (`e1`, exponent `m`), compression (`e2`,
-/// `n`) and shear (`e3`, `k`) laws. The rate factor only widens the laws (`F >= 1`), and
-/// compression only widens the shear law (`e3 - e4 e_V`), so the limit holds at every rate and
-/// pressure.
-fn elastic_limit(p: &MicroplaneParameters) -> f64 {
-    let linear = |scale: f64, exponent: f64| scale * (-25.0 / exponent).exp2();
-    linear(p.e1, p.m)
-        .min(linear(p.e2, p.n))
-        .min(linear(p.e3, p.k))
-}
-
-/// Mazars' (1986) equivalent strain `sqrt(sum <e_i>^2)` over the principal values of `e`.
-pub fn mazars_strain(e: &Sym) -> f64 {
-    principal_values(e)
-        .iter()
-        .map(|v| v.max(0.0).powi(2))
-        .sum::<f64>()
-        .sqrt()
-}
-
-/// The three eigenvalues of a symmetric tensor, largest first (trigonometric closed form; Smith
-/// 1961).
-pub fn principal_values(s: &Sym) -> [f64; 3] {
-    match spectral_angle(s) {
-        None => [(s[0] + s[1] + s[2]) / 3.0; 3],
-        Some((mean, p, phi)) => {
-            let largest = mean + 2.0 * p * phi.cos();
-            let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-            [largest, 3.0 * mean - largest - smallest, smallest]
-        }
-    }
-}
-
-/// Largest eigenvalue of a symmetric tensor (trigonometric closed form; Smith 1961).
-pub fn largest_principal(s: &Sym) -> f64 {
-    match spectral_angle(s) {
-        None => (s[0] + s[1] + s[2]) / 3.0,
-        Some((mean, p, phi)) => mean + 2.0 * p * phi.cos(),
-    }
-}
-
-/// Smith's (1961) parametrisation of the eigenvalues, `mean + 2 p cos(phi + 2 pi k / 3)`:
-/// `(mean, p, phi)`, or `None` for an isotropic tensor (all three equal to the mean).
-fn spectral_angle(s: &Sym) -> Option<(f64, f64, f64)> {
-    let mean = (s[0] + s[1] + s[2]) / 3.0;
-    let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
-    let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
-    let p2 = a * a + b * b + c * c + 2.0 * p1;
-    if p2 <= 1e-300 {
-        return None;
-    }
-    let p = (p2 / 6.0).sqrt();
-    // det((s - mean I) / p) / 2
-    let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
-    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-    Some((mean, p, (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn largest_principal_matches_eigen_decomposition() {
-        let s = [3.0, -1.0, 2.0, 0.4, -0.7, 1.1];
-        let m = nalgebra::Matrix3::new(s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2]);
-        let max = m.symmetric_eigenvalues().max();
-        assert!((largest_principal(&s) - max).abs() < 1e-12);
-        assert_eq!(largest_principal(&[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]), 2.0);
-        let mut all = m.symmetric_eigenvalues().as_slice().to_vec();
-        all.sort_by(|a, b| b.total_cmp(a));
-        for (v, w) in principal_values(&s).iter().zip(&all) {
-            assert!((v - w).abs() < 1e-12, "{v} against {w}");
-        }
-        // Uniaxial strain and uniaxial stress both give Mazars' strain e_x.
-        assert_eq!(mazars_strain(&[1e-4, 0.0, 0.0, 0.0, 0.0, 0.0]), 1e-4);
-        assert!((mazars_strain(&[1e-4, -2e-5, -2e-5, 0.0, 0.0, 0.0]) - 1e-4).abs() < 1e-18);
     }
 }

@@ -1,0 +1,73 @@
+//! Principal values of a symmetric tensor in closed form (Smith 1961): the largest principal
+//! stress of the crack closure (5.97) and Mazars' equivalent strain of the tension driver.
+
+use super::Sym;
+
+/// Mazars' (1986) equivalent strain `sqrt(sum <e_i>^2)` over the principal values of `e`.
+pub fn mazars_strain(e: &Sym) -> f64 {
+    principal_values(e)
+        .iter()
+        .map(|v| v.max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The three eigenvalues of a symmetric tensor, largest first (trigonometric closed form; Smith
+/// 1961).
+pub fn principal_values(s: &Sym) -> [f64; 3] {
+    match spectral_angle(s) {
+        None => [(s[0] + s[1] + s[2]) / 3.0; 3],
+        Some((mean, p, phi)) => {
+            let largest = mean + 2.0 * p * phi.cos();
+            let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+            [largest, 3.0 * mean - largest - smallest, smallest]
+        }
+    }
+}
+
+/// Largest eigenvalue of a symmetric tensor (trigonometric closed form; Smith 1961).
+pub fn largest_principal(s: &Sym) -> f64 {
+    match spectral_angle(s) {
+        None => (s[0] + s[1] + s[2]) / 3.0,
+        Some((mean, p, phi)) => mean + 2.0 * p * phi.cos(),
+    }
+}
+
+/// Smith's (1961) parametrisation of the eigenvalues, `mean + 2 p cos(phi + 2 pi k / 3)`:
+/// `(mean, p, phi)`, or `None` for an isotropic tensor (all three equal to the mean).
+fn spectral_angle(s: &Sym) -> Option<(f64, f64, f64)> {
+    let mean = (s[0] + s[1] + s[2]) / 3.0;
+    let p1 = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
+    let (a, b, c) = (s[0] - mean, s[1] - mean, s[2] - mean);
+    let p2 = a * a + b * b + c * c + 2.0 * p1;
+    if p2 <= 1e-300 {
+        return None;
+    }
+    let p = (p2 / 6.0).sqrt();
+    // det((s - mean I) / p) / 2
+    let (xx, yy, zz, yz, xz, xy) = (a / p, b / p, c / p, s[3] / p, s[4] / p, s[5] / p);
+    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    Some((mean, p, (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn largest_principal_matches_eigen_decomposition() {
+        let s = [3.0, -1.0, 2.0, 0.4, -0.7, 1.1];
+        let m = nalgebra::Matrix3::new(s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2]);
+        let max = m.symmetric_eigenvalues().max();
+        assert!((largest_principal(&s) - max).abs() < 1e-12);
+        assert_eq!(largest_principal(&[2.0, 2.0, 2.0, 0.0, 0.0, 0.0]), 2.0);
+        let mut all = m.symmetric_eigenvalues().as_slice().to_vec();
+        all.sort_by(|a, b| b.total_cmp(a));
+        for (v, w) in principal_values(&s).iter().zip(&all) {
+            assert!((v - w).abs() < 1e-12, "{v} against {w}");
+        }
+        // Uniaxial strain and uniaxial stress both give Mazars' strain e_x.
+        assert_eq!(mazars_strain(&[1e-4, 0.0, 0.0, 0.0, 0.0, 0.0]), 1e-4);
+        assert!((mazars_strain(&[1e-4, -2e-5, -2e-5, 0.0, 0.0, 0.0]) - 1e-4).abs() < 1e-18);
+    }
+}
