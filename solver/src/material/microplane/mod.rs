@@ -97,9 +97,10 @@ impl MicroplaneConcrete {
     pub fn new(parameters: MicroplaneParameters) -> Result<Self, ParameterError> {
         parameters.validate()?;
         let (e, nu) = (parameters.youngs_modulus, parameters.poisson_ratio);
+        let planes = directions::microplanes(parameters.rule);
         let mut model = Self {
-            planes: directions::microplanes(parameters.rule),
-            projections: Projections::new(&directions::microplanes(parameters.rule)),
+            projections: Projections::new(&planes),
+            planes,
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
             e_t0: e / (1.0 + nu),
