@@ -24,15 +24,28 @@ fn run(case: &LoadedCase) -> impact_vv::results::CaseResult {
     case.kind.run(case, None, &options)
 }
 
-fn write_case(name: &str, body: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "impact-vv-case-kinds-{name}-{}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("case.yaml");
+/// A case file written into a scratch folder of its own, removed when the value is dropped; it
+/// reads as the file's path.
+struct CaseFile {
+    _dir: tempfile::TempDir,
+    path: std::path::PathBuf,
+}
+
+impl std::ops::Deref for CaseFile {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.path
+    }
+}
+
+fn write_case(name: &str, body: &str) -> CaseFile {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("impact-vv-case-kinds-{name}-"))
+        .tempdir()
+        .unwrap();
+    let path = dir.path().join("case.yaml");
     std::fs::write(&path, body).unwrap();
-    path
+    CaseFile { _dir: dir, path }
 }
 
 const HEAD: &str = "id: x\ndescription: d\ntier: nightly\n";

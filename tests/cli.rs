@@ -11,13 +11,15 @@ use std::process::Output;
 
 use cli_common::*;
 
-/// A catalogue folder holding one case file with `content`.
-fn catalogue_with(name: &str, content: &str) -> (PathBuf, PathBuf) {
+/// A catalogue folder holding one case file with `content`, and the reports folder beside it,
+/// both in the scratch folder returned first (removed when it is dropped).
+fn catalogue_with(name: &str, content: &str) -> (TestDir, PathBuf, PathBuf) {
     let dir = temp_dir(name);
     let cases = dir.join("cases");
     std::fs::create_dir_all(&cases).unwrap();
     std::fs::write(cases.join("case.yaml"), content).unwrap();
-    (cases, dir.join("reports"))
+    let reports = dir.join("reports");
+    (dir, cases, reports)
 }
 
 fn run_in(cases: &Path, reports: &Path) -> Output {
@@ -61,7 +63,8 @@ fn assert_only_material_cases_fail(out: &Output, json: &serde_json::Value) {
 
 #[test]
 fn quick_tier_run_writes_report_results_and_history_and_a_second_run_adds_trends() {
-    let reports = temp_dir("quick").join("reports");
+    let dir = temp_dir("quick");
+    let reports = dir.join("reports");
     let first = run_in(&repo().join("cases"), &reports);
     assert_only_material_cases_fail(&first, &results(&reports));
     let run = only_run_dir(&reports);
@@ -122,7 +125,8 @@ fn quick_tier_run_writes_report_results_and_history_and_a_second_run_adds_trends
 
 #[test]
 fn malformed_yaml_is_exit_2_with_file_and_line() {
-    let (cases, reports) = catalogue_with("malformed", "id: broken\ndescription: [unclosed\n");
+    let (_dir, cases, reports) =
+        catalogue_with("malformed", "id: broken\ndescription: [unclosed\n");
     let out = run_in(&cases, &reports);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(
@@ -138,7 +142,7 @@ fn malformed_yaml_is_exit_2_with_file_and_line() {
 
 #[test]
 fn an_unknown_key_is_exit_2_naming_the_key() {
-    let (cases, reports) = catalogue_with(
+    let (_dir, cases, reports) = catalogue_with(
         "unknown",
         &confined_wave().replace("tier: quick", "tier: quick\ntolerence: 3"),
     );
@@ -161,7 +165,7 @@ fn a_missing_mesh_file_fails_the_case_naming_the_file() {
         "sweep: { mesh: [[50, 2, 2], [100, 2, 2], [200, 2, 2]] }\n",
         "",
     );
-    let (cases, reports) = catalogue_with("mesh", &content);
+    let (_dir, cases, reports) = catalogue_with("mesh", &content);
     let out = run_in(&cases, &reports);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
     let case = &results(&reports)["cases"][0];
@@ -174,7 +178,7 @@ fn a_missing_mesh_file_fails_the_case_naming_the_file() {
 
 #[test]
 fn a_negative_density_fails_the_case_with_its_message() {
-    let (cases, reports) = catalogue_with(
+    let (_dir, cases, reports) = catalogue_with(
         "density",
         &confined_wave().replace(
             "material: { linear_elastic: { density: 2300",
@@ -200,7 +204,7 @@ fn a_missing_reference_is_a_failure_never_a_skip() {
         "    reference: { analytic: { dilatational_wave_speed: { of: { material: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 } } } } }\n",
         "",
     );
-    let (cases, reports) = catalogue_with("reference", &content);
+    let (_dir, cases, reports) = catalogue_with("reference", &content);
     let out = run_in(&cases, &reports);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
     let case = &results(&reports)["cases"][0];
@@ -221,7 +225,7 @@ fn a_wrong_youngs_modulus_fails_the_case_on_the_right_metric() {
         "material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9",
         "material: { linear_elastic: { density: 2300, youngs_modulus: 33.0e9",
     );
-    let (cases, reports) = catalogue_with("wrong-e", &content);
+    let (_dir, cases, reports) = catalogue_with("wrong-e", &content);
     let out = run_in(&cases, &reports);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out));
     let case = &results(&reports)["cases"][0];

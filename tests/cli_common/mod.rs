@@ -13,12 +13,26 @@ pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// An empty scratch folder named after the test and the process.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("impact-vv-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch folder removed with everything in it when the value is dropped, so a test run
+/// leaves nothing behind in the system's temporary folder (a killed scene alone writes hundreds
+/// of megabytes of frames). It reads as the folder's path.
+pub struct TestDir(tempfile::TempDir);
+
+impl std::ops::Deref for TestDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+/// An empty scratch folder whose name starts with the test's `name`; it is removed when dropped.
+pub fn temp_dir(name: &str) -> TestDir {
+    TestDir(
+        tempfile::Builder::new()
+            .prefix(&format!("impact-vv-cli-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 /// Runs `impact-vv` with `args` and environment `envs` from the repository root.
