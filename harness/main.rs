@@ -111,7 +111,8 @@ enum Command {
         #[arg(long, default_value = "cases")]
         catalogue: PathBuf,
     },
-    /// Run one scene file and write its history (CSV) and fields (VTU + PVD for ParaView).
+    /// Run one scene file (or the `scene` of a catalogue case file) and write its history (CSV)
+    /// and fields (VTU + PVD for ParaView).
     Scene {
         path: PathBuf,
         #[arg(long, default_value = "reports/scene")]

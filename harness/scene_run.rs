@@ -84,15 +84,30 @@ impl fmt::Display for SceneReport {
     }
 }
 
-/// Reads, builds and runs the scene at `path`, writing its output under `out`; `stop` (set by a
-/// signal handler) ends an explicit run at the end of the current step.
+/// Whether the YAML file at `path` is a catalogue case (top-level `id` and `scene`) rather than a
+/// scene: then `impact-vv scene` runs the case's scene as written (its variants and metrics are
+/// the catalogue's business, `impact-vv run`).
+fn is_case_file(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| serde_norway::from_str::<serde_norway::Value>(&text).ok())
+        .is_some_and(|doc| doc.get("id").is_some() && doc.get("scene").is_some())
+}
+
+/// Reads, builds and runs the scene at `path` (a scene file, or a case file's `scene`), writing
+/// its output under `out`; `stop` (set by a signal handler) ends an explicit run at the end of the
+/// current step.
 pub fn run_scene_file(
     path: &Path,
     out: &Path,
     fields: bool,
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<SceneReport, SceneRunError> {
-    let scene = Scene::from_yaml_file(path)?;
+    let scene = if is_case_file(path) {
+        Scene::from_yaml_file_entry(path, "scene")?
+    } else {
+        Scene::from_yaml_file(path)?
+    };
     let mut problem = build_problem(&scene)?;
     let bar = fraction_bar(&scene.name);
     let options = ExecuteOptions {

@@ -297,6 +297,32 @@ fn scene_output_is_bitwise_identical_on_one_and_two_threads() {
     assert_eq!(csv[0], csv[1]);
 }
 
+/// `impact-vv scene` given a catalogue case file runs the case's `scene` (the same history as
+/// the scene file it was written from would give).
+#[test]
+fn scene_command_runs_the_scene_of_a_case_file() {
+    let dir = temp_dir("case-scene");
+    let out = impact_vv(
+        &[
+            "scene",
+            "cases/elastic/confined-wave.yaml",
+            "--out",
+            dir.to_str().unwrap(),
+            "--no-fields",
+        ],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out));
+    let histories: Vec<_> = std::fs::read_dir(&*dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with("_history.csv"))
+        .collect();
+    assert_eq!(histories.len(), 1, "{histories:?}");
+    let rows = std::fs::read_to_string(dir.join(&histories[0])).unwrap();
+    assert!(rows.lines().count() > 10, "{rows}");
+}
+
 /// The shared contact problems (`../shared/data/contact-problems` beside the repository, or
 /// under `$IMPACT_SHARED_DIR`), or `None` with a message when there is no such folder.
 fn contact_problems() -> Option<PathBuf> {
