@@ -20,7 +20,9 @@
 //! - `microplane/softening_compression/{21,37}`: the same in uniaxial compression, a ramp to
 //!   `E11 = -4e-3`, or as far as the driver gets (the printout says where it stopped), updated
 //!   at 1 % more strain;
-//! - `microplane/copy_state/{21,37}`: `copy_from_slice` of the history alone, for reference.
+//! - `microplane/copy_state/{21,37}`: `copy_from_slice` of the history alone, for reference;
+//! - `microplane/portable_*/21*`: the 21-plane cases above through the portable build of the
+//!   update, where the processor runs its AVX2 build (`MicroplaneConcrete::with_portable_code`).
 //!
 //! The restore of the prepared history is *not* timed: a batch of 32 copies is restored outside
 //! the clock, then the 32 updates run under it (`iter_custom`), so the clock's own cost is spread
@@ -268,6 +270,16 @@ fn microplane(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new(*kind, id), |b| {
             b.iter_custom(|iters| time_updates(m, case, iters))
         });
+    }
+    // The portable build of the same updates, where the processor runs the AVX2 one: the gain
+    // of the wider registers, in the same run.
+    for (kind, id, m, case) in &cases {
+        if m.runs_wide_vectors() && id.starts_with("21") {
+            let portable = m.clone().with_portable_code();
+            group.bench_function(BenchmarkId::new(format!("portable_{kind}"), id), |b| {
+                b.iter_custom(|iters| time_updates(&portable, case, iters))
+            });
+        }
     }
     for (kind, id, _, case) in &cases {
         if *kind == "elastic" && id.ends_with("rate_on") {

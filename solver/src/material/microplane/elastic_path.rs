@@ -4,7 +4,9 @@
 //! (`MicroplaneConcrete::update`; verified in `tests/microplane_elastic_path.rs`).
 
 use super::directions::contract;
-use super::{largest_principal, state, MicroplaneConcrete, MicroplaneParameters, Sym, UpdateInfo};
+use super::{
+    principal_stress_for_closure, state, MicroplaneConcrete, MicroplaneParameters, Sym, UpdateInfo,
+};
 
 impl MicroplaneConcrete {
     /// The same model without the elastic path: every update takes the full path over the
@@ -59,7 +61,8 @@ impl MicroplaneConcrete {
             *s += s_v;
         }
         header[state::RATE_FACTOR] = f as f32;
-        header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
+        header[state::PRINCIPAL_STRESS] =
+            principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
         header[state::ELASTIC_UPDATES] += 1.0;
         (
             sigma,

@@ -29,7 +29,9 @@ pub mod tabulated;
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
 pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
-pub use principal::{largest_principal, mazars_strain, principal_values};
+pub use principal::{
+    largest_principal, mazars_strain, principal_stress_for_closure, principal_values,
+};
 pub use state::MicroplaneState;
 
 use cyclic::{Branch, UnloadingRule};
@@ -68,6 +70,8 @@ pub struct MicroplaneConcrete {
     plane_stiffness: [[f64; 6]; 6],
     /// Whether the elastic path is used (off for [`MicroplaneConcrete::with_full_update`]).
     elastic_path: bool,
+    /// Whether the processor has AVX2 and FMA, so the update runs its wide-register build.
+    wide_vectors: bool,
 }
 
 /// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
@@ -117,6 +121,7 @@ impl MicroplaneConcrete {
             elastic_limit: elastic_path::elastic_limit_of(&parameters),
             plane_stiffness: [[0.0; 6]; 6],
             elastic_path: true,
+            wide_vectors: wide_vectors(),
             parameters,
         };
         model.plane_stiffness = model.plane_stiffness();
@@ -132,6 +137,19 @@ impl MicroplaneConcrete {
         }
         self.exact = true;
         self
+    }
+
+    /// The same model always running the portable build of the update, never its AVX2 build:
+    /// the reference that the wide-register build is checked against bit for bit
+    /// (`tests/microplane_wide_build.rs`).
+    pub fn with_portable_code(mut self) -> Self {
+        self.wide_vectors = false;
+        self
+    }
+
+    /// Whether updates run the AVX2 and FMA build of [`MicroplaneConcrete::update`].
+    pub fn runs_wide_vectors(&self) -> bool {
+        self.wide_vectors
     }
 
     /// The microplanes of the model's direction rule, with their weights and projections.
@@ -213,6 +231,41 @@ impl MicroplaneConcrete {
     /// the limit give the same stresses later, to the `f32` rounding of the history
     /// (`tests/microplane_elastic_path.rs`).
     pub fn update(
+        &self,
+        state: &mut [f32],
+        strain: &Sym,
+        gamma_dot: f64,
+        band: &CrackBand,
+    ) -> (Sym, UpdateInfo) {
+        #[cfg(target_arch = "x86_64")]
+        if self.wide_vectors {
+            // SAFETY: the processor has AVX2 and FMA (detected when the model was built).
+            return unsafe { self.update_avx2(state, strain, gamma_dot, band) };
+        }
+        self.update_portable(state, strain, gamma_dot, band)
+    }
+
+    /// [`MicroplaneConcrete::update`] compiled for AVX2 and FMA: the same operations in the same
+    /// order on wider registers, so the same bits (Rust never fuses a product and a sum unless
+    /// asked to, so FMA changes no rounding).
+    ///
+    /// # Safety
+    /// The processor must support AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn update_avx2(
+        &self,
+        state: &mut [f32],
+        strain: &Sym,
+        gamma_dot: f64,
+        band: &CrackBand,
+    ) -> (Sym, UpdateInfo) {
+        self.update_portable(state, strain, gamma_dot, band)
+    }
+
+    /// The update for any processor (see [`MicroplaneConcrete::update`]).
+    #[inline(always)]
+    fn update_portable(
         &self,
         state: &mut [f32],
         strain: &Sym,
@@ -425,7 +478,8 @@ impl MicroplaneConcrete {
             *s += volumetric;
         }
         header[state::RATE_FACTOR] = f as f32;
-        header[state::PRINCIPAL_STRESS] = largest_principal(&sigma) as f32;
+        header[state::PRINCIPAL_STRESS] =
+            principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
         if p.dilatancy > 0.0 {
             let dilatant = p.dilatancy * inelastic_compression;
             if dilatant > header[state::DILATANCY] as f64 {
@@ -516,5 +570,17 @@ impl MicroplaneConcrete {
             }
         }
         c
+    }
+}
+
+/// Whether this processor runs AVX2 and FMA (the wide-register build of the update).
+fn wide_vectors() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }

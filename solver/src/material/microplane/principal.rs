@@ -33,6 +33,28 @@ pub fn largest_principal(s: &Sym) -> f64 {
     }
 }
 
+/// The largest principal stress as the crack closure `f(s_I)` (5.97) of the next update reads it
+/// after rounding to `f32`: exact only where the closure varies. Where the largest diagonal term
+/// is positive, `s_I` is too (it bounds `s_I` from below) and the closure is 1; where Gershgorin's
+/// bound `max_i (s_ii + sum_j |s_ij|)` lies below `s_I,min` even after rounding, so does `s_I` and
+/// the closure is 0. The bound is stored then (rounding is monotonic, so the closure of the stored
+/// value is that of the exact one, bit for bit), and the eigenvalue's `acos` and `cos` are spent
+/// only in between. The slot holds `s_I` itself, or a value on the same side of both limits.
+#[inline(always)]
+pub fn principal_stress_for_closure(s: &Sym, s_i_min: f64) -> f64 {
+    let largest_diagonal = s[0].max(s[1]).max(s[2]);
+    if largest_diagonal > 0.0 {
+        return largest_diagonal;
+    }
+    let upper = (s[0] + s[5].abs() + s[4].abs())
+        .max(s[1] + s[5].abs() + s[3].abs())
+        .max(s[2] + s[4].abs() + s[3].abs());
+    if ((upper as f32) as f64) < s_i_min {
+        return upper;
+    }
+    largest_principal(s)
+}
+
 /// Smith's (1961) parametrisation of the eigenvalues, `mean + 2 p cos(phi + 2 pi k / 3)`:
 /// `(mean, p, phi)`, or `None` for an isotropic tensor (all three equal to the mean).
 fn spectral_angle(s: &Sym) -> Option<(f64, f64, f64)> {
@@ -53,6 +75,44 @@ fn spectral_angle(s: &Sym) -> Option<(f64, f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::microplane::discontinuity::closure;
+    use crate::rng::SplitMix64;
+
+    /// On random stress states of every sign mix and scale, the closure of the stored value is
+    /// the closure of the exact largest principal stress, bit for bit, and a third of the
+    /// states still take the exact eigenvalue (the test covers all three ranges).
+    #[test]
+    fn principal_stress_for_closure_gives_the_exact_closure() {
+        let s_i_min = -2.0e5;
+        let mut rng = SplitMix64::new(97);
+        let mut counts = [0usize; 3];
+        for k in 0..200_000 {
+            let scale = [1e3, 1e5, 3e5, 1e7][k % 4];
+            let centre = rng.uniform(-2.0, 0.3) * scale;
+            let s: Sym = std::array::from_fn(|i| {
+                if i < 3 {
+                    centre + rng.uniform(-0.5, 0.5) * scale
+                } else {
+                    rng.uniform(-0.3, 0.3) * scale
+                }
+            });
+            let exact = largest_principal(&s) as f32 as f64;
+            let stored = principal_stress_for_closure(&s, s_i_min);
+            let read = stored as f32 as f64;
+            assert_eq!(
+                closure(read, s_i_min).to_bits(),
+                closure(exact, s_i_min).to_bits(),
+                "{s:?}: stored {stored}, exact {exact}"
+            );
+            let range = if stored == largest_principal(&s) {
+                2
+            } else {
+                usize::from(stored > 0.0)
+            };
+            counts[range] += 1;
+        }
+        assert!(counts.iter().all(|&c| c > 20_000), "{counts:?}");
+    }
 
     #[test]
     fn largest_principal_matches_eigen_decomposition() {
