@@ -42,8 +42,10 @@
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
 mod distortion;
+mod locate;
 
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
+pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
