@@ -43,9 +43,15 @@
 
 mod distortion;
 mod locate;
+mod transfer;
 
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
+pub use transfer::{
+    closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
+    matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
+    shape_function_transfer, transfer_nodal_vectors,
+};
