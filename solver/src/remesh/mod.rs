@@ -43,6 +43,7 @@
 
 mod distortion;
 mod locate;
+mod record;
 mod transfer;
 
 pub use distortion::{
@@ -50,6 +51,10 @@ pub use distortion::{
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
+pub use record::{
+    angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
+    MeshState, RemeshRecord,
+};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
