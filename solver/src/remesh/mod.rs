@@ -18,7 +18,10 @@
 //!   stress-free configuration to the current one) as an element field, through T1; the run
 //!   goes on with `F = F_r F_0`, `F_r = I + grad_x u_r` the deformation since `t_r` measured on the
 //!   new mesh, and the stress from `F` as before. T1 is exact for a uniform `F_0`, so a body in
-//!   uniform stress keeps it exactly; a varying `F_0` is smoothed (8.4.1.1).
+//!   uniform stress keeps it exactly; a varying `F_0` is smoothed (8.4.1.1), component by
+//!   component, which also averages differing rotations (and so shortens them a little where
+//!   neighbours rotate differently): the run that goes on checks `det F_0 > 0` and may prefer
+//!   to carry the polar factors `R`, `U` separately once it exists.
 //! * microplane bodies carry their history (turning points and damage, the thesis' "damage
 //!   variables") through T2, closest Gauss point, so that cracks do not diffuse; their `F_0`
 //!   goes with the history from the **same** old element (T2, not T1), because the history's
