@@ -178,6 +178,16 @@ pub enum SolverError {
         time: f64,
     },
 
+    #[error("remeshing: {entity}: {message}")]
+    /// A remeshing step cannot go on: an old element inverted in the current configuration, a new
+    /// node or element outside the old mesh, fields of the wrong length (`remesh`).
+    Remesh {
+        /// The mesh, node, element or field at fault, e.g. "old element 12".
+        entity: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+
     #[error("cannot write `{path}`: {source}")]
     /// An output file or folder could not be created or written.
     Write {

@@ -17,6 +17,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod remesh;
 pub mod rng;
 pub mod scene;
 pub mod statics;

@@ -1,0 +1,492 @@
+//! Where the points of a new mesh lie in the old one (thesis 8.4.2 step (i), Box 8.3), and which
+//! old Gauss point is closest to a new one (8.4.1.2).
+//!
+//! Both searches run over a uniform grid of cells (a bucket grid): each old element is listed in
+//! every cell its bounding box overlaps, each old centroid in the cell that holds it. The lists
+//! are filled in ascending element order and every tie is broken towards the lower element id,
+//! so the answers do not depend on anything but the meshes.
+
+use nalgebra::Vector3;
+
+use crate::error::{Result, SolverError};
+use crate::kinematics::shape_gradients;
+
+/// Barycentric tolerance of the point location: a point whose smallest barycentric coordinate in
+/// an element is at least `-LOCATE_TOLERANCE` lies in that element. Box 8.3 starts from a
+/// tolerance and widens it by 1e-3 per failed sweep; here a point found in no element goes to
+/// the nearest element instead ([`Locator::locate`]), so the tolerance only has to absorb
+/// round-off: 1e-10 is about 10^6 times the round-off of the coordinates and far below any
+/// geometric feature.
+pub const LOCATE_TOLERANCE: f64 = 1e-10;
+
+/// Where a point lies in the old mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Location {
+    /// The old element that holds the point, or the nearest one for a point outside the mesh.
+    pub element: usize,
+    /// The point's barycentric coordinates `N_a(x)` (3.61) in that element; they sum to one.
+    /// For a point just outside the mesh some are negative: interpolating with them extrapolates
+    /// the element's linear field, which keeps T3 exact for linear fields.
+    pub barycentric: [f64; 4],
+    /// Distance from the point to the element (m): 0 inside, else how far outside it is.
+    pub distance: f64,
+}
+
+/// A uniform grid of cells over a box, each listing items (element ids) in ascending order, in
+/// compressed rows.
+#[derive(Debug, Clone)]
+struct Grid {
+    lo: Vector3<f64>,
+    cell: Vector3<f64>,
+    dims: [usize; 3],
+    start: Vec<usize>,
+    items: Vec<u32>,
+}
+
+impl Grid {
+    /// A grid over the boxes `(min, max)`, with cells of about the volume per box (at most 128
+    /// per axis).
+    fn new(boxes: &[(Vector3<f64>, Vector3<f64>)]) -> Self {
+        let mut lo = Vector3::repeat(f64::INFINITY);
+        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+        for (a, b) in boxes {
+            lo = lo.inf(a);
+            hi = hi.sup(b);
+        }
+        // A margin of 1e-9 of the size, so that a point on the boundary of the boxes, computed
+        // with other round-off, still falls in the grid.
+        let size = (hi - lo).max().max(f64::MIN_POSITIVE);
+        lo -= Vector3::repeat(1e-9 * size);
+        hi += Vector3::repeat(1e-9 * size);
+        let extent = hi - lo;
+        // A flat or empty extent along an axis still gets one cell of positive size.
+        let extent = extent.map(|e| e.max(1e-9 * size));
+        // About one item per cell: cell edge from the volume per box, at most 128 cells per axis.
+        let n = boxes.len().max(1) as f64;
+        let h = (extent.x * extent.y * extent.z / n).cbrt();
+        let dims = [0, 1, 2].map(|a| ((extent[a] / h).ceil() as usize).clamp(1, 128));
+        let cell = Vector3::new(
+            extent.x / dims[0] as f64,
+            extent.y / dims[1] as f64,
+            extent.z / dims[2] as f64,
+        );
+        let mut grid = Self {
+            lo,
+            cell,
+            dims,
+            start: vec![0; dims[0] * dims[1] * dims[2] + 1],
+            items: Vec::new(),
+        };
+        // Counting pass, then the fill in ascending item order.
+        for (a, b) in boxes {
+            let (c0, c1) = (grid.cell_of(a), grid.cell_of(b));
+            for k in c0[2]..=c1[2] {
+                for j in c0[1]..=c1[1] {
+                    for i in c0[0]..=c1[0] {
+                        let c = grid.index([i, j, k]);
+                        grid.start[c + 1] += 1;
+                    }
+                }
+            }
+        }
+        for c in 0..grid.start.len() - 1 {
+            grid.start[c + 1] += grid.start[c];
+        }
+        let mut next = grid.start.clone();
+        grid.items = vec![0; grid.start[grid.start.len() - 1]];
+        for (item, (a, b)) in boxes.iter().enumerate() {
+            let (c0, c1) = (grid.cell_of(a), grid.cell_of(b));
+            for k in c0[2]..=c1[2] {
+                for j in c0[1]..=c1[1] {
+                    for i in c0[0]..=c1[0] {
+                        let c = grid.index([i, j, k]);
+                        grid.items[next[c]] = item as u32;
+                        next[c] += 1;
+                    }
+                }
+            }
+        }
+        grid
+    }
+
+    fn index(&self, c: [usize; 3]) -> usize {
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    /// The cell holding `x`, clamped into the grid.
+    fn cell_of(&self, x: &Vector3<f64>) -> [usize; 3] {
+        [0, 1, 2].map(|a| {
+            let t = ((x[a] - self.lo[a]) / self.cell[a]).floor();
+            if t > 0.0 {
+                (t as usize).min(self.dims[a] - 1)
+            } else {
+                0
+            }
+        })
+    }
+
+    fn cell_items(&self, c: [usize; 3]) -> &[u32] {
+        let i = self.index(c);
+        &self.items[self.start[i]..self.start[i + 1]]
+    }
+
+    /// Visits the items of the cells at Chebyshev distance exactly `r` from cell `c`.
+    fn ring(&self, c: [usize; 3], r: usize, mut visit: impl FnMut(u32)) {
+        let lo = c.map(|x| x.saturating_sub(r));
+        let hi = [0, 1, 2].map(|a| (c[a] + r).min(self.dims[a] - 1));
+        for k in lo[2]..=hi[2] {
+            for j in lo[1]..=hi[1] {
+                for i in lo[0]..=hi[0] {
+                    let d = [i.abs_diff(c[0]), j.abs_diff(c[1]), k.abs_diff(c[2])];
+                    if d.into_iter().max() == Some(r) {
+                        self.cell_items([i, j, k]).iter().for_each(|&e| visit(e));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Largest ring index that still reaches a cell of the grid.
+    fn max_ring(&self) -> usize {
+        self.dims.into_iter().max().unwrap_or(1)
+    }
+
+    /// Whether `x` lies in the grid's box.
+    fn contains(&self, x: &Vector3<f64>) -> bool {
+        (0..3)
+            .all(|a| x[a] >= self.lo[a] && x[a] <= self.lo[a] + self.cell[a] * self.dims[a] as f64)
+    }
+
+    /// The item nearest to `x` by `distance` (ties to the lower id): ring by ring from the cell
+    /// of `x`, stopping once the best distance is within the rings already searched (an item
+    /// listed in no searched cell has its box outside them, so it is at least `r` cells away).
+    /// A point outside the grid's box is compared with every item.
+    fn nearest(&self, x: &Vector3<f64>, count: usize, distance: impl Fn(u32) -> f64) -> (u32, f64) {
+        let mut best = (u32::MAX, f64::INFINITY);
+        let consider = |best: &mut (u32, f64), e: u32| {
+            let d = distance(e);
+            if d < best.1 || (d == best.1 && e < best.0) {
+                *best = (e, d);
+            }
+        };
+        if !self.contains(x) {
+            (0..count as u32).for_each(|e| consider(&mut best, e));
+            return best;
+        }
+        let c = self.cell_of(x);
+        let h = self.cell.min();
+        for r in 0..=self.max_ring() {
+            self.ring(c, r, |e| consider(&mut best, e));
+            if best.1 <= r as f64 * h {
+                break;
+            }
+        }
+        best
+    }
+}
+
+/// Point location in an old mesh at its current coordinates (the first step of T1 and T3).
+#[derive(Debug, Clone)]
+pub struct Locator<'a> {
+    nodes: &'a [Vector3<f64>],
+    tets: &'a [[u32; 4]],
+    grad: Vec<[Vector3<f64>; 4]>,
+    grid: Grid,
+}
+
+impl<'a> Locator<'a> {
+    /// The locator of the mesh `tets` over the coordinates `nodes` (the old mesh in the current
+    /// configuration). Every element must have a positive volume there: an inverted element
+    /// holds no point and no field can be interpolated in it, so it is an error naming it.
+    pub fn new(nodes: &'a [Vector3<f64>], tets: &'a [[u32; 4]]) -> Result<Self> {
+        if tets.is_empty() {
+            return Err(SolverError::Remesh {
+                entity: "old mesh".to_string(),
+                message: "has no elements to locate points in".to_string(),
+            });
+        }
+        let mut grad = Vec::with_capacity(tets.len());
+        let mut boxes = Vec::with_capacity(tets.len());
+        for (e, tet) in tets.iter().enumerate() {
+            let x = tet.map(|n| nodes[n as usize]);
+            let Some((g, _)) = shape_gradients(&x) else {
+                return Err(SolverError::Remesh {
+                    entity: format!("old element {e}"),
+                    message: "its current volume is not positive (inverted or collapsed); \
+                              fields cannot be interpolated in it. Remesh earlier (a lower \
+                              collapse-ratio limit)"
+                        .to_string(),
+                });
+            };
+            grad.push(g);
+            let (mut lo, mut hi) = (x[0], x[0]);
+            for p in &x[1..] {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+            boxes.push((lo, hi));
+        }
+        Ok(Self {
+            nodes,
+            tets,
+            grad,
+            grid: Grid::new(&boxes),
+        })
+    }
+
+    /// Barycentric coordinates `N_a(p)` of `p` in element `e` (3.61):
+    /// `N_a(p) = N_a(x_0) + grad N_a . (p - x_0)`, with `N_0 = 1 - N_1 - N_2 - N_3` so that they
+    /// sum to one exactly.
+    pub fn barycentric(&self, e: usize, p: &Vector3<f64>) -> [f64; 4] {
+        let d = p - self.nodes[self.tets[e][0] as usize];
+        let g = &self.grad[e];
+        let (l1, l2, l3) = (g[1].dot(&d), g[2].dot(&d), g[3].dot(&d));
+        [1.0 - l1 - l2 - l3, l1, l2, l3]
+    }
+
+    /// Distance from `p` to element `e` (m): 0 when its barycentric coordinates are all at least
+    /// `-LOCATE_TOLERANCE` (inside, as [`Self::locate`] decides it), else the distance to the
+    /// nearest of its faces.
+    fn distance(&self, e: usize, p: &Vector3<f64>) -> f64 {
+        let l = self.barycentric(e, p);
+        if l.iter().all(|&v| v >= -LOCATE_TOLERANCE) {
+            return 0.0;
+        }
+        let x = self.tets[e].map(|n| self.nodes[n as usize]);
+        crate::mesh::TET_FACES
+            .iter()
+            .map(|f| (closest_on_triangle(p, &x[f[0]], &x[f[1]], &x[f[2]]) - p).norm())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Where `p` lies: the element of its grid cell whose smallest barycentric coordinate is
+    /// at least `-LOCATE_TOLERANCE` (the most interior one, then the lowest id, where several
+    /// qualify, as on a shared face); failing that, the nearest element, with `distance` how far
+    /// outside it the point is (a point of the new boundary just outside the old one).
+    pub fn locate(&self, p: &Vector3<f64>) -> Location {
+        let mut best: Option<(usize, [f64; 4], f64)> = None;
+        if self.grid.contains(p) {
+            for &e in self.grid.cell_items(self.grid.cell_of(p)) {
+                let e = e as usize;
+                let l = self.barycentric(e, p);
+                let smallest = l.iter().copied().fold(f64::INFINITY, f64::min);
+                if smallest >= -LOCATE_TOLERANCE && best.is_none_or(|b| smallest > b.2) {
+                    best = Some((e, l, smallest));
+                }
+            }
+        }
+        if let Some((element, barycentric, _)) = best {
+            return Location {
+                element,
+                barycentric,
+                distance: 0.0,
+            };
+        }
+        let (e, distance) = self
+            .grid
+            .nearest(p, self.tets.len(), |e| self.distance(e as usize, p));
+        let element = e as usize;
+        Location {
+            element,
+            barycentric: self.barycentric(element, p),
+            distance,
+        }
+    }
+
+    /// [`Self::locate`] for every point, with an error naming the first point farther than
+    /// `max_distance` (m) outside the old mesh: the new mesh does not fill the same domain.
+    pub fn locate_all(&self, points: &[Vector3<f64>], max_distance: f64) -> Result<Vec<Location>> {
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let l = self.locate(p);
+                if l.distance > max_distance {
+                    return Err(SolverError::Remesh {
+                        entity: format!("new point {i} at {:?}", p.as_slice()),
+                        message: format!(
+                            "lies {:.3e} m outside the old mesh (nearest old element {}), more \
+                             than the {max_distance:.3e} m allowed: the new mesh must fill the \
+                             old mesh's current domain",
+                            l.distance, l.element
+                        ),
+                    });
+                }
+                Ok(l)
+            })
+            .collect()
+    }
+}
+
+/// The closest point to `p` on the triangle `(a, b, c)` (Ericson 2005, *Real-Time Collision
+/// Detection*, 5.1.5): by the Voronoi region of `p` among the vertices, edges and face.
+fn closest_on_triangle(
+    p: &Vector3<f64>,
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    c: &Vector3<f64>,
+) -> Vector3<f64> {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return *a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return *b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return *c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+/// Nearest-point search among the centroids of an old mesh's elements, the Gauss points of the
+/// linear tetrahedron (one point, at the centroid, integrates it exactly; thesis 3.3.3.1).
+#[derive(Debug, Clone)]
+pub struct CentroidSearch {
+    centroids: Vec<Vector3<f64>>,
+    grid: Grid,
+}
+
+impl CentroidSearch {
+    /// The search over the points `centroids` (m), the old Gauss points.
+    pub fn new(centroids: Vec<Vector3<f64>>) -> Self {
+        let boxes: Vec<_> = centroids.iter().map(|c| (*c, *c)).collect();
+        let grid = Grid::new(&boxes);
+        Self { centroids, grid }
+    }
+
+    /// The index of the centroid closest to `p` (Euclidean distance; the lowest index among
+    /// equally close ones), with its distance (m). `None` when there are no centroids.
+    pub fn closest(&self, p: &Vector3<f64>) -> Option<(usize, f64)> {
+        if self.centroids.is_empty() {
+            return None;
+        }
+        let (i, d) = self.grid.nearest(p, self.centroids.len(), |i| {
+            (self.centroids[i as usize] - p).norm()
+        });
+        Some((i as usize, d))
+    }
+}
+
+/// The centroid `(x_0 + x_1 + x_2 + x_3) / 4` of every element of `tets` over `nodes` (m).
+pub fn centroids(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> Vec<Vector3<f64>> {
+    tets.iter()
+        .map(|t| t.iter().map(|&n| nodes[n as usize]).sum::<Vector3<f64>>() / 4.0)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{box_mesh, BoxSpec};
+
+    fn unit_box(n: usize) -> crate::mesh::Mesh {
+        box_mesh(&BoxSpec {
+            origin: [0.0; 3],
+            size: [1.0, 1.0, 1.0],
+            divisions: [n; 3],
+            mirror: Vec::new(),
+        })
+    }
+
+    #[test]
+    fn every_node_of_a_finer_mesh_is_found_with_exact_coordinates() {
+        let old = unit_box(3);
+        let new = unit_box(5);
+        let locator = Locator::new(&old.nodes, &old.tets).unwrap();
+        for p in &new.nodes {
+            let l = locator.locate(p);
+            assert_eq!(l.distance, 0.0);
+            assert!(l.barycentric.iter().all(|&v| v >= -LOCATE_TOLERANCE));
+            let x = old.element_nodes(l.element);
+            let q: Vector3<f64> = (0..4).map(|a| x[a] * l.barycentric[a]).sum();
+            assert!((q - p).norm() < 1e-15, "{p:?} -> {q:?}");
+        }
+    }
+
+    #[test]
+    fn grid_search_matches_a_brute_force_scan() {
+        let old = unit_box(4);
+        let locator = Locator::new(&old.nodes, &old.tets).unwrap();
+        let mut rng = crate::rng::SplitMix64::new(7);
+        for _ in 0..500 {
+            // Points inside and up to 0.2 outside the box.
+            let p = Vector3::new(
+                rng.uniform(-0.2, 1.2),
+                rng.uniform(-0.2, 1.2),
+                rng.uniform(-0.2, 1.2),
+            );
+            let l = locator.locate(&p);
+            let brute = (0..old.tets.len())
+                .map(|e| locator.distance(e, &p))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                (l.distance - brute).abs() < 1e-14,
+                "{p:?}: {} vs {brute}",
+                l.distance
+            );
+            let inside = (0..3).all(|a| (0.0..=1.0).contains(&p[a]));
+            assert_eq!(l.distance == 0.0, inside, "{p:?}");
+            // Outside, the distance is the one to the box.
+            let to_box = p.map(|v| v.clamp(0.0, 1.0)) - p;
+            assert!((l.distance - to_box.norm()).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn inverted_old_element_is_an_error() {
+        let mut old = unit_box(1);
+        old.tets[3].swap(0, 1);
+        let err = Locator::new(&old.nodes, &old.tets).unwrap_err();
+        assert!(err.to_string().contains("old element 3"), "{err}");
+        let old = unit_box(2);
+        let locator = Locator::new(&old.nodes, &old.tets).unwrap();
+        let far = [Vector3::new(0.5, 0.5, 0.5), Vector3::new(2.0, 0.5, 0.5)];
+        let err = locator.locate_all(&far, 0.1).unwrap_err();
+        assert!(err.to_string().contains("new point 1"), "{err}");
+    }
+
+    #[test]
+    fn closest_centroid_matches_a_brute_force_scan() {
+        let old = unit_box(3);
+        let c = centroids(&old.nodes, &old.tets);
+        let search = CentroidSearch::new(c.clone());
+        let mut rng = crate::rng::SplitMix64::new(11);
+        for _ in 0..500 {
+            let p = Vector3::new(
+                rng.uniform(-0.1, 1.1),
+                rng.uniform(-0.1, 1.1),
+                rng.uniform(-0.1, 1.1),
+            );
+            let (i, d) = search.closest(&p).unwrap();
+            let (j, e) = c
+                .iter()
+                .enumerate()
+                .map(|(j, q)| (j, (q - p).norm_squared()))
+                .fold(
+                    (usize::MAX, f64::INFINITY),
+                    |b, x| if x.1 < b.1 { x } else { b },
+                );
+            assert_eq!(i, j);
+            assert!((d - e.sqrt()).abs() < 1e-15);
+        }
+    }
+}
