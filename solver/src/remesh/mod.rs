@@ -1,6 +1,7 @@
 //! Adaptive remeshing (thesis chapter 8, issue 21): when to remesh, where to refine, and how the
-//! mechanical fields go from the old mesh to the new one. The mesher and the hook into the
-//! explicit run come later; this module is the part both will call.
+//! mechanical fields go from the old mesh to the new one. The local mesher is [`remesh_region`]
+//! (method in `mesher.rs`), checked by [`check_remeshed`]; the hook into the explicit run comes
+//! later.
 //!
 //! # Configuration and formulation
 //!
@@ -46,6 +47,8 @@
 
 mod distortion;
 mod locate;
+mod mesh_check;
+mod mesher;
 mod record;
 mod transfer;
 
@@ -54,6 +57,10 @@ pub use distortion::{
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
+pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
+pub use mesher::{
+    grow_region, mean_ratio, remesh_region, MesherOptions, RemeshedRegion, SMOOTHING_SWEEPS,
+};
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,

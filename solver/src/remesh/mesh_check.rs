@@ -1,0 +1,241 @@
+//! The checks a run makes after a local remeshing ([`super::remesh_region`]), before it
+//! transfers the fields: the new mesh is valid, fills the same body, and is better shaped.
+
+use std::collections::HashMap;
+
+use nalgebra::Vector3;
+
+use super::distortion::collapse_ratio;
+use super::mesher::RemeshedRegion;
+use crate::error::{Result, SolverError};
+use crate::kinematics::signed_volume;
+use crate::mesh::{boundary_faces_of, BoundaryFace, TET_FACES};
+
+/// Relative tolerance on the region's volume and the outer boundary's area: both are sums of
+/// pieces that tile the same set, equal up to the round-off of the sums.
+pub const REMESH_TOLERANCE: f64 = 1e-12;
+
+/// What [`check_remeshed`] measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RemeshCheck {
+    /// Number of elements in the region before the remeshing.
+    pub region_elements_before: usize,
+    /// Number of elements replacing it.
+    pub region_elements_after: usize,
+    /// Volume of the region before (current configuration, m^3).
+    pub region_volume_before: f64,
+    /// Volume of the elements replacing it (m^3).
+    pub region_volume_after: f64,
+    /// Area of the body's outer boundary before (m^2).
+    pub boundary_area_before: f64,
+    /// Area of the outer boundary after (m^2).
+    pub boundary_area_after: f64,
+    /// Smallest element volume in the new region (m^3).
+    pub min_volume_after: f64,
+    /// Worst collapse ratio (8.1) of the region before.
+    pub worst_ratio_before: f64,
+    /// Worst collapse ratio of the elements replacing the region.
+    pub worst_ratio_after: f64,
+}
+
+fn fail(message: String) -> SolverError {
+    SolverError::Remesh {
+        entity: "remeshed region".to_string(),
+        message,
+    }
+}
+
+fn boundary_area(x: &[Vector3<f64>], faces: &[BoundaryFace]) -> f64 {
+    faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.nodes.map(|n| x[n as usize]);
+            0.5 * (b - a).cross(&(c - a)).norm()
+        })
+        .sum()
+}
+
+fn sorted(f: [u32; 3]) -> [u32; 3] {
+    let mut k = f;
+    k.sort_unstable();
+    k
+}
+
+/// Checks the remeshing `new` of the elements `region` of the old mesh (`x`, `tets`, current
+/// coordinates), and measures it. An error says which check failed:
+///
+/// * **validity:** every new element has a positive volume (none inverted or flat);
+/// * **untouched elements:** every copied element has the old element's nodes, each at its old
+///   coordinates bit for bit;
+/// * **volume:** the region's volume is kept to [`REMESH_TOLERANCE`] (relative);
+/// * **outer boundary:** its area is kept to [`REMESH_TOLERANCE`], and every old boundary node
+///   is kept and still on the boundary;
+/// * **conformity:** no face is held by more than two elements, and every face the region
+///   shared with the rest of the mesh is held by two. A hanging node would leave faces held by
+///   one element inside the body, which the boundary-area check sees as extra boundary.
+///
+/// The quality before and after is the worst collapse ratio `chi` (8.1) of the region's old
+/// elements and of the elements replacing them.
+pub fn check_remeshed(
+    x: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    region: &[usize],
+    new: &RemeshedRegion,
+) -> Result<RemeshCheck> {
+    let mut in_region = vec![false; tets.len()];
+    for &e in region {
+        if e >= tets.len() {
+            return Err(fail(format!("region element {e} is out of range")));
+        }
+        in_region[e] = true;
+    }
+    let mut region = region.to_vec();
+    region.sort_unstable();
+    region.dedup();
+    let region = &region[..];
+    if new.kept_nodes.len() != x.len() || new.element_origin.len() != new.tets.len() {
+        return Err(fail(format!(
+            "{} kept-node entries for {} old nodes, {} origins for {} elements",
+            new.kept_nodes.len(),
+            x.len(),
+            new.element_origin.len(),
+            new.tets.len()
+        )));
+    }
+    let xn = &new.nodes;
+    let mut min_volume = f64::INFINITY;
+    for (e, tet) in new.tets.iter().enumerate() {
+        if tet.iter().any(|&n| n as usize >= xn.len()) {
+            return Err(fail(format!(
+                "element {e} has a node out of range: {tet:?}"
+            )));
+        }
+        let v = signed_volume(&tet.map(|n| xn[n as usize]));
+        if !(v > 0.0) {
+            return Err(fail(format!(
+                "new element {e} has volume {v:.6e} m^3: inverted or flat"
+            )));
+        }
+        if e >= new.first_region_element {
+            min_volume = min_volume.min(v);
+        }
+    }
+
+    // Untouched elements: same nodes, same coordinates.
+    for (e, origin) in new.element_origin.iter().enumerate() {
+        let Some(old) = origin else { continue };
+        let old_tet = tets[*old as usize];
+        let mapped = old_tet.map(|n| new.kept_nodes[n as usize]);
+        if mapped != new.tets[e].map(Some) {
+            return Err(fail(format!(
+                "element {e} claims to copy old element {old} but its nodes differ"
+            )));
+        }
+        for (k, &n) in old_tet.iter().enumerate() {
+            if xn[new.tets[e][k] as usize] != x[n as usize] {
+                return Err(fail(format!("old node {n} of element {e} has moved")));
+            }
+        }
+    }
+
+    // Volume of the region.
+    let before: f64 = region
+        .iter()
+        .map(|&e| signed_volume(&tets[e].map(|n| x[n as usize])))
+        .sum();
+    let after: f64 = new.tets[new.first_region_element..]
+        .iter()
+        .map(|t| signed_volume(&t.map(|n| xn[n as usize])))
+        .sum();
+    if !((after - before).abs() <= REMESH_TOLERANCE * before) {
+        return Err(fail(format!(
+            "region volume {after:.15e} m^3 differs from the old {before:.15e} m^3 by {:.3e} \
+             (relative)",
+            (after - before).abs() / before
+        )));
+    }
+
+    // Conformity: face counts in the new mesh.
+    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * new.tets.len());
+    for tet in &new.tets {
+        for f in TET_FACES {
+            *count.entry(sorted(f.map(|i| tet[i]))).or_insert(0) += 1;
+        }
+    }
+    if let Some((face, c)) = count.iter().find(|(_, &c)| c > 2) {
+        return Err(fail(format!(
+            "face {face:?} is held by {c} elements: not conforming"
+        )));
+    }
+    let region_faces: std::collections::HashSet<[u32; 3]> = region
+        .iter()
+        .flat_map(|&r| TET_FACES.map(|f| sorted(f.map(|i| tets[r][i]))))
+        .collect();
+    for (e, tet) in tets.iter().enumerate() {
+        if in_region[e] {
+            continue;
+        }
+        for f in TET_FACES {
+            let face = f.map(|i| tet[i]);
+            // A face of an outside element that a region element also holds.
+            if !region_faces.contains(&sorted(face)) {
+                continue;
+            }
+            let mapped = face.map(|n| new.kept_nodes[n as usize]);
+            let key = match mapped {
+                [Some(a), Some(b), Some(c)] => sorted([a, b, c]),
+                _ => return Err(fail(format!("interface face {face:?} lost a node"))),
+            };
+            if count.get(&key) != Some(&2) {
+                return Err(fail(format!(
+                    "interface face {face:?} of old element {e} is not shared by two elements"
+                )));
+            }
+        }
+    }
+
+    // Outer boundary.
+    let old_faces = boundary_faces_of(tets);
+    let new_faces = boundary_faces_of(&new.tets);
+    let (area_before, area_after) = (boundary_area(x, &old_faces), boundary_area(xn, &new_faces));
+    if !((area_after - area_before).abs() <= REMESH_TOLERANCE * area_before) {
+        return Err(fail(format!(
+            "outer boundary area {area_after:.15e} m^2 differs from the old {area_before:.15e} \
+             m^2 (a hanging node, or a boundary node moved off the boundary)"
+        )));
+    }
+    let mut on_boundary = vec![false; xn.len()];
+    for f in &new_faces {
+        for n in f.nodes {
+            on_boundary[n as usize] = true;
+        }
+    }
+    for f in &old_faces {
+        for n in f.nodes {
+            match new.kept_nodes[n as usize] {
+                Some(m) if on_boundary[m as usize] => {}
+                _ => {
+                    return Err(fail(format!(
+                        "old boundary node {n} is not on the new boundary"
+                    )))
+                }
+            }
+        }
+    }
+
+    let worst = |x: &[Vector3<f64>], list: &mut dyn Iterator<Item = &[u32; 4]>| {
+        list.map(|t| collapse_ratio(&t.map(|n| x[n as usize])))
+            .fold(0.0, f64::max)
+    };
+    Ok(RemeshCheck {
+        region_elements_before: region.len(),
+        region_elements_after: new.tets.len() - new.first_region_element,
+        region_volume_before: before,
+        region_volume_after: after,
+        boundary_area_before: area_before,
+        boundary_area_after: area_after,
+        min_volume_after: min_volume,
+        worst_ratio_before: worst(x, &mut region.iter().map(|&e| &tets[e])),
+        worst_ratio_after: worst(xn, &mut new.tets[new.first_region_element..].iter()),
+    })
+}
