@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 
 pub use boundary::{boundary_faces, boundary_faces_of, boundary_nodes, BoundaryFace};
 pub use generate::{box_mesh, perturb_interior, Axis, BoxSpec};
-pub use quality::{element_quality, ElementQuality};
+pub use quality::{edge_extremes, element_quality, ElementQuality};
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;

@@ -29,15 +29,7 @@ pub fn element_quality(x: &[Vector3<f64>; 4]) -> ElementQuality {
         let [a, b, c] = face.map(|i| x[i]);
         max_area = max_area.max(0.5 * (b - a).cross(&(c - a)).norm());
     }
-    let mut max_edge: f64 = 0.0;
-    let mut min_edge = f64::INFINITY;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            let l = (x[j] - x[i]).norm();
-            max_edge = max_edge.max(l);
-            min_edge = min_edge.min(l);
-        }
-    }
+    let (min_edge, max_edge) = edge_extremes(x);
     ElementQuality {
         volume,
         min_altitude: if max_area > 0.0 {
@@ -50,4 +42,18 @@ pub fn element_quality(x: &[Vector3<f64>; 4]) -> ElementQuality {
         max_edge,
         min_edge,
     }
+}
+
+/// The shortest and the longest of the six edges of the tetrahedron `x`.
+pub fn edge_extremes(x: &[Vector3<f64>; 4]) -> (f64, f64) {
+    let mut max_edge: f64 = 0.0;
+    let mut min_edge = f64::INFINITY;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let l = (x[j] - x[i]).norm();
+            max_edge = max_edge.max(l);
+            min_edge = min_edge.min(l);
+        }
+    }
+    (min_edge, max_edge)
 }

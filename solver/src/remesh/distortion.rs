@@ -24,15 +24,7 @@ pub const REFINEMENT_DELTA: f64 = 0.85;
 /// six edges of the tetrahedron `x`, which the thesis takes in the spatial configuration (so `x`
 /// are current coordinates). 1 for the regular tetrahedron; infinite when two nodes coincide.
 pub fn collapse_ratio(x: &[Vector3<f64>; 4]) -> f64 {
-    let mut max_edge: f64 = 0.0;
-    let mut min_edge = f64::INFINITY;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            let l = (x[j] - x[i]).norm();
-            max_edge = max_edge.max(l);
-            min_edge = min_edge.min(l);
-        }
-    }
+    let (min_edge, max_edge) = crate::mesh::edge_extremes(x);
     if min_edge > 0.0 {
         max_edge / min_edge
     } else {

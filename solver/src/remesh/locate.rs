@@ -8,6 +8,7 @@
 
 use nalgebra::Vector3;
 
+use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
 use crate::kinematics::shape_gradients;
 
@@ -255,7 +256,7 @@ impl<'a> Locator<'a> {
         let x = self.tets[e].map(|n| self.nodes[n as usize]);
         crate::mesh::TET_FACES
             .iter()
-            .map(|f| (closest_on_triangle(p, &x[f[0]], &x[f[1]], &x[f[2]]) - p).norm())
+            .map(|f| (closest_point_on_triangle(p, &x[f[0]], &x[f[1]], &x[f[2]]) - p).norm())
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -316,45 +317,6 @@ impl<'a> Locator<'a> {
             })
             .collect()
     }
-}
-
-/// The closest point to `p` on the triangle `(a, b, c)` (Ericson 2005, *Real-Time Collision
-/// Detection*, 5.1.5): by the Voronoi region of `p` among the vertices, edges and face.
-fn closest_on_triangle(
-    p: &Vector3<f64>,
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    c: &Vector3<f64>,
-) -> Vector3<f64> {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return *a;
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return *b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return *c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    a + ab * (vb * denom) + ac * (vc * denom)
 }
 
 /// Nearest-point search among the centroids of an old mesh's elements, the Gauss points of the
