@@ -56,17 +56,23 @@ impl LayerBoxes {
             self.nodes.sort_unstable();
             self.nodes.dedup();
         }
-        let bounds = Aabb::of_points(self.nodes.iter().map(|&n| &x1[n as usize]));
         let Some(anchor) = &self.anchor else {
+            let bounds = Aabb::of_points(self.nodes.iter().map(|&n| &x1[n as usize]));
             return (bounds, f64::INFINITY);
         };
-        // `max` skips NaN; the sum of the changes does not, so a NaN position forces a rebuild.
+        // One sweep over the nodes for both (each position read once); the box grows in node
+        // order as `Aabb::of_points` grows it. `max` skips NaN; the sum of the changes does not,
+        // so a NaN position forces a rebuild.
+        let mut bounds = Aabb::of_points([]);
         let (moved, sum) =
             self.nodes
                 .iter()
                 .zip(anchor)
                 .fold((0.0f64, 0.0f64), |(moved, sum), (&n, a)| {
-                    let d = x1[n as usize] - a;
+                    let x = &x1[n as usize];
+                    bounds.min = bounds.min.inf(x);
+                    bounds.max = bounds.max.sup(x);
+                    let d = x - a;
                     (moved.max(d.amax()), sum + d.sum())
                 });
         (bounds, if sum.is_nan() { f64::INFINITY } else { moved })

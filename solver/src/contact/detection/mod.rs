@@ -34,6 +34,11 @@ use local::{FaceBoxes, FaceScratch, LocalSearch, Strategy};
 /// surface; the sphere-impact scene rebuilds every few hundred steps).
 const REBUILD_FRACTION: f64 = 1.0 / 16.0;
 
+/// Fewest slave nodes one task of the parallel node search takes: a penetrating node costs a
+/// few microseconds, about what handing a task to another thread costs, so a pass with a handful
+/// of nodes near the contact stays on the calling thread.
+const NODES_PER_TASK: usize = 8;
+
 /// The contact surface of one body: its boundary faces (outward), boundary nodes and the
 /// elements of its boundary layer (those with a node on the boundary).
 #[derive(Debug, Clone)]
@@ -268,6 +273,7 @@ impl Detector {
         let record = ccd_calls.is_some();
         self.reachable
             .par_iter()
+            .with_min_len(NODES_PER_TASK)
             .map_init(NodeScratch::default, |scratch, &s| {
                 let mut calls = Vec::new();
                 let contact = node_contact(
