@@ -4,7 +4,6 @@ pub mod broad_phase;
 pub mod ccd;
 pub mod conic;
 pub mod detection;
-pub mod epochs;
 pub mod gauss_seidel;
 pub mod geometry;
 pub mod local;

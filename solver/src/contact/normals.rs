@@ -14,7 +14,6 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::detection::ContactSurface;
-use super::epochs::EpochStamps;
 
 /// Which normal a contact's force conditions use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -53,44 +52,11 @@ pub fn facet_normals(surface: &ContactSurface, x: &[Vector3<f64>]) -> Vec<Vector
         .collect()
 }
 
-/// The area-weighted normal of one facet, as [`facet_normals`] gives it.
-fn facet_normal(surface: &ContactSurface, x: &[Vector3<f64>], face: usize) -> Vector3<f64> {
+/// The area-weighted normal of one facet, as [`facet_normals`] gives it: detection computes
+/// those of the facets a contact asks for only, a few among all the facets of the surface.
+pub fn facet_normal(surface: &ContactSurface, x: &[Vector3<f64>], face: usize) -> Vector3<f64> {
     let [a, b, c] = surface.faces[face].map(|n| x[n as usize]);
     (b - a).cross(&(c - a))
-}
-
-/// Facet normals computed when first asked for and kept until [`Self::reset`]: a pass needs
-/// those of the contact facets and their neighbours, a few among all the facets of the
-/// surface.
-#[derive(Debug, Clone, Default)]
-pub struct FacetNormalCache {
-    normals: Vec<Vector3<f64>>,
-    /// Facet `f` is current when `normals[f]` holds the normal at the current positions.
-    current: EpochStamps,
-}
-
-impl FacetNormalCache {
-    /// Forgets every normal (the positions changed), for a surface of `faces` facets.
-    pub fn reset(&mut self, faces: usize) {
-        if self.current.next_pass(faces) {
-            self.normals = vec![Vector3::zeros(); faces];
-        }
-    }
-
-    /// The normal of facet `face` at positions `x` (those since the last reset), bitwise the
-    /// one [`facet_normals`] gives.
-    pub fn get(
-        &mut self,
-        surface: &ContactSurface,
-        x: &[Vector3<f64>],
-        face: usize,
-    ) -> Vector3<f64> {
-        if !self.current.is_current(face) {
-            self.normals[face] = facet_normal(surface, x, face);
-            self.current.mark(face);
-        }
-        self.normals[face]
-    }
 }
 
 /// Unit normal of the contact at barycentric `weights` on facet `face` of `surface`, given the
@@ -106,7 +72,7 @@ pub fn contact_normal(
 }
 
 /// [`contact_normal`] with the area-weighted facet normals given by `facet(g)` (for example
-/// from a [`FacetNormalCache`]), asked for the contact facet and, for smoothed normals, the
+/// computed on demand by [`facet_normal`]), asked for the contact facet and, for smoothed normals, the
 /// facets around its corners.
 pub fn contact_normal_with(
     surface: &ContactSurface,

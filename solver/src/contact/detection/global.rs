@@ -15,7 +15,7 @@
 use nalgebra::Vector3;
 
 use super::ContactSurface;
-use crate::contact::broad_phase::{Aabb, UniformGrid};
+use crate::contact::broad_phase::{Aabb, BoxedGrid, UniformGrid};
 use crate::contact::geometry::tetrahedron_barycentric;
 use crate::model::Model;
 
@@ -27,13 +27,12 @@ pub(super) struct LayerBoxes {
     nodes: Vec<u32>,
     /// Positions of `nodes` when the grid was built (`None`: no grid yet).
     anchor: Option<Vec<Vector3<f64>>>,
-    /// Each layer element's box at `anchor`, indexed like `master.layer`.
-    boxes: Vec<Aabb>,
-    grid: Option<UniformGrid>,
+    /// Each layer element's box at `anchor` (ids index `master.layer`), in the grid's cells.
+    grid: Option<BoxedGrid>,
     /// The grid's cell (m): the grid is rebuilt once a node moved
     /// `REBUILD_FRACTION` of it.
     cell: f64,
-    /// Scratch: grid query results, and the bit set of [`UniformGrid::query_marked`].
+    /// Scratch: grid query results, and the bit set of [`BoxedGrid::query_overlapping`].
     found: Vec<u32>,
     marks: Vec<u64>,
 }
@@ -57,17 +56,23 @@ impl LayerBoxes {
             self.nodes.sort_unstable();
             self.nodes.dedup();
         }
-        let bounds = Aabb::of_points(self.nodes.iter().map(|&n| &x1[n as usize]));
         let Some(anchor) = &self.anchor else {
+            let bounds = Aabb::of_points(self.nodes.iter().map(|&n| &x1[n as usize]));
             return (bounds, f64::INFINITY);
         };
-        // `max` skips NaN; the sum of the changes does not, so a NaN position forces a rebuild.
+        // One sweep over the nodes for both (each position read once); the box grows in node
+        // order as `Aabb::of_points` grows it. `max` skips NaN; the sum of the changes does not,
+        // so a NaN position forces a rebuild.
+        let mut bounds = Aabb::of_points([]);
         let (moved, sum) =
             self.nodes
                 .iter()
                 .zip(anchor)
                 .fold((0.0f64, 0.0f64), |(moved, sum), (&n, a)| {
-                    let d = x1[n as usize] - a;
+                    let x = &x1[n as usize];
+                    bounds.min = bounds.min.inf(x);
+                    bounds.max = bounds.max.sup(x);
+                    let d = x - a;
                     (moved.max(d.amax()), sum + d.sum())
                 });
         (bounds, if sum.is_nan() { f64::INFINITY } else { moved })
@@ -75,16 +80,15 @@ impl LayerBoxes {
 
     /// Rebuilds the grid on the layer elements' boxes at `x1`.
     fn rebuild(&mut self, model: &Model, master: &ContactSurface, x1: &[Vector3<f64>]) {
-        self.boxes.clear();
-        self.boxes
-            .extend(master.layer.iter().map(|&e| element_box(model, e, x1)));
-        self.cell = self
-            .boxes
+        let boxes: Vec<Aabb> = master
+            .layer
             .iter()
-            .map(|b| (b.max - b.min).max())
-            .sum::<f64>()
-            / self.boxes.len().max(1) as f64;
-        self.grid = Some(UniformGrid::build(&self.boxes, self.cell));
+            .map(|&e| element_box(model, e, x1))
+            .collect();
+        self.cell =
+            boxes.iter().map(|b| (b.max - b.min).max()).sum::<f64>() / boxes.len().max(1) as f64;
+        // At most 8 cells per box, as `UniformGrid::build`.
+        self.grid = Some(BoxedGrid::build_with_limit(&boxes, self.cell, 8));
         self.anchor = Some(self.nodes.iter().map(|&n| x1[n as usize]).collect());
     }
 
@@ -110,15 +114,12 @@ impl LayerBoxes {
         let margin = 2.0 * moved + 8.0 * f64::EPSILON * scale;
         let grid = self.grid.as_ref().expect("rebuilt above when missing");
         let reach = region.grown(margin);
-        grid.query_marked(&reach, &mut self.marks, &mut self.found);
+        // The stored boxes tell most elements in the cells the region meets apart without
+        // reading their nodes.
+        grid.query_overlapping(&reach, &mut self.marks, &mut self.found);
         let mut near = Vec::new();
         let mut near_boxes = Vec::new();
         for &i in &self.found {
-            // The grid finds the boxes in the cells the region meets; the stored box tells
-            // most of those apart without reading the element's nodes.
-            if !self.boxes[i as usize].overlaps(&reach) {
-                continue;
-            }
             let b = element_box(model, master.layer[i as usize], x1);
             if b.overlaps(region) {
                 near.push(i);

@@ -4,13 +4,17 @@
 //! the predicted face (7.4.3), the closest point (7.4.2). Candidate faces are those near the
 //! region global detection searched whose swept box meets the query, found through a grid of the
 //! faces' boxes kept over steps ([`FaceBoxes`]).
+//!
+//! A pass's [`LocalSearch`] is read-only once built, so the penetrating nodes of a pass are
+//! searched in parallel, each with its own [`FaceScratch`]: a node's answer depends on its own
+//! trajectory and the positions only, never on the other nodes or on the order they are
+//! searched in.
 
 use nalgebra::Vector3;
 
 use super::{CcdCall, ContactSurface, DetectionSettings};
-use crate::contact::broad_phase::{Aabb, UniformGrid};
+use crate::contact::broad_phase::{Aabb, BoxedGrid};
 use crate::contact::ccd::{vertex_face_ccd, CcdHit, Trajectory};
-use crate::contact::epochs::EpochStamps;
 use crate::contact::geometry::{against, clamped_triangle_weights, triangle_weights};
 
 /// Which strategy found a contact.
@@ -31,19 +35,23 @@ pub(super) enum Strategy {
 pub(super) struct FaceBoxes {
     /// Positions of `master.nodes` when the grid was built (`None`: no grid yet).
     anchor: Option<Vec<Vector3<f64>>>,
-    grid: Option<UniformGrid>,
-    /// Each face's box at `anchor`.
-    boxes: Vec<Aabb>,
+    /// Each face's box at `anchor`, in the grid's cells.
+    grid: Option<BoxedGrid>,
     /// The grid's cell (m).
     cell: f64,
-    /// Scratch: grid query results.
+}
+
+/// Scratch space of one thread's face searches: grid query results and the candidate faces of
+/// the last query.
+#[derive(Debug, Clone, Default)]
+pub(super) struct FaceScratch {
     found: Vec<u32>,
-    /// The candidate faces of the last query, as master face ids.
+    /// The bit set of [`BoxedGrid::query_overlapping`]: a query meets tens of cells, and
+    /// marking the faces found is cheaper than sorting them (a surface of a few thousand faces
+    /// is a hundred words to read back).
+    marks: Vec<u64>,
+    /// The candidate faces of the last query, as master face ids, ascending.
     faces: Vec<u32>,
-    /// Per face, its swept box over the step and whether a corner lies in the pass's face
-    /// region, computed when first asked for in a pass (then `swept_current` marks it).
-    swept: Vec<(Aabb, bool)>,
-    swept_current: EpochStamps,
 }
 
 impl FaceBoxes {
@@ -55,29 +63,19 @@ impl FaceBoxes {
         if moved <= super::REBUILD_FRACTION * self.cell {
             return moved;
         }
-        self.boxes.clear();
-        self.boxes.extend(
-            master
-                .faces
-                .iter()
-                .map(|f| Aabb::of_points(f.iter().map(|&n| &x1[n as usize]))),
-        );
+        let boxes: Vec<Aabb> = master
+            .faces
+            .iter()
+            .map(|f| Aabb::of_points(f.iter().map(|&n| &x1[n as usize])))
+            .collect();
         // Half the mean face: a graded mesh's faces are smallest where bodies touch (the
         // spheres' refined poles), and a query there then meets a few faces per cell. The grid
         // is kept over many steps, so its extra cells are paid for once.
-        let boxes = &self.boxes;
         self.cell = 0.5 * boxes.iter().map(|b| (b.max - b.min).max()).sum::<f64>()
             / boxes.len().max(1) as f64;
-        self.grid = Some(UniformGrid::build_with_limit(boxes, self.cell, 64));
+        self.grid = Some(BoxedGrid::build_with_limit(&boxes, self.cell, 64));
         self.anchor = Some(master.nodes.iter().map(|&n| x1[n as usize]).collect());
         self.moved(master, x0, x1)
-    }
-
-    /// Forgets the swept boxes of the last pass, for a surface of `faces` faces.
-    fn forget_swept(&mut self, faces: usize) {
-        if self.swept_current.next_pass(faces) {
-            self.swept = vec![(Aabb::of_points([]), false); faces];
-        }
     }
 
     /// The largest coordinate change from the grid's positions (infinite without a grid, or
@@ -115,7 +113,7 @@ pub(super) struct LocalSearch<'a> {
     typical: f64,
     /// Faces with no corner (at `x1`) in this region are never candidates.
     face_region: Aabb,
-    boxes: &'a mut FaceBoxes,
+    boxes: &'a FaceBoxes,
     /// Largest coordinate change of a boundary node since `boxes` was built.
     moved: f64,
 }
@@ -136,7 +134,6 @@ impl<'a> LocalSearch<'a> {
         // element (the step is below the stable one), so faces farther out are never candidates.
         let face_region = overlap.grown(3.0 * typical);
         let moved = boxes.refit(master, x0, x1);
-        boxes.forget_swept(master.faces.len());
         Self {
             master,
             typical,
@@ -147,37 +144,40 @@ impl<'a> LocalSearch<'a> {
     }
 
     /// Faces with a corner in `face_region` whose swept box meets `region`, as master face
-    /// ids in ascending order, into `self.boxes.faces`.
-    fn candidates(&mut self, region: Aabb, x0: &[Vector3<f64>], x1: &[Vector3<f64>]) {
-        let boxes = &mut *self.boxes;
+    /// ids in ascending order, into `scratch.faces`.
+    fn candidates(
+        &self,
+        region: Aabb,
+        x0: &[Vector3<f64>],
+        x1: &[Vector3<f64>],
+        scratch: &mut FaceScratch,
+    ) {
+        let boxes = self.boxes;
         // Rounding of the changes and of the grown box's corners: as in `LayerBoxes::near`.
         let scale = region.min.amax().max(region.max.amax());
         let margin = 2.0 * self.moved + 8.0 * f64::EPSILON * scale;
         let grid = boxes.grid.as_ref().expect("`refit` builds the grid");
         let reach = region.grown(margin);
-        grid.query(&reach, &mut boxes.found);
-        boxes.faces.clear();
-        for &f in &boxes.found {
+        grid.query_overlapping(&reach, &mut scratch.marks, &mut scratch.found);
+        scratch.faces.clear();
+        for &f in &scratch.found {
             let f = f as usize;
-            if !boxes.boxes[f].overlaps(&reach) {
+            // The swept box and the corners' test are a few comparisons of six points, cheaper
+            // than sharing a per-face cache between the threads.
+            let corners = &self.master.faces[f];
+            let near = corners
+                .iter()
+                .any(|&n| self.face_region.contains(&x1[n as usize]));
+            if !near {
                 continue;
             }
-            if !boxes.swept_current.is_current(f) {
-                let corners = &self.master.faces[f];
-                let near = corners
+            let swept = Aabb::of_points(
+                corners
                     .iter()
-                    .any(|&n| self.face_region.contains(&x1[n as usize]));
-                let swept = Aabb::of_points(
-                    corners
-                        .iter()
-                        .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
-                );
-                boxes.swept[f] = (swept, near);
-                boxes.swept_current.mark(f);
-            }
-            let (swept, near) = &boxes.swept[f];
-            if *near && swept.overlaps(&region) {
-                boxes.faces.push(f as u32);
+                    .flat_map(|&n| [&x0[n as usize], &x1[n as usize]]),
+            );
+            if swept.overlaps(&region) {
+                scratch.faces.push(f as u32);
             }
         }
     }
@@ -185,21 +185,27 @@ impl<'a> LocalSearch<'a> {
     /// The face the penetrating `node` is assigned to and the weights of its contact point, by
     /// the first strategy that finds one; every CCD call is appended to `ccd_calls` when given.
     pub(super) fn contact_point(
-        &mut self,
+        &self,
         node: &Trajectory,
         x0: &[Vector3<f64>],
         x1: &[Vector3<f64>],
         settings: &DetectionSettings,
+        scratch: &mut FaceScratch,
         ccd_calls: Option<&mut Vec<CcdCall>>,
     ) -> Option<(u32, [f64; 3], Strategy)> {
         // A face the node crosses holds the crossing point, which lies on the node's path: the
         // path's box (grown by the detection tolerance) finds every such face.
         let path = Aabb::of_points([&node.start, &node.end]);
-        self.candidates(path.grown(settings.tolerance * self.typical), x0, x1);
+        self.candidates(
+            path.grown(settings.tolerance * self.typical),
+            x0,
+            x1,
+            scratch,
+        );
         let master = self.master;
         earliest_ccd(
             master,
-            &self.boxes.faces,
+            &scratch.faces,
             node,
             x0,
             x1,
@@ -208,12 +214,12 @@ impl<'a> LocalSearch<'a> {
         )
         .map(|(f, w)| (f, w, Strategy::Ccd))
         .or_else(|| {
-            trajectory_intersection(master, &self.boxes.faces, node, x1, settings.tolerance)
+            trajectory_intersection(master, &scratch.faces, node, x1, settings.tolerance)
                 .map(|(f, w)| (f, w, Strategy::Trajectory))
         })
         .or_else(|| {
-            self.candidates(path.grown(self.typical), x0, x1);
-            closest_point(master, &self.boxes.faces, &node.end, x1, self.typical)
+            self.candidates(path.grown(self.typical), x0, x1, scratch);
+            closest_point(master, &scratch.faces, &node.end, x1, self.typical)
                 .map(|(f, w)| (f, w, Strategy::ClosestPoint))
         })
     }

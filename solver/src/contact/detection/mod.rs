@@ -8,25 +8,36 @@
 //! collision detection first (7.4.4), then the intersection of the node's trajectory with the
 //! predicted face (7.4.3), then the closest point (7.4.2); a node none of them resolves is
 //! counted. Both work on the primitives of `contact::geometry`.
+//!
+//! The per-node part of a pass (whether the node penetrates, its face and contact point, the
+//! normal there) reads the positions and the pass's searches only, so it runs in parallel over
+//! the slave nodes; the constraints are then gathered in slave-node order, as a sequential loop
+//! would make them, so the solvers see the same problem whatever the number of threads.
 
 mod global;
 mod local;
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use super::ccd::Trajectory;
 use super::gauss_seidel::ContactConstraint;
-use super::normals::{contact_normal_with, FacetNormalCache, NormalSettings};
+use super::normals::{contact_normal_with, facet_normal, NormalSettings};
 use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
 use global::{GlobalSearch, LayerBoxes};
-use local::{FaceBoxes, LocalSearch, Strategy};
+use local::{FaceBoxes, FaceScratch, LocalSearch, Strategy};
 
 /// The kept grids of detection ([`global::LayerBoxes`], [`local::FaceBoxes`]) are rebuilt once a
 /// node moved this fraction of a cell since: the queries grow by that motion, and a small
 /// fraction keeps them to the few cells around the query (a rebuild costs one scan of the
 /// surface; the sphere-impact scene rebuilds every few hundred steps).
 const REBUILD_FRACTION: f64 = 1.0 / 16.0;
+
+/// Fewest slave nodes one task of the parallel node search takes: a penetrating node costs a
+/// few microseconds, about what handing a task to another thread costs, so a pass with a handful
+/// of nodes near the contact stays on the calling thread.
+const NODES_PER_TASK: usize = 8;
 
 /// The contact surface of one body: its boundary faces (outward), boundary nodes and the
 /// elements of its boundary layer (those with a node on the boundary).
@@ -185,8 +196,42 @@ pub fn detect_recording(
 pub struct Detector {
     layer: LayerBoxes,
     faces: FaceBoxes,
-    normals: FacetNormalCache,
+    /// Scratch: the slave nodes whose predicted position lies in the pass's overlap region, in
+    /// slave-node order, and what the search found for each.
+    reachable: Vec<u32>,
+    outcomes: Vec<NodeOutcome>,
+}
+
+/// What one pass found for one slave node.
+#[derive(Debug, Clone, Default)]
+struct NodeOutcome {
+    contact: NodeContact,
+    /// The CCD calls made for the node, when they are recorded.
+    ccd_calls: Vec<CcdCall>,
+}
+
+/// Whether a slave node penetrates, and where it is assigned when it does.
+#[derive(Debug, Clone, Copy, Default)]
+enum NodeContact {
+    /// Inside no master element: no contact.
+    #[default]
+    Outside,
+    /// Inside, but no local strategy found its face.
+    Unresolved,
+    /// Inside, assigned to master face `face` at the contact point of `weights`.
+    Assigned {
+        face: u32,
+        weights: [f64; 3],
+        strategy: Strategy,
+        normal: Vector3<f64>,
+    },
+}
+
+/// Scratch space of one thread's node searches.
+#[derive(Default)]
+struct NodeScratch {
     elements: Vec<u32>,
+    faces: FaceScratch,
 }
 
 impl Detector {
@@ -200,14 +245,14 @@ impl Detector {
         x0: &[Vector3<f64>],
         x1: &[Vector3<f64>],
         settings: &DetectionSettings,
-        mut ccd_calls: Option<&mut Vec<CcdCall>>,
+        ccd_calls: Option<&mut Vec<CcdCall>>,
     ) -> (Vec<ContactConstraint>, DetectionStats) {
         let mut stats = DetectionStats::default();
         let mut constraints = Vec::new();
         let Some(global) = GlobalSearch::new(model, slave, master, x1, &mut self.layer) else {
             return (constraints, stats);
         };
-        let mut local = LocalSearch::new(
+        let local = LocalSearch::new(
             master,
             &global.overlap,
             global.typical,
@@ -215,40 +260,64 @@ impl Detector {
             x1,
             &mut self.faces,
         );
-        // Facet normals at `x1`, computed for the facets a contact asks for.
-        self.normals.reset(master.faces.len());
-        for &s in &slave.nodes {
-            let p = x1[s as usize];
-            if !global.penetrates(
-                model,
-                master,
-                x1,
-                &p,
-                settings.tolerance,
-                &mut self.elements,
-            ) {
-                continue;
+        // Only a node in the overlap of the bodies' boxes can be inside a master element: a
+        // cheap test that leaves a few nodes around the contact for the parallel search.
+        self.reachable.clear();
+        self.reachable.extend(
+            slave
+                .nodes
+                .iter()
+                .copied()
+                .filter(|&s| global.overlap.contains(&x1[s as usize])),
+        );
+        let record = ccd_calls.is_some();
+        self.reachable
+            .par_iter()
+            .with_min_len(NODES_PER_TASK)
+            .map_init(NodeScratch::default, |scratch, &s| {
+                let mut calls = Vec::new();
+                let contact = node_contact(
+                    model,
+                    master,
+                    &global,
+                    &local,
+                    s,
+                    x0,
+                    x1,
+                    settings,
+                    scratch,
+                    record.then_some(&mut calls),
+                );
+                NodeOutcome {
+                    contact,
+                    ccd_calls: calls,
+                }
+            })
+            .collect_into_vec(&mut self.outcomes);
+        // In slave-node order, as the sequential search made them.
+        let mut ccd_calls = ccd_calls;
+        for (&s, outcome) in self.reachable.iter().zip(&mut self.outcomes) {
+            if let Some(calls) = ccd_calls.as_deref_mut() {
+                calls.append(&mut outcome.ccd_calls);
             }
-            stats.penetrating += 1;
-            let node = Trajectory {
-                start: x0[s as usize],
-                end: p,
-            };
-            match local.contact_point(&node, x0, x1, settings, ccd_calls.as_deref_mut()) {
-                Some((face, weights, strategy)) => {
+            match outcome.contact {
+                NodeContact::Outside => continue,
+                NodeContact::Unresolved => {
+                    stats.penetrating += 1;
+                    stats.unresolved += 1;
+                }
+                NodeContact::Assigned {
+                    face,
+                    weights,
+                    strategy,
+                    normal,
+                } => {
+                    stats.penetrating += 1;
                     *match strategy {
                         Strategy::Ccd => &mut stats.by_ccd,
                         Strategy::Trajectory => &mut stats.by_trajectory,
                         Strategy::ClosestPoint => &mut stats.by_closest_point,
                     } += 1;
-                    let normals = &mut self.normals;
-                    let normal = contact_normal_with(
-                        master,
-                        |g| normals.get(master, x1, g),
-                        face as usize,
-                        &weights,
-                        &settings.normals,
-                    );
                     constraints.push(ContactConstraint {
                         slave: s,
                         face: master.faces[face as usize],
@@ -257,10 +326,61 @@ impl Detector {
                         friction: settings.friction,
                     });
                 }
-                None => stats.unresolved += 1,
             }
         }
         (constraints, stats)
+    }
+}
+
+/// Whether slave node `s` penetrates the master (global detection) and, if it does, its face,
+/// contact point and normal (local detection); every CCD call is appended to `ccd_calls` when
+/// given.
+#[allow(clippy::too_many_arguments)]
+fn node_contact(
+    model: &Model,
+    master: &ContactSurface,
+    global: &GlobalSearch,
+    local: &LocalSearch,
+    s: u32,
+    x0: &[Vector3<f64>],
+    x1: &[Vector3<f64>],
+    settings: &DetectionSettings,
+    scratch: &mut NodeScratch,
+    ccd_calls: Option<&mut Vec<CcdCall>>,
+) -> NodeContact {
+    let p = x1[s as usize];
+    if !global.penetrates(
+        model,
+        master,
+        x1,
+        &p,
+        settings.tolerance,
+        &mut scratch.elements,
+    ) {
+        return NodeContact::Outside;
+    }
+    let node = Trajectory {
+        start: x0[s as usize],
+        end: p,
+    };
+    match local.contact_point(&node, x0, x1, settings, &mut scratch.faces, ccd_calls) {
+        Some((face, weights, strategy)) => {
+            // Facet normals at `x1`, computed for the facets this contact asks for.
+            let normal = contact_normal_with(
+                master,
+                |g| facet_normal(master, x1, g),
+                face as usize,
+                &weights,
+                &settings.normals,
+            );
+            NodeContact::Assigned {
+                face,
+                weights,
+                strategy,
+                normal,
+            }
+        }
+        None => NodeContact::Unresolved,
     }
 }
 
