@@ -6,7 +6,6 @@
 //! its peak at `x_p = m^(-1/m)`; the constants of `g` that the crack band needs (areas before and
 //! after the peak) are computed once per exponent.
 
-use super::hordijk_inverse::{HordijkInverse, EXP_MINUS_C2, HORDIJK_DECAY, HORDIJK_STEEPEST};
 use super::tabulated::DecayTable;
 
 /// `g(x) = x exp(-x^m)`, the dimensionless virgin law, by `powf` and `exp` (the constants of the
@@ -46,6 +45,11 @@ pub fn hordijk(y: f64) -> f64 {
     ((1.0 + c * c * c) * (-C2 * y).exp() - y * (1.0 + C1 * C1 * C1) * (-C2).exp()).max(0.0)
 }
 
+/// `c2` of Hordijk's curve: `H` decays like `exp(-c2 y)`.
+const HORDIJK_DECAY: f64 = 6.93;
+/// `exp(-c2)`.
+const EXP_MINUS_C2: f64 = 0.000_978_000_868_395_394_6;
+
 /// `(H(y), dH/dy)` of [`hordijk`] on [0, 1), given `decay = exp(-c2 y)`: one exponential for both.
 #[inline(always)]
 fn hordijk_with_slope(y: f64, decay: f64) -> (f64, f64) {
@@ -61,6 +65,9 @@ fn hordijk_with_slope(y: f64, decay: f64) -> (f64, f64) {
         3.0 * C1 * c * c * decay - C2 * cubic * decay - CLOSURE,
     )
 }
+
+/// Largest `|dH/dy|` (at `y = 0`): `c2 + (1 + c1^3) exp(-c2)`.
+const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
 
 /// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
 /// optionally with Hordijk's (1991) softening curve after the peak instead (see
@@ -86,8 +93,6 @@ pub struct ExponentialLaw {
     pub decay: DecayTable,
     /// `exp(-c2 y)` of Hordijk's curve, tabulated, for a law with a Hordijk tail.
     pub hordijk_decay: Option<DecayTable>,
-    /// The tail's equation solved by a table and one Newton step, for a law with a Hordijk tail.
-    pub hordijk_inverse: Option<HordijkInverse>,
     /// Evaluate `exp(-x^m)` by `powf` and `exp` instead of the table: the reference the table is
     /// verified against (`MicroplaneConcrete::with_exact_laws`).
     pub exact: bool,
@@ -122,7 +127,6 @@ impl ExponentialLaw {
             area_after_peak,
             decay: DecayTable::new(1.0, exponent),
             hordijk_decay: None,
-            hordijk_inverse: None,
             exact: false,
         }
     }
@@ -144,7 +148,6 @@ impl ExponentialLaw {
             }
             law.tail = tail;
             law.hordijk_decay = Some(DecayTable::new(HORDIJK_DECAY, 1.0));
-            law.hordijk_inverse = Some(HordijkInverse::new());
             law.area_after_peak = law.g_peak * tail * area * dy / 3.0;
         }
         law
@@ -201,28 +204,10 @@ impl ExponentialLaw {
     /// explicit guess; `x(u)` rises monotonically when [`ExponentialLaw::band_factor`] admits the
     /// size) and returns `s = x - u`. Not inlined: it is the rare, long branch of the law, and
     /// inlined it kept the short one from being inlined into the plane loop.
-    ///
-    /// With the tables (not [`ExponentialLaw::exact`]) and a crack band the inverse table covers,
-    /// the root comes from [`HordijkInverse::root`] instead: in `y = k (u - u_p)` the equation is
-    /// `y + a H(y) = z`, `a = k g_p`, `z = k (x - u_p)`, with `H = 0` from `z = 1` on.
     #[inline(never)]
     fn tail_stress(&self, x: f64, band: f64) -> f64 {
         let (g_p, k) = (self.g_peak, band / self.tail);
         let u_p = self.x_peak - g_p;
-        if let (Some(inverse), Some(decay), false) =
-            (&self.hordijk_inverse, &self.hordijk_decay, self.exact)
-        {
-            let a = k * g_p;
-            if a <= inverse.a_max() {
-                let z = k * (x - u_p);
-                if z >= 1.0 {
-                    return 0.0;
-                }
-                // s = x - u = (z - y) / k; the division is off the chain of the root.
-                let inverse_k = self.tail / band;
-                return ((z - inverse.root(z, a, decay)) * inverse_k).clamp(0.0, g_p);
-            }
-        }
         // The stress is at most g_p, so u lies in [x - g_p, x].
         let (mut lo, mut hi) = (x - g_p, x);
         if k * (lo - u_p) >= 1.0 {

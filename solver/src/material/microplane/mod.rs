@@ -20,7 +20,6 @@ pub mod driver;
 mod elastic_path;
 mod element;
 pub mod experiments;
-mod hordijk_inverse;
 pub mod laws;
 pub mod parameters;
 mod principal;
