@@ -56,6 +56,22 @@ fn max_abs(values: impl Iterator<Item = f64>) -> f64 {
     values.fold(0.0, |m, v| m.max(v.abs()))
 }
 
+/// Largest distance of the transferred nodal vectors from the exact field at the new nodes,
+/// relative to the largest transferred vector.
+fn nodal_relative_error(
+    x_new: &[Vector3<f64>],
+    new_values: &[Vector3<f64>],
+    field: impl Fn(&Vector3<f64>) -> Vector3<f64>,
+) -> f64 {
+    let scale = max_abs(new_values.iter().map(|v| v.norm()));
+    max_abs(
+        x_new
+            .iter()
+            .zip(new_values)
+            .map(|(x, v)| (v - field(x)).norm()),
+    ) / scale
+}
+
 /// T3 (8.10): a constant and a linear nodal field come through to round-off.
 #[test]
 fn t3_is_exact_for_constant_and_linear_nodal_fields() {
@@ -74,13 +90,7 @@ fn t3_is_exact_for_constant_and_linear_nodal_fields() {
     ] {
         let old_values: Vec<_> = x_old.iter().map(field).collect();
         let new_values = transfer_nodal_vectors(&old_values, &old.tets, &locations);
-        let scale = max_abs(new_values.iter().map(|v| v.norm()));
-        let error = max_abs(
-            x_new
-                .iter()
-                .zip(&new_values)
-                .map(|(x, v)| (v - field(x)).norm()),
-        ) / scale;
+        let error = nodal_relative_error(&x_new, &new_values, field);
         println!(
             "T3 {name} field: max relative error {error:.3e} over {} new nodes",
             x_new.len()
@@ -116,13 +126,7 @@ fn t3_stays_exact_for_new_nodes_just_outside_a_curved_boundary() {
     let field = |x: &Vector3<f64>| gradient * x + Vector3::new(1.0, 2.0, 3.0);
     let old_values: Vec<_> = x_old.iter().map(field).collect();
     let new_values = transfer_nodal_vectors(&old_values, &old.tets, &locations);
-    let scale = max_abs(new_values.iter().map(|v| v.norm()));
-    let error = max_abs(
-        x_new
-            .iter()
-            .zip(&new_values)
-            .map(|(x, v)| (v - field(x)).norm()),
-    ) / scale;
+    let error = nodal_relative_error(&x_new, &new_values, field);
     println!(
         "T3 curved boundary: {outside} of {} new nodes outside the old mesh, largest gap \
          {gap:.3e} m, linear field relative error {error:.3e}",
