@@ -171,6 +171,69 @@ impl UniformGrid {
         }
     }
 
+    /// The cell holding `p` as `[i, j, k]`, or `None` when `p` lies outside the grid's cells.
+    fn cell_of(&self, p: &Vector3<f64>) -> Option<[usize; 3]> {
+        let mut c = [0; 3];
+        for a in 0..3 {
+            let t = floor((p[a] - self.origin[a]) * self.inverse_cell);
+            if !(t >= 0.0 && t <= (self.dims[a] - 1) as f64) {
+                return None;
+            }
+            c[a] = t as usize;
+        }
+        Some(c)
+    }
+
+    /// The ids of the boxes binned into the cell holding `p` (ascending; every box containing
+    /// `p` is among them), or `None` when `p` lies outside the grid's cells.
+    pub fn items_at(&self, p: &Vector3<f64>) -> Option<&[u32]> {
+        let [i, j, k] = self.cell_of(p)?;
+        let c = i + self.dims[0] * (j + self.dims[1] * k);
+        Some(&self.items[self.cell_start[c] as usize..self.cell_start[c + 1] as usize])
+    }
+
+    /// The id nearest to `p` by `distance` (lowest id among equals), `None` for an empty grid.
+    /// `distance(i)` must be at least the distance from `p` to box `i`. The cells are searched
+    /// in rings of growing Chebyshev distance `r` around the cell of `p`, until the best distance
+    /// is within `r` cell edges (a box listed in no searched cell lies farther); a point outside
+    /// the grid compares every box.
+    pub fn nearest(&self, p: &Vector3<f64>, distance: impl Fn(u32) -> f64) -> Option<(u32, f64)> {
+        let mut best = (u32::MAX, f64::INFINITY);
+        let consider = |best: &mut (u32, f64), i: u32| {
+            let d = distance(i);
+            if d < best.1 || (d == best.1 && i < best.0) {
+                *best = (i, d);
+            }
+        };
+        let Some(c) = self.cell_of(p) else {
+            (0..self.boxes as u32).for_each(|i| consider(&mut best, i));
+            return (self.boxes > 0).then_some(best);
+        };
+        let edge = 1.0 / self.inverse_cell;
+        for r in 0..=self.dims.into_iter().max().unwrap_or(1) {
+            let lo = c.map(|x| x.saturating_sub(r));
+            let hi = [0, 1, 2].map(|a| (c[a] + r).min(self.dims[a] - 1));
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        let ring = i.abs_diff(c[0]).max(j.abs_diff(c[1])).max(k.abs_diff(c[2]));
+                        if ring == r {
+                            let cell = i + self.dims[0] * (j + self.dims[1] * k);
+                            let (a, b) = (self.cell_start[cell], self.cell_start[cell + 1]);
+                            self.items[a as usize..b as usize]
+                                .iter()
+                                .for_each(|&e| consider(&mut best, e));
+                        }
+                    }
+                }
+            }
+            if best.1 <= r as f64 * edge {
+                break;
+            }
+        }
+        (best.0 != u32::MAX).then_some(best)
+    }
+
     /// Ids of the boxes sharing a cell with `query`, sorted and without repeats (a superset of
     /// the boxes that overlap it). `out` is cleared first.
     pub fn query(&self, query: &Aabb, out: &mut Vec<u32>) {

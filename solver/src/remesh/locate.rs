@@ -8,6 +8,7 @@
 
 use nalgebra::Vector3;
 
+use crate::contact::broad_phase::{Aabb, UniformGrid};
 use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
 use crate::kinematics::shape_gradients;
@@ -33,166 +34,13 @@ pub struct Location {
     pub distance: f64,
 }
 
-/// A uniform grid of cells over a box, each listing items (element ids) in ascending order, in
-/// compressed rows.
-#[derive(Debug, Clone)]
-struct Grid {
-    lo: Vector3<f64>,
-    cell: Vector3<f64>,
-    dims: [usize; 3],
-    start: Vec<usize>,
-    items: Vec<u32>,
-}
-
-impl Grid {
-    /// A grid over the boxes `(min, max)`, with cells of about the volume per box (at most 128
-    /// per axis).
-    fn new(boxes: &[(Vector3<f64>, Vector3<f64>)]) -> Self {
-        let mut lo = Vector3::repeat(f64::INFINITY);
-        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
-        for (a, b) in boxes {
-            lo = lo.inf(a);
-            hi = hi.sup(b);
-        }
-        // A margin of 1e-9 of the size, so that a point on the boundary of the boxes, computed
-        // with other round-off, still falls in the grid.
-        let size = (hi - lo).max().max(f64::MIN_POSITIVE);
-        lo -= Vector3::repeat(1e-9 * size);
-        hi += Vector3::repeat(1e-9 * size);
-        let extent = hi - lo;
-        // A flat or empty extent along an axis still gets one cell of positive size.
-        let extent = extent.map(|e| e.max(1e-9 * size));
-        // About one item per cell: cell edge from the volume per box, at most 128 cells per axis.
-        let n = boxes.len().max(1) as f64;
-        let h = (extent.x * extent.y * extent.z / n).cbrt();
-        let dims = [0, 1, 2].map(|a| ((extent[a] / h).ceil() as usize).clamp(1, 128));
-        let cell = Vector3::new(
-            extent.x / dims[0] as f64,
-            extent.y / dims[1] as f64,
-            extent.z / dims[2] as f64,
-        );
-        let mut grid = Self {
-            lo,
-            cell,
-            dims,
-            start: vec![0; dims[0] * dims[1] * dims[2] + 1],
-            items: Vec::new(),
-        };
-        // Counting pass, then the fill in ascending item order.
-        for (a, b) in boxes {
-            let (c0, c1) = (grid.cell_of(a), grid.cell_of(b));
-            for k in c0[2]..=c1[2] {
-                for j in c0[1]..=c1[1] {
-                    for i in c0[0]..=c1[0] {
-                        let c = grid.index([i, j, k]);
-                        grid.start[c + 1] += 1;
-                    }
-                }
-            }
-        }
-        for c in 0..grid.start.len() - 1 {
-            grid.start[c + 1] += grid.start[c];
-        }
-        let mut next = grid.start.clone();
-        grid.items = vec![0; grid.start[grid.start.len() - 1]];
-        for (item, (a, b)) in boxes.iter().enumerate() {
-            let (c0, c1) = (grid.cell_of(a), grid.cell_of(b));
-            for k in c0[2]..=c1[2] {
-                for j in c0[1]..=c1[1] {
-                    for i in c0[0]..=c1[0] {
-                        let c = grid.index([i, j, k]);
-                        grid.items[next[c]] = item as u32;
-                        next[c] += 1;
-                    }
-                }
-            }
-        }
-        grid
-    }
-
-    fn index(&self, c: [usize; 3]) -> usize {
-        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
-    }
-
-    /// The cell holding `x`, clamped into the grid.
-    fn cell_of(&self, x: &Vector3<f64>) -> [usize; 3] {
-        [0, 1, 2].map(|a| {
-            let t = ((x[a] - self.lo[a]) / self.cell[a]).floor();
-            if t > 0.0 {
-                (t as usize).min(self.dims[a] - 1)
-            } else {
-                0
-            }
-        })
-    }
-
-    fn cell_items(&self, c: [usize; 3]) -> &[u32] {
-        let i = self.index(c);
-        &self.items[self.start[i]..self.start[i + 1]]
-    }
-
-    /// Visits the items of the cells at Chebyshev distance exactly `r` from cell `c`.
-    fn ring(&self, c: [usize; 3], r: usize, mut visit: impl FnMut(u32)) {
-        let lo = c.map(|x| x.saturating_sub(r));
-        let hi = [0, 1, 2].map(|a| (c[a] + r).min(self.dims[a] - 1));
-        for k in lo[2]..=hi[2] {
-            for j in lo[1]..=hi[1] {
-                for i in lo[0]..=hi[0] {
-                    let d = [i.abs_diff(c[0]), j.abs_diff(c[1]), k.abs_diff(c[2])];
-                    if d.into_iter().max() == Some(r) {
-                        self.cell_items([i, j, k]).iter().for_each(|&e| visit(e));
-                    }
-                }
-            }
-        }
-    }
-
-    /// Largest ring index that still reaches a cell of the grid.
-    fn max_ring(&self) -> usize {
-        self.dims.into_iter().max().unwrap_or(1)
-    }
-
-    /// Whether `x` lies in the grid's box.
-    fn contains(&self, x: &Vector3<f64>) -> bool {
-        (0..3)
-            .all(|a| x[a] >= self.lo[a] && x[a] <= self.lo[a] + self.cell[a] * self.dims[a] as f64)
-    }
-
-    /// The item nearest to `x` by `distance` (ties to the lower id): ring by ring from the cell
-    /// of `x`, stopping once the best distance is within the rings already searched (an item
-    /// listed in no searched cell has its box outside them, so it is at least `r` cells away).
-    /// A point outside the grid's box is compared with every item.
-    fn nearest(&self, x: &Vector3<f64>, count: usize, distance: impl Fn(u32) -> f64) -> (u32, f64) {
-        let mut best = (u32::MAX, f64::INFINITY);
-        let consider = |best: &mut (u32, f64), e: u32| {
-            let d = distance(e);
-            if d < best.1 || (d == best.1 && e < best.0) {
-                *best = (e, d);
-            }
-        };
-        if !self.contains(x) {
-            (0..count as u32).for_each(|e| consider(&mut best, e));
-            return best;
-        }
-        let c = self.cell_of(x);
-        let h = self.cell.min();
-        for r in 0..=self.max_ring() {
-            self.ring(c, r, |e| consider(&mut best, e));
-            if best.1 <= r as f64 * h {
-                break;
-            }
-        }
-        best
-    }
-}
-
 /// Point location in an old mesh at its current coordinates (the first step of T1 and T3).
 #[derive(Debug, Clone)]
 pub struct Locator<'a> {
     nodes: &'a [Vector3<f64>],
     tets: &'a [[u32; 4]],
     grad: Vec<[Vector3<f64>; 4]>,
-    grid: Grid,
+    grid: UniformGrid,
 }
 
 impl<'a> Locator<'a> {
@@ -220,18 +68,13 @@ impl<'a> Locator<'a> {
                 });
             };
             grad.push(g);
-            let (mut lo, mut hi) = (x[0], x[0]);
-            for p in &x[1..] {
-                lo = lo.inf(p);
-                hi = hi.sup(p);
-            }
-            boxes.push((lo, hi));
+            boxes.push(Aabb::of_points(&x));
         }
         Ok(Self {
             nodes,
             tets,
             grad,
-            grid: Grid::new(&boxes),
+            grid: grid_of(&boxes),
         })
     }
 
@@ -266,8 +109,8 @@ impl<'a> Locator<'a> {
     /// outside it the point is (a point of the new boundary just outside the old one).
     pub fn locate(&self, p: &Vector3<f64>) -> Location {
         let mut best: Option<(usize, [f64; 4], f64)> = None;
-        if self.grid.contains(p) {
-            for &e in self.grid.cell_items(self.grid.cell_of(p)) {
+        if let Some(candidates) = self.grid.items_at(p) {
+            for &e in candidates {
                 let e = e as usize;
                 let l = self.barycentric(e, p);
                 let smallest = l.iter().copied().fold(f64::INFINITY, f64::min);
@@ -285,7 +128,8 @@ impl<'a> Locator<'a> {
         }
         let (e, distance) = self
             .grid
-            .nearest(p, self.tets.len(), |e| self.distance(e as usize, p));
+            .nearest(p, |e| self.distance(e as usize, p))
+            .expect("the locator has at least one element (checked when built)");
         let element = e as usize;
         Location {
             element,
@@ -324,28 +168,41 @@ impl<'a> Locator<'a> {
 #[derive(Debug, Clone)]
 pub struct CentroidSearch {
     centroids: Vec<Vector3<f64>>,
-    grid: Grid,
+    grid: UniformGrid,
 }
 
 impl CentroidSearch {
     /// The search over the points `centroids` (m), the old Gauss points.
     pub fn new(centroids: Vec<Vector3<f64>>) -> Self {
-        let boxes: Vec<_> = centroids.iter().map(|c| (*c, *c)).collect();
-        let grid = Grid::new(&boxes);
+        let boxes: Vec<_> = centroids
+            .iter()
+            .map(|c| Aabb { min: *c, max: *c })
+            .collect();
+        let grid = grid_of(&boxes);
         Self { centroids, grid }
     }
 
     /// The index of the centroid closest to `p` (Euclidean distance; the lowest index among
     /// equally close ones), with its distance (m). `None` when there are no centroids.
     pub fn closest(&self, p: &Vector3<f64>) -> Option<(usize, f64)> {
-        if self.centroids.is_empty() {
-            return None;
-        }
-        let (i, d) = self.grid.nearest(p, self.centroids.len(), |i| {
-            (self.centroids[i as usize] - p).norm()
-        });
+        let (i, d) = self
+            .grid
+            .nearest(p, |i| (self.centroids[i as usize] - p).norm())?;
         Some((i as usize, d))
     }
+}
+
+/// A grid over `boxes` with cells of about the volume per box, so about one box per cell.
+fn grid_of(boxes: &[Aabb]) -> UniformGrid {
+    if boxes.is_empty() {
+        return UniformGrid::build(boxes, 1.0);
+    }
+    let bounds = boxes.iter().fold(boxes[0], |acc, b| acc.union(b));
+    let extent = bounds.max - bounds.min;
+    // A flat extent along an axis still gives a cell of positive size.
+    let floor = 1e-9 * extent.max().max(f64::MIN_POSITIVE);
+    let volume = extent.map(|e| e.max(floor)).product();
+    UniformGrid::build(boxes, (volume / boxes.len().max(1) as f64).cbrt())
 }
 
 /// The centroid `(x_0 + x_1 + x_2 + x_3) / 4` of every element of `tets` over `nodes` (m).
