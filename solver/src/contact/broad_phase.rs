@@ -247,15 +247,10 @@ impl UniformGrid {
         out.dedup();
     }
 
-    /// [`Self::query`] for a query that meets many cells (a slab across a whole body): the ids
-    /// are marked in the bit set `marks` and read back in ascending order instead of sorted,
-    /// linear in the ids found. `marks` is scratch space, all clear between calls.
-    pub fn query_marked(&self, query: &Aabb, marks: &mut Vec<u64>, out: &mut Vec<u32>) {
-        self.mark_cells(query, marks, out, |_| true);
-    }
-
     /// The ids of the entries `j` (positions in `items`) of the cells `query` meets for which
-    /// `keep(j)` holds, marked in `marks` and read back in ascending order, without repeats.
+    /// `keep(j)` holds, marked in `marks` and read back in ascending order, without repeats: for
+    /// a query that meets many cells (a slab across a whole body) this is linear in the ids
+    /// found, where sorting them is not. `marks` is scratch space, all clear between calls.
     fn mark_cells(
         &self,
         query: &Aabb,
@@ -308,9 +303,8 @@ impl BoxedGrid {
         Self { grid, entry_boxes }
     }
 
-    /// Ids of the boxes that overlap `query`, ascending, without repeats: those
-    /// [`UniformGrid::query_marked`] finds whose box overlaps `query`. `marks` is scratch
-    /// space, all clear between calls.
+    /// Ids of the boxes that overlap `query`, ascending, without repeats: those of the cells
+    /// `query` meets whose box overlaps it. `marks` is scratch space, all clear between calls.
     pub fn query_overlapping(&self, query: &Aabb, marks: &mut Vec<u64>, out: &mut Vec<u32>) {
         self.grid
             .mark_cells(query, marks, out, |j| self.entry_boxes[j].overlaps(query));
@@ -362,7 +356,6 @@ mod tests {
         let boxes: Vec<Aabb> = (0..2000).map(|_| random_box(0.3)).collect();
         let grid = UniformGrid::build(&boxes, 0.4);
         let mut found = Vec::new();
-        let (mut marks, mut marked) = (Vec::new(), Vec::new());
         for _ in 0..500 {
             let q = random_box(0.5);
             grid.query(&q, &mut found);
@@ -371,13 +364,60 @@ mod tests {
                     assert!(found.binary_search(&(i as u32)).is_ok(), "box {i} missed");
                 }
             }
-            grid.query_marked(&q, &mut marks, &mut marked);
-            assert_eq!(
-                marked, found,
-                "the bit-set query gives the sorted query's ids"
-            );
-            assert!(marks.iter().all(|&w| w == 0), "marks left set");
         }
+    }
+
+    /// `items_at` holds every box that contains the point, ascending; `nearest` finds the box
+    /// nearest by a brute-force scan (distance to the box), inside and outside the grid.
+    #[test]
+    fn point_queries_match_brute_force_scans() {
+        let mut rng = SplitMix64::new(11);
+        let boxes: Vec<Aabb> = (0..1500)
+            .map(|_| {
+                let c = Vector3::new(
+                    rng.uniform(0.0, 4.0),
+                    rng.uniform(0.0, 3.0),
+                    rng.uniform(0.0, 2.0),
+                );
+                let h = Vector3::repeat(rng.uniform(0.0, 0.2));
+                Aabb {
+                    min: c - h,
+                    max: c + h,
+                }
+            })
+            .collect();
+        let grid = UniformGrid::build(&boxes, 0.25);
+        let to_box = |b: &Aabb, p: &Vector3<f64>| (p - p.sup(&b.min).inf(&b.max)).norm();
+        for _ in 0..400 {
+            let p = Vector3::new(
+                rng.uniform(-0.5, 4.5),
+                rng.uniform(-0.5, 3.5),
+                rng.uniform(-0.5, 2.5),
+            );
+            let holding: Vec<u32> = (0..boxes.len() as u32)
+                .filter(|&i| boxes[i as usize].contains(&p))
+                .collect();
+            let at = grid.items_at(&p).unwrap_or(&[]);
+            assert!(at.windows(2).all(|w| w[0] < w[1]), "not ascending");
+            assert!(
+                holding.iter().all(|i| at.binary_search(i).is_ok()),
+                "{p:?}: {holding:?} not all in {at:?}"
+            );
+            let expected = (0..boxes.len() as u32)
+                .map(|i| (i, to_box(&boxes[i as usize], &p)))
+                .fold(
+                    (u32::MAX, f64::INFINITY),
+                    |b, (i, d)| if d < b.1 { (i, d) } else { b },
+                );
+            let found = grid
+                .nearest(&p, |i| to_box(&boxes[i as usize], &p))
+                .unwrap();
+            assert_eq!(found, expected, "{p:?}");
+        }
+        assert_eq!(
+            UniformGrid::build(&[], 1.0).nearest(&Vector3::zeros(), |_| 0.0),
+            None
+        );
     }
 
     #[test]

@@ -189,7 +189,8 @@ impl GlobalSearch {
     }
 
     /// Whether the predicted position `p` of a slave node lies inside a searched master element,
-    /// all barycentric coordinates `>= -tolerance`. `elements` is scratch space.
+    /// all barycentric coordinates `>= -tolerance`: the elements binned into the grid cell of
+    /// `p` (every element whose box holds `p` is among them).
     pub(super) fn penetrates(
         &self,
         model: &Model,
@@ -197,13 +198,13 @@ impl GlobalSearch {
         x1: &[Vector3<f64>],
         p: &Vector3<f64>,
         tolerance: f64,
-        elements: &mut Vec<u32>,
     ) -> bool {
         if !self.overlap.contains(p) {
             return false;
         }
-        self.element_grid
-            .query(&Aabb { min: *p, max: *p }, elements);
+        let Some(elements) = self.element_grid.items_at(p) else {
+            return false;
+        };
         elements.iter().any(|&i| {
             let e = master.layer[self.near[i as usize] as usize];
             let tet = model.tets[e as usize].map(|n| x1[n as usize]);

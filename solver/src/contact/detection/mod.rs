@@ -227,13 +227,6 @@ enum NodeContact {
     },
 }
 
-/// Scratch space of one thread's node searches.
-#[derive(Default)]
-struct NodeScratch {
-    elements: Vec<u32>,
-    faces: FaceScratch,
-}
-
 impl Detector {
     /// [`detect_recording`] for the master surface this detector serves.
     #[allow(clippy::too_many_arguments)]
@@ -274,7 +267,7 @@ impl Detector {
         self.reachable
             .par_iter()
             .with_min_len(NODES_PER_TASK)
-            .map_init(NodeScratch::default, |scratch, &s| {
+            .map_init(FaceScratch::default, |scratch, &s| {
                 let mut calls = Vec::new();
                 let contact = node_contact(
                     model,
@@ -345,25 +338,18 @@ fn node_contact(
     x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     settings: &DetectionSettings,
-    scratch: &mut NodeScratch,
+    scratch: &mut FaceScratch,
     ccd_calls: Option<&mut Vec<CcdCall>>,
 ) -> NodeContact {
     let p = x1[s as usize];
-    if !global.penetrates(
-        model,
-        master,
-        x1,
-        &p,
-        settings.tolerance,
-        &mut scratch.elements,
-    ) {
+    if !global.penetrates(model, master, x1, &p, settings.tolerance) {
         return NodeContact::Outside;
     }
     let node = Trajectory {
         start: x0[s as usize],
         end: p,
     };
-    match local.contact_point(&node, x0, x1, settings, &mut scratch.faces, ccd_calls) {
+    match local.contact_point(&node, x0, x1, settings, scratch, ccd_calls) {
         Some((face, weights, strategy)) => {
             // Facet normals at `x1`, computed for the facets this contact asks for.
             let normal = contact_normal_with(
