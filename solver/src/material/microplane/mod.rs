@@ -314,11 +314,11 @@ impl MicroplaneConcrete {
             // k = (1 - 2 nu) / 3 sqrt(sum <e_i>^2) (MICROPLANE "Tension driver").
             let stored = &mut header[state::V_TENSION..state::V_TENSION + 2];
             let (reached, stress_reached) = (stored[0] as f64, stored[1] as f64);
-            // Mazars' strain is at most the strain's norm (sum <e_i>^2 <= sum e_i^2): below the
-            // driver reached, the eigenvalues (an `acos` and two `cos`) cannot change `kappa`.
-            // The margin covers the rounding of both (a few ulp), so that the shortcut is taken
+            // Mazars' strain is at most the strain's norm sqrt(E : E) (sum <e_i>^2 <= sum e_i^2):
+            // below the driver reached, the eigenvalues (an `acos` and two `cos`) cannot change
+            // `kappa`. The margin covers the rounding of both (a few ulp), so that the shortcut is taken
             // only where the computed driver, too, would lose to `reached`: bitwise the same.
-            let bound = self.equivalent_factor * strain_norm(strain) * (1.0 + 1e-9);
+            let bound = self.equivalent_factor * contract(strain, strain).sqrt() * (1.0 + 1e-9);
             let kappa = if bound <= reached {
                 reached
             } else {
@@ -591,12 +591,4 @@ fn wide_vectors() -> bool {
     {
         false
     }
-}
-
-/// The Frobenius norm `sqrt(E : E)` of a strain in `[11, 22, 33, 23, 13, 12]` with tensor shears:
-/// the root of the sum of the squared principal values, so at least Mazars' strain.
-#[inline(always)]
-fn strain_norm(e: &Sym) -> f64 {
-    (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + 2.0 * (e[3] * e[3] + e[4] * e[4] + e[5] * e[5]))
-        .sqrt()
 }
