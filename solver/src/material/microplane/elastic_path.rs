@@ -27,11 +27,15 @@ impl MicroplaneConcrete {
     /// law (5.91).
     #[inline(always)]
     pub(super) fn on_elastic_path(&self, strain: &Sym, e_v: f64) -> bool {
-        let (a, b, c) = (strain[0] - e_v, strain[1] - e_v, strain[2] - e_v);
-        let deviator = a * a
-            + b * b
-            + c * c
-            + 2.0 * (strain[3] * strain[3] + strain[4] * strain[4] + strain[5] * strain[5]);
+        let deviator: Sym = [
+            strain[0] - e_v,
+            strain[1] - e_v,
+            strain[2] - e_v,
+            strain[3],
+            strain[4],
+            strain[5],
+        ];
+        let deviator = contract(&deviator, &deviator);
         let limit = self.elastic_limit;
         deviator <= limit * limit && e_v <= limit
     }

@@ -100,7 +100,10 @@ mod tests {
                 tight += 1;
             }
         }
-        assert!(tight > 10_000, "only {tight} states with all principal strains positive");
+        assert!(
+            tight > 10_000,
+            "only {tight} states with all principal strains positive"
+        );
     }
 
     /// On random stress states of every sign mix and scale, the closure of the stored value is
