@@ -22,15 +22,19 @@ pub fn boundary_faces(mesh: &Mesh) -> Vec<BoundaryFace> {
     boundary_faces_of(&mesh.tets)
 }
 
+/// The key of a triangular face independent of its orientation and first node: its node ids in
+/// ascending order (two elements share a face when their faces have the same key).
+pub fn face_key(face: [u32; 3]) -> [u32; 3] {
+    let mut k = face;
+    k.sort_unstable();
+    k
+}
+
 /// Boundary faces of the elements `tets` (a whole mesh, or one body's range of a model);
 /// `BoundaryFace::element` indexes `tets`.
 pub fn boundary_faces_of(tets: &[[u32; 4]]) -> Vec<BoundaryFace> {
     let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(tets.len() * 2);
-    let key = |f: [u32; 3]| {
-        let mut k = f;
-        k.sort_unstable();
-        k
-    };
+    let key = face_key;
     for tet in tets {
         for face in TET_FACES {
             *count.entry(key(face.map(|i| tet[i]))).or_insert(0) += 1;

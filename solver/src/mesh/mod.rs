@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
-pub use boundary::{boundary_faces, boundary_faces_of, boundary_nodes, BoundaryFace};
+pub use boundary::{boundary_faces, boundary_faces_of, boundary_nodes, face_key, BoundaryFace};
 pub use generate::{box_mesh, perturb_interior, Axis, BoxSpec};
 pub use quality::{edge_extremes, element_quality, ElementQuality};
 

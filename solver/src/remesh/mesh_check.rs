@@ -9,7 +9,7 @@ use super::distortion::collapse_ratio;
 use super::mesher::RemeshedRegion;
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
-use crate::mesh::{boundary_faces_of, BoundaryFace, TET_FACES};
+use crate::mesh::{boundary_faces_of, face_key, BoundaryFace, TET_FACES};
 
 /// Relative tolerance on the region's volume and the outer boundary's area: both are sums of
 /// pieces that tile the same set, equal up to the round-off of the sums.
@@ -53,12 +53,6 @@ fn boundary_area(x: &[Vector3<f64>], faces: &[BoundaryFace]) -> f64 {
             0.5 * (b - a).cross(&(c - a)).norm()
         })
         .sum()
-}
-
-fn sorted(f: [u32; 3]) -> [u32; 3] {
-    let mut k = f;
-    k.sort_unstable();
-    k
 }
 
 /// Checks the remeshing `new` of the elements `region` of the old mesh (`x`, `tets`, current
@@ -159,17 +153,24 @@ pub fn check_remeshed(
     let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * new.tets.len());
     for tet in &new.tets {
         for f in TET_FACES {
-            *count.entry(sorted(f.map(|i| tet[i]))).or_insert(0) += 1;
+            *count.entry(face_key(f.map(|i| tet[i]))).or_insert(0) += 1;
         }
     }
-    if let Some((face, c)) = count.iter().find(|(_, &c)| c > 2) {
+    // The first such face in element order, so that the message is the same on every run.
+    let over = new
+        .tets
+        .iter()
+        .flat_map(|tet| TET_FACES.map(|f| face_key(f.map(|i| tet[i]))))
+        .find(|face| count[face] > 2);
+    if let Some(face) = over {
         return Err(fail(format!(
-            "face {face:?} is held by {c} elements: not conforming"
+            "face {face:?} is held by {} elements: not conforming",
+            count[&face]
         )));
     }
     let region_faces: std::collections::HashSet<[u32; 3]> = region
         .iter()
-        .flat_map(|&r| TET_FACES.map(|f| sorted(f.map(|i| tets[r][i]))))
+        .flat_map(|&r| TET_FACES.map(|f| face_key(f.map(|i| tets[r][i]))))
         .collect();
     for (e, tet) in tets.iter().enumerate() {
         if in_region[e] {
@@ -178,12 +179,12 @@ pub fn check_remeshed(
         for f in TET_FACES {
             let face = f.map(|i| tet[i]);
             // A face of an outside element that a region element also holds.
-            if !region_faces.contains(&sorted(face)) {
+            if !region_faces.contains(&face_key(face)) {
                 continue;
             }
             let mapped = face.map(|n| new.kept_nodes[n as usize]);
             let key = match mapped {
-                [Some(a), Some(b), Some(c)] => sorted([a, b, c]),
+                [Some(a), Some(b), Some(c)] => face_key([a, b, c]),
                 _ => return Err(fail(format!("interface face {face:?} lost a node"))),
             };
             if count.get(&key) != Some(&2) {

@@ -47,7 +47,7 @@ use nalgebra::Vector3;
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
-use crate::mesh::TET_FACES;
+use crate::mesh::{face_key, TET_FACES};
 
 /// Default number of smoothing sweeps (an upper bound: sweeps stop when no node moves).
 pub const SMOOTHING_SWEEPS: usize = 100;
@@ -118,12 +118,6 @@ fn remesh_error(entity: &str, message: String) -> SolverError {
         entity: entity.to_string(),
         message,
     }
-}
-
-fn sorted_face(f: [u32; 3]) -> [u32; 3] {
-    let mut k = f;
-    k.sort_unstable();
-    k
 }
 
 fn edge_key(a: u32, b: u32) -> (u32, u32) {
@@ -221,9 +215,7 @@ pub fn remesh_region(
     let mut faces: HashMap<[u32; 3], (u8, u8)> = HashMap::with_capacity(4 * tets.len());
     for (e, tet) in tets.iter().enumerate() {
         for f in TET_FACES {
-            let c = faces
-                .entry(sorted_face(f.map(|i| tet[i])))
-                .or_insert((0, 0));
+            let c = faces.entry(face_key(f.map(|i| tet[i]))).or_insert((0, 0));
             if in_region[e] {
                 c.0 += 1;
             } else {
@@ -251,7 +243,7 @@ pub fn remesh_region(
     for &e in &region {
         for f in TET_FACES {
             let face = f.map(|i| tets[e][i]);
-            if faces[&sorted_face(face)] == (1, 0) {
+            if faces[&face_key(face)] == (1, 0) {
                 for k in 0..3 {
                     fixed[face[k] as usize] = true;
                     boundary_edges.insert(edge_key(face[k], face[(k + 1) % 3]));
