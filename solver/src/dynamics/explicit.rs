@@ -5,6 +5,7 @@
 
 mod contact_phase;
 mod records;
+mod resume;
 mod stopping;
 
 use std::time::Instant;
@@ -20,6 +21,7 @@ use crate::output::{
     SnapshotView,
 };
 use contact_phase::ContactScratch;
+pub use resume::RunState;
 
 /// A stopwatch read lap by lap.
 struct Lap(Instant);
@@ -81,8 +83,12 @@ pub struct ExplicitSolver<'p> {
     pending: EnergyLedger,
     /// Number of time steps completed.
     pub step: usize,
-    /// Simulated time reached (s).
+    /// Simulated time reached (s): `time_origin + (step - step_origin) dt`.
     pub time: f64,
+    /// Time and step at which this solver took the run over (0 unless resumed after a
+    /// remeshing, [`Self::resume`]).
+    time_origin: f64,
+    step_origin: usize,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -173,6 +179,8 @@ impl<'p> ExplicitSolver<'p> {
             pending: EnergyLedger::default(),
             step: 0,
             time: 0.0,
+            time_origin: 0.0,
+            step_origin: 0,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -460,9 +468,15 @@ impl<'p> ExplicitSolver<'p> {
     fn prescribed_motion(&mut self) {
         let problem = self.problem;
         let (dt, t) = (self.dt, self.time);
+        // After a remeshing the motions, functions of the original coordinates, read those
+        // and the displacement since then ([`crate::model::CarriedState`]).
+        let carried = problem.model.carried.as_ref().map(|c| &c.displacement);
         for &i in &self.constrained_nodes {
             let i = i as usize;
-            let x = problem.model.reference[i];
+            let (x, u_now) = match carried {
+                Some(d) => (problem.model.reference[i] - d[i], d[i] + self.u[i]),
+                None => (problem.model.reference[i], self.u[i]),
+            };
             for d in 0..3 {
                 if let Some(c) = self.constraint_of[i][d] {
                     let motion = &problem.constraints[c as usize].motion;
@@ -475,7 +489,7 @@ impl<'p> ExplicitSolver<'p> {
                             let u = motion
                                 .displacement(&x, t + dt)
                                 .expect("every motion but a velocity gives a displacement");
-                            (u[d] - self.u[i][d]) / dt
+                            (u[d] - u_now[d]) / dt
                         }
                     };
                 }
@@ -602,7 +616,7 @@ impl<'p> ExplicitSolver<'p> {
             *u += du;
         }
         self.step += 1;
-        self.time = self.step as f64 * self.dt;
+        self.time = self.time_origin + (self.step - self.step_origin) as f64 * self.dt;
     }
 }
 

@@ -1,7 +1,8 @@
 //! Adaptive remeshing (thesis chapter 8, issue 21): when to remesh, where to refine, and how the
 //! mechanical fields go from the old mesh to the new one. The local mesher is [`remesh_region`]
-//! (method in `mesher.rs`), checked by [`check_remeshed`]; the hook into the explicit run comes
-//! later.
+//! (method in `mesher.rs`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes a
+//! running one-body model between two steps (`apply.rs`), and the run goes on with
+//! [`crate::dynamics::ExplicitSolver::resume`].
 //!
 //! # Configuration and formulation
 //!
@@ -45,6 +46,7 @@
 //! variables (Fig. 8.6, [`closest_gauss_point_sources`] with [`copy_rows`]), **T3** nodal
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
+mod apply;
 mod distortion;
 mod locate;
 mod mesh_check;
@@ -52,6 +54,7 @@ mod mesher;
 mod record;
 mod transfer;
 
+pub use apply::{remesh_problem, run_with_remeshing, RemeshPolicy, Remeshed};
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
