@@ -89,6 +89,9 @@ pub struct ExplicitSolver<'p> {
     /// remeshing, [`Self::resume`]).
     time_origin: f64,
     step_origin: usize,
+    /// The time step of the run before a resume, when it differs: the first step after it
+    /// spans `(dt_before + dt) / 2` between its half-step velocities ([`Self::advance`]).
+    dt_before_resume: Option<f64>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -181,6 +184,7 @@ impl<'p> ExplicitSolver<'p> {
             time: 0.0,
             time_origin: 0.0,
             step_origin: 0,
+            dt_before_resume: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -410,11 +414,17 @@ impl<'p> ExplicitSolver<'p> {
     /// Returns whether the mesh stability check flagged a node, or the reason to stop. Each
     /// phase is timed ([`PhaseTimes`]).
     fn advance(&mut self) -> std::result::Result<bool, (String, Option<usize>)> {
-        // Effective step between v_{n-1/2} and v_{n+1/2} (half a step at the start).
+        // Effective step between v_{n-1/2} and v_{n+1/2}: half a step at the start, and the
+        // mean of the two steps on either side of t_n at the first step after a resume with a
+        // new time step (central differences with a variable step, Belytschko et al. 2014,
+        // 6.2.1: v_{n+1/2} = v_{n-1/2} + (dt_{n-1/2} + dt_{n+1/2}) / 2 a_n).
         let h = if self.step == 0 {
             0.5 * self.dt
         } else {
-            self.dt
+            match self.dt_before_resume {
+                Some(before) if self.step == self.step_origin => 0.5 * (before + self.dt),
+                _ => self.dt,
+            }
         };
         let mut clock = Lap::start();
         self.internal_forces()?;
@@ -530,6 +540,12 @@ impl<'p> ExplicitSolver<'p> {
         let model = &self.problem.model;
         let (dt, alpha) = (self.dt, self.settings.damping);
         let first = self.step == 0;
+        // At the first step after a resume with a new time step, v_n lies dt_before / 2 after
+        // v_{n-1/2}, not midway to v_{n+1/2}.
+        let resume_weight = match self.dt_before_resume {
+            Some(before) if self.step == self.step_origin && !first => Some(0.5 * before / h),
+            _ => None,
+        };
         let mut moved_too_far = false;
         let mut kinetic = 0.0;
         let mut closing = EnergyLedger::default();
@@ -540,6 +556,8 @@ impl<'p> ExplicitSolver<'p> {
             let v_new = self.v_next[i];
             let v_full = if first {
                 self.v_half[i]
+            } else if let Some(w) = resume_weight {
+                self.v_half[i] + w * (v_new - self.v_half[i])
             } else {
                 0.5 * (self.v_half[i] + v_new)
             };

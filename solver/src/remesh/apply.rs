@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::locate::{Location, Locator};
 use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region, MesherOptions, RemeshedRegion};
-use super::record::{lumped_masses, momentum, stored_energy, MeshState, RemeshRecord};
+use super::record::{lumped_masses, momentum, MeshState, RemeshRecord};
 use super::transfer::{
     element_volumes, matrices_to_rows, rows_to_matrices, shape_function_transfer,
     transfer_nodal_vectors,
@@ -345,15 +345,15 @@ pub fn remesh_problem(
         })
         .collect();
 
-    // The record.
-    let material = &*body.material;
-    let stored_before = stored_energy(&old_volumes, &old_f, material).unwrap_or(0.0);
-    let new_f: Vec<Matrix3<f64>> = new_model
-        .carried
-        .as_ref()
-        .map(|c| c.deformation.clone())
-        .unwrap_or_default();
-    let stored_after = stored_energy(&new_volumes, &new_f, material).unwrap_or(0.0);
+    // The record, at the last full step t_n - dt, where the state holds both the velocity
+    // (`v_full`) and, one increment back, the displacement: kinetic and stored energy of one
+    // instant, so that their sum is the run's energy (at t_n the velocity is not known yet).
+    let back = |u: &[Vector3<f64>], du: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+        u.iter().zip(du).map(|(u, du)| u - du).collect()
+    };
+    let stored_before = model.stored_energy(&back(&state.u, &state.du_prev));
+    let stored_after =
+        new_model.stored_energy(&back(&vec![Vector3::zeros(); du_prev.len()], &du_prev));
     let record = RemeshRecord {
         time: state.time,
         before: MeshState::measure(&x, old_tets, &model.mass, &state.v_full, stored_before),
@@ -375,6 +375,7 @@ pub fn remesh_problem(
         v_full: v_full.clone(),
         du_prev,
         step: state.step,
+        time_step: state.time_step,
         time: state.time,
         energies,
         pending: state.pending,

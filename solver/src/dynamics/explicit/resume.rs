@@ -23,6 +23,9 @@ pub struct RunState {
     pub du_prev: Vec<Vector3<f64>>,
     /// Steps completed.
     pub step: usize,
+    /// The time step of the last step (s), which with the resumed run's step sets the span of
+    /// the first step after the resume.
+    pub time_step: f64,
     /// Time reached (s).
     pub time: f64,
     /// The energy ledger at the last step.
@@ -40,6 +43,7 @@ impl<'p> ExplicitSolver<'p> {
             v_full: self.v_full.clone(),
             du_prev: self.du_prev.clone(),
             step: self.step,
+            time_step: self.dt,
             time: self.time,
             energies: self.energies,
             pending: self.pending,
@@ -85,6 +89,8 @@ impl<'p> ExplicitSolver<'p> {
         solver.time_origin = state.time;
         solver.energies = state.energies;
         solver.pending = state.pending;
+        // Bitwise the same run when the step does not change.
+        solver.dt_before_resume = (state.time_step != solver.dt).then_some(state.time_step);
         Ok(solver)
     }
 }
