@@ -47,14 +47,17 @@
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
 mod apply;
+mod contact_surface;
 mod distortion;
 mod locate;
 mod mesh_check;
 mod mesher;
 mod record;
+mod splice;
 mod transfer;
 
 pub use apply::{remesh_problem, run_with_remeshing, RemeshPolicy, Remeshed};
+pub use contact_surface::SurfaceSeparation;
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,

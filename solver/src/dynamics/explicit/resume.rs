@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 use super::ExplicitSolver;
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
-use crate::model::Problem;
+use crate::model::{MaterialHistory, Problem};
 
 /// The state of the central-difference scheme between two steps (after a step's move to
 /// `u_{n+1}`, before the next step's forces).
@@ -32,6 +32,8 @@ pub struct RunState {
     pub energies: EnergyLedger,
     /// The half-interval works the next step completes.
     pub pending: EnergyLedger,
+    /// The material histories (bodies of microplane concrete), as the last step left them.
+    pub history: MaterialHistory,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -47,6 +49,7 @@ impl<'p> ExplicitSolver<'p> {
             time: self.time,
             energies: self.energies,
             pending: self.pending,
+            history: self.history.clone(),
         }
     }
 
@@ -68,6 +71,26 @@ impl<'p> ExplicitSolver<'p> {
             state.v_full.len(),
             state.du_prev.len(),
         ];
+        let history_fits = state.history.bodies.len() == problem.model.bodies.len()
+            && problem
+                .model
+                .bodies
+                .iter()
+                .zip(&state.history.bodies)
+                .all(|(b, h)| {
+                    let len = b.material.history_len();
+                    match h {
+                        None => len == 0,
+                        Some(h) => h.state_len == len && h.values.len() == len * b.elements.len(),
+                    }
+                });
+        if !history_fits {
+            return Err(SolverError::Remesh {
+                entity: "run state".to_string(),
+                message: "its material histories do not fit the model's bodies and elements"
+                    .to_string(),
+            });
+        }
         if lengths.iter().any(|&l| l != n) || state.step == 0 {
             return Err(SolverError::Remesh {
                 entity: "run state".to_string(),
@@ -89,6 +112,7 @@ impl<'p> ExplicitSolver<'p> {
         solver.time_origin = state.time;
         solver.energies = state.energies;
         solver.pending = state.pending;
+        solver.history = state.history;
         // Bitwise the same run when the step does not change.
         solver.dt_before_resume = (state.time_step != solver.dt).then_some(state.time_step);
         Ok(solver)
