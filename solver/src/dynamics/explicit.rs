@@ -6,6 +6,7 @@
 mod contact_phase;
 mod records;
 mod resume;
+mod run_loop;
 mod stopping;
 
 use std::time::Instant;
@@ -16,12 +17,10 @@ use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
-use crate::output::{
-    FieldFrames, HistoryFile, HistoryTable, ObserverSet, Progress, Recorder, RunObserver,
-    SnapshotView,
-};
+use crate::output::{FieldFrames, HistoryFile, ObserverSet, Progress, RunObserver};
 use contact_phase::ContactScratch;
 pub use resume::RunState;
+pub use run_loop::{OutputSchedule, SegmentEnd};
 
 /// A stopwatch read lap by lap.
 struct Lap(Instant);
@@ -234,7 +233,14 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Number of steps the run will take.
     pub fn planned_steps(&self) -> usize {
-        let by_time = (self.settings.end_time / self.dt - 1e-9).ceil().max(0.0) as usize;
+        // From the time this solver took the run over (0 unless resumed, then exactly as
+        // before for a run from the start).
+        let span = if self.step_origin == 0 {
+            self.settings.end_time
+        } else {
+            self.settings.end_time - self.time_origin
+        };
+        let by_time = (span / self.dt - 1e-9).ceil().max(0.0) as usize;
         self.settings
             .max_steps
             .map_or(by_time, |m| m.min(by_time.max(m)))
@@ -290,123 +296,6 @@ impl<'p> ExplicitSolver<'p> {
             }
         }
         Ok(observers)
-    }
-
-    /// Runs to the end time, showing the history rows, field frames, snapshots and progress to
-    /// `observers` as they fall due (the integrator writes nothing itself), and stopping at the
-    /// end of a step where one of them asks to halt. The summary holds the history and the
-    /// snapshots, and the files the observers wrote.
-    pub fn run_with(&mut self, observers: &mut [&mut dyn RunObserver]) -> Result<RunSummary> {
-        let started = Instant::now();
-        let steps = self.planned_steps();
-        let history_interval = self
-            .settings
-            .history_interval
-            .unwrap_or(self.settings.end_time / 500.0)
-            .max(0.0);
-        let mut recorder = Recorder::default();
-        let mut all: Vec<&mut dyn RunObserver> = observers.iter_mut().map(|o| &mut **o).collect();
-        all.push(&mut recorder);
-        let mut set = ObserverSet::new(all);
-        set.history_columns(&self.history_columns())?;
-        let wants_fields = set.wants_fields();
-        let mut next_history = 0.0;
-        let mut next_field = 0.0;
-        let mut next_snapshot = 0.0;
-        let mut max_scale: f64 = 0.0;
-        let mut max_abs_error: f64 = 0.0;
-        let mut flags = 0;
-        let progress_every = (steps / 100).max(1);
-
-        for n in 0..=steps {
-            let last = n == steps;
-            match self.advance() {
-                Ok(moved_too_far) => flags += moved_too_far as usize,
-                Err(reason_element) => return Err(self.stop(reason_element, &mut set)),
-            }
-            // Energies now describe t_n; check the balance before recording.
-            let mut clock = Lap::start();
-            let e = self.energies;
-            max_scale = max_scale.max(e.scale());
-            let error = e.balance_error();
-            max_abs_error = max_abs_error.max(error.abs());
-            if n > 10 && error.abs() > self.settings.instability_energy_tolerance * max_scale {
-                let reason = format!(
-                    "energy balance error {:.3e} J exceeds {} of the energy scale {:.3e} J",
-                    error, self.settings.instability_energy_tolerance, max_scale
-                );
-                let element = self.most_strained_element();
-                return Err(self.stop((reason, element), &mut set));
-            }
-            if n == 0 || last || self.time >= next_history - 1e-9 * self.dt {
-                set.history_row(&self.history_row(&e))?;
-                next_history += history_interval;
-            }
-            if wants_fields {
-                let due = match self.settings.field_interval {
-                    Some(_) => self.time >= next_field - 1e-9 * self.dt,
-                    None => n == 0,
-                };
-                if due || last {
-                    self.field_frame(&mut set)?;
-                    if let Some(interval) = self.settings.field_interval {
-                        next_field += interval;
-                    }
-                }
-            }
-            if let Some(interval) = self.settings.snapshot_interval {
-                if last || self.time >= next_snapshot - 1e-9 * self.dt {
-                    let crack_opening = if self.history.is_empty() {
-                        Vec::new()
-                    } else {
-                        self.problem.model.crack_openings(&self.u, &self.history)
-                    };
-                    set.snapshot(&SnapshotView {
-                        time: self.time,
-                        u: &self.u,
-                        crack_opening: &crack_opening,
-                    });
-                    next_snapshot += interval;
-                }
-            }
-            self.phases.output += clock.lap();
-            let fraction = (n % progress_every == 0).then(|| n as f64 / steps.max(1) as f64);
-            // Every observer sees the last step's progress, but a run whose last step is done
-            // completes: there is nothing left to halt (before the observers, a stop flag was
-            // not read after the last step either).
-            match set.poll(fraction) {
-                Some(halt) if !last => return Err(self.halt(halt, &mut set)),
-                _ if last => break,
-                _ => {}
-            }
-            self.finish_step();
-        }
-        set.finish()?;
-        let written = std::mem::take(&mut set.written);
-        drop(set);
-        Ok(RunSummary {
-            steps,
-            time: self.time,
-            time_step: self.dt,
-            critical_time_step: self.dt_critical,
-            critical_element: self.critical_element,
-            wall_seconds: started.elapsed().as_secs_f64(),
-            contact_seconds: self.phases.contact,
-            phase_seconds: self.phases,
-            contact_totals: self.contact_totals,
-            energies: self.energies,
-            max_relative_energy_error: if max_scale > 0.0 {
-                max_abs_error / max_scale
-            } else {
-                0.0
-            },
-            mesh_stability_flags: flags,
-            history: recorder
-                .history
-                .unwrap_or_else(|| HistoryTable::new(Vec::new())),
-            snapshots: recorder.snapshots,
-            written,
-        })
     }
 
     /// Computes forces at `t_n`, the new half-step velocity, the full-step velocity, reactions and

@@ -24,12 +24,20 @@ pub struct CarriedState {
     /// prescribed motions, given as functions of the original coordinates, read
     /// `X_0 = X - displacement` and compare with `displacement + u`.
     pub displacement: Vec<Vector3<f64>>,
+    /// Mass of each element (kg), a quarter to each node: the lumped masses of a remeshed
+    /// model are kept, not recomputed from volumes (the reference volume of an element is its
+    /// current one at the remeshing, and its density the transferred one).
+    pub element_mass: Vec<f64>,
 }
 
 impl CarriedState {
-    /// The carried deformation `F_0` per element and displacement per node; an element with a
-    /// non-positive or non-finite `det F_0` is an error naming it.
-    pub fn new(deformation: Vec<Matrix3<f64>>, displacement: Vec<Vector3<f64>>) -> Result<Self> {
+    /// The carried deformation `F_0` and mass per element and displacement per node; an element
+    /// with a non-positive or non-finite `det F_0` is an error naming it.
+    pub fn new(
+        deformation: Vec<Matrix3<f64>>,
+        displacement: Vec<Vector3<f64>>,
+        element_mass: Vec<f64>,
+    ) -> Result<Self> {
         let mut pull_back = Vec::with_capacity(deformation.len());
         for (e, f0) in deformation.iter().enumerate() {
             let det = f0.determinant();
@@ -45,6 +53,7 @@ impl CarriedState {
             deformation,
             pull_back,
             displacement,
+            element_mass,
         })
     }
 }

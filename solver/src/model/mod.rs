@@ -362,6 +362,20 @@ impl Model {
             .assemble(self, u, Some(assembly::Stateful { v, dt, history }), f)
     }
 
+    /// The mass of each element (kg): the body's density times its reference volume, or the
+    /// carried mass after a remeshing ([`CarriedState::element_mass`]).
+    pub fn element_masses(&self) -> Vec<f64> {
+        match &self.carried {
+            Some(c) => c.element_mass.clone(),
+            None => (0..self.element_count())
+                .map(|e| {
+                    let body = &self.bodies[self.element_body[e] as usize];
+                    body.material.constants().density * self.volume[e]
+                })
+                .collect(),
+        }
+    }
+
     /// Elastic energy stored in all elements, `sum_e V_e W(E_e)` (after a remeshing, `V_e` the
     /// stress-free volume `V_r / det F_0` and `E_e` from `F = F_r F_0`).
     ///

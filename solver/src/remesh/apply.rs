@@ -1,10 +1,10 @@
 //! A remeshing between two steps of an explicit run (thesis 9.2: the analysis pauses, the
-//! region is remeshed, the fields are transferred, the analysis goes on), for one-body models of
-//! elastic or Saint-Venant-Kirchhoff material.
+//! region is remeshed, the fields are transferred, the analysis goes on): one body of the model
+//! remeshed, the others copied.
 //!
 //! The integrator borrows its [`Problem`], so the remeshing builds a new problem and a new
 //! state from the old ones ([`remesh_problem`]) and the run goes on with a new solver over them
-//! ([`crate::dynamics::ExplicitSolver::resume`]); [`RemeshPolicy`] says when. The new mesh is
+//! ([`crate::dynamics::ExplicitSolver::resume`]); [`super::RemeshPolicy`] says when. The new mesh is
 //! the new reference configuration (module `remesh`): the new model's reference coordinates are
 //! the current ones, its displacements start at zero, and each element carries the deformation
 //! gradient `F_0` reached so far ([`crate::model::CarriedState`]).
@@ -17,7 +17,7 @@ use super::contact_surface::separate_new_surface_nodes;
 use super::locate::Locator;
 use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region, MesherOptions};
-use super::record::{lumped_masses, momentum, MeshState, RemeshRecord};
+use super::record::{momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
 use super::transfer::{
     closest_gauss_point_sources, element_volumes, matrices_to_rows, rows_to_matrices,
@@ -30,32 +30,6 @@ use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
     BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialSource, Model, Probe, Problem,
 };
-
-/// When a run remeshes ([`crate::dynamics::ExplicitSolver`] callers check it every
-/// `check_every` steps): when the worst collapse ratio `chi` (8.1) passes `collapse_limit`, the
-/// distorted elements grown by `layers` layers ([`super::grow_region`]) are remeshed.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RemeshPolicy {
-    /// Steps between two distortion checks.
-    pub check_every: usize,
-    /// The collapse ratio above which an element is distorted (thesis 8.1: 10).
-    pub collapse_limit: f64,
-    /// Layers of elements added around the distorted ones, so that their nodes can move.
-    pub layers: usize,
-    /// The mesher's settings.
-    pub mesher: MesherOptions,
-}
-
-impl Default for RemeshPolicy {
-    fn default() -> Self {
-        Self {
-            check_every: 100,
-            collapse_limit: super::COLLAPSE_RATIO_LIMIT,
-            layers: 1,
-            mesher: MesherOptions::default(),
-        }
-    }
-}
 
 /// What [`remesh_problem`] returns: the problem and state the run goes on with, the record of
 /// the remeshing (energies and momentum before and after) and the mesher's check.
@@ -305,17 +279,8 @@ pub fn remesh_problem(
     let old_f: Vec<Matrix3<f64>> = (0..model.element_count())
         .map(|e| model.deformation_gradient(e, &state.u))
         .collect();
-    let old_rho: Vec<f64> = old_f
-        .iter()
-        .enumerate()
-        .map(|(e, f)| {
-            let rho0 = model.bodies[model.element_body[e] as usize]
-                .material
-                .constants()
-                .density;
-            rho0 / f.determinant()
-        })
-        .collect();
+    // Element masses: what each element gives its nodes (a quarter each), kept exactly.
+    let old_element_mass = model.element_masses();
     let local_f = &old_f[elements.clone()];
     let old_volumes = element_volumes(x, local_tets);
     let t1 = |values: &[f64], width: usize| {
@@ -329,7 +294,11 @@ pub fn remesh_problem(
             &new.tets,
         )
     };
-    let t1_rho = t1(&old_rho[elements.clone()], 1)?;
+    // The current density of the body's elements, mass over current volume.
+    let old_rho: Vec<f64> = (0..local_tets.len())
+        .map(|e| old_element_mass[elements.start + e] / old_volumes[e])
+        .collect();
+    let t1_rho = t1(&old_rho, 1)?;
     let history = state.history.bodies.get(b).cloned().flatten();
     // Microplane: F goes with the history, from the same old element (T2).
     let sources = match history {
@@ -345,14 +314,36 @@ pub fn remesh_problem(
             splice.elements(&old_f, |e| t1_f[e])
         }
     };
-    let rho = splice.elements(&old_rho, |e| t1_rho[e]);
+    // T1 smooths the density, so the new elements' mass would differ from the mass of the old
+    // elements they replace (by 1e-3 per remeshing at a punch's edge): their densities are
+    // scaled so that it is the same, and the body's mass is kept to round-off.
+    let mut copied = vec![false; local_tets.len()];
+    for o in new.element_origin.iter().flatten() {
+        copied[*o as usize] = true;
+    }
+    let replaced_mass: f64 = (0..local_tets.len())
+        .filter(|&e| !copied[e])
+        .map(|e| old_element_mass[elements.start + e])
+        .sum();
+    let new_mass: f64 = (0..new.tets.len())
+        .filter(|&e| new.element_origin[e].is_none())
+        .map(|e| t1_rho[e] * generated_volumes[e])
+        .sum();
+    let density_scale = if new_mass > 0.0 {
+        replaced_mass / new_mass
+    } else {
+        1.0
+    };
+    let element_mass = splice.elements(&old_element_mass, |e| {
+        t1_rho[e] * density_scale * generated_volumes[e]
+    });
     let new_volumes = element_volumes(&new.nodes, &new.tets);
-    let body_mass = lumped_masses(
-        &new.tets,
-        &generated_volumes,
-        &rho[splice.new_elements()],
-        new.nodes.len(),
-    );
+    let mut body_mass = vec![0.0; new.nodes.len()];
+    for (tet, m) in new.tets.iter().zip(&element_mass[splice.new_elements()]) {
+        for &n in tet {
+            body_mass[n as usize] += 0.25 * m;
+        }
+    }
     let mut mass = Vec::with_capacity(splice.node_count());
     mass.extend_from_slice(&model.mass[..nodes.start]);
     mass.extend(body_mass);
@@ -438,7 +429,7 @@ pub fn remesh_problem(
     let mut new_model = Model::new(parts)?;
     new_model.crack_indicator = model.crack_indicator;
     new_model.mass = mass;
-    new_model.carried = Some(CarriedState::new(new_f, displacement)?);
+    new_model.carried = Some(CarriedState::new(new_f, displacement, element_mass)?);
     let constraints = problem
         .constraints
         .iter()
@@ -504,6 +495,8 @@ pub fn remesh_problem(
         energies,
         pending: state.pending,
         history: histories,
+        phases: state.phases,
+        contact_totals: state.contact_totals,
     };
     let mut new_problem = Problem::new(new_model);
     new_problem.constraints = constraints;
@@ -518,67 +511,4 @@ pub fn remesh_problem(
         record,
         check,
     })
-}
-
-/// Runs `steps` steps of `problem` from its start with a remeshing whenever `policy` asks
-/// (every `check_every` steps, [`super::check_distortion`] over the current coordinates; the
-/// region is the elements above the limit grown by `policy.layers`), each step a plain
-/// [`crate::dynamics::ExplicitSolver::step`]. Returns the problem and state the run ended with
-/// and the record of each remeshing. The solver is rebuilt after each remeshing (it borrows its
-/// problem): [`crate::dynamics::ExplicitSolver::resume`] over the new problem.
-pub fn run_with_remeshing(
-    mut problem: Problem,
-    settings: crate::dynamics::ExplicitSettings,
-    steps: usize,
-    policy: &RemeshPolicy,
-) -> Result<(Problem, RunState, Vec<RemeshRecord>)> {
-    use crate::dynamics::{ExplicitSolver, OutputSettings};
-    let mut records = Vec::new();
-    let mut state: Option<RunState> = None;
-    loop {
-        let (now, region) = {
-            let mut solver = match state.take() {
-                Some(s) => ExplicitSolver::resume(
-                    &problem,
-                    settings.clone(),
-                    OutputSettings::default(),
-                    s,
-                )?,
-                None => ExplicitSolver::new(&problem, settings.clone(), OutputSettings::default())?,
-            };
-            let mut region = Vec::new();
-            while solver.step < steps {
-                solver.step()?;
-                if solver.step % policy.check_every.max(1) != 0 {
-                    continue;
-                }
-                let m = &problem.model;
-                let x: Vec<Vector3<f64>> = m
-                    .reference
-                    .iter()
-                    .zip(&solver.u)
-                    .map(|(x, u)| x + u)
-                    .collect();
-                if !super::check_distortion(&x, &m.tets, policy.collapse_limit).remesh {
-                    continue;
-                }
-                let distorted: Vec<usize> = (0..m.tets.len())
-                    .filter(|&e| {
-                        super::collapse_ratio(&m.tets[e].map(|n| x[n as usize]))
-                            > policy.collapse_limit
-                    })
-                    .collect();
-                region = super::grow_region(&m.tets, &distorted, policy.layers);
-                break;
-            }
-            (solver.state(), region)
-        };
-        if region.is_empty() {
-            return Ok((problem, now, records));
-        }
-        let r = remesh_problem(&problem, &now, &region, &policy.mesher)?;
-        records.push(r.record);
-        problem = r.problem;
-        state = Some(r.state);
-    }
 }

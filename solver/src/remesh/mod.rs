@@ -53,10 +53,11 @@ mod locate;
 mod mesh_check;
 mod mesher;
 mod record;
+mod run;
 mod splice;
 mod transfer;
 
-pub use apply::{remesh_problem, run_with_remeshing, RemeshPolicy, Remeshed};
+pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
@@ -71,6 +72,7 @@ pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,
 };
+pub use run::{run_remeshing, RemeshPolicy, RemeshSettings, RemeshingRun};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,

@@ -5,6 +5,7 @@
 use nalgebra::Vector3;
 
 use super::ExplicitSolver;
+use crate::dynamics::settings::{ContactTotals, PhaseTimes};
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Problem};
@@ -34,6 +35,11 @@ pub struct RunState {
     pub pending: EnergyLedger,
     /// The material histories (bodies of microplane concrete), as the last step left them.
     pub history: MaterialHistory,
+    /// Wall time of each phase so far, carried so that a run over several meshes reports its
+    /// whole time.
+    pub phases: PhaseTimes,
+    /// What contact did so far.
+    pub contact_totals: ContactTotals,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -50,6 +56,8 @@ impl<'p> ExplicitSolver<'p> {
             energies: self.energies,
             pending: self.pending,
             history: self.history.clone(),
+            phases: self.phases,
+            contact_totals: self.contact_totals,
         }
     }
 
@@ -113,6 +121,8 @@ impl<'p> ExplicitSolver<'p> {
         solver.energies = state.energies;
         solver.pending = state.pending;
         solver.history = state.history;
+        solver.phases = state.phases;
+        solver.contact_totals = state.contact_totals;
         // Bitwise the same run when the step does not change.
         solver.dt_before_resume = (state.time_step != solver.dt).then_some(state.time_step);
         Ok(solver)
