@@ -415,7 +415,10 @@ fn a_sheared_block_remeshes_as_it_distorts_and_keeps_its_balance() {
     );
     assert!(run.records.len() >= 2, "more than one remeshing");
     for r in &run.records {
-        assert!((r.after.mass - r.before.mass).abs() < 1e-12 * r.before.mass, "mass kept");
+        assert!(
+            (r.after.mass - r.before.mass).abs() < 1e-12 * r.before.mass,
+            "mass kept"
+        );
     }
     assert!((s.time - end).abs() <= s.time_step);
     assert!(jumps < 1e-2 * stored_end);
@@ -430,4 +433,27 @@ fn a_sheared_block_remeshes_as_it_distorts_and_keeps_its_balance() {
             "top face at {x} m at t = {t} s, not {exact}"
         );
     }
+}
+
+/// The stable limit of the current configuration is that of a model built over it: a box
+/// compressed to half its height along y and sheared has the critical step of the same mesh
+/// with its nodes at the deformed positions, bit for bit, and it is below the reference one.
+#[test]
+fn the_current_critical_step_is_that_of_the_deformed_mesh() {
+    use impact_solver::model::Model;
+    let mesh = box_body([1.0, 0.5, 0.5], [4, 2, 2], 0.2, 9);
+    let p = problem(mesh.clone(), MaterialModel::LinearElastic(STEEL));
+    let g = Matrix3::new(0.0, 0.3, 0.0, 0.0, -0.5, 0.0, 0.0, 0.0, 0.0);
+    let u: Vec<Vector3<f64>> = p.model.reference.iter().map(|x| g * x).collect();
+    let mut deformed = mesh;
+    deformed.nodes.iter_mut().zip(&u).for_each(|(x, u)| *x += u);
+    let built = Model::new(vec![(
+        "body".to_string(),
+        deformed,
+        MaterialModel::LinearElastic(STEEL),
+    )])
+    .unwrap();
+    let current = p.model.current_critical_time_step(&u);
+    assert_eq!(current, built.critical_time_step());
+    assert!(current.0 < 0.6 * p.model.critical_time_step().0);
 }

@@ -299,6 +299,22 @@ impl Model {
         best
     }
 
+    /// The stable limit in the configuration `X + u` (s) and the element that sets it: the
+    /// smallest current altitude over the dilatational wave speed. Elements that a penetrator
+    /// flattens bring it down well below [`Self::critical_time_step`] of the reference.
+    pub fn current_critical_time_step(&self, u: &[Vector3<f64>]) -> (f64, usize) {
+        let mut best = (f64::INFINITY, 0);
+        for (e, tet) in self.tets.iter().enumerate() {
+            let x = tet.map(|n| self.reference[n as usize] + u[n as usize]);
+            let l = crate::mesh::element_quality(&x).min_altitude;
+            let dt = l / self.material_of(e).constants().dilatational_wave_speed();
+            if dt < best.0 {
+                best = (dt, e);
+            }
+        }
+        best
+    }
+
     /// Displacements of element `e`'s nodes.
     #[inline]
     pub fn element_displacements(&self, e: usize, u: &[Vector3<f64>]) -> [Vector3<f64>; 4] {

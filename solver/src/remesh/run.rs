@@ -182,6 +182,16 @@ impl RemeshPolicy {
     }
 }
 
+/// Why a segment of the run paused.
+enum Pause {
+    /// It did not (it finished).
+    None,
+    /// These elements passed the collapse limit.
+    Remesh(Vec<usize>),
+    /// The stable limit fell: go on with this step (s).
+    TimeStep(f64),
+}
+
 /// The largest collapse ratio of the elements of body `body` (on the model's reference, which
 /// after a remeshing is the current configuration).
 fn worst_collapse_ratio(model: &crate::model::Model, body: usize) -> f64 {
@@ -230,19 +240,28 @@ pub fn run_remeshing(
     let mut records: Vec<RemeshRecord> = Vec::new();
     let every = policy.check_every.max(1);
     let mut threshold = policy.collapse_limit;
+    // The time step: the settings' own, or `safety` times the stable limit, shrunk where the
+    // current limit falls (elements flattened under a penetrator): when the step passes
+    // halfway from `safety` to 1 times the current limit, the run pauses and goes on with
+    // `safety` times it (without remeshing; thesis 10.4.1.1 on the falling limit).
+    let adapt = settings.time_step.is_none();
+    let trigger = 0.5 * (settings.safety + 1.0);
+    let mut step_now: Option<f64> = None;
     let (summary, last_state) = loop {
         let current = owned.as_ref().unwrap_or(problem);
-        let (end, now, region, summary) = {
+        let mut resumed = settings.clone();
+        resumed.time_step = resumed.time_step.or(step_now);
+        let (end, now, pause, summary) = {
             let problem = current;
             let mut solver = match state.take() {
-                Some(s) => ExplicitSolver::resume(problem, settings.clone(), output.clone(), s)?,
+                Some(s) => ExplicitSolver::resume(problem, resumed, output.clone(), s)?,
                 None => {
-                    let solver = ExplicitSolver::new(problem, settings.clone(), output.clone())?;
+                    let solver = ExplicitSolver::new(problem, resumed, output.clone())?;
                     set.history_columns(&solver.history_columns())?;
                     solver
                 }
             };
-            let mut region = Vec::new();
+            let mut pause = Pause::None;
             let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
                 if s.step % every != 0 {
                     return false;
@@ -250,16 +269,36 @@ pub fn run_remeshing(
                 let m = &problem.model;
                 let x: Vec<Vector3<f64>> =
                     m.reference.iter().zip(&s.u).map(|(x, u)| x + u).collect();
-                region = policy.region(problem, &x, threshold);
-                !region.is_empty()
+                let region = policy.region(problem, &x, threshold);
+                if !region.is_empty() {
+                    pause = Pause::Remesh(region);
+                    return true;
+                }
+                if adapt {
+                    let (limit, _) = m.current_critical_time_step(&s.u);
+                    if s.time_step() > trigger * limit {
+                        pause = Pause::TimeStep(settings.safety * limit);
+                        return true;
+                    }
+                }
+                false
             })?;
             let summary = (end == SegmentEnd::Finished)
                 .then(|| solver.summary(&schedule, started, Recorder::default(), Vec::new()));
-            (end, solver.state(), region, summary)
+            (end, solver.state(), pause, summary)
         };
         if let (SegmentEnd::Finished, Some(summary)) = (end, summary) {
             break (summary, now);
         }
+        let region = match pause {
+            Pause::TimeStep(dt) => {
+                step_now = Some(dt);
+                state = Some(now);
+                continue;
+            }
+            Pause::Remesh(region) => region,
+            Pause::None => Vec::new(),
+        };
         if records.len() >= policy.max_remeshings {
             let _ = set.finish();
             return Err(SolverError::Remesh {
@@ -283,6 +322,8 @@ pub fn run_remeshing(
         records.push(remeshed.record);
         owned = Some(remeshed.problem);
         state = Some(remeshed.state);
+        // The new mesh's reference is the current configuration: its own limit applies.
+        step_now = None;
     };
     set.finish()?;
     let written = std::mem::take(&mut set.written);
