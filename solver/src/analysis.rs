@@ -9,6 +9,7 @@ use crate::contact::RecordedProblem;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
 use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
+use crate::remesh::{run_remeshing, RemeshRecord};
 use crate::scene::Analysis;
 use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
@@ -34,6 +35,9 @@ pub struct Execution {
     /// The material histories at the end of an explicit run (microplane bodies): the stresses
     /// of the final state are read from them.
     pub material_history: Option<MaterialHistory>,
+    /// Every remeshing of a run that remeshes (`analysis.explicit.remeshing`), in time order;
+    /// the problem the caller passed is then the one over the last mesh.
+    pub remeshings: Vec<RemeshRecord>,
 }
 
 impl Execution {
@@ -74,6 +78,9 @@ pub fn execute(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
     match analysis {
+        Analysis::Explicit(settings) if settings.remeshing.is_some() => {
+            explicit_remeshing(problem, settings, options, progress)
+        }
         Analysis::Explicit(settings) => explicit(problem, settings, None, options, progress),
         Analysis::Static(settings) => statics(problem, settings, options, progress),
         Analysis::Release {
@@ -142,6 +149,115 @@ fn explicit(
         static_solution: None,
         contact_problems,
         material_history: Some(solver.history().clone()),
+        remeshings: Vec::new(),
+    })
+}
+
+/// An explicit run that remeshes ([`crate::remesh::run_remeshing`]): the observers of
+/// [`explicit`] over the whole run, a line per remeshing to the log, the records as
+/// `<stem>_remeshing.csv`, and `problem` replaced by the problem over the last mesh.
+fn explicit_remeshing(
+    problem: &mut Problem,
+    settings: &ExplicitSettings,
+    options: &ExecuteOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Execution, SolverError> {
+    let Some(remeshing) = &settings.remeshing else {
+        return explicit(problem, settings, None, options, progress);
+    };
+    let policy = remeshing.policy(problem)?;
+    if problem.contact.iter().any(|p| p.record_every.is_some()) {
+        return Err(SolverError::InvalidScene {
+            entity: "contact.record_problems_every".into(),
+            message: "recording contact problems is not supported in a run that remeshes".into(),
+        });
+    }
+    let output = OutputSettings {
+        dir: options.out.map(Path::to_path_buf),
+        stem: options.stem.to_string(),
+        fields: options.fields,
+    };
+    let probe = ExplicitSolver::new(problem, settings.clone(), output.clone())?;
+    let plan = format!(
+        "{}; remeshing body `{}` where an element's collapse ratio passes {} (checked every {} \
+         steps)",
+        probe.plan(),
+        remeshing.body,
+        policy.collapse_limit,
+        policy.check_every
+    );
+    let mut files = probe.output_observers()?;
+    drop(probe);
+    let mut deadline = options.time_limit_s.map(Deadline::after);
+    let mut stop = options.stop.clone().map(StopFlag);
+    let mut progress = Progress(progress);
+    let mut observers: Vec<&mut dyn RunObserver> = files
+        .iter_mut()
+        .map(|o| &mut **o as &mut dyn RunObserver)
+        .collect();
+    observers.extend(deadline.as_mut().map(|d| d as &mut dyn RunObserver));
+    observers.extend(stop.as_mut().map(|s| s as &mut dyn RunObserver));
+    observers.push(&mut progress);
+    let run = run_remeshing(
+        problem,
+        settings,
+        &output,
+        &policy,
+        &mut observers,
+        &mut |record| eprintln!("  {}", record.summary()),
+    )?;
+    let mut summary = run.summary;
+    if let Some(dir) = options.out {
+        let path = dir.join(format!("{}_remeshing.csv", options.stem));
+        write_remeshing_csv(&path, &run.records)?;
+        summary.written.push(path);
+    }
+    if let Some(p) = run.problem {
+        *problem = p;
+    }
+    Ok(Execution {
+        plan,
+        u: run.state.u.clone(),
+        v: Some(run.state.v_full.clone()),
+        history: Some(summary.history.clone()),
+        written: summary.written.clone(),
+        summary: Some(summary),
+        static_solution: None,
+        contact_problems: Vec::new(),
+        material_history: Some(run.state.history),
+        remeshings: run.records,
+    })
+}
+
+/// The remeshing records as a CSV, one row per remeshing.
+fn write_remeshing_csv(path: &Path, records: &[RemeshRecord]) -> Result<(), SolverError> {
+    let mut text = String::from(
+        "time,elements_before,elements_after,worst_collapse_before,worst_collapse_after,\
+         kinetic_before,kinetic_after,stored_before,stored_after,total_energy_jump,\
+         momentum_jump,velocity_shift,surface_nodes_moved,largest_surface_move\n",
+    );
+    for r in records {
+        text.push_str(&format!(
+            "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
+            r.time,
+            r.before.elements,
+            r.after.elements,
+            r.before.worst_collapse_ratio,
+            r.after.worst_collapse_ratio,
+            r.before.kinetic,
+            r.after.kinetic,
+            r.before.stored,
+            r.after.stored,
+            r.total_energy_jump(),
+            r.momentum_jump().norm(),
+            r.velocity_shift.norm(),
+            r.separation.moved,
+            r.separation.largest_depth,
+        ));
+    }
+    std::fs::write(path, text).map_err(|e| SolverError::Write {
+        path: path.to_path_buf(),
+        source: e,
     })
 }
 
@@ -204,6 +320,7 @@ fn statics(
         summary: None,
         material_history: solution.material_history.clone(),
         static_solution: Some(solution),
+        remeshings: Vec::new(),
         written,
         contact_problems: Vec::new(),
     })

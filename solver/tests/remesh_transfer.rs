@@ -467,6 +467,7 @@ fn record_of_a_uniform_state_shows_no_jump() {
         before,
         after,
         velocity_shift: shift,
+        separation: Default::default(),
     };
     println!("{}", record.summary());
     assert_eq!(record.before.elements, old.tets.len());

@@ -30,10 +30,15 @@ pub struct EnergyLedger {
     /// energy, so once their stress has dropped to zero (an open crack) all of it was
     /// dissipated. Not a separate term of the balance.
     pub history_work: f64,
+    /// Energy the remeshings put in (J): the sum of their jumps in total (kinetic plus stored)
+    /// energy, [`crate::remesh::RemeshRecord::total_energy_jump`]; 0 in a run without
+    /// remeshing. A term of the balance, so that a remeshing's jump is reported, not flagged.
+    pub remesh_work: f64,
 }
 
 impl EnergyLedger {
-    /// `K + W_int + W_damp + W_contact + W_friction - W_ext - K_0`: zero for an exact balance.
+    /// `K + W_int + W_damp + W_contact + W_friction - W_ext - K_0 - W_remesh`: zero for an exact
+    /// balance.
     pub fn balance_error(&self) -> f64 {
         self.kinetic
             + self.internal_work
@@ -42,6 +47,7 @@ impl EnergyLedger {
             + self.friction_work
             - self.external_work
             - self.initial_kinetic
+            - self.remesh_work
     }
 
     /// The energy scale the error is measured against: the largest of the energy put in

@@ -5,6 +5,8 @@
 
 mod contact_phase;
 mod records;
+mod resume;
+mod run_loop;
 mod stopping;
 
 use std::time::Instant;
@@ -15,11 +17,10 @@ use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
-use crate::output::{
-    FieldFrames, HistoryFile, HistoryTable, ObserverSet, Progress, Recorder, RunObserver,
-    SnapshotView,
-};
+use crate::output::{FieldFrames, HistoryFile, ObserverSet, Progress, RunObserver};
 use contact_phase::ContactScratch;
+pub use resume::RunState;
+pub use run_loop::{OutputSchedule, SegmentEnd};
 
 /// A stopwatch read lap by lap.
 struct Lap(Instant);
@@ -81,8 +82,15 @@ pub struct ExplicitSolver<'p> {
     pending: EnergyLedger,
     /// Number of time steps completed.
     pub step: usize,
-    /// Simulated time reached (s).
+    /// Simulated time reached (s): `time_origin + (step - step_origin) dt`.
     pub time: f64,
+    /// Time and step at which this solver took the run over (0 unless resumed after a
+    /// remeshing, [`Self::resume`]).
+    time_origin: f64,
+    step_origin: usize,
+    /// The time step of the run before a resume, when it differs: the first step after it
+    /// spans `(dt_before + dt) / 2` between its half-step velocities ([`Self::advance`]).
+    dt_before_resume: Option<f64>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -173,6 +181,9 @@ impl<'p> ExplicitSolver<'p> {
             pending: EnergyLedger::default(),
             step: 0,
             time: 0.0,
+            time_origin: 0.0,
+            step_origin: 0,
+            dt_before_resume: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -222,7 +233,14 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Number of steps the run will take.
     pub fn planned_steps(&self) -> usize {
-        let by_time = (self.settings.end_time / self.dt - 1e-9).ceil().max(0.0) as usize;
+        // From the time this solver took the run over (0 unless resumed, then exactly as
+        // before for a run from the start).
+        let span = if self.step_origin == 0 {
+            self.settings.end_time
+        } else {
+            self.settings.end_time - self.time_origin
+        };
+        let by_time = (span / self.dt - 1e-9).ceil().max(0.0) as usize;
         self.settings
             .max_steps
             .map_or(by_time, |m| m.min(by_time.max(m)))
@@ -280,133 +298,22 @@ impl<'p> ExplicitSolver<'p> {
         Ok(observers)
     }
 
-    /// Runs to the end time, showing the history rows, field frames, snapshots and progress to
-    /// `observers` as they fall due (the integrator writes nothing itself), and stopping at the
-    /// end of a step where one of them asks to halt. The summary holds the history and the
-    /// snapshots, and the files the observers wrote.
-    pub fn run_with(&mut self, observers: &mut [&mut dyn RunObserver]) -> Result<RunSummary> {
-        let started = Instant::now();
-        let steps = self.planned_steps();
-        let history_interval = self
-            .settings
-            .history_interval
-            .unwrap_or(self.settings.end_time / 500.0)
-            .max(0.0);
-        let mut recorder = Recorder::default();
-        let mut all: Vec<&mut dyn RunObserver> = observers.iter_mut().map(|o| &mut **o).collect();
-        all.push(&mut recorder);
-        let mut set = ObserverSet::new(all);
-        set.history_columns(&self.history_columns())?;
-        let wants_fields = set.wants_fields();
-        let mut next_history = 0.0;
-        let mut next_field = 0.0;
-        let mut next_snapshot = 0.0;
-        let mut max_scale: f64 = 0.0;
-        let mut max_abs_error: f64 = 0.0;
-        let mut flags = 0;
-        let progress_every = (steps / 100).max(1);
-
-        for n in 0..=steps {
-            let last = n == steps;
-            match self.advance() {
-                Ok(moved_too_far) => flags += moved_too_far as usize,
-                Err(reason_element) => return Err(self.stop(reason_element, &mut set)),
-            }
-            // Energies now describe t_n; check the balance before recording.
-            let mut clock = Lap::start();
-            let e = self.energies;
-            max_scale = max_scale.max(e.scale());
-            let error = e.balance_error();
-            max_abs_error = max_abs_error.max(error.abs());
-            if n > 10 && error.abs() > self.settings.instability_energy_tolerance * max_scale {
-                let reason = format!(
-                    "energy balance error {:.3e} J exceeds {} of the energy scale {:.3e} J",
-                    error, self.settings.instability_energy_tolerance, max_scale
-                );
-                let element = self.most_strained_element();
-                return Err(self.stop((reason, element), &mut set));
-            }
-            if n == 0 || last || self.time >= next_history - 1e-9 * self.dt {
-                set.history_row(&self.history_row(&e))?;
-                next_history += history_interval;
-            }
-            if wants_fields {
-                let due = match self.settings.field_interval {
-                    Some(_) => self.time >= next_field - 1e-9 * self.dt,
-                    None => n == 0,
-                };
-                if due || last {
-                    self.field_frame(&mut set)?;
-                    if let Some(interval) = self.settings.field_interval {
-                        next_field += interval;
-                    }
-                }
-            }
-            if let Some(interval) = self.settings.snapshot_interval {
-                if last || self.time >= next_snapshot - 1e-9 * self.dt {
-                    let crack_opening = if self.history.is_empty() {
-                        Vec::new()
-                    } else {
-                        self.problem.model.crack_openings(&self.u, &self.history)
-                    };
-                    set.snapshot(&SnapshotView {
-                        time: self.time,
-                        u: &self.u,
-                        crack_opening: &crack_opening,
-                    });
-                    next_snapshot += interval;
-                }
-            }
-            self.phases.output += clock.lap();
-            let fraction = (n % progress_every == 0).then(|| n as f64 / steps.max(1) as f64);
-            // Every observer sees the last step's progress, but a run whose last step is done
-            // completes: there is nothing left to halt (before the observers, a stop flag was
-            // not read after the last step either).
-            match set.poll(fraction) {
-                Some(halt) if !last => return Err(self.halt(halt, &mut set)),
-                _ if last => break,
-                _ => {}
-            }
-            self.finish_step();
-        }
-        set.finish()?;
-        let written = std::mem::take(&mut set.written);
-        drop(set);
-        Ok(RunSummary {
-            steps,
-            time: self.time,
-            time_step: self.dt,
-            critical_time_step: self.dt_critical,
-            critical_element: self.critical_element,
-            wall_seconds: started.elapsed().as_secs_f64(),
-            contact_seconds: self.phases.contact,
-            phase_seconds: self.phases,
-            contact_totals: self.contact_totals,
-            energies: self.energies,
-            max_relative_energy_error: if max_scale > 0.0 {
-                max_abs_error / max_scale
-            } else {
-                0.0
-            },
-            mesh_stability_flags: flags,
-            history: recorder
-                .history
-                .unwrap_or_else(|| HistoryTable::new(Vec::new())),
-            snapshots: recorder.snapshots,
-            written,
-        })
-    }
-
     /// Computes forces at `t_n`, the new half-step velocity, the full-step velocity, reactions and
     /// the energies at `t_n`. Leaves `u` at `u_n`; [`Self::finish_step`] moves it to `u_{n+1}`.
     /// Returns whether the mesh stability check flagged a node, or the reason to stop. Each
     /// phase is timed ([`PhaseTimes`]).
     fn advance(&mut self) -> std::result::Result<bool, (String, Option<usize>)> {
-        // Effective step between v_{n-1/2} and v_{n+1/2} (half a step at the start).
+        // Effective step between v_{n-1/2} and v_{n+1/2}: half a step at the start, and the
+        // mean of the two steps on either side of t_n at the first step after a resume with a
+        // new time step (central differences with a variable step, Belytschko et al. 2014,
+        // 6.2.1: v_{n+1/2} = v_{n-1/2} + (dt_{n-1/2} + dt_{n+1/2}) / 2 a_n).
         let h = if self.step == 0 {
             0.5 * self.dt
         } else {
-            self.dt
+            match self.dt_before_resume {
+                Some(before) if self.step == self.step_origin => 0.5 * (before + self.dt),
+                _ => self.dt,
+            }
         };
         let mut clock = Lap::start();
         self.internal_forces()?;
@@ -460,9 +367,15 @@ impl<'p> ExplicitSolver<'p> {
     fn prescribed_motion(&mut self) {
         let problem = self.problem;
         let (dt, t) = (self.dt, self.time);
+        // After a remeshing the motions, functions of the original coordinates, read those
+        // and the displacement since then ([`crate::model::CarriedState`]).
+        let carried = problem.model.carried.as_ref().map(|c| &c.displacement);
         for &i in &self.constrained_nodes {
             let i = i as usize;
-            let x = problem.model.reference[i];
+            let (x, u_now) = match carried {
+                Some(d) => (problem.model.reference[i] - d[i], d[i] + self.u[i]),
+                None => (problem.model.reference[i], self.u[i]),
+            };
             for d in 0..3 {
                 if let Some(c) = self.constraint_of[i][d] {
                     let motion = &problem.constraints[c as usize].motion;
@@ -475,7 +388,7 @@ impl<'p> ExplicitSolver<'p> {
                             let u = motion
                                 .displacement(&x, t + dt)
                                 .expect("every motion but a velocity gives a displacement");
-                            (u[d] - self.u[i][d]) / dt
+                            (u[d] - u_now[d]) / dt
                         }
                     };
                 }
@@ -516,6 +429,12 @@ impl<'p> ExplicitSolver<'p> {
         let model = &self.problem.model;
         let (dt, alpha) = (self.dt, self.settings.damping);
         let first = self.step == 0;
+        // At the first step after a resume with a new time step, v_n lies dt_before / 2 after
+        // v_{n-1/2}, not midway to v_{n+1/2}.
+        let resume_weight = match self.dt_before_resume {
+            Some(before) if self.step == self.step_origin && !first => Some(0.5 * before / h),
+            _ => None,
+        };
         let mut moved_too_far = false;
         let mut kinetic = 0.0;
         let mut closing = EnergyLedger::default();
@@ -526,6 +445,8 @@ impl<'p> ExplicitSolver<'p> {
             let v_new = self.v_next[i];
             let v_full = if first {
                 self.v_half[i]
+            } else if let Some(w) = resume_weight {
+                self.v_half[i] + w * (v_new - self.v_half[i])
             } else {
                 0.5 * (self.v_half[i] + v_new)
             };
@@ -602,7 +523,7 @@ impl<'p> ExplicitSolver<'p> {
             *u += du;
         }
         self.step += 1;
-        self.time = self.step as f64 * self.dt;
+        self.time = self.time_origin + (self.step - self.step_origin) as f64 * self.dt;
     }
 }
 

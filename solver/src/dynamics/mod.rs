@@ -7,7 +7,7 @@ mod report;
 mod settings;
 
 pub use energy::EnergyLedger;
-pub use explicit::ExplicitSolver;
+pub use explicit::{ExplicitSolver, OutputSchedule, RunState, SegmentEnd};
 pub use report::InstabilityReport;
 pub use settings::{
     ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary, Snapshot,

@@ -48,6 +48,9 @@ pub struct ExplicitSettings {
     /// altitude of its elements are counted.
     #[serde(default = "default_eta")]
     pub mesh_stability_eta: f64,
+    /// Adaptive remeshing of one body (thesis chapter 8); `None` runs on the initial mesh.
+    #[serde(default)]
+    pub remeshing: Option<crate::remesh::RemeshSettings>,
 }
 
 fn default_safety() -> f64 {
@@ -75,6 +78,7 @@ impl ExplicitSettings {
             snapshot_interval: None,
             instability_energy_tolerance: default_energy_tolerance(),
             mesh_stability_eta: default_eta(),
+            remeshing: None,
         }
     }
 }

@@ -34,7 +34,7 @@ use std::sync::Mutex;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::element::element_forces;
+use super::element::{element_forces, element_forces_carried, ElementForces};
 use super::history::MaterialHistory;
 use super::Model;
 use crate::material::{ElementState, Material};
@@ -346,8 +346,46 @@ unsafe impl Sync for ChunkJob<'_> {}
 /// The element loop of one chunk for the material `M` of its body: each element's forces from
 /// [`element_forces`], its history committed in place, the forces scattered to the nodes the
 /// chunk owns or to its slots. Returns the lowest inverted element (`usize::MAX` if none).
+///
+/// The branch on a carried deformation (a remeshed model, [`super::CarriedState`]) is taken once
+/// per chunk: a model that was never remeshed runs the same loop as before, bit for bit.
 #[inline]
 pub(super) fn chunk_forces<M: Material>(material: &M, job: &ChunkJob<'_>) -> usize {
+    match &job.model.carried {
+        None => chunk_loop(
+            material,
+            job,
+            |local, _, grad_n, volume, ue, rate, state| {
+                element_forces(material, local, grad_n, volume, ue, rate, state)
+            },
+        ),
+        Some(c) => chunk_loop(
+            material,
+            job,
+            |local, e, grad_n, volume, ue, rate, state| {
+                let carried = (&c.deformation[e], &c.pull_back[e]);
+                element_forces_carried(material, local, grad_n, volume, ue, rate, state, carried)
+            },
+        ),
+    }
+}
+
+/// The element loop of [`chunk_forces`], with the element kernel `kernel(local id, global id,
+/// gradients, volume, displacements, rate, state)`.
+#[inline(always)]
+fn chunk_loop<M, K>(material: &M, job: &ChunkJob<'_>, kernel: K) -> usize
+where
+    M: Material,
+    K: Fn(
+        usize,
+        usize,
+        &[Vector3<f64>; 4],
+        f64,
+        &[Vector3<f64>; 4],
+        Option<(&[Vector3<f64>; 4], f64)>,
+        ElementState<'_>,
+    ) -> ElementForces,
+{
     // Locals, so that the loop reads them from registers.
     let (model, u, velocity, first_element) = (job.model, job.u, job.velocity, job.first_element);
     let (nodal, slot_out, dt) = (job.nodal, job.slot_out, job.dt);
@@ -392,7 +430,7 @@ pub(super) fn chunk_forces<M: Material>(material: &M, job: &ChunkJob<'_>) -> usi
             },
             None => ElementState::stateless(),
         };
-        let update = element_forces(material, local, grad_n, volume, &ue, rate, state);
+        let update = kernel(local, e, grad_n, volume, &ue, rate, state);
         if !(update.det > 0.0) {
             first_inverted = first_inverted.min(e);
         }

@@ -67,6 +67,53 @@ pub fn element_forces<M: Material + ?Sized>(
     }
 }
 
+/// [`element_forces`] of an element of a remeshed model, which carries the deformation
+/// gradient `f0` (`F_0`, from the stress-free configuration to the model's reference) and its
+/// `pull_back = F_0^T / det F_0` ([`super::CarriedState`]): the material sees
+/// `F = (I + grad_X u) F_0` and `Fdot = grad_X v F_0`, and the forces on the model's reference
+/// are `f_a = V P F_0^T / det F_0 grad_X N_a` (module `remesh`, thesis 8.4.1.1).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn element_forces_carried<M: Material + ?Sized>(
+    material: &M,
+    element: usize,
+    grad_n: &[Vector3<f64>; 4],
+    volume: f64,
+    u: &[Vector3<f64>; 4],
+    rate: Option<(&[Vector3<f64>; 4], f64)>,
+    state: ElementState<'_>,
+    (f0, pull_back): (&Matrix3<f64>, &Matrix3<f64>),
+) -> ElementForces {
+    let f = (Matrix3::identity() + element_gradient(u, grad_n)) * f0;
+    let h = f - Matrix3::identity();
+    let det = triple_product_determinant(&f);
+    let (f_dot, dt) = match rate {
+        Some((v, dt)) if material.reads_rate() => (element_gradient(v, grad_n) * f0, dt),
+        _ => (Matrix3::zeros(), 0.0),
+    };
+    let deformation = Deformation {
+        f,
+        h,
+        det,
+        f_dot,
+        dt,
+    };
+    match material.update(element, &deformation, state) {
+        Some(first_piola) => {
+            let [g0, g1, g2, g3] = grad_n;
+            let p = first_piola * pull_back * volume;
+            ElementForces {
+                forces: [p * g0, p * g1, p * g2, p * g3],
+                det,
+            }
+        }
+        None => ElementForces {
+            forces: [Vector3::zeros(); 4],
+            det: if det.is_finite() { det.min(0.0) } else { det },
+        },
+    }
+}
+
 /// A [`Material`] with the element loops compiled for it; implemented for every `Material`.
 pub trait BodyMaterial: Material {
     /// Runs the assembly's element loop over one chunk (`model::assembly`), returning the lowest

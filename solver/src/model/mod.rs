@@ -2,6 +2,7 @@
 //! geometry, lumped masses and the deterministic internal-force assembly.
 
 mod assembly;
+mod carried;
 mod conditions;
 mod crack_opening;
 mod element;
@@ -16,6 +17,7 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Vector3};
 
 pub use assembly::{ChunkJob, ForceAssembler};
+pub use carried::CarriedState;
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
 pub use element::{element_forces, BodyMaterial, ElementForces};
 pub use fields::{field_frame, field_frame_with_history, CrackIndicator, ElementFields};
@@ -136,6 +138,9 @@ pub struct Model {
     pub element_body: Vec<u16>,
     /// How the crack indicator of the field output is computed (FORMULATION 5).
     pub crack_indicator: CrackIndicator,
+    /// The deformation and displacement carried from before a remeshing ([`CarriedState`]);
+    /// `None` for a model that was never remeshed (`F_0 = I`, nothing computed).
+    pub carried: Option<CarriedState>,
     assembler: ForceAssembler,
 }
 
@@ -256,6 +261,7 @@ impl Model {
             bodies: model_bodies,
             element_body,
             crack_indicator: CrackIndicator::default(),
+            carried: None,
             assembler,
         })
     }
@@ -293,15 +299,36 @@ impl Model {
         best
     }
 
+    /// The stable limit in the configuration `X + u` (s) and the element that sets it: the
+    /// smallest current altitude over the dilatational wave speed. Elements that a penetrator
+    /// flattens bring it down well below [`Self::critical_time_step`] of the reference.
+    pub fn current_critical_time_step(&self, u: &[Vector3<f64>]) -> (f64, usize) {
+        let mut best = (f64::INFINITY, 0);
+        for (e, tet) in self.tets.iter().enumerate() {
+            let x = tet.map(|n| self.reference[n as usize] + u[n as usize]);
+            let l = crate::mesh::element_quality(&x).min_altitude;
+            let dt = l / self.material_of(e).constants().dilatational_wave_speed();
+            if dt < best.0 {
+                best = (dt, e);
+            }
+        }
+        best
+    }
+
     /// Displacements of element `e`'s nodes.
     #[inline]
     pub fn element_displacements(&self, e: usize, u: &[Vector3<f64>]) -> [Vector3<f64>; 4] {
         self.tets[e].map(|n| u[n as usize])
     }
 
-    /// Deformation gradient `F` of element `e`.
+    /// Deformation gradient `F` of element `e` from the stress-free configuration: `F_r F_0`
+    /// after a remeshing ([`CarriedState`]), else `I + grad_X u`.
     pub fn deformation_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
-        deformation_gradient(&self.element_displacements(e, u), &self.grad_n[e])
+        let f = deformation_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+        match &self.carried {
+            Some(c) => f * c.deformation[e],
+            None => f,
+        }
     }
 
     /// Internal nodal forces `f_a = V P grad_X N_a` summed per node, written into `f`, for a
@@ -351,7 +378,22 @@ impl Model {
             .assemble(self, u, Some(assembly::Stateful { v, dt, history }), f)
     }
 
-    /// Elastic energy stored in all elements, `sum_e V_e W(E_e)`.
+    /// The mass of each element (kg): the body's density times its reference volume, or the
+    /// carried mass after a remeshing ([`CarriedState::element_mass`]).
+    pub fn element_masses(&self) -> Vec<f64> {
+        match &self.carried {
+            Some(c) => c.element_mass.clone(),
+            None => (0..self.element_count())
+                .map(|e| {
+                    let body = &self.bodies[self.element_body[e] as usize];
+                    body.material.constants().density * self.volume[e]
+                })
+                .collect(),
+        }
+    }
+
+    /// Elastic energy stored in all elements, `sum_e V_e W(E_e)` (after a remeshing, `V_e` the
+    /// stress-free volume `V_r / det F_0` and `E_e` from `F = F_r F_0`).
     ///
     /// Microplane concrete defines no potential: its elements count zero here. Their internal
     /// work (the energy ledger's `internal_work`, from the forces) is what they stored plus what
@@ -366,12 +408,21 @@ impl Model {
                 }
                 body.elements
                     .clone()
-                    .map(|e| {
-                        let h = displacement_gradient(
-                            &self.element_displacements(e, u),
-                            &self.grad_n[e],
-                        );
-                        self.volume[e] * material.strain_energy_density(&h).unwrap_or(0.0)
+                    .map(|e| match &self.carried {
+                        // The stress-free volume is V_r / det F_0.
+                        Some(c) => {
+                            let f = self.deformation_gradient(e, u);
+                            let h = f - Matrix3::identity();
+                            self.volume[e] / c.deformation[e].determinant()
+                                * material.strain_energy_density(&h).unwrap_or(0.0)
+                        }
+                        None => {
+                            let h = displacement_gradient(
+                                &self.element_displacements(e, u),
+                                &self.grad_n[e],
+                            );
+                            self.volume[e] * material.strain_energy_density(&h).unwrap_or(0.0)
+                        }
                     })
                     .sum::<f64>()
             })

@@ -115,10 +115,18 @@ impl Problem {
                 }
                 (ProbeQuantity::Reaction, _) => (reaction, false),
             };
-            let sum = p
+            let mut sum = p
                 .nodes
                 .iter()
                 .fold(Vector3::zeros(), |acc, &n| acc + field[n as usize]);
+            // After a remeshing `u` starts from the new reference: a displacement probe adds
+            // the displacement carried from the original configuration.
+            if let (ProbeQuantity::Displacement, Some(c)) = (p.quantity, &self.model.carried) {
+                sum += p
+                    .nodes
+                    .iter()
+                    .fold(Vector3::zeros(), |acc, &n| acc + c.displacement[n as usize]);
+            }
             let count = if mean {
                 p.nodes.len().max(1) as f64
             } else {

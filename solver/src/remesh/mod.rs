@@ -1,7 +1,8 @@
 //! Adaptive remeshing (thesis chapter 8, issue 21): when to remesh, where to refine, and how the
 //! mechanical fields go from the old mesh to the new one. The local mesher is [`remesh_region`]
-//! (method in `mesher.rs`), checked by [`check_remeshed`]; the hook into the explicit run comes
-//! later.
+//! (method in `mesher.rs`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes a
+//! running one-body model between two steps (`apply.rs`), and the run goes on with
+//! [`crate::dynamics::ExplicitSolver::resume`].
 //!
 //! # Configuration and formulation
 //!
@@ -45,13 +46,19 @@
 //! variables (Fig. 8.6, [`closest_gauss_point_sources`] with [`copy_rows`]), **T3** nodal
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
+mod apply;
+mod contact_surface;
 mod distortion;
 mod locate;
 mod mesh_check;
 mod mesher;
 mod record;
+mod run;
+mod splice;
 mod transfer;
 
+pub use apply::{remesh_problem, Remeshed};
+pub use contact_surface::SurfaceSeparation;
 pub use distortion::{
     check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
     DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
@@ -65,6 +72,7 @@ pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,
 };
+pub use run::{run_remeshing, RemeshPolicy, RemeshSettings, RemeshingRun};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,

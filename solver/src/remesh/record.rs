@@ -182,6 +182,8 @@ pub struct RemeshRecord {
     pub after: MeshState,
     /// The uniform velocity shift that restored the momentum (m/s), [`transfer_velocities`].
     pub velocity_shift: Vector3<f64>,
+    /// New surface nodes placed on a contact partner's surface, which they started inside.
+    pub separation: super::SurfaceSeparation,
 }
 
 impl RemeshRecord {
@@ -210,7 +212,8 @@ impl RemeshRecord {
         format!(
             "remeshing at t = {:.6e} s: {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
              mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
-             total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s)",
+             total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
+             {} new surface nodes moved out of a contact partner (by up to {:.3e} m)",
             self.time,
             self.before.elements,
             self.after.elements,
@@ -225,6 +228,8 @@ impl RemeshRecord {
             self.total_energy_jump(),
             self.momentum_jump().norm(),
             self.velocity_shift.norm(),
+            self.separation.moved,
+            self.separation.largest_depth,
         )
     }
 }

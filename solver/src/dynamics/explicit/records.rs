@@ -70,7 +70,7 @@ impl<'p> ExplicitSolver<'p> {
     /// Columns: time and step, the energies (`stored_energy` counts elastic bodies only; with
     /// microplane bodies, `microplane_internal_work`, their part of `internal_work`), then
     /// `<probe>_x/y/z` and `<constraint>_reaction_x/y/z`.
-    pub(super) fn history_columns(&self) -> Vec<String> {
+    pub fn history_columns(&self) -> Vec<String> {
         let mut c: Vec<String> = [
             "time",
             "step",

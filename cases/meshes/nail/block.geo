@@ -1,0 +1,74 @@
+// Concrete block of the thesis' penetration case (chapter 10.4), 500 x 500 x 500 mm, a QUARTER of
+// it by symmetry: x in [0, 0.25], y in [0, 0.5], z in [0, 0.25] (m). The nail hits the top face
+// y = 0.5 at the corner (0, 0.5, 0), along -y; the nail's axis is the line x = 0, z = 0.
+// SI units (metres), linear tetrahedra, graded: h_fine (1.5 mm) within r_fine (10 mm) of the
+// impact point, growing linearly with the distance (0.08 mm per mm) towards h_far (45 mm), which
+// it nearly reaches at the far faces (about 40 mm on the bottom face, 0.5 m away).
+// Parameter fine_depth (default 0): the fine zone is the set of points within r_fine of the
+// segment of the axis from y = 0.5 down to y = 0.5 - fine_depth (a ball about the impact point
+// for 0); e.g. -setnumber fine_depth 0.02 refines along the first 20 mm of the nail's path.
+// From this folder, with Gmsh 4.15.2:
+//   gmsh block.geo -3 -format msh41 -bin -o block.msh
+// (or ./generate.sh). README.md lists what the mesh achieves.
+//
+// Physical groups (the solver's reader turns each into a node set of the same name):
+//   Volume  "block"  : all tetrahedra, hence all nodes;
+//   Surface "sym_x"  : the symmetry plane x = 0;
+//   Surface "sym_z"  : the symmetry plane z = 0;
+//   Surface "bottom" : y = 0;
+//   Surface "top"    : y = 0.5 (the impacted face).
+SetFactory("OpenCASCADE");
+DefineConstant[ fine_depth = {0, Name "Parameters/fine_depth"} ];
+
+B = 0.25;         // half the block's length and width (m)
+H = 0.5;          // height
+h_fine = 0.0015;  // element size near the impact point
+r_fine = 0.010;   // h_fine within this distance of it
+h_far = 0.045;    // element size far from it
+growth = 0.08;    // sizes grow by 0.08 mm per mm of distance beyond r_fine
+
+Box(1) = {0, 0, 0, B, H, B};
+volumes() = Volume{:};
+e = 1e-6;
+sym_x() = Surface In BoundingBox{-e, -e, -e, e, H + e, B + e};
+sym_z() = Surface In BoundingBox{-e, -e, -e, B + e, H + e, e};
+bottom() = Surface In BoundingBox{-e, -e, -e, B + e, e, B + e};
+top() = Surface In BoundingBox{-e, H - e, -e, B + e, H + e, B + e};
+If (#volumes() != 1 || #sym_x() != 1 || #sym_z() != 1 || #bottom() != 1 || #top() != 1)
+  Error("block: %g volumes, %g sym_x, %g sym_z, %g bottom, %g top", #volumes(), #sym_x(),
+        #sym_z(), #bottom(), #top());
+  Abort;
+EndIf
+Physical Volume("block") = {volumes()};
+Physical Surface("sym_x") = {sym_x()};
+Physical Surface("sym_z") = {sym_z()};
+Physical Surface("bottom") = {bottom()};
+Physical Surface("top") = {top()};
+
+// Distance to the segment x = z = 0, y in [H - fine_depth, H] (exact, analytic), then the size
+// h_fine up to r_fine, growing linearly to h_far at r_fine + (h_far - h_fine) / growth.
+Field[1] = MathEval;
+Field[1].F = Sprintf("Sqrt(x * x + z * z + Max(%.17g - y, 0)^2 + Max(y - %.17g, 0)^2)",
+                     H - fine_depth, H);
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = h_fine;
+Field[2].SizeMax = h_far;
+Field[2].DistMin = r_fine;
+Field[2].DistMax = r_fine + (h_far - h_fine) / growth;
+Background Field = 2;
+
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.MeshSizeMax = h_far;
+Mesh.Algorithm = 6;             // Frontal-Delaunay surfaces
+Mesh.Algorithm3D = 1;           // Delaunay volumes
+Mesh.ElementOrder = 1;
+Mesh.Optimize = 1;
+Mesh.OptimizeThreshold = 0.6;
+Mesh.RandomSeed = 1;
+General.NumThreads = 1;         // reproducible
+Mesh.MaxNumThreads1D = 1;
+Mesh.MaxNumThreads2D = 1;
+Mesh.MaxNumThreads3D = 1;

@@ -1,0 +1,344 @@
+//! An explicit run that remeshes (thesis 9.2, Box 8.1): every `check_every` steps the
+//! collapse ratio (8.1) of the remeshed body's elements is checked; where one passes the limit,
+//! the run pauses between two steps, the distorted elements grown by `layers` layers are
+//! remeshed ([`remesh_problem`]) and the run goes on over the new mesh
+//! ([`crate::dynamics::ExplicitSolver::resume`]). One set of observers and one
+//! [`OutputSchedule`] span the whole run, so its history, frames and energy check read as one
+//! run's.
+
+use std::time::Instant;
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use super::apply::remesh_problem;
+use super::distortion::collapse_ratio;
+use super::mesher::{grow_region, MesherOptions};
+use super::record::RemeshRecord;
+use crate::dynamics::{
+    ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, RunState, RunSummary,
+    SegmentEnd,
+};
+use crate::error::{Result, SolverError};
+use crate::model::Problem;
+use crate::output::{ObserverSet, Recorder, RunObserver};
+
+/// A scene's remeshing settings (`analysis.explicit.remeshing`), the body named; see
+/// [`RemeshPolicy`] for what each means.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RemeshSettings {
+    /// Name of the body that is remeshed.
+    pub body: String,
+    /// Steps between two distortion checks.
+    #[serde(default = "default_check_every")]
+    pub check_every: usize,
+    /// Collapse ratio above which an element is distorted.
+    #[serde(default = "default_collapse_limit")]
+    pub collapse_limit: f64,
+    /// Layers of elements around the distorted ones.
+    #[serde(default = "default_layers")]
+    pub layers: usize,
+    /// Smallest element volume refined again (m^3).
+    #[serde(default)]
+    pub min_volume: f64,
+    /// Largest number of remeshings.
+    #[serde(default = "default_max_remeshings")]
+    pub max_remeshings: usize,
+    /// Growth of the worst collapse ratio past the last remeshing's that triggers the next.
+    #[serde(default = "default_regrowth")]
+    pub regrowth: f64,
+}
+
+fn default_check_every() -> usize {
+    10
+}
+fn default_collapse_limit() -> f64 {
+    super::COLLAPSE_RATIO_LIMIT
+}
+fn default_layers() -> usize {
+    1
+}
+fn default_max_remeshings() -> usize {
+    1000
+}
+fn default_regrowth() -> f64 {
+    1.25
+}
+
+impl RemeshSettings {
+    /// The policy for `problem`: an unknown body is an error naming the known ones.
+    pub fn policy(&self, problem: &Problem) -> Result<RemeshPolicy> {
+        let names: Vec<&str> = problem
+            .model
+            .bodies
+            .iter()
+            .map(|b| b.name.as_str())
+            .collect();
+        let body = names.iter().position(|&n| n == self.body).ok_or_else(|| {
+            SolverError::InvalidScene {
+                entity: "analysis.explicit.remeshing.body".to_string(),
+                message: format!(
+                    "no body `{}` in the scene (its bodies: {})",
+                    self.body,
+                    names.join(", ")
+                ),
+            }
+        })?;
+        if !(self.collapse_limit > 1.0) {
+            return Err(SolverError::InvalidScene {
+                entity: "analysis.explicit.remeshing.collapse_limit".to_string(),
+                message: format!("must exceed 1, got {}", self.collapse_limit),
+            });
+        }
+        Ok(RemeshPolicy {
+            body,
+            check_every: self.check_every.max(1),
+            collapse_limit: self.collapse_limit,
+            layers: self.layers,
+            min_volume: self.min_volume,
+            max_remeshings: self.max_remeshings,
+            regrowth: self.regrowth,
+            mesher: MesherOptions::default(),
+        })
+    }
+}
+
+/// When and where a run remeshes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RemeshPolicy {
+    /// The body that is remeshed (index in the model).
+    pub body: usize,
+    /// Steps between two distortion checks.
+    pub check_every: usize,
+    /// The collapse ratio above which an element is distorted (thesis 8.1: 10).
+    pub collapse_limit: f64,
+    /// Layers of elements added around the distorted ones, so that their nodes can move.
+    pub layers: usize,
+    /// The smallest element volume that is refined again (m^3; thesis (8.5), `V_min`): a
+    /// distorted element of this volume or less is left out of the region, so that repeated
+    /// remeshing cannot shrink the elements (and the stable time step) without bound.
+    pub min_volume: f64,
+    /// The largest number of remeshings; the run stops with an error past it.
+    pub max_remeshings: usize,
+    /// How much worse than the remeshed body's worst element right after a remeshing an
+    /// element must become before the next one (see [`RemeshPolicy::threshold_after`]).
+    pub regrowth: f64,
+    /// The mesher's settings.
+    pub mesher: MesherOptions,
+}
+
+impl RemeshPolicy {
+    /// The thesis' limit (8.1) on body `body`, checked every 10 steps, one layer around the
+    /// distorted elements, no smallest volume and at most 1000 remeshings.
+    pub fn new(body: usize) -> Self {
+        Self {
+            body,
+            check_every: 10,
+            collapse_limit: super::COLLAPSE_RATIO_LIMIT,
+            layers: 1,
+            min_volume: 0.0,
+            max_remeshings: 1000,
+            regrowth: 1.25,
+            mesher: MesherOptions::default(),
+        }
+    }
+
+    /// The collapse ratio that triggers the next remeshing after one that left the body's
+    /// worst element at `worst`: the limit, or `regrowth` times `worst` where the remesher could
+    /// not bring every element under the limit. The local remesher cannot reshape an element
+    /// whose short edges lie on the outer boundary (boundary nodes do not move), and red
+    /// refinement of a flat element gives flat children: without this, each remeshing would
+    /// trigger the next at once, over a region grown by the previous one's children (an
+    /// indented block went 74, 84, 1083, 8402, 61193 elements in five checks).
+    pub fn threshold_after(&self, worst: f64) -> f64 {
+        self.collapse_limit.max(self.regrowth * worst)
+    }
+
+    /// The elements to remesh at the current coordinates `x` of `problem`: the body's elements
+    /// whose collapse ratio passes `threshold` (the limit, or [`Self::threshold_after`]) and
+    /// whose volume exceeds `min_volume`, grown by `layers` within the body; empty when none.
+    pub fn region(&self, problem: &Problem, x: &[Vector3<f64>], threshold: f64) -> Vec<usize> {
+        let m = &problem.model;
+        let Some(body) = m.bodies.get(self.body) else {
+            return Vec::new();
+        };
+        let distorted: Vec<usize> = body
+            .elements
+            .clone()
+            .filter(|&e| {
+                let corners = m.tets[e].map(|n| x[n as usize]);
+                collapse_ratio(&corners) > threshold
+                    && crate::kinematics::signed_volume(&corners) > self.min_volume
+            })
+            .collect();
+        if distorted.is_empty() {
+            return distorted;
+        }
+        grow_region(&m.tets, &distorted, self.layers)
+            .into_iter()
+            .filter(|e| body.elements.contains(e))
+            .collect()
+    }
+}
+
+/// Why a segment of the run paused.
+enum Pause {
+    /// It did not (it finished).
+    None,
+    /// These elements passed the collapse limit.
+    Remesh(Vec<usize>),
+    /// The stable limit fell: go on with this step (s).
+    TimeStep(f64),
+}
+
+/// The largest collapse ratio of the elements of body `body` (on the model's reference, which
+/// after a remeshing is the current configuration).
+fn worst_collapse_ratio(model: &crate::model::Model, body: usize) -> f64 {
+    model.bodies[body]
+        .elements
+        .clone()
+        .map(|e| collapse_ratio(&model.tets[e].map(|n| model.reference[n as usize])))
+        .fold(0.0, f64::max)
+}
+
+/// A run with remeshing: its summary (as [`ExplicitSolver::run_with`]'s, over the whole run),
+/// the problem and state it ended with, and the record of each remeshing.
+#[derive(Debug)]
+pub struct RemeshingRun {
+    /// The whole run's summary: history, snapshots (displacements from the reference of the
+    /// mesh they were taken on), energies, timings.
+    pub summary: RunSummary,
+    /// The problem over the last mesh; `None` when the run never remeshed (it ended on the
+    /// problem it was given).
+    pub problem: Option<Problem>,
+    /// The state at the end, on the last mesh.
+    pub state: RunState,
+    /// Every remeshing, in time order.
+    pub records: Vec<RemeshRecord>,
+}
+
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says.
+/// An instability or a halt writes what the observers hold and returns the error; a remeshing
+/// that fails returns its error after the observers have written what they hold.
+pub fn run_remeshing(
+    problem: &Problem,
+    settings: &ExplicitSettings,
+    output: &OutputSettings,
+    policy: &RemeshPolicy,
+    observers: &mut [&mut dyn RunObserver],
+    on_remesh: &mut dyn FnMut(&RemeshRecord),
+) -> Result<RemeshingRun> {
+    let started = Instant::now();
+    let mut recorder = Recorder::default();
+    let mut all: Vec<&mut dyn RunObserver> = observers.iter_mut().map(|o| &mut **o).collect();
+    all.push(&mut recorder);
+    let mut set = ObserverSet::new(all);
+    let mut schedule = OutputSchedule::default();
+    let mut owned: Option<Problem> = None;
+    let mut state: Option<RunState> = None;
+    let mut records: Vec<RemeshRecord> = Vec::new();
+    let every = policy.check_every.max(1);
+    let mut threshold = policy.collapse_limit;
+    // The time step: the settings' own, or `safety` times the stable limit, shrunk where the
+    // current limit falls (elements flattened under a penetrator): when the step passes
+    // halfway from `safety` to 1 times the current limit, the run pauses and goes on with
+    // `safety` times it (without remeshing; thesis 10.4.1.1 on the falling limit).
+    let adapt = settings.time_step.is_none();
+    let trigger = 0.5 * (settings.safety + 1.0);
+    let mut step_now: Option<f64> = None;
+    let (summary, last_state) = loop {
+        let current = owned.as_ref().unwrap_or(problem);
+        let mut resumed = settings.clone();
+        resumed.time_step = resumed.time_step.or(step_now);
+        let (end, now, pause, summary) = {
+            let problem = current;
+            let mut solver = match state.take() {
+                Some(s) => ExplicitSolver::resume(problem, resumed, output.clone(), s)?,
+                None => {
+                    let solver = ExplicitSolver::new(problem, resumed, output.clone())?;
+                    set.history_columns(&solver.history_columns())?;
+                    solver
+                }
+            };
+            let mut pause = Pause::None;
+            let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
+                if s.step % every != 0 {
+                    return false;
+                }
+                let m = &problem.model;
+                let x: Vec<Vector3<f64>> =
+                    m.reference.iter().zip(&s.u).map(|(x, u)| x + u).collect();
+                let region = policy.region(problem, &x, threshold);
+                if !region.is_empty() {
+                    pause = Pause::Remesh(region);
+                    return true;
+                }
+                if adapt {
+                    let (limit, _) = m.current_critical_time_step(&s.u);
+                    if s.time_step() > trigger * limit {
+                        pause = Pause::TimeStep(settings.safety * limit);
+                        return true;
+                    }
+                }
+                false
+            })?;
+            let summary = (end == SegmentEnd::Finished)
+                .then(|| solver.summary(&schedule, started, Recorder::default(), Vec::new()));
+            (end, solver.state(), pause, summary)
+        };
+        if let (SegmentEnd::Finished, Some(summary)) = (end, summary) {
+            break (summary, now);
+        }
+        let region = match pause {
+            Pause::TimeStep(dt) => {
+                step_now = Some(dt);
+                state = Some(now);
+                continue;
+            }
+            Pause::Remesh(region) => region,
+            Pause::None => Vec::new(),
+        };
+        if records.len() >= policy.max_remeshings {
+            let _ = set.finish();
+            return Err(SolverError::Remesh {
+                entity: "run".to_string(),
+                message: format!(
+                    "needs more than the {} remeshings allowed (at t = {:.6e} s)",
+                    policy.max_remeshings, now.time
+                ),
+            });
+        }
+        let remeshed = match remesh_problem(current, &now, &region, &policy.mesher) {
+            Ok(r) => r,
+            Err(e) => {
+                let _ = set.finish();
+                return Err(e);
+            }
+        };
+        threshold =
+            policy.threshold_after(worst_collapse_ratio(&remeshed.problem.model, policy.body));
+        on_remesh(&remeshed.record);
+        records.push(remeshed.record);
+        owned = Some(remeshed.problem);
+        state = Some(remeshed.state);
+        // The new mesh's reference is the current configuration: its own limit applies.
+        step_now = None;
+    };
+    set.finish()?;
+    let written = std::mem::take(&mut set.written);
+    drop(set);
+    let mut summary = summary;
+    summary.history = recorder
+        .history
+        .unwrap_or_else(|| crate::output::HistoryTable::new(Vec::new()));
+    summary.snapshots = recorder.snapshots;
+    summary.written = written;
+    summary.wall_seconds = started.elapsed().as_secs_f64();
+    Ok(RemeshingRun {
+        summary,
+        problem: owned,
+        state: last_state,
+        records,
+    })
+}
