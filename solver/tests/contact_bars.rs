@@ -77,6 +77,7 @@ fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
         detection_tolerance: 1e-9,
         two_pass: true,
         normals: Default::default(),
+        skip_symmetry_faces: false,
     });
     p
 }

@@ -89,6 +89,15 @@ pub struct ContactPair {
     pub two_pass: bool,
     /// How contact normals are formed (facet or smoothed corner normals).
     pub normals: NormalSettings,
+    /// Leave out of both surfaces the faces on a plane of symmetry
+    /// ([`phase::symmetry_face`]). In a model cut by symmetry planes the two bodies' cut faces
+    /// lie in one plane, and a node on one of them is tested against faces of the other that it
+    /// slides on: its contact normal lies along the axis both are held on, the Delassus block
+    /// along it is nearly zero, and the force that closes a gap of round-off size moves the
+    /// nodes by centimetres along the normal's small free components (seen at a nail's tip
+    /// after a remeshing of the block). No contact crosses such a plane: the mirror image
+    /// continues each body.
+    pub skip_symmetry_faces: bool,
 }
 
 /// What the contact phase did in one step, per pair.

@@ -30,12 +30,48 @@ pub struct ContactPhase {
     pub recorded_ccd: Vec<RecordedCcdQuery>,
 }
 
+/// Whether the face `f` (node ids into `x`) lies on a plane of symmetry: its normal is along an
+/// axis `d` (within 1e-6 of its length), and every node is held along `d` and free along
+/// another axis (a symmetry or roller boundary, not a clamped face, which stays a wall).
+pub fn symmetry_face(x: &[Vector3<f64>], f: &[u32; 3], held: &[[bool; 3]]) -> bool {
+    let [a, b, c] = f.map(|n| x[n as usize]);
+    let n = (b - a).cross(&(c - a));
+    let norm = n.norm();
+    if !(norm > 0.0) {
+        return false;
+    }
+    let Some(d) = (0..3).find(|&d| n[d].abs() > (1.0 - 1e-6) * norm) else {
+        return false;
+    };
+    f.iter().all(|&i| {
+        let h = held[i as usize];
+        h[d] && (0..3).any(|e| e != d && !h[e])
+    })
+}
+
 impl ContactPhase {
     /// Extracts each pair's two boundary surfaces from `model` and builds its solver.
     pub fn new(model: &Model, pairs: Vec<ContactPair>) -> Self {
+        Self::with_held(model, pairs, &[])
+    }
+
+    /// As [`Self::new`], with `held[n][d]` whether component `d` of node `n` is prescribed
+    /// (empty: none), which the pairs with `skip_symmetry_faces` read to leave out the faces
+    /// on a plane of symmetry ([`symmetry_face`]).
+    pub fn with_held(model: &Model, pairs: Vec<ContactPair>, held: &[[bool; 3]]) -> Self {
         let surfaces = pairs
             .iter()
-            .map(|p| p.bodies.map(|b| ContactSurface::new(model, b)))
+            .map(|p| {
+                p.bodies.map(|b| {
+                    if p.skip_symmetry_faces && !held.is_empty() {
+                        ContactSurface::with_faces(model, b, |f| {
+                            !symmetry_face(&model.reference, f, held)
+                        })
+                    } else {
+                        ContactSurface::new(model, b)
+                    }
+                })
+            })
             .collect();
         let solvers = pairs.iter().map(|p| p.solver.kind.build()).collect();
         let detectors = pairs.iter().map(|_| Default::default()).collect();
@@ -274,6 +310,29 @@ fn assembled_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A face on the plane x = 0 whose nodes are held in x only is a symmetry face; held in
+    /// every direction it is a clamped wall and stays; a node free in x, or a face not normal
+    /// to an axis, makes it an ordinary face.
+    #[test]
+    fn symmetry_faces_are_those_held_along_their_axis_only() {
+        let x = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+            Vector3::new(0.1, 0.0, 1.0),
+        ];
+        let roller = [true, false, false];
+        let f = [0, 1, 2];
+        assert!(symmetry_face(&x, &f, &[roller; 4]));
+        assert!(!symmetry_face(&x, &f, &[[true; 3]; 4]), "clamped: a wall");
+        assert!(!symmetry_face(
+            &x,
+            &f,
+            &[roller, roller, [false; 3], roller]
+        ));
+        assert!(!symmetry_face(&x, &[0, 1, 3], &[roller; 4]), "tilted face");
+    }
     use crate::contact::ccd;
     use crate::contact::solver::SolveLimits;
     use crate::contact::test_blocks::elastic_boxes;
@@ -320,6 +379,7 @@ mod tests {
             detection_tolerance: 1e-9,
             two_pass: true,
             normals: Default::default(),
+            skip_symmetry_faces: false,
         });
         p
     }

@@ -1,8 +1,9 @@
 //! Adaptive remeshing (thesis chapter 8, issue 21): when to remesh, where to refine, and how the
 //! mechanical fields go from the old mesh to the new one. The local mesher is [`remesh_region`]
-//! (method in `mesher.rs`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes a
-//! running one-body model between two steps (`apply.rs`), and the run goes on with
-//! [`crate::dynamics::ExplicitSolver::resume`].
+//! (method in `mesher.rs`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes one
+//! body of a running model between two steps (`apply.rs`, `splice.rs`), and the run goes on
+//! with [`crate::dynamics::ExplicitSolver::resume`]; [`run_remeshing`] is such a run
+//! (`run.rs`).
 //!
 //! # Configuration and formulation
 //!
@@ -16,23 +17,24 @@
 //! The solver itself is total-Lagrangian (`F = I + grad_X u` from the initial configuration,
 //! FORMULATION 1), so the deformation reached so far has to travel with the elements:
 //!
-//! * elastic and Saint-Venant-Kirchhoff bodies carry their deformation gradient `F_0` (from the
-//!   stress-free configuration to the current one) as an element field, through T1; the run
-//!   goes on with `F = F_r F_0`, `F_r = I + grad_x u_r` the deformation since `t_r` measured on the
-//!   new mesh, and the stress from `F` as before. T1 is exact for a uniform `F_0`, so a body in
-//!   uniform stress keeps it exactly; a varying `F_0` is smoothed (8.4.1.1), component by
-//!   component, which also averages differing rotations (and so shortens them a little where
-//!   neighbours rotate differently): the run that goes on checks `det F_0 > 0` and may prefer
-//!   to carry the polar factors `R`, `U` separately once it exists.
+//! * every body carries its deformation gradient `F_0` (from the stress-free configuration to
+//!   the current one) as an element field; the run goes on with `F = F_r F_0`, `F_r = I +
+//!   grad_x u_r` the deformation since `t_r` measured on the new mesh, and the stress from `F`
+//!   as before. A new element takes its **parent's** `F_0` (the old element that holds its
+//!   centroid), not T1 of it: `F_0` is constant per element, and refinement splits each parent
+//!   into children inside it, so the copy keeps a uniform `F_0` exactly and the stored energy of
+//!   a refined element exactly; T1 (8.9) smoothed the concentrated strain at a nail's tip and
+//!   lost 48 % of the model's stored energy in one remeshing. The price is the incompatibility
+//!   of `F_0` across parents: forces at the new nodes where the parents' stresses differ.
 //! * microplane bodies carry their history (turning points and damage, the thesis' "damage
-//!   variables") through T2, closest Gauss point, so that cracks do not diffuse; their `F_0`
-//!   goes with the history from the **same** old element (T2, not T1), because the history's
-//!   turning points are strains of that `F_0` and the pair must stay consistent (a smoothed
-//!   `F_0` with a copied history would load or unload planes spuriously). Their Cauchy stress,
-//!   a state variable, goes through T1 as the thesis does, for the output and for the check of
-//!   (8.8); the run recomputes the stress from `F_0` and the history at the next update.
-//! * the densities: the current density `rho_0 / det F_0` goes through T1 (the thesis' "mesh
-//!   density", 8.4.1.1), and the new lumped masses are that density times the new volumes.
+//!   variables") with their `F_0` from the same parent (T2 with the parent for the closest
+//!   Gauss point, which it is where a region is refined), so cracks do not diffuse and the
+//!   history's turning points stay strains of its `F_0`. Their Cauchy stress, kept for the
+//!   output, goes through T1 as the thesis does; the run recomputes the stress from `F_0` and
+//!   the history at the next update.
+//! * the element masses: copied for kept elements; a new element takes its parent's density
+//!   times its volume, scaled so that the new elements' mass is that of the old elements they
+//!   replace (the body's mass is kept to round-off).
 //! * nodal fields: displacements go through T3 (8.10); velocities too (the thesis reconstructs
 //!   them instead), followed by a uniform shift that restores the momentum
 //!   ([`transfer_velocities`]).

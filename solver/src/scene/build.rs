@@ -360,6 +360,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 kind: c.normals,
                 crease_angle: c.crease_angle.to_radians(),
             },
+            skip_symmetry_faces: c.skip_symmetry_faces,
         });
     }
     problem.contact = contact;

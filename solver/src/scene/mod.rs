@@ -94,6 +94,10 @@ pub struct ContactSpec {
     /// cross-checks of the CCD (`ExplicitSolver::take_recorded_ccd_queries`).
     #[serde(default)]
     pub record_ccd_every: Option<usize>,
+    /// Leave the faces on planes of symmetry out of the pair's surfaces
+    /// ([`crate::contact::ContactPair::skip_symmetry_faces`]).
+    #[serde(default)]
+    pub skip_symmetry_faces: bool,
 }
 
 fn default_crease_angle() -> f64 {

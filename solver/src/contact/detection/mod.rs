@@ -64,8 +64,14 @@ pub struct ContactSurface {
 impl ContactSurface {
     /// The surface of body `body` of `model`: its boundary faces, nodes and layer.
     pub fn new(model: &Model, body: usize) -> Self {
+        Self::with_faces(model, body, |_| true)
+    }
+
+    /// The surface of body `body` of `model` over the boundary faces that `keep` accepts.
+    pub fn with_faces(model: &Model, body: usize, keep: impl Fn(&[u32; 3]) -> bool) -> Self {
         let range = model.bodies[body].elements.clone();
-        let boundary = boundary_faces_of(&model.tets[range.clone()]);
+        let mut boundary = boundary_faces_of(&model.tets[range.clone()]);
+        boundary.retain(|f| keep(&f.nodes));
         let nodes = boundary_nodes(&boundary);
         let faces: Vec<[u32; 3]> = boundary.into_iter().map(|f| f.nodes).collect();
         let layer = range

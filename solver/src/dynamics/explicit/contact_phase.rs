@@ -45,7 +45,11 @@ impl ContactScratch {
                 })
             })
             .collect();
-        let phase = crate::contact::ContactPhase::new(model, problem.contact.clone());
+        let held: Vec<[bool; 3]> = prescribed
+            .iter()
+            .map(|p| [p[0].is_some(), p[1].is_some(), p[2].is_some()])
+            .collect();
+        let phase = crate::contact::ContactPhase::with_held(model, problem.contact.clone(), &held);
         Self {
             layer_nodes: phase.layer_nodes(model),
             surface_nodes: phase.surface_nodes(),
