@@ -346,18 +346,66 @@ impl MicroplaneConcrete {
         } else {
             let x = -e_v_law;
             let reached = header[state::V_COMPRESSION] as f64;
-            let envelope = |x: f64| -volumetric_compression(-x, self.e_v0, p.a, p.b, p.p, p.q);
             if x >= reached {
                 header[state::V_COMPRESSION] = x as f32;
-                -envelope(x)
-            } else {
-                let s_reached = envelope(reached);
-                let unloading = self.e_v0.max(volumetric_compression_tangent(
-                    reached, self.e_v0, p.a, p.b, p.p, p.q,
-                ));
-                -(s_reached - unloading * (reached - x)).max(0.0)
             }
+            -self.volumetric_pressure(x, reached)
         }
+    }
+
+    /// The pressure `-s_V >= 0` of the volumetric compression law at the compressive strain
+    /// `x = -(e_V - e_dil) >= 0` with the largest `x` reached so far `reached`: the envelope
+    /// (5.21) at or beyond it, the unloading line below it (see [`Self::volumetric_stress`]).
+    /// It rises with `x` on both.
+    #[inline(always)]
+    fn volumetric_pressure(&self, x: f64, reached: f64) -> f64 {
+        let p = &self.parameters;
+        let envelope = |x: f64| -volumetric_compression(-x, self.e_v0, p.a, p.b, p.p, p.q);
+        if x >= reached {
+            envelope(x)
+        } else {
+            let s_reached = envelope(reached);
+            let unloading = self.e_v0.max(volumetric_compression_tangent(
+                reached, self.e_v0, p.a, p.b, p.p, p.q,
+            ));
+            (s_reached - unloading * (reached - x)).max(0.0)
+        }
+    }
+
+    /// The dilatant strain the next update may use, given the one used now (`reached`), the
+    /// one the planes ask for (`wanted`, larger), the volumetric strain `e_V` of this update, the
+    /// largest compressive strain the volumetric law has reached (`compressed`) and the energy
+    /// per unit volume the planes dissipated in this update (`dissipated`, J/m^3).
+    ///
+    /// The dilatant strain shifts the volumetric law's argument (MICROPLANE "Dilatancy"): a growth
+    /// `d` at fixed `e_V` raises the law's stored energy by `3 int p dx` over the compressive part
+    /// of the shift, energy that no work put in. The second law allows that only out of what the
+    /// planes dissipate, so the growth is capped where `3 p d` reaches `dissipated` (with `p` the
+    /// pressure at the end of the shift, the largest on it: the cap never lets the stored energy
+    /// grow by more). Under small confinement (uniaxial compression) the planes' dissipation pays
+    /// for the whole growth; under the GPa pressures of a penetrator it pays for little, and
+    /// without the cap a sheared element pushed its neighbours apart with energy it never stored.
+    #[inline(always)]
+    fn admissible_dilatancy(
+        &self,
+        reached: f64,
+        wanted: f64,
+        e_v: f64,
+        compressed: f64,
+        dissipated: f64,
+    ) -> f64 {
+        // Compressive strain of the volumetric law at the start and at the end of the shift.
+        let (x0, x1) = (reached - e_v, wanted - e_v);
+        if x1 <= 0.0 {
+            return wanted;
+        }
+        let pressure = self.volumetric_pressure(x1, compressed);
+        if pressure <= 0.0 {
+            return wanted;
+        }
+        // The part of the shift in volumetric tension (x < 0) stores nothing.
+        let free = (-x0).max(0.0);
+        (reached + free + dissipated.max(0.0) / (3.0 * pressure)).min(wanted)
     }
 
     /// The planes (5.85, 5.86, 5.23, 5.100-5.104) and the homogenisation (5.36) around the
@@ -419,6 +467,10 @@ impl MicroplaneConcrete {
 
         let mut sum_d = 0.0;
         let mut inelastic_compression = 0.0;
+        // The energy the planes dissipate in this update (J/m^3, each branch that loads on its
+        // virgin law): what may pay for the growth of the dilatant strain.
+        let dilatant = p.dilatancy > 0.0;
+        let mut dissipation = 0.0;
         let mut sigma = [0.0; 6];
         for (p, (plane, history)) in self
             .planes
@@ -435,22 +487,32 @@ impl MicroplaneConcrete {
                 },
                 relaxation,
             );
+            let mut dissipated = 0.0;
             let s_d = if e_d >= 0.0 {
                 let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
+                let before = b;
                 let s = b.stress(e_d, self.e_d0, tension_peak, &self.rule, |x| {
                     self.tension
                         .scaled_stress(x * inverse_e1, tension_amplitude, band.tension)
                 });
                 b.store(&mut history[state::D_POSITIVE..state::D_POSITIVE + 2]);
+                if dilatant && b.reached > before.reached {
+                    dissipated += b.dissipated_since(&before, self.e_d0, tension_peak, &self.rule);
+                }
                 s
             } else {
                 let mut b = Branch::load(&history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
+                let before = b;
                 let s = b.stress(-e_d, self.e_d0, compression_peak, &self.rule, |x| {
                     self.compression
                         .scaled_stress(x * inverse_e2, compression_amplitude, 1.0)
                 });
                 b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
                 inelastic_compression += 6.0 * plane.weight * (-e_d - s * inverse_e_d0).max(0.0);
+                if dilatant && b.reached > before.reached {
+                    dissipated +=
+                        b.dissipated_since(&before, self.e_d0, compression_peak, &self.rule);
+                }
                 -s
             };
             let e_m = along_m[p] * psi_t;
@@ -462,6 +524,7 @@ impl MicroplaneConcrete {
                 shear_peak,
                 band.shear,
                 shear_energy,
+                dilatant.then_some(&mut dissipated),
             );
             let s_k = self.shear_stress(
                 e_k,
@@ -470,8 +533,10 @@ impl MicroplaneConcrete {
                 shear_peak,
                 band.shear,
                 shear_energy,
+                dilatant.then_some(&mut dissipated),
             );
             let w = 6.0 * plane.weight;
+            dissipation += w * dissipated;
             sum_d += w * s_d;
             for i in 0..6 {
                 sigma[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
@@ -488,10 +553,17 @@ impl MicroplaneConcrete {
         header[state::RATE_FACTOR] = f as f32;
         header[state::PRINCIPAL_STRESS] =
             principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
-        if p.dilatancy > 0.0 {
-            let dilatant = p.dilatancy * inelastic_compression;
-            if dilatant > header[state::DILATANCY] as f64 {
-                header[state::DILATANCY] = dilatant as f32;
+        if dilatant {
+            let wanted = p.dilatancy * inelastic_compression;
+            let reached = header[state::DILATANCY] as f64;
+            if wanted > reached {
+                header[state::DILATANCY] = self.admissible_dilatancy(
+                    reached,
+                    wanted,
+                    e_v,
+                    header[state::V_COMPRESSION] as f64,
+                    dissipation,
+                ) as f32;
             }
         }
         (
@@ -504,7 +576,9 @@ impl MicroplaneConcrete {
     }
 
     /// One shear component (5.20, 5.23) with its two branches and the cyclic damage (5.104):
-    /// `history` holds `[e+, s+, e-, s-, Lambda]`.
+    /// `history` holds `[e+, s+, e-, s-, Lambda]`. Adds the energy its branch dissipates by
+    /// virgin loading to `dissipation`, where given.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn shear_stress(
         &self,
@@ -514,6 +588,7 @@ impl MicroplaneConcrete {
         peak: (f64, f64),
         band: f64,
         monotonic_energy: f64,
+        dissipation: Option<&mut f64>,
     ) -> f64 {
         let (own, other) = if e >= 0.0 { (0, 2) } else { (2, 0) };
         let mut branch = Branch::load(&history[own..own + 2]);
@@ -544,6 +619,11 @@ impl MicroplaneConcrete {
                 } else {
                     self.cyclic_damage.eval(x)
                 };
+            }
+        }
+        if let Some(total) = dissipation {
+            if branch.reached > before.reached {
+                *total += damage * branch.dissipated_since(&before, c0, peak, &self.rule);
             }
         }
         s.copysign(e) * damage
