@@ -100,6 +100,39 @@ pub fn execute(
     }
 }
 
+/// The observers every explicit run of an execution has besides its output files: the
+/// wall-time limit, the stop flag and the progress report.
+struct Watchers<'p> {
+    deadline: Option<Deadline>,
+    stop: Option<StopFlag>,
+    progress: Progress<'p>,
+}
+
+impl<'p> Watchers<'p> {
+    fn new(options: &ExecuteOptions, progress: &'p mut dyn FnMut(f64)) -> Self {
+        Self {
+            deadline: options.time_limit_s.map(Deadline::after),
+            stop: options.stop.clone().map(StopFlag),
+            progress: Progress(progress),
+        }
+    }
+
+    /// The output files' observers, then these.
+    fn with<'a>(&'a mut self, files: &'a mut [Box<dyn RunObserver>]) -> Vec<&'a mut dyn RunObserver>
+    where
+        'p: 'a,
+    {
+        let mut observers: Vec<&mut dyn RunObserver> = files
+            .iter_mut()
+            .map(|o| &mut **o as &mut dyn RunObserver)
+            .collect();
+        observers.extend(self.deadline.as_mut().map(|d| d as &mut dyn RunObserver));
+        observers.extend(self.stop.as_mut().map(|s| s as &mut dyn RunObserver));
+        observers.push(&mut self.progress);
+        observers
+    }
+}
+
 fn explicit(
     problem: &Problem,
     settings: &ExplicitSettings,
@@ -118,16 +151,8 @@ fn explicit(
     }
     let plan = solver.plan();
     let mut files = solver.output_observers()?;
-    let mut deadline = options.time_limit_s.map(Deadline::after);
-    let mut stop = options.stop.clone().map(StopFlag);
-    let mut progress = Progress(progress);
-    let mut observers: Vec<&mut dyn RunObserver> = files
-        .iter_mut()
-        .map(|o| &mut **o as &mut dyn RunObserver)
-        .collect();
-    observers.extend(deadline.as_mut().map(|d| d as &mut dyn RunObserver));
-    observers.extend(stop.as_mut().map(|s| s as &mut dyn RunObserver));
-    observers.push(&mut progress);
+    let mut watchers = Watchers::new(options, progress);
+    let mut observers = watchers.with(&mut files);
     let outcome = solver.run_with(&mut observers);
     // Recorded problems are written whether or not the run completed: they are results too.
     let contact_problems = solver.take_recorded_problems();
@@ -188,16 +213,8 @@ fn explicit_remeshing(
     );
     let mut files = probe.output_observers()?;
     drop(probe);
-    let mut deadline = options.time_limit_s.map(Deadline::after);
-    let mut stop = options.stop.clone().map(StopFlag);
-    let mut progress = Progress(progress);
-    let mut observers: Vec<&mut dyn RunObserver> = files
-        .iter_mut()
-        .map(|o| &mut **o as &mut dyn RunObserver)
-        .collect();
-    observers.extend(deadline.as_mut().map(|d| d as &mut dyn RunObserver));
-    observers.extend(stop.as_mut().map(|s| s as &mut dyn RunObserver));
-    observers.push(&mut progress);
+    let mut watchers = Watchers::new(options, progress);
+    let mut observers = watchers.with(&mut files);
     let run = run_remeshing(
         problem,
         settings,

@@ -149,7 +149,7 @@ fn remeshing_the_middle_of_three_bodies_copies_the_other_two() {
 /// bit, so no value is a mix; each new element gets the crack band of its own size. The run with
 /// the true history then goes on over the new mesh.
 #[test]
-fn a_microplane_body_carries_its_history_by_the_closest_gauss_point() {
+fn a_microplane_body_carries_its_history_from_each_new_elements_parent() {
     let mut p = problem(
         box_body([0.2, 0.1, 0.1], [8, 4, 4], 0.2, 5),
         MaterialModel::Microplane(thesis_concrete()),
