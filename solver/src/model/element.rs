@@ -51,10 +51,28 @@ pub fn element_forces<M: Material + ?Sized>(
         f_dot,
         dt,
     };
-    match material.update(element, &deformation, state) {
+    forces_of_update(material, element, grad_n, &deformation, state, |p| {
+        p * volume
+    })
+}
+
+/// The element forces `f_a = P_r grad_X N_a` of the material's update at `deformation`, with
+/// `P_r = reference(P)` the stress times the volume on the model's reference; zero forces and a
+/// non-positive `det` when the material cannot update the element (an inverted one).
+#[inline(always)]
+fn forces_of_update<M: Material + ?Sized>(
+    material: &M,
+    element: usize,
+    grad_n: &[Vector3<f64>; 4],
+    deformation: &Deformation,
+    state: ElementState<'_>,
+    reference: impl FnOnce(Matrix3<f64>) -> Matrix3<f64>,
+) -> ElementForces {
+    let det = deformation.det;
+    match material.update(element, deformation, state) {
         Some(first_piola) => {
             let [g0, g1, g2, g3] = grad_n;
-            let p = first_piola * volume;
+            let p = reference(first_piola);
             ElementForces {
                 forces: [p * g0, p * g1, p * g2, p * g3],
                 det,
@@ -98,20 +116,9 @@ pub(super) fn element_forces_carried<M: Material + ?Sized>(
         f_dot,
         dt,
     };
-    match material.update(element, &deformation, state) {
-        Some(first_piola) => {
-            let [g0, g1, g2, g3] = grad_n;
-            let p = first_piola * pull_back * volume;
-            ElementForces {
-                forces: [p * g0, p * g1, p * g2, p * g3],
-                det,
-            }
-        }
-        None => ElementForces {
-            forces: [Vector3::zeros(); 4],
-            det: if det.is_finite() { det.min(0.0) } else { det },
-        },
-    }
+    forces_of_update(material, element, grad_n, &deformation, state, |p| {
+        p * pull_back * volume
+    })
 }
 
 /// A [`Material`] with the element loops compiled for it; implemented for every `Material`.
