@@ -137,9 +137,12 @@ fn collapsed_element_comes_out_well_shaped_and_conforming() {
     assert_eq!(worst, check.worst_ratio_after);
     assert!(!new.new_nodes().is_empty());
 
-    // The subdivision without the smoothing keeps the collapse: the smoothing restores shape.
+    // The subdivision without the smoothing and the collapses keeps the collapse: they
+    // restore shape.
     let split = MesherOptions {
         smoothing_sweeps: 0,
+        collapse_passes: 0,
+        min_edge: 0.0,
     };
     let raw = remesh_region(&mesh.nodes, &mesh.tets, &region, &split).unwrap();
     let raw_check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &raw).unwrap();
@@ -241,19 +244,22 @@ fn broken_conformity_is_caught() {
 
 #[test]
 fn lone_tetrahedron_takes_the_regular_refinement() {
-    // Every edge is on the outer boundary: all split, midpoints fixed, no smoothing to do.
+    // Every edge is on the outer boundary: all split, midpoints fixed (no face lies in an
+    // axis plane, along which they could slide), no smoothing to do.
     let x = vec![
         Vector3::new(0.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.0, 0.0),
-        Vector3::new(0.0, 1.0, 0.0),
-        Vector3::new(0.0, 0.0, 1.0),
+        Vector3::new(1.0, 0.2, 0.1),
+        Vector3::new(0.1, 1.0, 0.3),
+        Vector3::new(0.2, 0.1, 1.0),
     ];
     let tets = vec![[0, 1, 2, 3]];
+    let v = volume(&x, &tets[0]);
     let new = remesh_region(&x, &tets, &[0], &MesherOptions::default()).unwrap();
     assert_eq!(new.tets.len(), 8);
     assert_eq!(new.nodes.len(), 10);
+    assert!(new.slid_nodes.is_empty());
     for t in &new.tets {
-        assert!((volume(&new.nodes, t) - 1.0 / 48.0).abs() < 1e-15);
+        assert!((volume(&new.nodes, t) - v / 8.0).abs() < 1e-15);
     }
     check_remeshed(&x, &tets, &[0], &new).unwrap();
 }
@@ -267,4 +273,98 @@ fn bad_regions_are_errors() {
     let mut inverted = mesh.clone();
     inverted.tets[0].swap(2, 3);
     assert!(remesh_region(&inverted.nodes, &inverted.tets, &[0], &options).is_err());
+}
+
+#[test]
+fn collapse_along_an_edge_of_symmetry_planes_is_cured_by_sliding() {
+    // Node (0,0,3), on the cube's edge where the faces x = 0 and y = 0 meet (the axis of a
+    // quarter model), squashed 93 % of the way to its neighbour (0,0,4) on that edge: the short
+    // edge has both ends on the boundary, so no inner node can cure it; red refinement alone
+    // halves it with the rest. Such nodes may slide along their planes (here along z only).
+    let mesh = squashed(node(0, 0, 3), node(0, 0, 4), 0.93);
+    let (chi, region) = region_around_worst(&mesh);
+    assert!(chi > COLLAPSE_RATIO_LIMIT, "chi before = {chi}");
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &MesherOptions::default()).unwrap();
+    let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
+    println!("{check:#?}");
+    assert!(check.worst_ratio_after < CHI_BOUND, "{check:?}");
+    // The squashed node slid, along the edge only: x and y stay 0 bit for bit, and z lies
+    // between its neighbours on the edge.
+    let slid: HashMap<u32, u32> = new.slid_nodes.iter().copied().collect();
+    let moved = slid[&(node(0, 0, 3) as u32)];
+    let p = new.nodes[moved as usize];
+    assert_eq!((p.x.to_bits(), p.y.to_bits()), (0, 0), "{p}");
+    assert!(p.z > 2.0 / N as f64 && p.z < 4.0 / N as f64, "{p}");
+    // Every slid node keeps the coordinates its planes hold: those equal to 0 or 1 before.
+    for &(o, n) in &new.slid_nodes {
+        let (a, b) = (mesh.nodes[o as usize], new.nodes[n as usize]);
+        for k in 0..3 {
+            if a[k] == 0.0 || a[k] == 1.0 {
+                assert_eq!(a[k].to_bits(), b[k].to_bits(), "node {o}: {a} -> {b}");
+            }
+        }
+    }
+    // The boundary keeps its shape: area 6, every boundary face on the cube's surface.
+    let (_, area, most) = faces(&new.nodes, &new.tets);
+    assert!(most <= 2);
+    assert!((area - 6.0).abs() < 1e-12, "boundary area {area}");
+    let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
+    assert!((total - 1.0).abs() <= 1e-12, "volume {total}");
+}
+
+#[test]
+fn the_shortest_edge_bounds_refinement_and_coarsens_by_collapse() {
+    // The collapsed element's region remeshed once (edges 1/6 halved to 1/12), then the new
+    // elements remeshed again. With `min_edge` at half a cell no edge is split again: the
+    // element count cannot grow. With `min_edge` at 0.7 of a cell the halved edges are short:
+    // edge collapses coarsen the region back, each keeping a valid, conforming mesh.
+    let h = 1.0 / N as f64;
+    let mesh = squashed(node(2, 2, 2), node(3, 3, 3), 0.93);
+    let (_, region) = region_around_worst(&mesh);
+    let first = remesh_region(&mesh.nodes, &mesh.tets, &region, &MesherOptions::default()).unwrap();
+    let again: Vec<usize> = (first.first_region_element..first.tets.len()).collect();
+    let count = |r: &RemeshedRegion| r.tets.len();
+
+    let bounded = MesherOptions {
+        min_edge: 0.5 * h,
+        ..MesherOptions::default()
+    };
+    let second = remesh_region(&first.nodes, &first.tets, &again, &bounded).unwrap();
+    check_remeshed(&first.nodes, &first.tets, &again, &second).unwrap();
+    assert!(
+        count(&second) <= count(&first),
+        "{} > {}",
+        count(&second),
+        count(&first)
+    );
+    let shortest = |r: &RemeshedRegion| {
+        r.tets[r.first_region_element..]
+            .iter()
+            .flat_map(|t| {
+                [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+                    .map(|(i, j)| (r.nodes[t[i] as usize] - r.nodes[t[j] as usize]).norm())
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Smoothing moves nodes, so edges may shorten somewhat below h/2, but not halve again.
+    assert!(shortest(&second) > 0.25 * h, "{}", shortest(&second));
+
+    let coarse = MesherOptions {
+        min_edge: 0.7 * h,
+        ..MesherOptions::default()
+    };
+    let third = remesh_region(&first.nodes, &first.tets, &again, &coarse).unwrap();
+    let check = check_remeshed(&first.nodes, &first.tets, &again, &third).unwrap();
+    println!("{check:#?}");
+    assert!(
+        count(&third) < count(&first),
+        "{} elements, {} before",
+        count(&third),
+        count(&first)
+    );
+    assert!(check.worst_ratio_after < COLLAPSE_RATIO_LIMIT, "{check:?}");
+    let total: f64 = third.tets.iter().map(|t| volume(&third.nodes, t)).sum();
+    assert!((total - 1.0).abs() <= 1e-12, "volume {total}");
+    let (_, area, most) = faces(&third.nodes, &third.tets);
+    assert!(most <= 2 && (area - 6.0).abs() < 1e-12, "{most} {area}");
 }

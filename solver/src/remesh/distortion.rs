@@ -32,6 +32,24 @@ pub fn collapse_ratio(x: &[Vector3<f64>; 4]) -> f64 {
     }
 }
 
+/// The distortion a remeshing run watches: the collapse ratio (8.1), or the inverse mean ratio
+/// `1 / eta` ([`super::mean_ratio`]) where that is larger; infinite for an element whose volume
+/// is not positive. 1 for the regular tetrahedron.
+///
+/// Why not the collapse ratio alone: it sees an element whose edges differ (a needle, a wedge,
+/// a cap), not a sliver, four nodes nearly in one plane with edges alike (`chi` near 1, no
+/// volume). Under a penetrator such an element went from `chi` 3 to inverted within the ten
+/// steps between two checks. Every element with `chi` above the limit 10 is still caught
+/// (`1 / eta` only adds to it).
+pub fn distortion(x: &[Vector3<f64>; 4]) -> f64 {
+    let eta = super::mean_ratio(x);
+    if eta > 0.0 {
+        collapse_ratio(x).max(1.0 / eta)
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// The outcome of the distortion check of Box 8.1 over a whole mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DistortionCheck {

@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 
 use super::distortion::collapse_ratio;
 use super::mesher::RemeshedRegion;
+use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
 use crate::mesh::{boundary_faces_of, face_key, BoundaryFace, TET_FACES};
@@ -63,7 +64,8 @@ fn boundary_area(x: &[Vector3<f64>], faces: &[BoundaryFace]) -> f64 {
 ///   coordinates bit for bit;
 /// * **volume:** the region's volume is kept to [`REMESH_TOLERANCE`] (relative);
 /// * **outer boundary:** its area is kept to [`REMESH_TOLERANCE`], and every old boundary node
-///   is kept and still on the boundary;
+///   is kept and still on the boundary, or slid along the old boundary (on one of its old faces),
+///   or merged into a neighbour by an edge collapse;
 /// * **conformity:** no face is held by more than two elements, and every face the region
 ///   shared with the rest of the mesh is held by two. A hanging node would leave faces held by
 ///   one element inside the body, which the boundary-area check sees as extra boundary.
@@ -211,16 +213,37 @@ pub fn check_remeshed(
             on_boundary[n as usize] = true;
         }
     }
+    let slid: HashMap<u32, u32> = new.slid_nodes.iter().copied().collect();
     for f in &old_faces {
         for n in f.nodes {
-            match new.kept_nodes[n as usize] {
-                Some(m) if on_boundary[m as usize] => {}
+            match (new.kept_nodes[n as usize], slid.get(&n)) {
+                (Some(m), _) | (None, Some(&m)) if on_boundary[m as usize] => {}
+                // Merged along its symmetry planes: the boundary area above checks the shape.
+                (None, None) if new.merged_nodes.binary_search(&n).is_ok() => {}
                 _ => {
                     return Err(fail(format!(
                         "old boundary node {n} is not on the new boundary"
                     )))
                 }
             }
+        }
+    }
+    // A node that slid stays on the old boundary (on one of its faces, to round-off of the
+    // coordinates), so the boundary keeps its shape.
+    let extent = x.iter().map(|p| p.amax()).fold(f64::MIN_POSITIVE, f64::max);
+    for &(o, m) in &new.slid_nodes {
+        let p = xn[m as usize];
+        let distance = old_faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.nodes.map(|i| x[i as usize]);
+                (closest_point_on_triangle(&p, &a, &b, &c) - p).norm()
+            })
+            .fold(f64::INFINITY, f64::min);
+        if !(distance <= REMESH_TOLERANCE * extent) {
+            return Err(fail(format!(
+                "old boundary node {o} slid off the old boundary (by {distance:.3e} m)"
+            )));
         }
     }
 

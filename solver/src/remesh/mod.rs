@@ -49,6 +49,7 @@
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
 mod apply;
+mod collapse;
 mod contact_surface;
 mod distortion;
 mod locate;
@@ -56,19 +57,22 @@ mod mesh_check;
 mod mesher;
 mod record;
 mod run;
+mod smoothing;
 mod splice;
 mod transfer;
 
 pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
 pub use distortion::{
-    check_distortion, collapse_ratio, deformation_jacobians, refinement_region, region_parts,
-    DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
+    check_distortion, collapse_ratio, deformation_jacobians, distortion, refinement_region,
+    region_parts, DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT,
+    REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use mesher::{
-    grow_region, mean_ratio, remesh_region, MesherOptions, RemeshedRegion, SMOOTHING_SWEEPS,
+    grow_region, mean_ratio, remesh_region, MesherOptions, RemeshedRegion, COLLAPSE_PASSES,
+    SMOOTHING_SWEEPS,
 };
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,

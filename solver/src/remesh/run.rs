@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::apply::remesh_problem;
-use super::distortion::collapse_ratio;
+use super::distortion::distortion;
 use super::mesher::{grow_region, MesherOptions};
 use super::record::RemeshRecord;
 use crate::dynamics::{
@@ -42,6 +42,10 @@ pub struct RemeshSettings {
     /// Smallest element volume refined again (m^3).
     #[serde(default)]
     pub min_volume: f64,
+    /// Shortest edge the remesher makes by splitting, and below which it merges edges (m); 0
+    /// for no limit. See [`MesherOptions::min_edge`].
+    #[serde(default)]
+    pub min_edge: f64,
     /// Largest number of remeshings.
     #[serde(default = "default_max_remeshings")]
     pub max_remeshings: usize,
@@ -99,7 +103,10 @@ impl RemeshSettings {
             min_volume: self.min_volume,
             max_remeshings: self.max_remeshings,
             regrowth: self.regrowth,
-            mesher: MesherOptions::default(),
+            mesher: MesherOptions {
+                min_edge: self.min_edge,
+                ..MesherOptions::default()
+            },
         })
     }
 }
@@ -111,7 +118,8 @@ pub struct RemeshPolicy {
     pub body: usize,
     /// Steps between two distortion checks.
     pub check_every: usize,
-    /// The collapse ratio above which an element is distorted (thesis 8.1: 10).
+    /// The distortion above which an element is distorted (thesis 8.1: a collapse ratio of
+    /// 10; here [`super::distortion`], which also catches slivers).
     pub collapse_limit: f64,
     /// Layers of elements added around the distorted ones, so that their nodes can move.
     pub layers: usize,
@@ -144,19 +152,20 @@ impl RemeshPolicy {
         }
     }
 
-    /// The collapse ratio that triggers the next remeshing after one that left the body's
-    /// worst element at `worst`: the limit, or `regrowth` times `worst` where the remesher could
-    /// not bring every element under the limit. The local remesher cannot reshape an element
-    /// whose short edges lie on the outer boundary (boundary nodes do not move), and red
-    /// refinement of a flat element gives flat children: without this, each remeshing would
-    /// trigger the next at once, over a region grown by the previous one's children (an
-    /// indented block went 74, 84, 1083, 8402, 61193 elements in five checks).
+    /// The distortion that triggers the next remeshing after one that left the body's worst
+    /// element at `worst`: the limit, or `regrowth` times `worst` where the remesher could not
+    /// bring every element under the limit (an element whose short edges lie on a curved part
+    /// of the outer boundary, where nodes do not move, keeps its shape through a refinement):
+    /// without this, each remeshing would trigger the next at once, over a region grown by the
+    /// previous one's children (an indented block went 74, 84, 1083, 8402, 61193 elements in
+    /// five checks).
     pub fn threshold_after(&self, worst: f64) -> f64 {
         self.collapse_limit.max(self.regrowth * worst)
     }
 
     /// The elements to remesh at the current coordinates `x` of `problem`: the body's elements
-    /// whose collapse ratio passes `threshold` (the limit, or [`Self::threshold_after`]) and
+    /// whose distortion ([`super::distortion`]) passes `threshold` (the limit, or
+    /// [`Self::threshold_after`]) and
     /// whose volume exceeds `min_volume`, grown by `layers` within the body; empty when none.
     pub fn region(&self, problem: &Problem, x: &[Vector3<f64>], threshold: f64) -> Vec<usize> {
         let m = &problem.model;
@@ -168,7 +177,7 @@ impl RemeshPolicy {
             .clone()
             .filter(|&e| {
                 let corners = m.tets[e].map(|n| x[n as usize]);
-                collapse_ratio(&corners) > threshold
+                distortion(&corners) > threshold
                     && crate::kinematics::signed_volume(&corners) > self.min_volume
             })
             .collect();
@@ -192,13 +201,13 @@ enum Pause {
     TimeStep(f64),
 }
 
-/// The largest collapse ratio of the elements of body `body` (on the model's reference, which
-/// after a remeshing is the current configuration).
-fn worst_collapse_ratio(model: &crate::model::Model, body: usize) -> f64 {
+/// The largest distortion of the elements of body `body` (on the model's reference, which after
+/// a remeshing is the current configuration).
+fn worst_distortion(model: &crate::model::Model, body: usize) -> f64 {
     model.bodies[body]
         .elements
         .clone()
-        .map(|e| collapse_ratio(&model.tets[e].map(|n| model.reference[n as usize])))
+        .map(|e| distortion(&model.tets[e].map(|n| model.reference[n as usize])))
         .fold(0.0, f64::max)
 }
 
@@ -316,8 +325,7 @@ pub fn run_remeshing(
                 return Err(e);
             }
         };
-        threshold =
-            policy.threshold_after(worst_collapse_ratio(&remeshed.problem.model, policy.body));
+        threshold = policy.threshold_after(worst_distortion(&remeshed.problem.model, policy.body));
         on_remesh(&remeshed.record);
         records.push(remeshed.record);
         owned = Some(remeshed.problem);
