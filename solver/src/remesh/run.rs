@@ -15,6 +15,7 @@ use super::apply::remesh_problem;
 use super::distortion::collapse_ratio;
 use super::mesher::{grow_region, MesherOptions};
 use super::record::RemeshRecord;
+use super::watch::{OnRemesh, RemeshWatch};
 use crate::dynamics::{
     ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, RunState, RunSummary,
     SegmentEnd,
@@ -48,6 +49,14 @@ pub struct RemeshSettings {
     /// Growth of the worst collapse ratio past the last remeshing's that triggers the next.
     #[serde(default = "default_regrowth")]
     pub regrowth: f64,
+    /// Pictures of the mesh in a plane at the start, after each remeshing and at the end
+    /// ([`super::SectionSpec`]); none: no pictures.
+    #[serde(default)]
+    pub section: Option<super::SectionSpec>,
+    /// The stress of the remeshed body near a probe, a few steps before and after each
+    /// remeshing ([`super::NearTipSpec`]); none: not recorded.
+    #[serde(default)]
+    pub near_tip: Option<super::NearTipSpec>,
 }
 
 fn default_check_every() -> usize {
@@ -218,9 +227,8 @@ pub struct RemeshingRun {
     pub records: Vec<RemeshRecord>,
 }
 
-/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says.
-/// An instability or a halt writes what the observers hold and returns the error; a remeshing
-/// that fails returns its error after the observers have written what they hold.
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says;
+/// `on_remesh` sees each remeshing's record ([`run_remeshing_watched`] with it).
 pub fn run_remeshing(
     problem: &Problem,
     settings: &ExplicitSettings,
@@ -228,6 +236,22 @@ pub fn run_remeshing(
     policy: &RemeshPolicy,
     observers: &mut [&mut dyn RunObserver],
     on_remesh: &mut dyn FnMut(&RemeshRecord),
+) -> Result<RemeshingRun> {
+    let mut watch = OnRemesh(on_remesh);
+    run_remeshing_watched(problem, settings, output, policy, observers, &mut watch)
+}
+
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says,
+/// and shows `watch` the start, every step and every remeshing ([`RemeshWatch`]).
+/// An instability or a halt writes what the observers hold and returns the error; a remeshing
+/// that fails returns its error after the observers have written what they hold.
+pub fn run_remeshing_watched(
+    problem: &Problem,
+    settings: &ExplicitSettings,
+    output: &OutputSettings,
+    policy: &RemeshPolicy,
+    observers: &mut [&mut dyn RunObserver],
+    watch: &mut dyn RemeshWatch,
 ) -> Result<RemeshingRun> {
     let started = Instant::now();
     let mut recorder = Recorder::default();
@@ -247,6 +271,7 @@ pub fn run_remeshing(
     let adapt = settings.time_step.is_none();
     let trigger = 0.5 * (settings.safety + 1.0);
     let mut step_now: Option<f64> = None;
+    watch.start(problem);
     let (summary, last_state) = loop {
         let current = owned.as_ref().unwrap_or(problem);
         let mut resumed = settings.clone();
@@ -263,6 +288,7 @@ pub fn run_remeshing(
             };
             let mut pause = Pause::None;
             let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
+                watch.step(problem, s);
                 if s.step % every != 0 {
                     return false;
                 }
@@ -318,7 +344,7 @@ pub fn run_remeshing(
         };
         threshold =
             policy.threshold_after(worst_collapse_ratio(&remeshed.problem.model, policy.body));
-        on_remesh(&remeshed.record);
+        watch.remeshed(&remeshed.record, &remeshed.problem, &remeshed.state);
         records.push(remeshed.record);
         owned = Some(remeshed.problem);
         state = Some(remeshed.state);
