@@ -10,8 +10,8 @@ use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSumma
 use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
 use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
 use crate::remesh::{
-    run_remeshing_watched, NearTipStress, OnRemesh, RemeshRecord, RemeshWatch, RemeshingCsv,
-    SectionPictures, Watches,
+    run_remeshing_watched, NearTipStress, RemeshRecord, RemeshWatch, RemeshingCsv, SectionPictures,
+    Watches,
 };
 use crate::scene::Analysis;
 use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
@@ -245,8 +245,7 @@ fn explicit_remeshing(
         )?),
         _ => None,
     };
-    let mut log = OnRemesh(|record: &RemeshRecord| eprintln!("  {}", record.summary()));
-    let mut watches: Vec<&mut dyn RemeshWatch> = vec![&mut log];
+    let mut watches: Vec<&mut dyn RemeshWatch> = Vec::new();
     watches.extend(csv.as_mut().map(|w| w as &mut dyn RemeshWatch));
     watches.extend(pictures.as_mut().map(|w| w as &mut dyn RemeshWatch));
     watches.extend(near_tip.as_mut().map(|w| w as &mut dyn RemeshWatch));
@@ -258,6 +257,7 @@ fn explicit_remeshing(
         &output,
         &policy,
         &mut observers,
+        &mut |record| eprintln!("  {}", record.summary()),
         &mut Watches(watches),
     );
     // The watches' files are closed (and the last picture taken) whether or not the run

@@ -89,6 +89,4 @@ pub use transfer::{
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
     shape_function_transfer, transfer_nodal_vectors,
 };
-pub use watch::{
-    remeshing_csv_row, OnRemesh, RemeshWatch, RemeshingCsv, Watches, REMESHING_CSV_HEADER,
-};
+pub use watch::{remeshing_csv_row, RemeshWatch, RemeshingCsv, Watches, REMESHING_CSV_HEADER};

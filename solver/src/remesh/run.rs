@@ -15,7 +15,7 @@ use super::apply::remesh_problem;
 use super::distortion::collapse_ratio;
 use super::mesher::{grow_region, MesherOptions};
 use super::record::RemeshRecord;
-use super::watch::{OnRemesh, RemeshWatch};
+use super::watch::RemeshWatch;
 use crate::dynamics::{
     ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, RunState, RunSummary,
     SegmentEnd,
@@ -228,7 +228,7 @@ pub struct RemeshingRun {
 }
 
 /// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says;
-/// `on_remesh` sees each remeshing's record ([`run_remeshing_watched`] with it).
+/// `on_remesh` sees each remeshing's record ([`run_remeshing_watched`] without a watch).
 pub fn run_remeshing(
     problem: &Problem,
     settings: &ExplicitSettings,
@@ -237,12 +237,20 @@ pub fn run_remeshing(
     observers: &mut [&mut dyn RunObserver],
     on_remesh: &mut dyn FnMut(&RemeshRecord),
 ) -> Result<RemeshingRun> {
-    let mut watch = OnRemesh(on_remesh);
-    run_remeshing_watched(problem, settings, output, policy, observers, &mut watch)
+    run_remeshing_watched(
+        problem,
+        settings,
+        output,
+        policy,
+        observers,
+        on_remesh,
+        &mut (),
+    )
 }
 
-/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says,
-/// and shows `watch` the start, every step and every remeshing ([`RemeshWatch`]).
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says:
+/// `on_remesh` sees each remeshing's record, and `watch` the start, every step and every
+/// remeshing with the problem and state it made ([`RemeshWatch`]).
 /// An instability or a halt writes what the observers hold and returns the error; a remeshing
 /// that fails returns its error after the observers have written what they hold.
 pub fn run_remeshing_watched(
@@ -251,6 +259,7 @@ pub fn run_remeshing_watched(
     output: &OutputSettings,
     policy: &RemeshPolicy,
     observers: &mut [&mut dyn RunObserver],
+    on_remesh: &mut dyn FnMut(&RemeshRecord),
     watch: &mut dyn RemeshWatch,
 ) -> Result<RemeshingRun> {
     let started = Instant::now();
@@ -344,12 +353,15 @@ pub fn run_remeshing_watched(
         };
         threshold =
             policy.threshold_after(worst_collapse_ratio(&remeshed.problem.model, policy.body));
-        watch.remeshed(&remeshed.record, &remeshed.problem, &remeshed.state);
+        on_remesh(&remeshed.record);
         records.push(remeshed.record);
         owned = Some(remeshed.problem);
         state = Some(remeshed.state);
         // The new mesh's reference is the current configuration: its own limit applies.
         step_now = None;
+        if let (Some(record), Some(p), Some(s)) = (records.last(), &owned, &state) {
+            watch.remeshed(record, p, s);
+        }
     };
     set.finish()?;
     let written = std::mem::take(&mut set.written);

@@ -198,10 +198,14 @@ pub struct SectionPictures {
 }
 
 impl SectionPictures {
-    /// Pictures of `spec` of the model whose body `body` is remeshed, written into `dir` as
-    /// `<stem>_mesh_<k>.json`.
+    /// Pictures of `spec` of the model whose body `body` is remeshed, written into `dir`
+    /// (created if needed) as `<stem>_mesh_<k>.json`.
     pub fn new(spec: SectionSpec, body: usize, dir: &Path, stem: &str) -> Result<Self> {
         spec.check()?;
+        std::fs::create_dir_all(dir).map_err(|source| SolverError::Write {
+            path: dir.to_path_buf(),
+            source,
+        })?;
         Ok(Self {
             spec,
             body,

@@ -31,14 +31,8 @@ pub trait RemeshWatch {
     fn remeshed(&mut self, _record: &RemeshRecord, _problem: &Problem, _state: &RunState) {}
 }
 
-/// A closure called with each remeshing's record (what [`super::run_remeshing`] takes).
-pub struct OnRemesh<F>(pub F);
-
-impl<F: FnMut(&RemeshRecord)> RemeshWatch for OnRemesh<F> {
-    fn remeshed(&mut self, record: &RemeshRecord, _problem: &Problem, _state: &RunState) {
-        (self.0)(record)
-    }
-}
+/// No watch.
+impl RemeshWatch for () {}
 
 /// Several watches, each shown everything in the order given.
 pub struct Watches<'a>(pub Vec<&'a mut dyn RemeshWatch>);
@@ -100,13 +94,16 @@ pub(super) struct LineFile {
 }
 
 impl LineFile {
-    /// Creates `path` with the line `header`.
+    /// Creates `path` (and its folder) with the line `header`.
     pub(super) fn create(path: &Path, header: &str) -> Result<Self> {
         let mut file = Self {
             path: path.to_path_buf(),
             out: None,
             error: None,
         };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|source| file.failed(source))?;
+        }
         let out = File::create(path).map_err(|source| file.failed(source))?;
         file.out = Some(BufWriter::new(out));
         file.write_lines(std::iter::once(header.to_string()));
