@@ -79,7 +79,8 @@ fn extent(frame: &SectionFrame) -> Option<[[f64; 2]; 2]> {
 pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> String {
     let font = 11.0;
     let w = width as f64;
-    let (left, right, top) = (44.0, 10.0, font * 3.2);
+    // Title and caption lines, then the vertical axis's name above the picture.
+    let (left, right, top) = (44.0, 10.0, font * 4.6);
     let plot_w = w - left - right;
     let names: Vec<String> = frame
         .drawing_axes
@@ -99,8 +100,8 @@ pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> Stri
     };
     let span = [hi[0] - lo[0], hi[1] - lo[1]];
     let scale = plot_w / span[0];
-    // A tall window is shrunk to at most 1.4 times the width.
-    let scale = scale.min(1.4 * plot_w / span[1]);
+    // A tall window is shrunk to at most 1.8 times the width.
+    let scale = scale.min(1.8 * plot_w / span[1]);
     let (pw, ph) = (span[0] * scale, span[1] * scale);
     // Legend entries, wrapped to the width: (label, colours, x, row).
     let mut entries = Vec::new();
@@ -121,7 +122,8 @@ pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> Stri
         entries.push((label, colours, x, row));
         x += entry_w;
     }
-    let legend_y = top + ph + font * 3.2;
+    // Tick labels, the horizontal axis's name, then the legend.
+    let legend_y = top + ph + font * 5.0;
     let height = legend_y + font * 1.5 * (row as f64 + 1.0);
     let px = |h: f64| left + (h - lo[0]) * scale;
     let py = |v: f64| top + ph - (v - lo[1]) * scale;
@@ -203,12 +205,12 @@ pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> Stri
         ));
     }
     s.push_str(&format!(
-        "<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{} (mm)</text>\n\
+        "<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{} (mm)</text>\n\
          <text x=\"4\" y=\"{:.2}\">{} (mm)</text>\n",
-        left + pw,
-        bottom + 4.0 + 2.1 * font,
+        left + pw / 2.0,
+        bottom + 4.0 + 2.3 * font,
         names[0],
-        top - 4.0,
+        top - font * 0.7,
         names[1]
     ));
     // Legend: one swatch per body with its element count.
