@@ -7,6 +7,7 @@ use crate::contact_compare::report::ContactSection;
 use crate::crosscheck::report::CrosscheckSection;
 use crate::material_point::report::MaterialSection;
 use crate::report::beam::section::BeamSection;
+use crate::report::penetration::section::PenetrationSection;
 use crate::report::section::Section;
 
 /// Every kind, under its key in a case file; a case without any of the keys runs its scene.
@@ -28,4 +29,5 @@ pub static SECTIONS: &[&dyn Section] = &[
     &MaterialSection,
     &CrosscheckSection,
     &BeamSection,
+    &PenetrationSection,
 ];

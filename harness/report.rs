@@ -13,6 +13,7 @@ pub mod format;
 mod history;
 mod html;
 mod markdown;
+pub mod penetration;
 pub mod plot;
 pub mod records;
 pub mod section;

@@ -22,6 +22,7 @@ use crate::results::{
     SweepLevel, SweepResult,
 };
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
+use impact_solver::output::HistoryTable;
 use measure::Measure;
 
 /// A case that runs its scene.
@@ -106,11 +107,7 @@ fn run_case(
         .enumerate()
         .map(|(i, (parameter, scene))| {
             let t0 = Instant::now();
-            let stem = if levels.len() > 1 {
-                format!("level{i}")
-            } else {
-                "run".to_string()
-            };
+            let stem = stem_of(i, levels.len());
             let outcome = build_problem(scene).and_then(|mut problem| {
                 let opts = ExecuteOptions {
                     out: case_dir.as_deref(),
@@ -147,6 +144,14 @@ fn run_case(
             .map(|e| e.to_string())
             .unwrap_or_default();
         result.message = Some(format!("the solver run failed: {e}"));
+        // What the last level wrote before it failed: its history as the case's plots (the
+        // history file is written as the run goes) and the records of a run that remeshes.
+        if let Some(dir) = &case_dir {
+            let stem = stem_of(levels.len().saturating_sub(1), levels.len());
+            let history = HistoryTable::read_csv(&dir.join(format!("{stem}_history.csv"))).ok();
+            result.plots = plots(spec, history.as_ref(), &[]);
+            crate::report::penetration::record(&mut result, dir, &stem);
+        }
         return result;
     };
     if matches!(spec.sweep, Some(Sweep::Mesh(_) | Sweep::MeshFiles(_))) {
@@ -243,7 +248,10 @@ fn run_case(
             observed_order: observed,
         });
     }
-    result.plots = plots(spec, run, &result.metrics);
+    result.plots = plots(spec, run.history.as_ref(), &result.metrics);
+    if let Some(dir) = &case_dir {
+        crate::report::penetration::record(&mut result, dir, &stem_of(judged, levels.len()));
+    }
     let beam_plots = crate::report::beam::record(
         &result,
         &levels[judged].1,
@@ -256,6 +264,16 @@ fn run_case(
     result.status = status;
     result.message = Some(message);
     result
+}
+
+/// The stem of the output files of level `i` of `levels`: `run` for a case without a sweep,
+/// `level<i>` otherwise (`<stem>_history.csv`, ...).
+fn stem_of(i: usize, levels: usize) -> String {
+    if levels > 1 {
+        format!("level{i}")
+    } else {
+        "run".to_string()
+    }
 }
 
 /// The scene of every level: the case's scene with the sweep's parameter applied.
@@ -352,10 +370,10 @@ fn sweep_measure(
 /// The case's plots of history columns, with reference lines and bands from their metrics.
 fn plots(
     spec: &crate::catalogue::CaseSpec,
-    run: &Execution,
+    history: Option<&HistoryTable>,
     metrics: &[MetricResult],
 ) -> Vec<PlotData> {
-    let Some(history) = &run.history else {
+    let Some(history) = history else {
         return Vec::new();
     };
     spec.plots

@@ -9,7 +9,10 @@ use crate::contact::RecordedProblem;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
 use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
-use crate::remesh::{run_remeshing, RemeshRecord};
+use crate::remesh::{
+    run_remeshing_watched, NearTipStress, RemeshRecord, RemeshWatch, RemeshingCsv, SectionPictures,
+    Watches,
+};
 use crate::scene::Analysis;
 use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
@@ -178,9 +181,12 @@ fn explicit(
     })
 }
 
-/// An explicit run that remeshes ([`crate::remesh::run_remeshing`]): the observers of
-/// [`explicit`] over the whole run, a line per remeshing to the log, the records as
-/// `<stem>_remeshing.csv`, and `problem` replaced by the problem over the last mesh.
+/// An explicit run that remeshes ([`crate::remesh::run_remeshing_watched`]): the observers of
+/// [`explicit`] over the whole run, a line per remeshing to the log, and `problem` replaced by
+/// the problem over the last mesh. With an output folder, the records go to
+/// `<stem>_remeshing.csv` as the remeshings are made, the scene's `section` pictures to
+/// `<stem>_mesh_<k>.json` and its `near_tip` stresses to `<stem>_near_tip.csv`, all of them
+/// written whether the run completes, fails or is stopped (module `remesh`, `watch.rs`).
 fn explicit_remeshing(
     problem: &mut Problem,
     settings: &ExplicitSettings,
@@ -196,6 +202,12 @@ fn explicit_remeshing(
             entity: "contact.record_problems_every".into(),
             message: "recording contact problems is not supported in a run that remeshes".into(),
         });
+    }
+    if let Some(spec) = &remeshing.section {
+        spec.check()?;
+    }
+    if let Some(spec) = &remeshing.near_tip {
+        spec.probe_index(problem)?;
     }
     let output = OutputSettings {
         dir: options.out.map(Path::to_path_buf),
@@ -213,22 +225,61 @@ fn explicit_remeshing(
     );
     let mut files = probe.output_observers()?;
     drop(probe);
+    let stem = options.stem;
+    let mut csv = options
+        .out
+        .map(|dir| RemeshingCsv::create(&dir.join(format!("{stem}_remeshing.csv"))))
+        .transpose()?;
+    let mut pictures = match (options.out, &remeshing.section) {
+        (Some(dir), Some(spec)) => {
+            Some(SectionPictures::new(spec.clone(), policy.body, dir, stem)?)
+        }
+        _ => None,
+    };
+    let mut near_tip = match (options.out, &remeshing.near_tip) {
+        (Some(dir), Some(spec)) => Some(NearTipStress::new(
+            spec.clone(),
+            problem,
+            policy.body,
+            &dir.join(format!("{stem}_near_tip.csv")),
+        )?),
+        _ => None,
+    };
+    let mut watches: Vec<&mut dyn RemeshWatch> = Vec::new();
+    watches.extend(csv.as_mut().map(|w| w as &mut dyn RemeshWatch));
+    watches.extend(pictures.as_mut().map(|w| w as &mut dyn RemeshWatch));
+    watches.extend(near_tip.as_mut().map(|w| w as &mut dyn RemeshWatch));
     let mut watchers = Watchers::new(options, progress);
     let mut observers = watchers.with(&mut files);
-    let run = run_remeshing(
+    let outcome = run_remeshing_watched(
         problem,
         settings,
         &output,
         &policy,
         &mut observers,
         &mut |record| eprintln!("  {}", record.summary()),
-    )?;
+        &mut Watches(watches),
+    );
+    // The watches' files are closed (and the last picture taken) whether or not the run
+    // completed; the run's own error comes first.
+    let end = outcome
+        .as_ref()
+        .ok()
+        .map(|run| (run.problem.as_ref().unwrap_or(problem), &run.state));
+    let mut written = Vec::new();
+    let closed = || -> Result<(), SolverError> {
+        written.extend(csv.map(RemeshingCsv::finish).transpose()?);
+        written.extend(near_tip.map(NearTipStress::finish).transpose()?);
+        if let Some(p) = pictures {
+            written.extend(p.finish(end)?);
+        }
+        Ok(())
+    };
+    let closed = closed();
+    let run = outcome?;
+    closed?;
     let mut summary = run.summary;
-    if let Some(dir) = options.out {
-        let path = dir.join(format!("{}_remeshing.csv", options.stem));
-        write_remeshing_csv(&path, &run.records)?;
-        summary.written.push(path);
-    }
+    summary.written.extend(written);
     if let Some(p) = run.problem {
         *problem = p;
     }
@@ -243,38 +294,6 @@ fn explicit_remeshing(
         contact_problems: Vec::new(),
         material_history: Some(run.state.history),
         remeshings: run.records,
-    })
-}
-
-/// The remeshing records as a CSV, one row per remeshing.
-fn write_remeshing_csv(path: &Path, records: &[RemeshRecord]) -> Result<(), SolverError> {
-    let mut text = String::from(
-        "time,elements_before,elements_after,worst_collapse_before,worst_collapse_after,\
-         kinetic_before,kinetic_after,stored_before,stored_after,total_energy_jump,\
-         momentum_jump,velocity_shift,surface_nodes_moved,largest_surface_move\n",
-    );
-    for r in records {
-        text.push_str(&format!(
-            "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
-            r.time,
-            r.before.elements,
-            r.after.elements,
-            r.before.worst_collapse_ratio,
-            r.after.worst_collapse_ratio,
-            r.before.kinetic,
-            r.after.kinetic,
-            r.before.stored,
-            r.after.stored,
-            r.total_energy_jump(),
-            r.momentum_jump().norm(),
-            r.velocity_shift.norm(),
-            r.separation.moved,
-            r.separation.largest_depth,
-        ));
-    }
-    std::fs::write(path, text).map_err(|e| SolverError::Write {
-        path: path.to_path_buf(),
-        source: e,
     })
 }
 

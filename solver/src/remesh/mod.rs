@@ -3,7 +3,9 @@
 //! (method in `mesher.rs`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes one
 //! body of a running model between two steps (`apply.rs`, `splice.rs`), and the run goes on
 //! with [`crate::dynamics::ExplicitSolver::resume`]; [`run_remeshing`] is such a run
-//! (`run.rs`).
+//! (`run.rs`). What such a run shows besides its history (the records as a CSV written as it
+//! goes, pictures of the mesh in a plane, the stress near a tip around each remeshing) is
+//! watched through [`RemeshWatch`] (`watch.rs`, `section.rs`, `near_tip.rs`).
 //!
 //! # Configuration and formulation
 //!
@@ -55,11 +57,14 @@ mod distortion;
 mod locate;
 mod mesh_check;
 mod mesher;
+mod near_tip;
 mod record;
 mod run;
+mod section;
 mod smoothing;
 mod splice;
 mod transfer;
+mod watch;
 
 pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
@@ -74,13 +79,18 @@ pub use mesher::{
     grow_region, mean_ratio, remesh_region, MesherOptions, RemeshedRegion, COLLAPSE_PASSES,
     SMOOTHING_SWEEPS,
 };
+pub use near_tip::{
+    measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,
+};
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,
 };
-pub use run::{run_remeshing, RemeshPolicy, RemeshSettings, RemeshingRun};
+pub use run::{run_remeshing, run_remeshing_watched, RemeshPolicy, RemeshSettings, RemeshingRun};
+pub use section::{SectionBody, SectionFrame, SectionPictures, SectionSpec};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
     shape_function_transfer, transfer_nodal_vectors,
 };
+pub use watch::{remeshing_csv_row, RemeshWatch, RemeshingCsv, Watches, REMESHING_CSV_HEADER};

@@ -15,6 +15,7 @@ use super::apply::remesh_problem;
 use super::distortion::distortion;
 use super::mesher::{grow_region, MesherOptions};
 use super::record::RemeshRecord;
+use super::watch::RemeshWatch;
 use crate::dynamics::{
     ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, RunState, RunSummary,
     SegmentEnd,
@@ -52,6 +53,14 @@ pub struct RemeshSettings {
     /// Growth of the worst collapse ratio past the last remeshing's that triggers the next.
     #[serde(default = "default_regrowth")]
     pub regrowth: f64,
+    /// Pictures of the mesh in a plane at the start, after each remeshing and at the end
+    /// ([`super::SectionSpec`]); none: no pictures.
+    #[serde(default)]
+    pub section: Option<super::SectionSpec>,
+    /// The stress of the remeshed body near a probe, a few steps before and after each
+    /// remeshing ([`super::NearTipSpec`]); none: not recorded.
+    #[serde(default)]
+    pub near_tip: Option<super::NearTipSpec>,
 }
 
 fn default_check_every() -> usize {
@@ -227,9 +236,8 @@ pub struct RemeshingRun {
     pub records: Vec<RemeshRecord>,
 }
 
-/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says.
-/// An instability or a halt writes what the observers hold and returns the error; a remeshing
-/// that fails returns its error after the observers have written what they hold.
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says;
+/// `on_remesh` sees each remeshing's record ([`run_remeshing_watched`] without a watch).
 pub fn run_remeshing(
     problem: &Problem,
     settings: &ExplicitSettings,
@@ -237,6 +245,31 @@ pub fn run_remeshing(
     policy: &RemeshPolicy,
     observers: &mut [&mut dyn RunObserver],
     on_remesh: &mut dyn FnMut(&RemeshRecord),
+) -> Result<RemeshingRun> {
+    run_remeshing_watched(
+        problem,
+        settings,
+        output,
+        policy,
+        observers,
+        on_remesh,
+        &mut (),
+    )
+}
+
+/// Runs `problem` to the end time of `settings` with `observers`, remeshing as `policy` says:
+/// `on_remesh` sees each remeshing's record, and `watch` the start, every step and every
+/// remeshing with the problem and state it made ([`RemeshWatch`]).
+/// An instability or a halt writes what the observers hold and returns the error; a remeshing
+/// that fails returns its error after the observers have written what they hold.
+pub fn run_remeshing_watched(
+    problem: &Problem,
+    settings: &ExplicitSettings,
+    output: &OutputSettings,
+    policy: &RemeshPolicy,
+    observers: &mut [&mut dyn RunObserver],
+    on_remesh: &mut dyn FnMut(&RemeshRecord),
+    watch: &mut dyn RemeshWatch,
 ) -> Result<RemeshingRun> {
     let started = Instant::now();
     let mut recorder = Recorder::default();
@@ -256,6 +289,7 @@ pub fn run_remeshing(
     let adapt = settings.time_step.is_none();
     let trigger = 0.5 * (settings.safety + 1.0);
     let mut step_now: Option<f64> = None;
+    watch.start(problem);
     let (summary, last_state) = loop {
         let current = owned.as_ref().unwrap_or(problem);
         let mut resumed = settings.clone();
@@ -272,6 +306,7 @@ pub fn run_remeshing(
             };
             let mut pause = Pause::None;
             let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
+                watch.step(problem, s);
                 if s.step % every != 0 {
                     return false;
                 }
@@ -332,6 +367,9 @@ pub fn run_remeshing(
         state = Some(remeshed.state);
         // The new mesh's reference is the current configuration: its own limit applies.
         step_now = None;
+        if let (Some(record), Some(p), Some(s)) = (records.last(), &owned, &state) {
+            watch.remeshed(record, p, s);
+        }
     };
     set.finish()?;
     let written = std::mem::take(&mut set.written);
