@@ -1,0 +1,143 @@
+//! Diagnostic for remeshing runs (issue 21): runs a scene with `analysis.explicit.remeshing` to
+//! a given time, then describes the remeshed body's most distorted elements (collapse ratio,
+//! mean ratio, volume, where their nodes lie: inside, or on boundary faces of how many
+//! distinct planes) and the fastest nodes of the model (a contact kick or an instability shows
+//! there first).
+//!
+//! ```text
+//! cargo run --release -p impact-solver --example remesh_diagnose -- \
+//!     cases/penetration/nail-200ms.yaml 1.0e-5 [worst elements = 12]
+//! ```
+//! With `LOOSE=1` the run's energy-balance check is off, to look at the step a blow-up starts.
+#![allow(clippy::unwrap_used)]
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use impact_solver::dynamics::OutputSettings;
+use impact_solver::mesh::{face_key, TET_FACES};
+use impact_solver::remesh::{collapse_ratio, distortion, mean_ratio, run_remeshing};
+use impact_solver::scene::{build_problem, Analysis, Scene};
+use nalgebra::Vector3;
+
+/// The distinct planes (unit normals up to sign, to 1e-3) among `normals`.
+fn distinct_planes(normals: &[Vector3<f64>]) -> usize {
+    let mut planes: Vec<Vector3<f64>> = Vec::new();
+    for n in normals {
+        if !planes
+            .iter()
+            .any(|p| (n - p).norm() < 1e-3 || (n + p).norm() < 1e-3)
+        {
+            planes.push(*n);
+        }
+    }
+    planes.len()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let scene = Scene::from_yaml_file_entry(Path::new(&args[1]), "scene").unwrap();
+    let end: f64 = args[2].parse().unwrap();
+    let worst_n: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(12);
+    let problem = build_problem(&scene).unwrap();
+    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+        panic!("an explicit analysis is needed")
+    };
+    settings.end_time = end;
+    if std::env::var("LOOSE").is_ok() {
+        settings.instability_energy_tolerance = 1e9;
+    }
+    let policy = settings
+        .remeshing
+        .as_ref()
+        .expect("the scene remeshes")
+        .policy(&problem)
+        .unwrap();
+    let run = run_remeshing(
+        &problem,
+        &settings,
+        &OutputSettings::default(),
+        &policy,
+        &mut [],
+        &mut |r| eprintln!("  {}", r.summary()),
+    )
+    .unwrap();
+    let p = run.problem.as_ref().unwrap_or(&problem);
+    let m = &p.model;
+    let body = &m.bodies[policy.body];
+    let x: Vec<Vector3<f64>> = m
+        .reference
+        .iter()
+        .zip(&run.state.u)
+        .map(|(a, b)| a + b)
+        .collect();
+    println!(
+        "t = {:.4e} s, dt = {:.3e} s, {} remeshings",
+        run.state.time,
+        run.state.time_step,
+        run.records.len()
+    );
+
+    let mut speeds: Vec<(f64, usize)> = run
+        .state
+        .v_full
+        .iter()
+        .enumerate()
+        .map(|(n, v)| (v.norm(), n))
+        .collect();
+    speeds.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (s, n) in speeds.iter().take(4) {
+        let b = m.bodies.iter().position(|b| b.nodes.contains(n)).unwrap();
+        let p = x[*n] * 1e3;
+        println!(
+            "fast node {n} ({}) {s:.2} m/s at ({:.4}, {:.4}, {:.4}) mm",
+            m.bodies[b].name, p.x, p.y, p.z
+        );
+    }
+
+    // Boundary faces of the body and the normals at each of their nodes.
+    let mut count: HashMap<[u32; 3], u32> = HashMap::new();
+    for e in body.elements.clone() {
+        for f in TET_FACES {
+            *count.entry(face_key(f.map(|i| m.tets[e][i]))).or_insert(0) += 1;
+        }
+    }
+    let mut normals: HashMap<u32, Vec<Vector3<f64>>> = HashMap::new();
+    for (k, c) in &count {
+        if *c == 1 {
+            let [a, b, c] = k.map(|n| x[n as usize]);
+            let n = (b - a).cross(&(c - a)).normalize();
+            for v in k {
+                normals.entry(*v).or_default().push(n);
+            }
+        }
+    }
+    let place = |n: u32| match normals.get(&n) {
+        None => "inside".to_string(),
+        Some(list) => format!("{} plane(s)", distinct_planes(list)),
+    };
+    let mut rows: Vec<(f64, usize)> = body
+        .elements
+        .clone()
+        .map(|e| (distortion(&m.tets[e].map(|n| x[n as usize])), e))
+        .collect();
+    rows.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (d, e) in rows.iter().take(worst_n) {
+        let c = m.tets[*e].map(|n| x[n as usize]);
+        let centroid = 0.25e3 * (c[0] + c[1] + c[2] + c[3]);
+        let (short, long) = impact_solver::mesh::edge_extremes(&c);
+        println!(
+            "element {e}: distortion {d:.1}, chi {:.1}, eta {:.3}, volume {:.2e} m^3, centroid \
+             ({:.3}, {:.3}, {:.3}) mm, edges {:.3}-{:.3} mm, nodes: {}",
+            collapse_ratio(&c),
+            mean_ratio(&c),
+            impact_solver::kinematics::signed_volume(&c),
+            centroid.x,
+            centroid.y,
+            centroid.z,
+            short * 1e3,
+            long * 1e3,
+            m.tets[*e].map(place).join(", ")
+        );
+    }
+}
