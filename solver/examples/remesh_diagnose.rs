@@ -95,6 +95,47 @@ fn main() {
         );
     }
 
+    // Nodes of the remeshed body inside another body (a contact partner it should not enter).
+    for (o, other) in m.bodies.iter().enumerate() {
+        if o == policy.body {
+            continue;
+        }
+        let tets = &m.tets[other.elements.clone()];
+        let locator = impact_solver::remesh::Locator::new(&x, tets).unwrap();
+        let faces = impact_solver::mesh::boundary_faces_of(tets);
+        let mut inside = Vec::new();
+        for n in body.nodes.clone() {
+            let at = locator.locate(&x[n]);
+            if at.distance > 0.0 || at.barycentric.iter().any(|&w| w < -1e-12) {
+                continue;
+            }
+            let depth = faces
+                .iter()
+                .map(|f| {
+                    let [a, b, c] = f.nodes.map(|i| x[i as usize]);
+                    (impact_solver::contact::geometry::closest_point_on_triangle(&x[n], &a, &b, &c)
+                        - x[n])
+                        .norm()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let on_plane = at.barycentric.iter().any(|&w| w <= 1e-9);
+            inside.push((n, depth, on_plane));
+        }
+        if !inside.is_empty() {
+            let deepest = inside
+                .iter()
+                .fold((0, 0.0, false), |a, b| if b.1 > a.1 { *b } else { a });
+            println!(
+                "{} nodes of the body inside {} (deepest: node {} by {:.3e} m, on a face plane: {})",
+                inside.len(),
+                other.name,
+                deepest.0,
+                deepest.1,
+                deepest.2
+            );
+        }
+    }
+
     // Boundary faces of the body and the normals at each of their nodes.
     let mut count: HashMap<[u32; 3], u32> = HashMap::new();
     for e in body.elements.clone() {
