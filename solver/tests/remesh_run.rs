@@ -348,7 +348,6 @@ fn travelling_wave_keeps_its_energy_through_a_remeshing() {
 fn a_sheared_block_remeshes_as_it_distorts_and_keeps_its_balance() {
     use impact_solver::dynamics::{ExplicitSettings, OutputSettings};
     use impact_solver::material::IsotropicElastic;
-    use impact_solver::model::{Probe, ProbeQuantity};
     use impact_solver::remesh::{check_distortion, run_remeshing, RemeshPolicy};
     const SOFT: IsotropicElastic = IsotropicElastic {
         density: 1000.0,
@@ -362,28 +361,7 @@ fn a_sheared_block_remeshes_as_it_distorts_and_keeps_its_balance() {
     );
     let end = 0.02;
     let rate = 1.0 / end;
-    let boundary = box_boundary_nodes(&p.model, size);
-    let top: Vec<u32> = boundary
-        .iter()
-        .copied()
-        .filter(|&n| p.model.reference[n as usize].y > 0.1 - 1e-9)
-        .collect();
-    let mut gradient = Matrix3::zeros();
-    gradient[(0, 1)] = rate;
-    p.constraints.push(Constraint {
-        name: "shear".into(),
-        nodes: boundary,
-        motion: Motion::AffineVelocity {
-            translation: Vector3::zeros(),
-            gradient,
-            center: Vector3::zeros(),
-        },
-    });
-    p.probes.push(Probe {
-        name: "top".into(),
-        nodes: top,
-        quantity: ProbeQuantity::Displacement,
-    });
+    shear_the_box(&mut p, size, rate);
     let initial = check_distortion(&p.model.reference, &p.model.tets, f64::INFINITY).worst_ratio;
     let mut settings = ExplicitSettings::new(end);
     settings.safety = 0.5;

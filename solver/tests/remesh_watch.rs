@@ -15,14 +15,13 @@ use common::*;
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
-use impact_solver::model::{Constraint, Motion, Probe, ProbeQuantity, Problem};
+use impact_solver::model::Problem;
 use impact_solver::remesh::{
     check_distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER,
     REMESHING_CSV_HEADER,
 };
 use impact_solver::scene::Analysis;
 use impact_solver::SolverError;
-use nalgebra::{Matrix3, Vector3};
 
 const SOFT: IsotropicElastic = IsotropicElastic {
     density: 1000.0,
@@ -50,28 +49,7 @@ fn sheared_block(remeshing: &str) -> (Problem, Analysis) {
         box_body(size, [4, 4, 4], 0.3, 11),
         MaterialModel::SaintVenantKirchhoff(SOFT),
     );
-    let boundary = box_boundary_nodes(&p.model, size);
-    let top: Vec<u32> = boundary
-        .iter()
-        .copied()
-        .filter(|&n| p.model.reference[n as usize].y > SIZE - 1e-9)
-        .collect();
-    let mut gradient = Matrix3::zeros();
-    gradient[(0, 1)] = 1.0 / END;
-    p.constraints.push(Constraint {
-        name: "shear".into(),
-        nodes: boundary,
-        motion: Motion::AffineVelocity {
-            translation: Vector3::zeros(),
-            gradient,
-            center: Vector3::zeros(),
-        },
-    });
-    p.probes.push(Probe {
-        name: "top".into(),
-        nodes: top,
-        quantity: ProbeQuantity::Displacement,
-    });
+    shear_the_box(&mut p, size, 1.0 / END);
     let initial = check_distortion(&p.model.reference, &p.model.tets, f64::INFINITY).worst_ratio;
     let mut settings = ExplicitSettings::new(END);
     settings.safety = 0.5;

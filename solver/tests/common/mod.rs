@@ -158,3 +158,33 @@ pub fn sym_norm(s: &[f64; 6]) -> f64 {
     (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
         .sqrt()
 }
+
+/// Simple shear of the box `[0, size]^3` of `p` at `rate` (1/s): every boundary node follows
+/// `v = rate y e_x` (an affine velocity constraint named `shear`), and a probe `top` records the
+/// mean displacement of the top face `y = size[1]`.
+#[allow(dead_code)]
+pub fn shear_the_box(p: &mut Problem, size: [f64; 3], rate: f64) {
+    use impact_solver::model::{Constraint, Motion, Probe, ProbeQuantity};
+    let boundary = box_boundary_nodes(&p.model, size);
+    let top: Vec<u32> = boundary
+        .iter()
+        .copied()
+        .filter(|&n| p.model.reference[n as usize].y > size[1] - 1e-9)
+        .collect();
+    let mut gradient = Matrix3::zeros();
+    gradient[(0, 1)] = rate;
+    p.constraints.push(Constraint {
+        name: "shear".into(),
+        nodes: boundary,
+        motion: Motion::AffineVelocity {
+            translation: Vector3::zeros(),
+            gradient,
+            center: Vector3::zeros(),
+        },
+    });
+    p.probes.push(Probe {
+        name: "top".into(),
+        nodes: top,
+        quantity: ProbeQuantity::Displacement,
+    });
+}
