@@ -142,6 +142,7 @@ fn collapsed_element_comes_out_well_shaped_and_conforming() {
     let split = MesherOptions {
         smoothing_sweeps: 0,
         collapse_passes: 0,
+        flip_passes: 0,
         min_edge: 0.0,
     };
     let raw = remesh_region(&mesh.nodes, &mesh.tets, &region, &split).unwrap();

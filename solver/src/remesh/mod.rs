@@ -54,6 +54,7 @@ mod apply;
 mod collapse;
 mod contact_surface;
 mod distortion;
+mod flip;
 mod locate;
 mod mesh_check;
 mod mesher;
