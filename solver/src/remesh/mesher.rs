@@ -103,7 +103,7 @@ impl Default for MesherOptions {
         Self {
             smoothing_sweeps: SMOOTHING_SWEEPS,
             collapse_passes: COLLAPSE_PASSES,
-            flip_passes: COLLAPSE_PASSES,
+            flip_passes: FLIP_PASSES,
             min_edge: 0.0,
         }
     }
@@ -111,6 +111,9 @@ impl Default for MesherOptions {
 
 /// Default number of edge-collapse passes (an upper bound: passes stop when none collapses).
 pub const COLLAPSE_PASSES: usize = 10;
+
+/// Default number of flip passes (an upper bound: passes stop when none flips).
+pub const FLIP_PASSES: usize = 10;
 
 /// The quality ([`shape_quality`]) below which an element tries to collapse its short edges:
 /// a collapse ratio of 4, well under the remeshing limit 10 (8.1).

@@ -345,8 +345,17 @@ impl RemeshWatch for SectionPictures {
     }
 
     fn step(&mut self, problem: &Problem, solver: &ExplicitSolver<'_>) {
-        let x = self.current(&problem.model, &solver.u);
-        self.last = Some((solver.time, x));
+        // Every step: the buffer of the last one is refilled, not allocated again.
+        let m = &problem.model;
+        let (time, x) = self.last.get_or_insert_with(|| (0.0, Vec::new()));
+        *time = solver.time;
+        x.clear();
+        x.extend(
+            self.plane
+                .nodes
+                .iter()
+                .map(|&n| m.reference[n as usize] + solver.u[n as usize]),
+        );
     }
 
     fn remeshed(&mut self, _record: &RemeshRecord, problem: &Problem, state: &RunState) {
