@@ -180,5 +180,27 @@ fn main() {
             long * 1e3,
             m.tets[*e].map(place).join(", ")
         );
+        // The kinematics the material sees: the volume ratio J, the principal stretches and
+        // the Green-Lagrange volumetric strain e_V = tr E / 3 (MICROPLANE.md) the volumetric
+        // law is driven by.
+        let f = p.model.deformation_gradient(*e, &run.state.u);
+        let c_right = f.transpose() * f;
+        let mut stretches: Vec<f64> = c_right
+            .symmetric_eigenvalues()
+            .iter()
+            .map(|l| l.max(0.0).sqrt())
+            .collect();
+        stretches.sort_by(f64::total_cmp);
+        let e_v = (c_right.trace() - 3.0) / 6.0;
+        println!(
+            "    J {:.4}, stretches {:.3} {:.3} {:.3}, e_V (Green-Lagrange) {:+.4}, e_V of J \
+             ((J^(2/3) - 1) / 2) {:+.4}",
+            f.determinant(),
+            stretches[0],
+            stretches[1],
+            stretches[2],
+            e_v,
+            0.5 * (f.determinant().cbrt().powi(2) - 1.0)
+        );
     }
 }

@@ -200,6 +200,12 @@ pub struct MicroplaneSpec {
     /// an explicit run alone reach 1e-2 /s), which a static test at about 1e-6 /s does not see.
     #[serde(default = "rate_effect_on", skip_serializing_if = "is_true")]
     pub rate_effect: bool,
+    /// The volumetric strain measure, replacing the parameters' (`green_lagrange_trace` or
+    /// `volume_ratio`, `material/microplane/volumetric.rs`). A penetration crushes elements to a
+    /// fraction of their volume while stretching them, which the trace of the Green-Lagrange
+    /// strain reads as volumetric tension.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volumetric_strain: Option<crate::material::microplane::VolumetricStrain>,
 }
 
 fn rate_effect_on() -> bool {
@@ -250,6 +256,9 @@ impl MaterialSpec {
                 let mut parameters = parameters;
                 if !spec.rate_effect {
                     parameters.rate_effect = None;
+                }
+                if let Some(measure) = spec.volumetric_strain {
+                    parameters.volumetric_strain = measure;
                 }
                 MaterialModel::Microplane(parameters)
             }

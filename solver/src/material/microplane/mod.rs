@@ -25,6 +25,7 @@ pub mod parameters;
 mod principal;
 pub mod state;
 pub mod tabulated;
+pub mod volumetric;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
@@ -33,6 +34,7 @@ pub use principal::{
     largest_principal, mazars_strain, principal_stress_for_closure, principal_values,
 };
 pub use state::MicroplaneState;
+pub use volumetric::VolumetricStrain;
 
 use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
@@ -214,7 +216,9 @@ impl MicroplaneConcrete {
     }
 
     /// The update: back-rotated Cauchy stress `s` for the Green-Lagrange strain `strain` at the
-    /// equivalent rate `gamma_dot`, advancing `state`.
+    /// equivalent rate `gamma_dot`, advancing `state`. With
+    /// [`MicroplaneParameters::volumetric_strain`] `volume_ratio` the laws see `dev E + e_V I`
+    /// with `e_V = (J^(2/3) - 1) / 2` ([`volumetric`]).
     ///
     /// Steps: rate factor (5.110); volumetric law (5.22) with its own history; relaxation `psi`
     /// from the volumetric law and the largest principal stress of the previous update (5.91,
@@ -237,6 +241,14 @@ impl MicroplaneConcrete {
         gamma_dot: f64,
         band: &CrackBand,
     ) -> (Sym, UpdateInfo) {
+        let measured;
+        let strain = match self.parameters.volumetric_strain {
+            VolumetricStrain::GreenLagrangeTrace => strain,
+            other => {
+                measured = other.measured(strain);
+                &measured
+            }
+        };
         #[cfg(target_arch = "x86_64")]
         if self.wide_vectors {
             // SAFETY: the processor has AVX2 and FMA (detected when the model was built).

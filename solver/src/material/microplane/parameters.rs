@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::volumetric::VolumetricStrain;
+
 use super::directions::SphereRule;
 use crate::material::{ConstantsError, IsotropicElastic};
 
@@ -78,6 +80,14 @@ pub struct MicroplaneParameters {
     /// What drives the softening of volumetric tension (MICROPLANE.md "Tension driver").
     #[serde(default)]
     pub tension_driver: TensionDriver,
+    /// How the volumetric strain is measured at finite strain (`volumetric.rs`): the trace of
+    /// the Green-Lagrange strain (MICROPLANE.md, the default) or the volume ratio `J`.
+    #[serde(default, skip_serializing_if = "is_trace")]
+    pub volumetric_strain: VolumetricStrain,
+}
+
+fn is_trace(v: &VolumetricStrain) -> bool {
+    *v == VolumetricStrain::GreenLagrangeTrace
 }
 
 /// The strain that drives volumetric tensile softening (the relaxation `psi` follows `e_V` with

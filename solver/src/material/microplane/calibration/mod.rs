@@ -449,5 +449,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         shear_cyclic_damage: true,
         dilatancy: 0.0,
         tension_driver: TensionDriver::Volumetric,
+        volumetric_strain: Default::default(),
     }
 }
