@@ -95,6 +95,43 @@ fn main() {
         );
     }
 
+    // Nodes asked for by `NODES=1,2,3`: position (mm) and velocity (m/s).
+    if let Ok(list) = std::env::var("NODES") {
+        for n in list.split(',').map(|s| s.trim().parse::<usize>().unwrap()) {
+            let (p, v) = (x[n] * 1e3, run.state.v_full[n]);
+            println!(
+                "node {n}: x ({:.5}, {:.5}, {:.5}) mm, v ({:.2}, {:.2}, {:.2}) m/s",
+                p.x, p.y, p.z, v.x, v.y, v.z
+            );
+            for other in m.bodies.iter().filter(|b| !b.nodes.contains(&n)) {
+                let tets = &m.tets[other.elements.clone()];
+                let locator = impact_solver::remesh::Locator::new(&x, tets).unwrap();
+                let at = locator.locate(&x[n]);
+                if at.distance > 0.0 || at.barycentric.iter().any(|&w| w < -1e-12) {
+                    continue;
+                }
+                let faces = impact_solver::mesh::boundary_faces_of(tets);
+                let (depth, face) = faces
+                    .iter()
+                    .map(|f| {
+                        let [a, b, c] = f.nodes.map(|i| x[i as usize]);
+                        let q = impact_solver::contact::geometry::closest_point_on_triangle(
+                            &x[n], &a, &b, &c,
+                        );
+                        ((q - x[n]).norm(), f.nodes)
+                    })
+                    .fold(
+                        (f64::INFINITY, [0; 3]),
+                        |a, b| if b.0 < a.0 { b } else { a },
+                    );
+                println!(
+                    "    inside {} by {depth:.3e} m (nearest boundary face {face:?})",
+                    other.name
+                );
+            }
+        }
+    }
+
     // Nodes of the remeshed body inside another body (a contact partner it should not enter).
     for (o, other) in m.bodies.iter().enumerate() {
         if o == policy.body {

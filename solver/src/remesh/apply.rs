@@ -14,9 +14,9 @@ use nalgebra::{Matrix3, Vector3};
 use std::sync::Arc;
 
 use super::contact_surface::separate_new_surface_nodes;
-use super::locate::{centroids, Locator};
+use super::locate::{centroids, Locator, LOCATE_TOLERANCE};
 use super::mesh_check::{check_remeshed, RemeshCheck};
-use super::mesher::{remesh_region, MesherOptions};
+use super::mesher::{remesh_region_keeping_edges, MesherOptions};
 use super::record::{momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
 use super::transfer::{element_volumes, shape_function_transfer};
@@ -218,13 +218,6 @@ pub fn remesh_problem(
         .map(|t| t.map(|n| n - nodes.start as u32))
         .collect();
     let local_region: Vec<usize> = region.iter().map(|e| e - elements.start).collect();
-    let mut new = remesh_region(x, &local_tets, &local_region, options)?;
-    let mut on_boundary = vec![false; new.nodes.len()];
-    for f in boundary_faces_of(&new.tets) {
-        for n in f.nodes {
-            on_boundary[n as usize] = true;
-        }
-    }
     let partners: Vec<usize> = problem
         .contact
         .iter()
@@ -234,6 +227,27 @@ pub fn remesh_problem(
             _ => None,
         })
         .collect();
+    // An edge whose midpoint lies inside a partner is not split: its new node would have to be
+    // moved out, by the chord's sagitta, and can invert the element behind it.
+    let partner_locators = partners
+        .iter()
+        .map(|&o| Locator::new(&x_all, &model.tets[model.bodies[o].elements.clone()]))
+        .collect::<Result<Vec<_>>>()?;
+    let inside_partner = |a: u32, c: u32| {
+        let mid = 0.5 * (x[a as usize] + x[c as usize]);
+        partner_locators.iter().any(|l| {
+            let at = l.locate(&mid);
+            at.distance == 0.0 && at.barycentric.iter().all(|&w| w > LOCATE_TOLERANCE)
+        })
+    };
+    let mut new =
+        remesh_region_keeping_edges(x, &local_tets, &local_region, options, &inside_partner)?;
+    let mut on_boundary = vec![false; new.nodes.len()];
+    for f in boundary_faces_of(&new.tets) {
+        for n in f.nodes {
+            on_boundary[n as usize] = true;
+        }
+    }
     let candidates: Vec<u32> = new
         .new_nodes()
         .into_iter()

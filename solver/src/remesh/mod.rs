@@ -77,8 +77,8 @@ pub use distortion::{
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use mesher::{
-    grow_region, mean_ratio, remesh_region, MesherOptions, RemeshedRegion, COLLAPSE_PASSES,
-    FLIP_PASSES, SMOOTHING_SWEEPS,
+    grow_region, mean_ratio, remesh_region, remesh_region_keeping_edges, MesherOptions,
+    RemeshedRegion, COLLAPSE_PASSES, FLIP_PASSES, SMOOTHING_SWEEPS,
 };
 pub use near_tip::{
     measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,

@@ -219,7 +219,7 @@ impl<'a> LocalSearch<'a> {
         })
         .or_else(|| {
             self.candidates(path.grown(self.typical), x0, x1, scratch);
-            closest_point(master, &scratch.faces, &node.end, x1, self.typical)
+            closest_point(master, &scratch.faces, node, x0, x1, self.typical)
                 .map(|(f, w)| (f, w, Strategy::ClosestPoint))
         })
     }
@@ -312,18 +312,30 @@ fn trajectory_intersection(
     best.map(|(_, f, w)| (f, w))
 }
 
-/// The candidate face whose contact point for `p` is closest (7.4.2), with that point's weights
-/// ([`clamped_triangle_weights`]). Faces within `reach` (the depth of the boundary layer, where
-/// global detection found the node) that the node lies behind (`n . (p - q) < 0`) come first: a
-/// node that went in near an edge also lies on the plane of the side face there, at distance
-/// zero, but it went in through the face it is behind.
+/// The candidate face whose contact point for the node's predicted position `p` is closest
+/// (7.4.2), with that point's weights ([`clamped_triangle_weights`]). Faces the node lies behind
+/// come first, if it could have gone that deep in the step: a node that went in near an edge
+/// also lies on the plane of the side face there, at distance zero, but it went in through the
+/// face it is behind. "Behind" means the offset to the contact point runs mostly along the face's
+/// normal (within 45 degrees), not only that the node is behind the face's plane, and "that
+/// deep" means within `reach` (the depth of the boundary layer, where global detection found the
+/// node) and within a tenth of it or twice the step's motion of the node and the face's nodes,
+/// whichever is larger (a node left inside by an earlier step is behind the face it went
+/// through by a small part of an element). Without
+/// these, nodes on the plate's bottom face at the opening's edge, found inside within the
+/// detection tolerance, were given contact points 1.3 mm away (across a block face, at a plane of
+/// symmetry) or 1 mm away (on the opening's wall, behind whose plane the whole bottom face
+/// lies), and the step closed those gaps (53 and 300 km/s).
 fn closest_point(
     master: &ContactSurface,
     candidates: &[u32],
-    p: &Vector3<f64>,
+    node: &Trajectory,
+    x0: &[Vector3<f64>],
     x1: &[Vector3<f64>],
     reach: f64,
 ) -> Option<(u32, [f64; 3])> {
+    let p = &node.end;
+    let node_motion = (node.end - node.start).norm();
     // Key: (not behind, distance), compared lexicographically.
     let mut best: Option<((bool, f64), u32, [f64; 3])> = None;
     for &i in candidates {
@@ -331,9 +343,19 @@ fn closest_point(
         let [a, b, c] = face.map(|n| x1[n as usize]);
         let w = clamped_triangle_weights(p, &a, &b, &c);
         let q = a * w[0] + b * w[1] + c * w[2];
-        let behind = against(&(b - a).cross(&(c - a)), &(p - q));
+        let normal = (b - a).cross(&(c - a));
         let distance = (q - p).norm();
-        let key = (!(behind && distance <= reach), distance);
+        let face_motion = face
+            .iter()
+            .map(|&n| (x1[n as usize] - x0[n as usize]).norm())
+            .fold(0.0, f64::max);
+        let depth_reachable =
+            distance <= reach.min((0.1 * reach).max(2.0 * (node_motion + face_motion)));
+        // Behind the face, not only behind its plane (see the function's comment).
+        let behind = against(&normal, &(p - q))
+            && normal.dot(&(q - p)).abs()
+                >= std::f64::consts::FRAC_1_SQRT_2 * normal.norm() * distance;
+        let key = (!(behind && depth_reachable), distance);
         if best.is_none_or(|(k, _, _)| key < k) {
             best = Some((key, i, w));
         }
