@@ -468,6 +468,7 @@ fn record_of_a_uniform_state_shows_no_jump() {
         after,
         velocity_shift: shift,
         separation: Default::default(),
+        peeled: 0,
     };
     println!("{}", record.summary());
     assert_eq!(record.before.elements, old.tets.len());

@@ -493,6 +493,7 @@ pub fn remesh_problem(
         ),
         velocity_shift: shift,
         separation,
+        peeled: new.peeled.len(),
     };
     let mut energies = state.energies;
     energies.internal_work += record.stored_jump();

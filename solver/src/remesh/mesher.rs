@@ -51,6 +51,11 @@
 //!    of its faces and 3-2 flips of its edges, each taken only where the worst element it
 //!    replaces rises. The nodes then smooth again.
 //!
+//! 6. **Peeling** (`peel.rs`). A sliver left with two faces on a curved part of the outer
+//!    boundary, whose nodes none of the steps above may move, is removed: its inner faces become
+//!    the boundary, which moves inward by at most the sliver's height. Taken with the flips
+//!    (`flip_passes > 0`).
+//!
 //! Refinement stops at [`MesherOptions::min_edge`]: an edge shorter than twice it is not split.
 //! Without that bound, each remeshing at the same place halved the elements there, and the
 //! explicit step with them: under the nail the step fell from 3e-8 to 3e-11 s in seven
@@ -66,6 +71,7 @@ use nalgebra::Vector3;
 
 use super::collapse::collapse_short_edges;
 use super::flip::flip_slivers;
+use super::peel::{peel_boundary_slivers, PeeledElement};
 use super::smoothing::{sliding_nodes, smooth};
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
@@ -148,6 +154,10 @@ pub struct RemeshedRegion {
     /// Old boundary nodes that an edge collapse merged into a neighbour on the same symmetry
     /// planes (old ids, ascending): they are gone from the new mesh (`kept_nodes` is `None`).
     pub merged_nodes: Vec<u32>,
+    /// Boundary slivers removed from the region (step 6, `peel.rs`), in new node ids, each with
+    /// the faces that were on the outer boundary: the region's volume and boundary area change
+    /// by theirs.
+    pub peeled: Vec<PeeledElement>,
 }
 
 impl RemeshedRegion {
@@ -535,6 +545,25 @@ pub fn remesh_region_keeping_edges(
             );
         }
     }
+    let mut peeled = Vec::new();
+    if options.flip_passes > 0 {
+        let fixed: Vec<bool> = origin[first_region_element..]
+            .iter()
+            .map(Option::is_some)
+            .collect();
+        let (kept, removed) = peel_boundary_slivers(
+            &nodes,
+            &out_tets,
+            first_region_element,
+            &fixed,
+            options.flip_passes,
+        );
+        if !removed.is_empty() {
+            out_tets = kept.iter().map(|&e| out_tets[e]).collect();
+            origin = kept.iter().map(|&e| origin[e]).collect();
+            peeled = removed;
+        }
+    }
     let mut slid_nodes = Vec::new();
     for (o, k) in kept_nodes.iter_mut().enumerate() {
         if let Some(n) = *k {
@@ -552,6 +581,7 @@ pub fn remesh_region_keeping_edges(
         first_region_element,
         slid_nodes,
         merged_nodes,
+        peeled,
     })
 }
 

@@ -59,6 +59,7 @@ mod locate;
 mod mesh_check;
 mod mesher;
 mod near_tip;
+mod peel;
 mod record;
 mod run;
 mod section;
@@ -83,6 +84,7 @@ pub use mesher::{
 pub use near_tip::{
     measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,
 };
+pub use peel::PeeledElement;
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,

@@ -184,6 +184,8 @@ pub struct RemeshRecord {
     pub velocity_shift: Vector3<f64>,
     /// New surface nodes placed on a contact partner's surface, which they started inside.
     pub separation: super::SurfaceSeparation,
+    /// Boundary slivers the remesher removed (`peel.rs`).
+    pub peeled: usize,
 }
 
 impl RemeshRecord {
@@ -213,7 +215,8 @@ impl RemeshRecord {
             "remeshing at t = {:.6e} s: {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
              mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
-             {} new surface nodes moved out of a contact partner (by up to {:.3e} m)",
+             {} new surface nodes moved out of a contact partner (by up to {:.3e} m), {} boundary \
+             slivers peeled",
             self.time,
             self.before.elements,
             self.after.elements,
@@ -230,6 +233,7 @@ impl RemeshRecord {
             self.velocity_shift.norm(),
             self.separation.moved,
             self.separation.largest_depth,
+            self.peeled,
         )
     }
 }
