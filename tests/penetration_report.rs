@@ -6,14 +6,17 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+/// The integration tests' builders of the solver crate (the sheared box).
+#[path = "../solver/tests/common/mod.rs"]
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
-use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec};
-use impact_solver::model::{Constraint, Model, Motion, Probe, ProbeQuantity, Problem};
+use impact_solver::model::{Model, Problem};
 use impact_solver::remesh::{check_distortion, RemeshSettings, REMESHING_CSV_HEADER};
 use impact_solver::scene::Analysis;
 use impact_vv::registry::SECTIONS;
@@ -22,7 +25,6 @@ use impact_vv::report::penetration::{
 };
 use impact_vv::report::write_report;
 use impact_vv::results::{case_dir, CaseResult, PlotData, RunResults, Series, Status};
-use nalgebra::{Matrix3, Vector3};
 
 const ID: &str = "penetration/sheared-block";
 const SIZE: f64 = 0.1;
@@ -43,19 +45,12 @@ fn scratch(name: &str) -> PathBuf {
 /// extra `remeshing` options; returns the top face's x displacement against time, and whether
 /// the run completed.
 fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) {
-    let spec = BoxSpec {
-        origin: [0.0; 3],
-        size: [SIZE; 3],
-        divisions: [4, 4, 4],
-        mirror: Vec::new(),
-    };
-    let mut mesh = box_mesh(&spec);
-    perturb_interior(&mut mesh, &spec, 0.3, 11);
     let soft = IsotropicElastic {
         density: 1000.0,
         youngs_modulus: 1.0e7,
         poisson_ratio: 0.3,
     };
+    let mesh = common::box_body([SIZE; 3], [4, 4, 4], 0.3, 11);
     let model = Model::new(vec![(
         "block".into(),
         mesh,
@@ -63,32 +58,7 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
     )])
     .unwrap();
     let mut p = Problem::new(model);
-    let on_face =
-        |x: &Vector3<f64>| (0..3).any(|a| x[a].abs() < 1e-9 || (x[a] - SIZE).abs() < 1e-9);
-    let boundary: Vec<u32> = (0..p.model.node_count() as u32)
-        .filter(|&n| on_face(&p.model.reference[n as usize]))
-        .collect();
-    let top: Vec<u32> = boundary
-        .iter()
-        .copied()
-        .filter(|&n| p.model.reference[n as usize].y > SIZE - 1e-9)
-        .collect();
-    let mut gradient = Matrix3::zeros();
-    gradient[(0, 1)] = 1.0 / END;
-    p.constraints.push(Constraint {
-        name: "shear".into(),
-        nodes: boundary,
-        motion: Motion::AffineVelocity {
-            translation: Vector3::zeros(),
-            gradient,
-            center: Vector3::zeros(),
-        },
-    });
-    p.probes.push(Probe {
-        name: "top".into(),
-        nodes: top,
-        quantity: ProbeQuantity::Displacement,
-    });
+    common::shear_the_box(&mut p, [SIZE; 3], 1.0 / END);
     let initial = check_distortion(&p.model.reference, &p.model.tets, f64::INFINITY).worst_ratio;
     let mut settings = ExplicitSettings::new(END);
     settings.safety = 0.5;

@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 use std::sync::Arc;
 
 use super::contact_surface::separate_new_surface_nodes;
-use super::locate::{centroids, Locator, LOCATE_TOLERANCE};
+use super::locate::{centroids, Locator};
 use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region_keeping_edges, MesherOptions};
 use super::record::{momentum, MeshState, RemeshRecord};
@@ -229,16 +229,16 @@ pub fn remesh_problem(
         .collect();
     // An edge whose midpoint lies inside a partner is not split: its new node would have to be
     // moved out, by the chord's sagitta, and can invert the element behind it.
-    let partner_locators = partners
-        .iter()
-        .map(|&o| Locator::new(&x_all, &model.tets[model.bodies[o].elements.clone()]))
+    let partners = partners
+        .into_iter()
+        .map(|o| {
+            let tets = &model.tets[model.bodies[o].elements.clone()];
+            Ok((o, Locator::new(&x_all, tets)?))
+        })
         .collect::<Result<Vec<_>>>()?;
     let inside_partner = |a: u32, c: u32| {
         let mid = 0.5 * (x[a as usize] + x[c as usize]);
-        partner_locators.iter().any(|l| {
-            let at = l.locate(&mid);
-            at.distance == 0.0 && at.barycentric.iter().all(|&w| w > LOCATE_TOLERANCE)
-        })
+        partners.iter().any(|(_, l)| l.holds_strictly(&mid))
     };
     let mut new =
         remesh_region_keeping_edges(x, &local_tets, &local_region, options, &inside_partner)?;
@@ -271,7 +271,7 @@ pub fn remesh_problem(
         .map(|c| locator.locate(c).element)
         .collect();
     let separation =
-        separate_new_surface_nodes(model, &x_all, &partners, &mut new.nodes, &candidates)?;
+        separate_new_surface_nodes(model, &x_all, &partners, &mut new.nodes, &candidates);
     for load in &problem.loads {
         if let Some(n) = load.nodes.iter().find(|&&n| {
             nodes.contains(&(n as usize)) && new.kept_nodes[n as usize - nodes.start].is_none()

@@ -12,9 +12,8 @@
 
 use nalgebra::Vector3;
 
-use super::locate::{Locator, LOCATE_TOLERANCE};
+use super::locate::Locator;
 use crate::contact::geometry::closest_point_on_triangle;
-use crate::error::Result;
 use crate::mesh::boundary_faces_of;
 use crate::model::Model;
 
@@ -28,26 +27,23 @@ pub struct SurfaceSeparation {
 }
 
 /// Moves each of the `candidates` (ids into `nodes`, the remeshed body's new nodes, current
-/// coordinates) that lies inside one of the bodies `partners` of `model` (whose current
-/// coordinates are `x`) onto the nearest point of that body's boundary. A node counts as
-/// inside when an element of the partner holds it with every barycentric coordinate above
-/// `LOCATE_TOLERANCE` (so a node on the partner's surface stays where it is).
+/// coordinates) that lies inside one of the contact partners onto the nearest point of that
+/// partner's boundary. `partners` gives each partner's body in `model` with a locator over its
+/// elements at the current coordinates `x`. A node counts as inside when the partner holds it
+/// strictly ([`Locator::holds_strictly`]), so a node on the partner's surface stays where it is.
 pub(super) fn separate_new_surface_nodes(
     model: &Model,
     x: &[Vector3<f64>],
-    partners: &[usize],
+    partners: &[(usize, Locator)],
     nodes: &mut [Vector3<f64>],
     candidates: &[u32],
-) -> Result<SurfaceSeparation> {
+) -> SurfaceSeparation {
     let mut out = SurfaceSeparation::default();
-    for &o in partners {
-        let tets = &model.tets[model.bodies[o].elements.clone()];
-        let locator = Locator::new(x, tets)?;
-        let faces = boundary_faces_of(tets);
+    for (o, locator) in partners {
+        let faces = boundary_faces_of(&model.tets[model.bodies[*o].elements.clone()]);
         for &n in candidates {
             let p = nodes[n as usize];
-            let at = locator.locate(&p);
-            if at.distance > 0.0 || at.barycentric.iter().any(|&w| w <= LOCATE_TOLERANCE) {
+            if !locator.holds_strictly(&p) {
                 continue;
             }
             let mut best = (f64::INFINITY, p);
@@ -64,5 +60,5 @@ pub(super) fn separate_new_surface_nodes(
             out.largest_depth = out.largest_depth.max(best.0);
         }
     }
-    Ok(out)
+    out
 }

@@ -138,6 +138,13 @@ impl<'a> Locator<'a> {
         }
     }
 
+    /// Whether an element holds `p` with every barycentric coordinate above
+    /// `LOCATE_TOLERANCE`: strictly inside the mesh, so a point on its boundary is not.
+    pub fn holds_strictly(&self, p: &Vector3<f64>) -> bool {
+        let at = self.locate(p);
+        at.distance == 0.0 && at.barycentric.iter().all(|&w| w > LOCATE_TOLERANCE)
+    }
+
     /// [`Self::locate`] for every point, with an error naming the first point farther than
     /// `max_distance` (m) outside the old mesh: the new mesh does not fill the same domain.
     pub fn locate_all(&self, points: &[Vector3<f64>], max_distance: f64) -> Result<Vec<Location>> {
