@@ -80,6 +80,7 @@ fn settings() -> DetectionSettings {
         tolerance: 1e-9,
         friction: 0.0,
         normals: NormalSettings::default(),
+        release: f64::INFINITY,
     }
 }
 

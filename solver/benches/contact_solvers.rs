@@ -59,6 +59,7 @@ fn strip(n: usize, friction: f64) -> ContactProblem {
                 weights: [0.4, 0.3, 0.3],
                 normal: Vector3::z(),
                 friction,
+                allowance: 0.0,
             }
         })
         .collect();

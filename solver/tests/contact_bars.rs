@@ -78,6 +78,7 @@ fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
         two_pass: true,
         normals: Default::default(),
         skip_symmetry_faces: false,
+        penetration_release_speed: f64::INFINITY,
     });
     p
 }

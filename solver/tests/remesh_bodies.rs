@@ -290,6 +290,7 @@ fn bars_remeshed_during_their_impact_still_exchange_velocities() {
         two_pass: true,
         normals: Default::default(),
         skip_symmetry_faces: false,
+        penetration_release_speed: f64::INFINITY,
     });
     let c = (SOFT.youngs_modulus / SOFT.density).sqrt();
     let dt = 0.5 * p.model.critical_time_step().0;

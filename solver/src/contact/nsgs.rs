@@ -193,6 +193,7 @@ mod tests {
             weights,
             normal,
             friction,
+            allowance: 0.0,
         };
         let c = vec![
             make(3, [0.6, 0.2, 0.2]),

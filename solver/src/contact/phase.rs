@@ -150,6 +150,7 @@ impl ContactPhase {
                     tolerance: pair.detection_tolerance,
                     friction: pair.friction,
                     normals: pair.normals,
+                    release: pair.penetration_release_speed * dt,
                 };
                 let passes: &[(&ContactSurface, &ContactSurface)] = if pair.two_pass {
                     &[(a, b), (b, a)]
@@ -380,6 +381,7 @@ mod tests {
             two_pass: true,
             normals: Default::default(),
             skip_symmetry_faces: false,
+            penetration_release_speed: f64::INFINITY,
         });
         p
     }

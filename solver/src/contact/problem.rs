@@ -446,6 +446,7 @@ mod tests {
             weights,
             normal,
             friction,
+            allowance: 0.0,
         };
         let c = vec![make(3, [0.6, 0.2, 0.2], 0.3), make(4, [0.2, 0.5, 0.3], 0.0)];
         let beta_dt2 = 1e-2;

@@ -334,6 +334,17 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                     .to_string(),
             ));
         }
+        if let Some(speed) = c.penetration_release_speed {
+            if !(speed > 0.0) {
+                return Err(invalid(
+                    &entity,
+                    format!(
+                        "penetration_release_speed {speed} must be positive (m/s); leave it out \
+                         to close every penetration at once"
+                    ),
+                ));
+            }
+        }
         let solver = c.solver.choice();
         if !(solver.limits.tolerance > 0.0 && solver.limits.tolerance < 1.0)
             || solver.limits.max_iterations == 0
@@ -361,6 +372,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 crease_angle: c.crease_angle.to_radians(),
             },
             skip_symmetry_faces: c.skip_symmetry_faces,
+            penetration_release_speed: c.penetration_release_speed.unwrap_or(f64::INFINITY),
         });
     }
     problem.contact = contact;

@@ -98,6 +98,10 @@ pub struct ContactSpec {
     /// ([`crate::contact::ContactPair::skip_symmetry_faces`]).
     #[serde(default)]
     pub skip_symmetry_faces: bool,
+    /// The largest relative speed (m/s) at which a penetration left from an earlier step is
+    /// removed ([`crate::contact::ContactPair::penetration_release_speed`]); none: at once.
+    #[serde(default)]
+    pub penetration_release_speed: Option<f64>,
 }
 
 fn default_crease_angle() -> f64 {

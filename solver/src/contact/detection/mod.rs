@@ -150,6 +150,11 @@ pub struct DetectionSettings {
     pub friction: f64,
     /// How the constraints' normals are formed.
     pub normals: NormalSettings,
+    /// How much a penetration left from an earlier step must shrink in this one (m): a node
+    /// found behind a face it did not cross in the step (closest-point detection) may stay
+    /// behind it by its depth at the step's start less this
+    /// ([`ContactConstraint::allowance`]). `f64::INFINITY`: closed at once.
+    pub release: f64,
 }
 
 /// One call of [`vertex_face_ccd`] made by local detection, with its answer: the input of a
@@ -317,13 +322,21 @@ impl Detector {
                         Strategy::Trajectory => &mut stats.by_trajectory,
                         Strategy::ClosestPoint => &mut stats.by_closest_point,
                     } += 1;
-                    constraints.push(ContactConstraint {
+                    let mut constraint = ContactConstraint {
                         slave: s,
                         face: master.faces[face as usize],
                         weights,
                         normal,
                         friction: settings.friction,
-                    });
+                        allowance: 0.0,
+                    };
+                    // Behind a face it did not cross in this step: the depth it started with,
+                    // less the release, may stay (0 when closed at once).
+                    if strategy == Strategy::ClosestPoint && settings.release.is_finite() {
+                        let start_depth = constraint.gap(x0).dot(&normal);
+                        constraint.allowance = (start_depth - settings.release).max(0.0);
+                    }
+                    constraints.push(constraint);
                 }
             }
         }
@@ -414,6 +427,7 @@ mod tests {
             tolerance: 1e-9,
             friction: 0.0,
             normals: NormalSettings::default(),
+            release: f64::INFINITY,
         };
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         let bottom = model.bodies[1]
@@ -487,6 +501,7 @@ mod tests {
             tolerance: 1e-9,
             friction: 0.0,
             normals: NormalSettings::default(),
+            release: f64::INFINITY,
         };
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         assert_eq!(constraints.len(), 16, "all 4 x 4 bottom nodes: {stats:?}");
@@ -510,6 +525,65 @@ mod tests {
     }
 
     #[test]
+    fn a_penetration_left_from_an_earlier_step_is_released_at_the_set_rate() {
+        // The upper block's bottom nodes start the step 2 mm inside the lower block and go
+        // 0.1 mm deeper: found by closest point, they may stay behind the top face by their
+        // starting depth less the release. Nodes that cross the face in the step (3 mm down
+        // from 1 mm above it) are closed at once whatever the release.
+        let model = two_blocks(1e-3);
+        let (lower, upper) = (
+            ContactSurface::new(&model, 0),
+            ContactSurface::new(&model, 1),
+        );
+        let settings = |release: f64| DetectionSettings {
+            tolerance: 1e-9,
+            friction: 0.0,
+            normals: NormalSettings::default(),
+            release,
+        };
+        let shifted = |dz: f64| -> Vec<Vector3<f64>> {
+            let mut x = model.reference.clone();
+            for n in model.bodies[1].nodes.clone() {
+                x[n].z += dz;
+            }
+            x
+        };
+        let (inside, deeper) = (shifted(-3e-3), shifted(-3.1e-3));
+        let release = 5e-4;
+        let (held, stats) = detect(&model, &upper, &lower, &inside, &deeper, &settings(release));
+        assert!(!held.is_empty());
+        assert_eq!(stats.by_closest_point, held.len(), "{stats:?}");
+        for c in &held {
+            assert!((c.normal - Vector3::z()).norm() < 1e-12, "{c:?}");
+            assert!((c.allowance - (2e-3 - release)).abs() < 1e-15, "{c:?}");
+            // The gap left to close is the step's 0.1 mm plus the release.
+            assert!(
+                (c.gap(&deeper).z - (0.1e-3 + release)).abs() < 1e-15,
+                "{c:?}"
+            );
+        }
+        let (at_once, _) = detect(
+            &model,
+            &upper,
+            &lower,
+            &inside,
+            &deeper,
+            &settings(f64::INFINITY),
+        );
+        assert!(at_once.iter().all(|c| c.allowance == 0.0));
+        let (crossing, stats) = detect(
+            &model,
+            &upper,
+            &lower,
+            &model.reference,
+            &inside,
+            &settings(release),
+        );
+        assert_eq!(stats.by_ccd, crossing.len(), "{stats:?}");
+        assert!(crossing.iter().all(|c| c.allowance == 0.0));
+    }
+
+    #[test]
     fn separated_bodies_skip_detection() {
         let model = two_blocks(0.1);
         let (lower, upper) = (
@@ -527,6 +601,7 @@ mod tests {
                 tolerance: 1e-9,
                 friction: 0.0,
                 normals: NormalSettings::default(),
+                release: f64::INFINITY,
             },
         );
         assert!(c.is_empty());
