@@ -144,6 +144,7 @@ fn collapsed_element_comes_out_well_shaped_and_conforming() {
         collapse_passes: 0,
         flip_passes: 0,
         min_edge: 0.0,
+        surface_deviation: 0.0,
     };
     let raw = remesh_region(&mesh.nodes, &mesh.tets, &region, &split).unwrap();
     let raw_check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &raw).unwrap();
@@ -368,4 +369,97 @@ fn the_shortest_edge_bounds_refinement_and_coarsens_by_collapse() {
     assert!((total - 1.0).abs() <= 1e-12, "volume {total}");
     let (_, area, most) = faces(&third.nodes, &third.tets);
     assert!(most <= 2 && (area - 6.0).abs() < 1e-12, "{most} {area}");
+}
+
+/// The cube with its top face z = 1 raised into a dome, `z = 1 + 0.1 (1 - 2 r^2)` about the
+/// face's centre: a curved boundary, whose nodes no smoothing may move.
+fn domed() -> Mesh {
+    let mut mesh = cube();
+    for p in &mut mesh.nodes {
+        let r2 = (p.x - 0.5).powi(2) + (p.y - 0.5).powi(2);
+        p.z *= 1.0 + 0.1 * (1.0 - 2.0 * r2);
+    }
+    mesh
+}
+
+#[test]
+fn a_short_edge_on_a_curved_surface_merges_within_the_set_deviation() {
+    // Node (2,2,N) on the dome slid 93 % of the way to its neighbour (3,2,N), staying on the
+    // dome: the edge between two curved-surface nodes is 7 % of a cell, chi > 10. Neither end
+    // may move, so without surface collapses the element keeps its short edge. Merging the
+    // node along the surface moves the surface by its distance to the new faces: about
+    // 0.07 h times the dome's slope change over a cell, 8e-4 here.
+    let mut mesh = domed();
+    let (from, to) = (node(2, 2, N), node(3, 2, N));
+    let target = mesh.nodes[from] + 0.93 * (mesh.nodes[to] - mesh.nodes[from]);
+    let r2 = (target.x - 0.5).powi(2) + (target.y - 0.5).powi(2);
+    mesh.nodes[from] = Vector3::new(target.x, target.y, 1.0 + 0.1 * (1.0 - 2.0 * r2));
+    assert!(mesh.tets.iter().all(|t| volume(&mesh.nodes, t) > 0.0));
+    let (chi, region) = region_around_worst(&mesh);
+    assert!(chi > COLLAPSE_RATIO_LIMIT, "chi before = {chi}");
+    let volume_before: f64 = mesh.tets.iter().map(|t| volume(&mesh.nodes, t)).sum();
+    let (_, area_before, _) = faces(&mesh.nodes, &mesh.tets);
+    // The region's part of the outer boundary: the surface the merges may move.
+    let (_, region_and_boundary, _) = faces(
+        &mesh.nodes,
+        &region.iter().map(|&e| mesh.tets[e]).collect::<Vec<_>>(),
+    );
+    let (_, region_inner, _) = faces(
+        &mesh.nodes,
+        &mesh
+            .tets
+            .iter()
+            .enumerate()
+            .filter(|(e, _)| region.binary_search(e).is_err())
+            .map(|(_, t)| *t)
+            .collect::<Vec<_>>(),
+    );
+    // Faces held once by the region's elements are its interface or its outer boundary; those
+    // held once by the rest are the interface and the rest's outer boundary.
+    let region_surface = 0.5 * (region_and_boundary - region_inner + area_before);
+    let with = |deviation: f64| MesherOptions {
+        surface_deviation: deviation,
+        ..MesherOptions::default()
+    };
+    // Kept surface (the default): no surface node goes, the volume is kept.
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &with(0.0)).unwrap();
+    let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
+    assert_eq!(new.surface_collapses, 0);
+    assert!(check.worst_ratio_after > COLLAPSE_RATIO_LIMIT, "{check:?}");
+    let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
+    assert!((total - volume_before).abs() <= 1e-12, "volume {total}");
+    // A bound tighter than the merge needs: the short edge stays (midpoints of split surface
+    // edges, on their old flat faces, may still merge back).
+    let tight = 1e-5;
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &with(tight)).unwrap();
+    let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
+    assert!(check.worst_ratio_after > COLLAPSE_RATIO_LIMIT, "{check:?}");
+    assert!(new.surface_volume_change.abs() <= tight * region_surface);
+
+    let deviation = 2e-3;
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &with(deviation)).unwrap();
+    let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
+    println!("{check:#?}\n{} surface collapses", new.surface_collapses);
+    assert!(new.surface_collapses >= 1);
+    assert!(check.worst_ratio_after < CHI_BOUND, "{check:?}");
+    let merged = |n: usize| new.merged_nodes.binary_search(&(n as u32)).is_ok();
+    assert!(merged(from) || merged(to), "{:?}", new.merged_nodes);
+    // The recorded changes are the mesh's, measured here independently, and the volume moved
+    // is bounded by the deviation times the surface it could move.
+    let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
+    let (_, area, most) = faces(&new.nodes, &new.tets);
+    assert!(most <= 2);
+    assert!(
+        (total - volume_before - new.surface_volume_change).abs() <= 1e-12,
+        "{total} {volume_before} {}",
+        new.surface_volume_change
+    );
+    assert!((area - area_before - new.surface_area_change).abs() <= 1e-12);
+    println!(
+        "volume moved {:.3e}, bound {:.3e}",
+        new.surface_volume_change,
+        deviation * region_surface
+    );
+    assert!(new.surface_volume_change.abs() <= deviation * region_surface);
+    assert!(new.surface_volume_change != 0.0);
 }

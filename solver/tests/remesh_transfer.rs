@@ -469,6 +469,8 @@ fn record_of_a_uniform_state_shows_no_jump() {
         velocity_shift: shift,
         separation: Default::default(),
         peeled: 0,
+        surface_collapses: 0,
+        surface_volume_change: 0.0,
     };
     println!("{}", record.summary());
     assert_eq!(record.before.elements, old.tets.len());

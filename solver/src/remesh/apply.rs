@@ -494,6 +494,8 @@ pub fn remesh_problem(
         velocity_shift: shift,
         separation,
         peeled: new.peeled.len(),
+        surface_collapses: new.surface_collapses,
+        surface_volume_change: new.surface_volume_change,
     };
     let mut energies = state.energies;
     energies.internal_work += record.stored_jump();

@@ -10,8 +10,12 @@
 //!
 //! A collapse is taken only if
 //! * the removed node is inside the region, or slides on the outer boundary within symmetry
-//!   planes and merges into a node on the same planes (never a node of the interface or of a
-//!   curved boundary), so the boundary and the interface keep their shape;
+//!   planes and merges into a node on the same planes, so the boundary keeps its shape; or it
+//!   lies on a curved part of the outer boundary and merges along a boundary edge into a node on
+//!   the same axis planes, where every boundary face that takes it in its place passes within a
+//!   set distance of it (`surface_deviation`) and turns by less than [`SURFACE_TURN_COS`]: the
+//!   surface moves by at most that distance, as the thesis's FEMAP remeshed the deformed
+//!   boundary itself (9.3). A node of the interface never goes, so the interface keeps its shape;
 //! * the link condition holds (Dey et al. 1999, "Topology preserving edge contraction"): the
 //!   vertices and edges that the links of both ends share are exactly those of the edge's link,
 //!   so the mesh stays a manifold without duplicated or folded elements; the region's boundary
@@ -25,7 +29,51 @@ use nalgebra::Vector3;
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::mesher::shape_quality;
+use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
+
+/// The smallest cosine of the angle a boundary face may turn by in a surface collapse: about
+/// 30 degrees. The face stays on the side of the surface it faced; a collapse along a crease
+/// (where the faces turn more) would fold it.
+pub(super) const SURFACE_TURN_COS: f64 = 0.85;
+
+/// How an edge collapse may remove a node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Removable {
+    /// Never: a node of the interface with the untouched mesh, or a corner.
+    Never,
+    /// An inner node (no axis held), or one sliding on the outer boundary within symmetry
+    /// planes (the axes they fix held): it merges only into a node on the same planes.
+    Sliding([bool; 3]),
+    /// A node on a curved part of the outer boundary, with the axes its flat boundary faces fix
+    /// (on a symmetry plane as well): it merges along a boundary edge into a node on the same
+    /// planes, where the surface moves by at most the collapse's `surface_deviation`.
+    Surface([bool; 3]),
+}
+
+/// What [`collapse_short_edges`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Collapses {
+    /// The elements, `None` where removed (the removed nodes no longer appear in the others).
+    pub tets: Vec<Option<[u32; 4]>>,
+    /// Number of collapses.
+    pub count: usize,
+    /// Number of them that removed a node of a curved boundary.
+    pub surface: usize,
+    /// The region's volume after less before (m^3): zero to round-off unless a surface
+    /// collapse moved the boundary.
+    pub volume_change: f64,
+    /// The region's outer boundary area after less before (m^2), likewise.
+    pub area_change: f64,
+}
+
+/// Area of the triangle `[a, b, c]` and its unit normal.
+fn triangle(nodes: &[Vector3<f64>], [a, b, c]: [u32; 3]) -> (f64, Vector3<f64>) {
+    let [a, b, c] = [a, b, c].map(|n| nodes[n as usize]);
+    let n = (b - a).cross(&(c - a));
+    let norm = n.norm();
+    (0.5 * norm, n / norm)
+}
 
 /// The six edges of a tetrahedron as local node pairs.
 const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
@@ -72,16 +120,58 @@ impl Collapser<'_> {
         (!t.contains(&self.omega)).then(|| shape_quality(&t.map(|n| self.nodes[n as usize])))
     }
 
-    /// Merges node `gone` into node `keep` if the conditions of the module hold; whether it did.
-    /// The changed elements' quality must pass the worst before, or (`floor`, for a coarsening
-    /// collapse) reach `floor`.
-    fn try_collapse(&mut self, keep: u32, gone: u32, floor: f64) -> bool {
+    /// The face of a virtual element (its three real nodes, in its order).
+    fn face_of(&self, t: &[u32; 4]) -> [u32; 3] {
+        let mut face = [0; 3];
+        let mut k = 0;
+        for &n in t {
+            if n != self.omega {
+                face[k] = n;
+                k += 1;
+            }
+        }
+        face
+    }
+
+    /// Merges node `gone` into node `keep` if the conditions of the module hold; the change of
+    /// the region's volume and boundary area if it did. The changed elements' quality must pass
+    /// the worst before, or (`floor`, for a coarsening collapse) reach `floor`. `surface` is
+    /// the largest distance the boundary may move where `gone` lies on a curved boundary
+    /// (`None` otherwise): the edge must then be a boundary edge.
+    fn try_collapse(
+        &mut self,
+        keep: u32,
+        gone: u32,
+        floor: f64,
+        surface: Option<f64>,
+    ) -> Option<(f64, f64)> {
         let around: Vec<usize> = self.incident[gone as usize].clone();
         let live = |t: usize| self.tets[t].expect("incident lists hold live elements");
         let (shell, moved): (Vec<usize>, Vec<usize>) =
             around.iter().partition(|&&t| live(t).contains(&keep));
         if shell.is_empty() {
-            return false;
+            return None;
+        }
+        let xg = self.nodes[gone as usize];
+        let xk = self.nodes[keep as usize];
+        if let Some(deviation) = surface {
+            if !shell.iter().any(|&t| live(t).contains(&self.omega)) {
+                return None;
+            }
+            for &t in &moved {
+                let old = live(t);
+                if !old.contains(&self.omega) {
+                    continue;
+                }
+                let new = old.map(|n| if n == gone { keep } else { n });
+                let (_, n_old) = triangle(self.nodes, self.face_of(&old));
+                let (_, n_new) = triangle(self.nodes, self.face_of(&new));
+                if !(n_new.dot(&(xg - xk)).abs() <= deviation
+                    && n_new.dot(&n_old) >= SURFACE_TURN_COS)
+                {
+                    return None;
+                }
+            }
         }
         let before = around
             .iter()
@@ -92,7 +182,7 @@ impl Collapser<'_> {
             let new = live(t).map(|n| if n == gone { keep } else { n });
             if let Some(q) = self.quality(&new) {
                 if !(q > before || q >= floor) {
-                    return false;
+                    return None;
                 }
             }
             changed.push((t, new));
@@ -119,7 +209,28 @@ impl Collapser<'_> {
         let shared_edges: BTreeSet<(u32, u32)> =
             keep_edges.intersection(&gone_edges).copied().collect();
         if shared_vertices != edge_vertices || shared_edges != edge_edges {
-            return false;
+            return None;
+        }
+        // The volume and boundary area the collapse changes: the shell goes, the moved
+        // elements and faces change shape.
+        let volume = |t: &[u32; 4]| signed_volume(&t.map(|n| self.nodes[n as usize]));
+        let (mut dv, mut da) = (0.0, 0.0);
+        for &t in &shell {
+            let tet = live(t);
+            if tet.contains(&self.omega) {
+                da -= triangle(self.nodes, self.face_of(&tet)).0;
+            } else {
+                dv -= volume(&tet);
+            }
+        }
+        for &(t, new) in &changed {
+            let old = live(t);
+            if old.contains(&self.omega) {
+                da += triangle(self.nodes, self.face_of(&new)).0
+                    - triangle(self.nodes, self.face_of(&old)).0;
+            } else {
+                dv += volume(&new) - volume(&old);
+            }
         }
         let removed: Vec<(usize, [u32; 4])> = shell.iter().map(|&t| (t, live(t))).collect();
         for (t, tet) in removed {
@@ -134,26 +245,25 @@ impl Collapser<'_> {
         }
         self.incident[keep as usize].sort_unstable();
         self.incident[gone as usize].clear();
-        true
+        Some((dv, da))
     }
 }
 
 /// Collapses short edges of the elements `tets` over the coordinates `nodes` (module's method):
 /// every element whose quality ([`shape_quality`]) is below `target`, or with an edge shorter
-/// than `min_edge`, tries its edges from the shortest, in element order, in up to `passes` passes until none collapses. An end `n` may
-/// be removed where `held[n]` is given: the axes along which it may not move (none for an inner
-/// node; those of its symmetry planes for a node sliding on the boundary, which then merges only
-/// into a node on the same planes, so the boundary keeps its shape). Returns the elements,
-/// `None` where removed (the removed nodes no longer appear in the others), and the number of
-/// collapses. Deterministic.
+/// than `min_edge`, tries its edges from the shortest, in element order, in up to `passes`
+/// passes until none collapses. `removable[n]` says whether and how node `n` may go; a node of a
+/// curved boundary goes only where the boundary moves by at most `surface_deviation` (m).
+/// Deterministic.
 pub(super) fn collapse_short_edges(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
-    held: &[Option<[bool; 3]>],
+    removable: &[Removable],
     target: f64,
     min_edge: f64,
+    surface_deviation: f64,
     passes: usize,
-) -> (Vec<Option<[u32; 4]>>, usize) {
+) -> Collapses {
     let omega = nodes.len() as u32;
     let mut all: Vec<Option<[u32; 4]>> = tets.iter().copied().map(Some).collect();
     let mut faces: BTreeMap<[u32; 3], (u32, [u32; 3])> = BTreeMap::new();
@@ -176,11 +286,17 @@ pub(super) fn collapse_short_edges(
         }
     }
     let tolerance = super::smoothing::plane_tolerance(nodes);
-    let may_merge = |keep: u32, gone: u32| match held[gone as usize] {
-        None => false,
-        Some(axes) => (0..3).all(|k| {
+    let same_planes = |axes: [bool; 3], keep: u32, gone: u32| {
+        (0..3).all(|k| {
             !axes[k] || (nodes[keep as usize][k] - nodes[gone as usize][k]).abs() <= tolerance
-        }),
+        })
+    };
+    // Whether `gone` may merge into `keep`, and the surface deviation allowed if on a surface.
+    let may_merge = |keep: u32, gone: u32| match removable[gone as usize] {
+        Removable::Never => None,
+        Removable::Sliding(axes) => same_planes(axes, keep, gone).then_some(None),
+        Removable::Surface(axes) => (surface_deviation > 0.0 && same_planes(axes, keep, gone))
+            .then_some(Some(surface_deviation)),
     };
     let mut c = Collapser {
         nodes,
@@ -188,9 +304,15 @@ pub(super) fn collapse_short_edges(
         incident,
         omega,
     };
-    let mut count = 0;
+    let mut out = Collapses {
+        tets: Vec::new(),
+        count: 0,
+        surface: 0,
+        volume_change: 0.0,
+        area_change: 0.0,
+    };
     for _ in 0..passes {
-        let before = count;
+        let before = out.count;
         for t in 0..tets.len() {
             let Some(tet) = c.tets[t] else { continue };
             let mut edges: Vec<(f64, u32, u32)> = TET_EDGES
@@ -215,17 +337,24 @@ pub(super) fn collapse_short_edges(
                     f64::INFINITY
                 };
                 for (keep, gone) in [(a, b), (b, a)] {
-                    if may_merge(keep, gone) && c.try_collapse(keep, gone, floor) {
-                        count += 1;
+                    let Some(surface) = may_merge(keep, gone) else {
+                        continue;
+                    };
+                    if let Some((dv, da)) = c.try_collapse(keep, gone, floor, surface) {
+                        out.count += 1;
+                        out.surface += usize::from(surface.is_some());
+                        out.volume_change += dv;
+                        out.area_change += da;
                         break 'edges;
                     }
                 }
             }
         }
-        if count == before {
+        if out.count == before {
             break;
         }
     }
     c.tets.truncate(tets.len());
-    (c.tets, count)
+    out.tets = c.tets;
+    out
 }

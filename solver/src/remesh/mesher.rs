@@ -45,7 +45,11 @@
 //!    edge (every placement that lengthens it flattens a neighbour), the edge is merged into
 //!    one of its ends, under the link condition, only where the worst element around rises;
 //!    an edge shorter than [`MesherOptions::min_edge`] may also merge as long as its
-//!    neighbours keep a collapse ratio of about 4 (coarsening). The nodes then smooth again.
+//!    neighbours keep a collapse ratio of about 4 (coarsening). A node on a curved part of the
+//!    outer boundary (the cavity around a penetrator's nose, where no smoothing may move it)
+//!    merges along a boundary edge only where the boundary moves by at most
+//!    [`MesherOptions::surface_deviation`] (0 by default: the surface is kept exactly); the
+//!    volume and area that moves is recorded. The nodes then smooth again.
 //!
 //! 5. **Flips** (`flip.rs`). A sliver, with no short edge to collapse, is reconnected: 2-3 flips
 //!    of its faces and 3-2 flips of its edges, each taken only where the worst element it
@@ -69,10 +73,10 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
-use super::collapse::collapse_short_edges;
+use super::collapse::{collapse_short_edges, Removable};
 use super::flip::flip_slivers;
 use super::peel::{peel_boundary_slivers, PeeledElement};
-use super::smoothing::{sliding_nodes, smooth};
+use super::smoothing::{sliding_nodes, smooth, surface_nodes};
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
@@ -102,6 +106,11 @@ pub struct MesherOptions {
     /// halves the elements there, and the explicit step with them (thesis 8.5 bounds the same
     /// shrinking with a smallest volume `V_min`).
     pub min_edge: f64,
+    /// How far (m) an edge collapse may move a curved part of the outer boundary: a node there
+    /// may merge along the surface into a neighbour where the boundary faces that take it in
+    /// its place pass within this distance of it (step 4 of the method). 0: the boundary's
+    /// curved parts keep every node (their shape exactly).
+    pub surface_deviation: f64,
 }
 
 impl Default for MesherOptions {
@@ -111,6 +120,7 @@ impl Default for MesherOptions {
             collapse_passes: COLLAPSE_PASSES,
             flip_passes: FLIP_PASSES,
             min_edge: 0.0,
+            surface_deviation: 0.0,
         }
     }
 }
@@ -152,8 +162,17 @@ pub struct RemeshedRegion {
     /// kept (`kept_nodes` is `None`); their fields come from the transfer, as a new node's.
     pub slid_nodes: Vec<(u32, u32)>,
     /// Old boundary nodes that an edge collapse merged into a neighbour on the same symmetry
-    /// planes (old ids, ascending): they are gone from the new mesh (`kept_nodes` is `None`).
+    /// planes, or along a curved surface (old ids, ascending): they are gone from the new mesh
+    /// (`kept_nodes` is `None`).
     pub merged_nodes: Vec<u32>,
+    /// Edge collapses that removed a node of a curved boundary (step 4,
+    /// [`MesherOptions::surface_deviation`]).
+    pub surface_collapses: usize,
+    /// The region's volume change by those collapses (m^3, after less before); the other
+    /// collapses keep the volume to round-off.
+    pub surface_volume_change: f64,
+    /// The outer boundary's area change by those collapses (m^2, after less before).
+    pub surface_area_change: f64,
     /// Boundary slivers removed from the region (step 6, `peel.rs`), in new node ids, each with
     /// the faces that were on the outer boundary: the region's volume and boundary area change
     /// by theirs.
@@ -452,20 +471,29 @@ pub fn remesh_region_keeping_edges(
         options.smoothing_sweeps,
     );
     let mut merged_nodes = Vec::new();
+    let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) = (0, 0.0, 0.0);
     if options.collapse_passes > 0 {
-        let mut held = vec![None; nodes.len()];
-        for &(n, axes) in &free {
-            held[n as usize] = Some(axes.map(|f| !f));
+        let mut removable = vec![Removable::Never; nodes.len()];
+        for (n, axes) in surface_nodes(&nodes, &out_tets[first_region_element..], &pinned) {
+            removable[n as usize] = Removable::Surface(axes);
         }
-        let (left, collapses) = collapse_short_edges(
+        for &(n, axes) in &free {
+            removable[n as usize] = Removable::Sliding(axes.map(|f| !f));
+        }
+        let collapses = collapse_short_edges(
             &nodes,
             &out_tets[first_region_element..],
-            &held,
+            &removable,
             COLLAPSE_TARGET,
             options.min_edge,
+            options.surface_deviation,
             options.collapse_passes,
         );
-        if collapses > 0 {
+        surface_collapses = collapses.surface;
+        surface_volume_change = collapses.volume_change;
+        surface_area_change = collapses.area_change;
+        let left = collapses.tets;
+        if collapses.count > 0 {
             let (mut tets_left, mut origin_left) = (Vec::new(), Vec::new());
             for (t, o) in left.into_iter().zip(&origin[first_region_element..]) {
                 if let Some(t) = t {
@@ -581,6 +609,9 @@ pub fn remesh_region_keeping_edges(
         first_region_element,
         slid_nodes,
         merged_nodes,
+        surface_collapses,
+        surface_volume_change,
+        surface_area_change,
         peeled,
     })
 }

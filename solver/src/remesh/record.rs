@@ -186,6 +186,10 @@ pub struct RemeshRecord {
     pub separation: super::SurfaceSeparation,
     /// Boundary slivers the remesher removed (`peel.rs`).
     pub peeled: usize,
+    /// Edge collapses that merged a node of a curved surface into a neighbour.
+    pub surface_collapses: usize,
+    /// The body's volume change by those collapses (m^3, after less before).
+    pub surface_volume_change: f64,
 }
 
 impl RemeshRecord {
@@ -216,7 +220,7 @@ impl RemeshRecord {
              mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m), {} boundary \
-             slivers peeled",
+             slivers peeled, {} surface collapses (volume change {:.3e} m^3)",
             self.time,
             self.before.elements,
             self.after.elements,
@@ -234,6 +238,8 @@ impl RemeshRecord {
             self.separation.moved,
             self.separation.largest_depth,
             self.peeled,
+            self.surface_collapses,
+            self.surface_volume_change,
         )
     }
 }

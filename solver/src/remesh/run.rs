@@ -47,6 +47,10 @@ pub struct RemeshSettings {
     /// for no limit. See [`MesherOptions::min_edge`].
     #[serde(default)]
     pub min_edge: f64,
+    /// How far an edge collapse may move a curved part of the body's surface (m); 0 keeps
+    /// every node there. See [`MesherOptions::surface_deviation`].
+    #[serde(default)]
+    pub surface_deviation: f64,
     /// Largest number of remeshings.
     #[serde(default = "default_max_remeshings")]
     pub max_remeshings: usize,
@@ -104,6 +108,15 @@ impl RemeshSettings {
                 message: format!("must exceed 1, got {}", self.collapse_limit),
             });
         }
+        if !(self.surface_deviation >= 0.0) {
+            return Err(SolverError::InvalidScene {
+                entity: "analysis.explicit.remeshing.surface_deviation".to_string(),
+                message: format!(
+                    "must be zero (keep the surface) or positive, got {}",
+                    self.surface_deviation
+                ),
+            });
+        }
         Ok(RemeshPolicy {
             body,
             check_every: self.check_every.max(1),
@@ -114,6 +127,7 @@ impl RemeshSettings {
             regrowth: self.regrowth,
             mesher: MesherOptions {
                 min_edge: self.min_edge,
+                surface_deviation: self.surface_deviation,
                 ..MesherOptions::default()
             },
         })

@@ -34,6 +34,37 @@ pub(super) fn sliding_nodes(
     tets: &[[u32; 4]],
     pinned: &[bool],
 ) -> Vec<(u32, [bool; 3])> {
+    boundary_planes(nodes, tets, pinned)
+        .into_iter()
+        .filter(|(_, (axes, curved))| !curved && axes.iter().filter(|&&h| h).count() < 3)
+        .map(|(n, (axes, _))| (n, axes.map(|h| !h)))
+        .collect()
+}
+
+/// The nodes on the outer boundary of the region `tets` (not `pinned`) with a face on a curved
+/// or deformed surface (in no axis plane), each with the axes its other faces' planes fix (a
+/// node where the surface meets a symmetry plane): those an edge collapse may merge along the
+/// surface (`collapse.rs`). Ascending.
+pub(super) fn surface_nodes(
+    nodes: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    pinned: &[bool],
+) -> Vec<(u32, [bool; 3])> {
+    boundary_planes(nodes, tets, pinned)
+        .into_iter()
+        .filter(|(_, (_, curved))| *curved)
+        .map(|(n, (axes, _))| (n, axes))
+        .collect()
+}
+
+/// Per node on the outer boundary of `tets` (less the `pinned`): the axes that the planes of
+/// its boundary faces in axis planes fix, and whether it has a face in no axis plane. Ordered
+/// by node id, so the callers do not depend on hashing.
+fn boundary_planes(
+    nodes: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    pinned: &[bool],
+) -> BTreeMap<u32, ([bool; 3], bool)> {
     let tolerance = plane_tolerance(nodes);
     let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * tets.len());
     for tet in tets {
@@ -41,9 +72,7 @@ pub(super) fn sliding_nodes(
             *count.entry(face_key(f.map(|i| tet[i]))).or_insert(0) += 1;
         }
     }
-    // Per boundary node: the axes its faces' planes fix, or `None` once a face lies in no
-    // axis plane. Ordered by node id, so the result does not depend on hashing.
-    let mut held: BTreeMap<u32, Option<[bool; 3]>> = BTreeMap::new();
+    let mut planes: BTreeMap<u32, ([bool; 3], bool)> = BTreeMap::new();
     for tet in tets {
         for f in TET_FACES {
             let face = f.map(|i| tet[i]);
@@ -59,20 +88,15 @@ pub(super) fn sliding_nodes(
                 if pinned[n as usize] {
                     continue;
                 }
-                let entry = held.entry(n).or_insert(Some([false; 3]));
-                match (entry.as_mut(), plane) {
-                    (Some(axes), Some(k)) => axes[k] = true,
-                    _ => *entry = None,
+                let (axes, curved) = planes.entry(n).or_insert(([false; 3], false));
+                match plane {
+                    Some(k) => axes[k] = true,
+                    None => *curved = true,
                 }
             }
         }
     }
-    held.into_iter()
-        .filter_map(|(n, axes)| {
-            let axes = axes?;
-            (axes.iter().filter(|&&h| h).count() < 3).then(|| (n, axes.map(|h| !h)))
-        })
-        .collect()
+    planes
 }
 
 /// Constrained Laplacian smoothing of the nodes `movable` over the elements `tets` (step 3 of
