@@ -293,6 +293,45 @@ mod tests {
     }
 
     #[test]
+    fn distortion_sees_the_sliver_the_collapse_ratio_misses() {
+        // The sliver (1, 0, h), (-1, 0, h), (0, 1, -h), (0, -1, -h): edges 2, 2 and four of
+        // sqrt(2 + 4 h^2), so chi = sqrt 2 / sqrt(1 + 2 h^2) whatever h; volume 4h / 3, so
+        // eta = 12 (3V)^(2/3) / sum l^2 = 0.75 (4h)^(2/3) / (1 + h^2).
+        for h in [0.1, 0.01, 1e-3, 1e-6] {
+            let x = [
+                Vector3::new(1.0, 0.0, h),
+                Vector3::new(-1.0, 0.0, h),
+                Vector3::new(0.0, 1.0, -h),
+                Vector3::new(0.0, -1.0, -h),
+            ];
+            assert!((signed_volume(&x) - 4.0 * h / 3.0).abs() < 1e-15);
+            let chi = collapse_ratio(&x);
+            assert!(chi < 1.5, "chi = {chi}");
+            let eta = 0.75 * (4.0 * h).powf(2.0 / 3.0) / (1.0 + h * h);
+            let d = distortion(&x);
+            assert!(
+                (d * eta - 1.0).abs() < 1e-12,
+                "h {h}: distortion {d}, 1/eta {}",
+                1.0 / eta
+            );
+            // Caught from h = 0.01 (1/eta = 11.4) on, where chi stays sqrt 2.
+            assert_eq!(d > COLLAPSE_RATIO_LIMIT, h <= 0.01, "h {h}: {d}");
+            // Inverted: infinite.
+            let flipped = [x[1], x[0], x[2], x[3]];
+            assert_eq!(distortion(&flipped), f64::INFINITY);
+        }
+        // A needle's collapse ratio exceeds its 1/eta: the distortion is chi.
+        let needle = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.01, 0.01, 0.02),
+        ];
+        assert_eq!(distortion(&needle), collapse_ratio(&needle));
+        assert!((distortion(&regular()) - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
     fn undistorted_mesh_needs_no_remeshing() {
         let x = regular();
         let check = check_distortion(&x, &[[0, 1, 2, 3]], COLLAPSE_RATIO_LIMIT);
