@@ -1,8 +1,9 @@
 //! Diagnostic for remeshing runs (issue 21): runs a scene with `analysis.explicit.remeshing` to
 //! a given time, then describes the remeshed body's most distorted elements (collapse ratio,
 //! mean ratio, volume, where their nodes lie: inside, or on boundary faces of how many
-//! distinct planes) and the fastest nodes of the model (a contact kick or an instability shows
-//! there first).
+//! distinct planes), the folds of its surface (boundary edges whose faces turn by more than 120
+//! degrees) and the fastest nodes of the model (a contact kick or an instability shows there
+//! first).
 //!
 //! ```text
 //! cargo run --release -p impact-solver --example remesh_diagnose -- \
@@ -77,6 +78,45 @@ fn main() {
         run.state.time_step,
         run.records.len()
     );
+
+    // Folds of the remeshed body's surface: boundary edges whose two faces' outward normals
+    // point against each other (a crease sharper than 120 degrees), where the surface has
+    // folded back on itself and traps the nodes under it.
+    {
+        let faces = impact_solver::mesh::boundary_faces_of(&m.tets[body.elements.clone()]);
+        let normal = |f: &[u32; 3]| {
+            let [a, b, c] = f.map(|i| x[i as usize]);
+            (b - a).cross(&(c - a)).normalize()
+        };
+        let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        for (k, f) in faces.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (f.nodes[i], f.nodes[(i + 1) % 3]);
+                by_edge.entry((a.min(b), a.max(b))).or_default().push(k);
+            }
+        }
+        let mut folds: Vec<(f64, (u32, u32))> = by_edge
+            .iter()
+            .filter(|(_, fs)| fs.len() == 2)
+            .map(|(e, fs)| {
+                (
+                    normal(&faces[fs[0]].nodes).dot(&normal(&faces[fs[1]].nodes)),
+                    *e,
+                )
+            })
+            .filter(|(d, _)| *d < -0.5)
+            .collect();
+        folds.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        print!("{} folded surface edges", folds.len());
+        if let Some((d, (a, b))) = folds.first() {
+            let p = x[*a as usize] * 1e3;
+            print!(
+                " (sharpest: normals' dot {d:.3}, edge {a}-{b} at ({:.3}, {:.3}, {:.3}) mm)",
+                p.x, p.y, p.z
+            );
+        }
+        println!();
+    }
 
     let mut speeds: Vec<(f64, usize)> = run
         .state
