@@ -76,7 +76,7 @@ use nalgebra::Vector3;
 use super::collapse::{collapse_short_edges, Removable};
 use super::flip::flip_slivers;
 use super::peel::{peel_boundary_slivers, PeeledElement};
-use super::smoothing::{sliding_nodes, smooth, surface_nodes};
+use super::smoothing::{boundary_nodes, smooth};
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
@@ -459,11 +459,8 @@ pub fn remesh_region_keeping_edges(
         }
         p
     };
-    free.extend(sliding_nodes(
-        &nodes,
-        &out_tets[first_region_element..],
-        &pinned,
-    ));
+    let boundary = boundary_nodes(&nodes, &out_tets[first_region_element..], &pinned);
+    free.extend(boundary.sliding);
     smooth(
         &mut nodes,
         &out_tets[first_region_element..],
@@ -474,7 +471,8 @@ pub fn remesh_region_keeping_edges(
     let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) = (0, 0.0, 0.0);
     if options.collapse_passes > 0 {
         let mut removable = vec![Removable::Never; nodes.len()];
-        for (n, axes) in surface_nodes(&nodes, &out_tets[first_region_element..], &pinned) {
+        // Smoothing moved only free nodes, within their planes: the surface nodes are as found.
+        for &(n, axes) in &boundary.surface {
             removable[n as usize] = Removable::Surface(axes);
         }
         for &(n, axes) in &free {

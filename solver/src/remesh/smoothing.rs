@@ -17,7 +17,8 @@ pub(super) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
 }
 
 /// The nodes on the outer boundary of the remeshed region `tets` that may slide without
-/// changing the body's shape, each with the axes along which it may move.
+/// changing the body's shape, each with the axes along which it may move, and those on a
+/// curved part of it.
 ///
 /// A face that only one region element holds is on the outer boundary or on the interface
 /// with the untouched mesh; the interface's nodes are `pinned`. A boundary face whose three
@@ -29,32 +30,33 @@ pub(super) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
 /// exactly. A node with a face in no axis plane (a curved or deformed surface) does not move.
 /// Without this, an element whose nodes all lie on symmetry planes (at the axis under a
 /// penetrator) could not be reshaped: refinement alone gives children as flat as itself.
-pub(super) fn sliding_nodes(
+pub(super) fn boundary_nodes(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     pinned: &[bool],
-) -> Vec<(u32, [bool; 3])> {
-    boundary_planes(nodes, tets, pinned)
-        .into_iter()
-        .filter(|(_, (axes, curved))| !curved && axes.iter().filter(|&&h| h).count() < 3)
-        .map(|(n, (axes, _))| (n, axes.map(|h| !h)))
-        .collect()
+) -> BoundaryNodes {
+    let mut kinds = BoundaryNodes::default();
+    for (n, (axes, curved)) in boundary_planes(nodes, tets, pinned) {
+        if curved {
+            kinds.surface.push((n, axes));
+        } else if axes.iter().filter(|&&h| h).count() < 3 {
+            kinds.sliding.push((n, axes.map(|h| !h)));
+        }
+    }
+    kinds
 }
 
-/// The nodes on the outer boundary of the region `tets` (not `pinned`) with a face on a curved
-/// or deformed surface (in no axis plane), each with the axes its other faces' planes fix (a
-/// node where the surface meets a symmetry plane): those an edge collapse may merge along the
-/// surface (`collapse.rs`). Ascending.
-pub(super) fn surface_nodes(
-    nodes: &[Vector3<f64>],
-    tets: &[[u32; 4]],
-    pinned: &[bool],
-) -> Vec<(u32, [bool; 3])> {
-    boundary_planes(nodes, tets, pinned)
-        .into_iter()
-        .filter(|(_, (_, curved))| *curved)
-        .map(|(n, (axes, _))| (n, axes))
-        .collect()
+/// The nodes on the outer boundary of a remeshed region, by what the remesher may do with them
+/// ([`boundary_nodes`]). Both lists ascend.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(super) struct BoundaryNodes {
+    /// Nodes whose boundary faces all lie in axis planes, with the axes along which they may
+    /// slide (smoothing and collapses keep the boundary's shape exactly).
+    pub sliding: Vec<(u32, [bool; 3])>,
+    /// Nodes with a face on a curved or deformed surface (in no axis plane), each with the axes
+    /// its other faces' planes fix (a node where the surface meets a symmetry plane): those an
+    /// edge collapse may merge along the surface (`collapse.rs`).
+    pub surface: Vec<(u32, [bool; 3])>,
 }
 
 /// Per node on the outer boundary of `tets` (less the `pinned`): the axes that the planes of
