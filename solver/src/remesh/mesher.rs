@@ -542,11 +542,16 @@ pub fn remesh_region_keeping_edges(
             }
         }
     }
-    if options.flip_passes > 0 {
-        let fixed: Vec<bool> = origin[first_region_element..]
+    // Region elements that copy an old one unchanged, which flips and peeling leave alone.
+    let copies = |origin: &[Option<u32>]| -> Vec<bool> {
+        origin[first_region_element..]
             .iter()
             .map(Option::is_some)
-            .collect();
+            .collect()
+    };
+    let mut peeled = Vec::new();
+    if options.flip_passes > 0 {
+        let fixed = copies(&origin);
         let (after, flips) = flip_slivers(
             &nodes,
             &out_tets[first_region_element..],
@@ -570,13 +575,7 @@ pub fn remesh_region_keeping_edges(
                 options.smoothing_sweeps,
             );
         }
-    }
-    let mut peeled = Vec::new();
-    if options.flip_passes > 0 {
-        let fixed: Vec<bool> = origin[first_region_element..]
-            .iter()
-            .map(Option::is_some)
-            .collect();
+        let fixed = copies(&origin);
         let (kept, removed) = peel_boundary_slivers(
             &nodes,
             &out_tets,
