@@ -180,3 +180,30 @@ fn an_odd_division_along_a_mirrored_axis_is_refused() {
         "{msg}"
     );
 }
+
+#[test]
+fn a_symmetry_plane_takes_the_coordinate_of_its_nodes_and_refuses_nodes_off_one_plane() {
+    let text = EXAMPLE.replacen(
+        "    motion: { fixed: [y] }",
+        "    motion: { symmetry: y }",
+        1,
+    );
+    let problem = build_problem(&Scene::from_yaml(&text, "sym.yaml").unwrap()).unwrap();
+    assert_eq!(
+        problem.constraints[0].motion,
+        impact_solver::model::Motion::Symmetry {
+            axis: 1,
+            value: 0.0
+        }
+    );
+    // The z = 0 face's nodes span y from 0 to 0.05 m: no plane normal to y.
+    let msg = error_of(&EXAMPLE.replacen(
+        "    motion: { fixed: [z] }",
+        "    motion: { symmetry: y }",
+        1,
+    ));
+    assert!(
+        msg.contains("rollers_z") && msg.contains("one plane normal to axis 1"),
+        "{msg}"
+    );
+}

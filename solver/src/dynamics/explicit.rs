@@ -8,6 +8,7 @@ mod records;
 mod resume;
 mod run_loop;
 mod stopping;
+mod symmetry_wall;
 
 use std::time::Instant;
 
@@ -51,6 +52,8 @@ pub struct ExplicitSolver<'p> {
     critical_element: usize,
     constraint_of: Vec<[Option<u16>; 3]>,
     constrained_nodes: Vec<u32>,
+    /// Symmetry planes that hold every node of their body reaching them.
+    walls: symmetry_wall::SymmetryWalls,
     node_length: Vec<f64>,
     /// Displacement `u_n`.
     pub u: Vec<Vector3<f64>>,
@@ -148,6 +151,7 @@ impl<'p> ExplicitSolver<'p> {
             critical_element,
             constraint_of,
             constrained_nodes,
+            walls: symmetry_wall::SymmetryWalls::new(problem),
             node_length,
             u: vec![Vector3::zeros(); n],
             v_full: v0.clone(),
@@ -323,6 +327,7 @@ impl<'p> ExplicitSolver<'p> {
         self.prescribed_motion();
         self.phases.prescribed_motion += clock.lap();
         self.contact_correction(h);
+        self.symmetry_walls();
         self.phases.contact += clock.lap();
         let moved_too_far = self.energy_ledger(h)?;
         self.phases.energy_ledger += clock.lap();
@@ -423,6 +428,21 @@ impl<'p> ExplicitSolver<'p> {
         totals.steps_with_contact += usize::from(self.contact_steps.iter().any(|s| s.solves > 0));
     }
 
+    /// Nodes that would cross a symmetry plane of their body in the step are held on it
+    /// (`symmetry_wall.rs`), after contact: the plane is the last word on where a node goes.
+    fn symmetry_walls(&mut self) {
+        let model = &self.problem.model;
+        let (u, constraint_of) = (&self.u, &self.constraint_of);
+        let surplus = self.contact.as_ref().map(|c| &c.position_surplus);
+        self.walls.hold(
+            |i| model.reference[i] + u[i],
+            |i| surplus.map_or_else(Vector3::zeros, |s| s[i]),
+            self.dt,
+            |i, d| constraint_of[i][d].is_some(),
+            &mut self.v_next,
+        );
+    }
+
     /// Full-step velocity, reactions, the mesh stability check and the energy pieces of this
     /// step (FORMULATION 2: the work of each force over the interval, trapezoidal).
     fn energy_ledger(&mut self, h: f64) -> std::result::Result<bool, (String, Option<usize>)> {
@@ -452,11 +472,12 @@ impl<'p> ExplicitSolver<'p> {
             };
             let mut r = Vector3::zeros();
             let cs = self.constraint_of[i];
-            if cs.iter().any(Option::is_some) {
+            let walled = |d: usize| self.walls.holds(i, d);
+            if cs.iter().any(Option::is_some) || (0..3).any(walled) {
                 let a = (v_new - self.v_half[i]) / h;
                 let total = m * a + alpha * m * v_full - self.f_ext[i] + self.f_int[i];
                 for d in 0..3 {
-                    if cs[d].is_some() {
+                    if cs[d].is_some() || walled(d) {
                         r[d] = total[d];
                     }
                 }

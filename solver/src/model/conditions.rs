@@ -112,6 +112,15 @@ pub type Dofs = [bool; 3];
 pub enum Motion {
     /// Zero displacement on `dofs`.
     Fixed(Dofs),
+    /// A symmetry plane `x[axis] = value`: the constraint's nodes (those on the plane) are held
+    /// normal to it, as by [`Motion::Fixed`], and every other node of their body that reaches it
+    /// is held on it for the step (the explicit solver's `symmetry_wall.rs`).
+    Symmetry {
+        /// The component normal to the plane (0, 1, 2 for x, y, z).
+        axis: usize,
+        /// The plane's coordinate (m).
+        value: f64,
+    },
     /// Velocity `function(t)` on `dofs`.
     Velocity(Dofs, TimeFunction),
     /// Displacement `function(t)` on `dofs`.
@@ -153,6 +162,11 @@ impl Motion {
     pub fn dofs(&self) -> Dofs {
         match self {
             Motion::Fixed(d) | Motion::Velocity(d, _) | Motion::Displacement(d, _) => *d,
+            Motion::Symmetry { axis, .. } => {
+                let mut d = [false; 3];
+                d[*axis] = true;
+                d
+            }
             Motion::AffineVelocity { .. }
             | Motion::AffineDisplacement { .. }
             | Motion::Rotation { .. } => [true; 3],
@@ -163,7 +177,7 @@ impl Motion {
     /// (velocity motions do not: they are integrated by the time stepper).
     pub fn displacement(&self, x: &Vector3<f64>, t: f64) -> Option<Vector3<f64>> {
         match self {
-            Motion::Fixed(_) => Some(Vector3::zeros()),
+            Motion::Fixed(_) | Motion::Symmetry { .. } => Some(Vector3::zeros()),
             Motion::Displacement(_, f) => Some(Vector3::repeat(f.eval(t))),
             Motion::AffineDisplacement {
                 translation,

@@ -16,6 +16,28 @@ fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError
     }
 }
 
+/// The coordinate `axis` shared by `nodes` (their mean), or why they do not lie on one plane
+/// normal to it (to 1e-9 of the model's size).
+fn symmetry_plane(
+    reference: &[Vector3<f64>],
+    nodes: &[u32],
+    axis: usize,
+) -> std::result::Result<f64, String> {
+    let size = reference
+        .iter()
+        .fold(0.0_f64, |m, p| m.max(p.amax()))
+        .max(f64::MIN_POSITIVE);
+    let values: Vec<f64> = nodes.iter().map(|&n| reference[n as usize][axis]).collect();
+    let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+    match values.iter().find(|v| (*v - mean).abs() > 1e-9 * size) {
+        Some(v) => Err(format!(
+            "a symmetry plane needs nodes on one plane normal to axis {axis}; they span \
+             {mean:.9e} and {v:.9e} m. Fix: pick the nodes of the cut face only"
+        )),
+        None => Ok(mean),
+    }
+}
+
 fn dofs(components: &[Component]) -> [bool; 3] {
     let mut d = [false; 3];
     for c in components {
@@ -218,6 +240,12 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
         let nodes = resolve(&entity, &bc.body, &bc.nodes)?;
         let motion = match &bc.motion {
             MotionSpec::Fixed(c) => Motion::Fixed(dofs(c)),
+            MotionSpec::Symmetry(c) => {
+                let axis = *c as usize;
+                symmetry_plane(&problem.model.reference, &nodes, axis)
+                    .map(|value| Motion::Symmetry { axis, value })
+                    .map_err(|m| invalid(&entity, m))?
+            }
             MotionSpec::Velocity { components, value } => {
                 Motion::Velocity(dofs(components), value.clone())
             }

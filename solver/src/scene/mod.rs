@@ -389,6 +389,11 @@ pub struct BoundaryCondition {
 pub enum MotionSpec {
     /// The listed displacement components held at zero.
     Fixed(Vec<Component>),
+    /// A symmetry plane normal to the component: the nodes picked (all on one plane
+    /// `x[component] = const`) are held normal to it, and any other node of the body that
+    /// reaches the plane is held on it while it would cross (explicit analyses; a static one
+    /// holds the picked nodes only).
+    Symmetry(Component),
     /// The listed components move at a velocity (m/s) given as a function of time.
     Velocity {
         /// The constrained components.
