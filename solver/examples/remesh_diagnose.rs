@@ -118,6 +118,35 @@ fn main() {
         println!();
     }
 
+    // The element that sets the stable time step (smallest altitude over wave speed).
+    {
+        let (limit, e) = m.current_critical_time_step(&run.state.u);
+        let b = m
+            .bodies
+            .iter()
+            .position(|b| b.elements.contains(&e))
+            .unwrap();
+        let c = m.tets[e].map(|n| x[n as usize]);
+        let q = impact_solver::mesh::element_quality(&c);
+        let centroid = (c[0] + c[1] + c[2] + c[3]) * 0.25e3;
+        let (short, long) = (0..4)
+            .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
+            .map(|(i, j)| (c[i] - c[j]).norm())
+            .fold((f64::INFINITY, 0.0_f64), |(s, l), d| (s.min(d), l.max(d)));
+        println!(
+            "stable limit {limit:.3e} s from element {e} ({}): smallest altitude {:.4} mm, \
+             edges {:.4}-{:.4} mm, distortion {:.1}, centroid ({:.3}, {:.3}, {:.3}) mm",
+            m.bodies[b].name,
+            q.min_altitude * 1e3,
+            short * 1e3,
+            long * 1e3,
+            distortion(&c),
+            centroid.x,
+            centroid.y,
+            centroid.z
+        );
+    }
+
     let mut speeds: Vec<(f64, usize)> = run
         .state
         .v_full

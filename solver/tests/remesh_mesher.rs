@@ -145,6 +145,7 @@ fn collapsed_element_comes_out_well_shaped_and_conforming() {
         flip_passes: 0,
         min_edge: 0.0,
         surface_deviation: 0.0,
+        erode: false,
     };
     let raw = remesh_region(&mesh.nodes, &mesh.tets, &region, &split).unwrap();
     let raw_check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &raw).unwrap();
@@ -421,17 +422,27 @@ fn a_short_edge_on_a_curved_surface_merges_within_the_set_deviation() {
         surface_deviation: deviation,
         ..MesherOptions::default()
     };
+    // The merges alone: peeling (step 6) would remove the collapsed surface element itself.
+    let merges_only = |deviation: f64| MesherOptions {
+        flip_passes: 0,
+        ..with(deviation)
+    };
     // Kept surface (the default): no surface node goes, the volume is kept.
-    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &with(0.0)).unwrap();
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &merges_only(0.0)).unwrap();
     let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
     assert_eq!(new.surface_collapses, 0);
     assert!(check.worst_ratio_after > COLLAPSE_RATIO_LIMIT, "{check:?}");
     let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
-    assert!((total - volume_before).abs() <= 1e-12, "volume {total}");
+    // Volume is kept but for the collapsed boundary elements peeled (step 6).
+    let (peeled_volume, _) = peeled(&new);
+    assert!(
+        (total + peeled_volume - volume_before).abs() <= 1e-12,
+        "volume {total}"
+    );
     // A bound tighter than the merge needs: the short edge stays (midpoints of split surface
     // edges, on their old flat faces, may still merge back).
     let tight = 1e-5;
-    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &with(tight)).unwrap();
+    let new = remesh_region(&mesh.nodes, &mesh.tets, &region, &merges_only(tight)).unwrap();
     let check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &new).unwrap();
     assert!(check.worst_ratio_after > COLLAPSE_RATIO_LIMIT, "{check:?}");
     assert!(new.surface_volume_change.abs() <= tight * region_surface);
@@ -449,12 +460,13 @@ fn a_short_edge_on_a_curved_surface_merges_within_the_set_deviation() {
     let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
     let (_, area, most) = faces(&new.nodes, &new.tets);
     assert!(most <= 2);
+    let (peeled_volume, peeled_area) = peeled(&new);
     assert!(
-        (total - volume_before - new.surface_volume_change).abs() <= 1e-12,
+        (total + peeled_volume - volume_before - new.surface_volume_change).abs() <= 1e-12,
         "{total} {volume_before} {}",
         new.surface_volume_change
     );
-    assert!((area - area_before - new.surface_area_change).abs() <= 1e-12);
+    assert!((area - area_before - peeled_area - new.surface_area_change).abs() <= 1e-12);
     println!(
         "volume moved {:.3e}, bound {:.3e}",
         new.surface_volume_change,
@@ -462,4 +474,18 @@ fn a_short_edge_on_a_curved_surface_merges_within_the_set_deviation() {
     );
     assert!(new.surface_volume_change.abs() <= deviation * region_surface);
     assert!(new.surface_volume_change != 0.0);
+}
+
+/// The volume of the elements a remeshing peeled (step 6), and the boundary area their removal
+/// added (inner faces exposed less outer faces gone).
+fn peeled(new: &RemeshedRegion) -> (f64, f64) {
+    let (mut v, mut a) = (0.0, 0.0);
+    for (c, outer) in &new.peeled {
+        v += signed_volume(c);
+        for (k, f) in TET_FACES.iter().enumerate() {
+            let area = 0.5 * (c[f[1]] - c[f[0]]).cross(&(c[f[2]] - c[f[0]])).norm();
+            a += if outer[k] { -area } else { area };
+        }
+    }
+    (v, a)
 }

@@ -142,11 +142,7 @@ pub fn check_remeshed(
         .map(|&e| signed_volume(&tets[e].map(|n| x[n as usize])))
         .sum();
     // Peeled boundary slivers take their volume, and change the boundary by their faces.
-    let peeled_volume: f64 = new
-        .peeled
-        .iter()
-        .map(|(t, _)| signed_volume(&t.map(|n| xn[n as usize])))
-        .sum();
+    let peeled_volume: f64 = new.peeled.iter().map(|(t, _)| signed_volume(t)).sum();
     let peeled_area_change: f64 = new
         .peeled
         .iter()
@@ -155,7 +151,7 @@ pub fn check_remeshed(
                 .iter()
                 .zip(outer)
                 .map(|(f, &was_outer)| {
-                    let [a, b, c] = f.map(|i| xn[t[i] as usize]);
+                    let [a, b, c] = f.map(|i| t[i]);
                     let area = 0.5 * (b - a).cross(&(c - a)).norm();
                     if was_outer {
                         -area

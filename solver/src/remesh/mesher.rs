@@ -55,9 +55,12 @@
 //!    of its faces and 3-2 flips of its edges, each taken only where the worst element it
 //!    replaces rises. The nodes then smooth again.
 //!
-//! 6. **Peeling** (`peel.rs`). A sliver left with two faces on a curved part of the outer
-//!    boundary, whose nodes none of the steps above may move, is removed: its inner faces become
-//!    the boundary, which moves inward by at most the sliver's height. Taken with the flips
+//! 6. **Peeling** (`peel.rs`). An element still collapsed (quality below 0.1) with a face on
+//!    the outer boundary, whose nodes none of the steps above may move (a sliver lying on the
+//!    curved cavity around a penetrator's nose), is removed where the boundary stays a
+//!    manifold (one fan of faces about each node): its inner faces become the boundary, which
+//!    moves inward by at most its height. With [`MesherOptions::erode`], a collapsed element
+//!    inside the body may go too (erosion), under the same condition. Taken with the flips
 //!    (`flip_passes > 0`).
 //!
 //! Refinement stops at [`MesherOptions::min_edge`]: an edge shorter than twice it is not split.
@@ -111,6 +114,12 @@ pub struct MesherOptions {
     /// its place pass within this distance of it (step 4 of the method). 0: the boundary's
     /// curved parts keep every node (their shape exactly).
     pub surface_deviation: f64,
+    /// Whether the elements the steps above leave collapsed (quality below 0.1, a collapse
+    /// ratio of 10) may be removed inside the body too, not only from its surface (step 6),
+    /// where the boundary stays a manifold: erosion of what the remesher cannot reshape, as
+    /// explicit codes erode failed elements (LS-DYNA's `*MAT_ADD_EROSION`), with the body's
+    /// mass kept. false: only peeling from the surface.
+    pub erode: bool,
 }
 
 impl Default for MesherOptions {
@@ -121,6 +130,7 @@ impl Default for MesherOptions {
             flip_passes: FLIP_PASSES,
             min_edge: 0.0,
             surface_deviation: 0.0,
+            erode: false,
         }
     }
 }
@@ -173,9 +183,9 @@ pub struct RemeshedRegion {
     pub surface_volume_change: f64,
     /// The outer boundary's area change by those collapses (m^2, after less before).
     pub surface_area_change: f64,
-    /// Boundary slivers removed from the region (step 6, `peel.rs`), in new node ids, each with
-    /// the faces that were on the outer boundary: the region's volume and boundary area change
-    /// by theirs.
+    /// Collapsed boundary elements removed from the region (step 6, `peel.rs`), by their
+    /// corners, each with the faces that were on the outer boundary: the region's volume and
+    /// boundary area change by theirs.
     pub peeled: Vec<PeeledElement>,
 }
 
@@ -509,37 +519,13 @@ pub fn remesh_region_keeping_edges(
                 &free,
                 options.smoothing_sweeps,
             );
-            // The removed nodes go; an old boundary node among them is recorded as merged.
-            let mut used = vec![false; nodes.len()];
-            for t in &out_tets {
-                for &n in t {
-                    used[n as usize] = true;
-                }
-            }
-            let mut renumber = vec![None; nodes.len()];
-            let mut compact = Vec::with_capacity(nodes.len());
-            for (n, p) in nodes.iter().enumerate() {
-                if used[n] {
-                    renumber[n] = Some(compact.len() as u32);
-                    compact.push(*p);
-                }
-            }
-            nodes = compact;
-            for t in &mut out_tets {
-                *t = t.map(|n| renumber[n as usize].expect("a node of an element is used"));
-            }
-            free = free
-                .into_iter()
-                .filter_map(|(n, axes)| renumber[n as usize].map(|m| (m, axes)))
-                .collect();
-            for (o, k) in kept_nodes.iter_mut().enumerate() {
-                if let Some(n) = *k {
-                    *k = renumber[n as usize];
-                    if k.is_none() {
-                        merged_nodes.push(o as u32);
-                    }
-                }
-            }
+            drop_unused_nodes(
+                &mut nodes,
+                &mut out_tets,
+                &mut free,
+                &mut kept_nodes,
+                &mut merged_nodes,
+            );
         }
     }
     // Region elements that copy an old one unchanged, which flips and peeling leave alone.
@@ -575,20 +561,31 @@ pub fn remesh_region_keeping_edges(
                 options.smoothing_sweeps,
             );
         }
-        let fixed = copies(&origin);
+        // A region element copied unchanged may be peeled too: an unsplit one (its edges too
+        // short, or kept where a contact partner lies across them) is as collapsed as it came.
         let (kept, removed) = peel_boundary_slivers(
             &nodes,
             &out_tets,
             first_region_element,
-            &fixed,
+            &vec![false; out_tets.len() - first_region_element],
             options.flip_passes,
+            options.erode,
         );
         if !removed.is_empty() {
             out_tets = kept.iter().map(|&e| out_tets[e]).collect();
             origin = kept.iter().map(|&e| origin[e]).collect();
             peeled = removed;
+            // A peeled element may take its last node with it.
+            drop_unused_nodes(
+                &mut nodes,
+                &mut out_tets,
+                &mut free,
+                &mut kept_nodes,
+                &mut merged_nodes,
+            );
         }
     }
+    merged_nodes.sort_unstable();
     let mut slid_nodes = Vec::new();
     for (o, k) in kept_nodes.iter_mut().enumerate() {
         if let Some(n) = *k {
@@ -611,6 +608,48 @@ pub fn remesh_region_keeping_edges(
         surface_area_change,
         peeled,
     })
+}
+
+/// Removes the nodes no element of `tets` holds (those an edge collapse merged away, or a
+/// peeled element took with it) and renumbers the rest in order; an old node among them is
+/// recorded in `merged` (it is gone from the new mesh).
+fn drop_unused_nodes(
+    nodes: &mut Vec<Vector3<f64>>,
+    tets: &mut [[u32; 4]],
+    free: &mut Vec<(u32, [bool; 3])>,
+    kept_nodes: &mut [Option<u32>],
+    merged: &mut Vec<u32>,
+) {
+    let mut used = vec![false; nodes.len()];
+    for t in tets.iter() {
+        for &n in t {
+            used[n as usize] = true;
+        }
+    }
+    let mut renumber = vec![None; nodes.len()];
+    let mut compact = Vec::with_capacity(nodes.len());
+    for (n, p) in nodes.iter().enumerate() {
+        if used[n] {
+            renumber[n] = Some(compact.len() as u32);
+            compact.push(*p);
+        }
+    }
+    *nodes = compact;
+    for t in tets.iter_mut() {
+        *t = t.map(|n| renumber[n as usize].expect("a node of an element is used"));
+    }
+    *free = free
+        .iter()
+        .filter_map(|&(n, axes)| renumber[n as usize].map(|m| (m, axes)))
+        .collect();
+    for (o, k) in kept_nodes.iter_mut().enumerate() {
+        if let Some(n) = *k {
+            *k = renumber[n as usize];
+            if k.is_none() {
+                merged.push(o as u32);
+            }
+        }
+    }
 }
 
 /// The regular 1:8 refinement of the tetrahedron `v` (new ids) with edge midpoints `m(i, j)`

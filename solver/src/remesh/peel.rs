@@ -11,34 +11,119 @@
 //! and the body keeps its mass: the transfer gives the region's new elements exactly the mass of
 //! the old ones they replace (`apply.rs`).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
 use super::mesher::shape_quality;
 use crate::mesh::{face_key, TET_FACES};
 
-/// The quality ([`shape_quality`]) below which a boundary sliver is peeled: a collapse ratio or
+/// The quality ([`shape_quality`]) below which a boundary element is peeled: a collapse ratio or
 /// inverse mean ratio of 10, the remeshing limit of the thesis (Box 8.1).
 pub(super) const PEEL_QUALITY: f64 = 0.1;
 
-/// A peeled element and, per local face (opposite local node `k`), whether it was on the outer
-/// boundary when the element was removed (the other faces became boundary).
-pub type PeeledElement = ([u32; 4], [bool; 4]);
+/// A peeled element, its four corners where it was removed, and per local face (opposite local
+/// node `k`) whether it was on the outer boundary then (the other faces became boundary). The
+/// corners are kept as coordinates because a peeled element may take its last node with it.
+pub type PeeledElement = ([Vector3<f64>; 4], [bool; 4]);
+
+/// The outer faces of the elements alive at each node, kept up to date as they are peeled.
+#[derive(Default)]
+struct Boundary {
+    faces_at_node: HashMap<u32, BTreeSet<[u32; 3]>>,
+}
+
+impl Boundary {
+    /// Adds `face` (a sorted key) to the outer faces, or removes it.
+    fn set(&mut self, face: [u32; 3], outer: bool) {
+        for n in face {
+            let faces = self.faces_at_node.entry(n).or_default();
+            if outer {
+                faces.insert(face);
+            } else {
+                faces.remove(&face);
+            }
+        }
+    }
+}
+
+/// Whether the faces `faces` around node `n` make one fan: each edge from `n` in exactly two
+/// of them, all joined through those edges (a disc about `n` on the surface); true for none.
+fn one_fan(n: u32, faces: &[[u32; 3]]) -> bool {
+    if faces.is_empty() {
+        return true;
+    }
+    let others = |f: &[u32; 3]| -> Vec<u32> { f.iter().copied().filter(|&m| m != n).collect() };
+    let mut uses: BTreeMap<u32, usize> = BTreeMap::new();
+    for f in faces {
+        for m in others(f) {
+            *uses.entry(m).or_default() += 1;
+        }
+    }
+    if uses.values().any(|&c| c != 2) {
+        return false;
+    }
+    // Walk the fan from the first face; it must reach every face.
+    let mut seen = vec![false; faces.len()];
+    let mut stack = vec![0];
+    seen[0] = true;
+    while let Some(k) = stack.pop() {
+        for m in others(&faces[k]) {
+            for (j, g) in faces.iter().enumerate() {
+                if !seen[j] && g.contains(&m) {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+    }
+    seen.iter().all(|&s| s)
+}
+
+/// Whether removing `tet`, whose faces `outer` (opposite local node `k`) lie on the outer
+/// boundary, leaves that boundary a manifold: its outer faces go and its other faces become
+/// boundary, and around each of its nodes the boundary must still be one fan ([`one_fan`]) or
+/// none. (With one outer face, the opposite node must be inside the body; with two, the edge
+/// between their opposite nodes must not be on the boundary already; with three, their common
+/// node goes with the element; a loose element always goes.)
+fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> bool {
+    let faces: Vec<([u32; 3], bool)> = TET_FACES
+        .iter()
+        .zip(outer)
+        .map(|(f, &o)| (face_key(f.map(|i| tet[i])), o))
+        .collect();
+    tet.iter().all(|&n| {
+        let mut around: BTreeSet<[u32; 3]> =
+            boundary.faces_at_node.get(&n).cloned().unwrap_or_default();
+        for &(f, was_outer) in faces.iter().filter(|(f, _)| f.contains(&n)) {
+            if was_outer {
+                around.remove(&f);
+            } else {
+                around.insert(f);
+            }
+        }
+        one_fan(n, &around.into_iter().collect::<Vec<_>>())
+    })
+}
 
 /// Removes from `tets` (the whole new mesh) the changeable elements (`k >= first`, `fixed[k -
-/// first]` false) of quality below [`PEEL_QUALITY`] with exactly two faces on the outer boundary
-/// (held by no other element) and two held by other changeable elements, repeatedly up to
-/// `passes` times. Returns the kept elements' indices and the peeled elements, in the order
-/// removed. Deterministic.
+/// first]` false) of quality below [`PEEL_QUALITY`] with at least one face on the outer boundary
+/// (held by no other element), whose other faces are held by changeable elements and whose
+/// removal leaves the boundary a manifold ([`keeps_manifold`]), repeatedly up to `passes`
+/// times: a layer of collapsed elements on the surface is peeled from the outside in. With
+/// `erode`, a collapsed element with no face on the boundary may go too (a void inside the
+/// body), under the same conditions. Returns
+/// the kept elements' indices and the peeled elements, in the order removed. Deterministic.
 pub(super) fn peel_boundary_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     first: usize,
     fixed: &[bool],
     passes: usize,
+    erode: bool,
 ) -> (Vec<usize>, Vec<PeeledElement>) {
     let mut holders: HashMap<[u32; 3], Vec<usize>> = HashMap::with_capacity(4 * tets.len());
+    let mut boundary = Boundary::default();
     for (e, tet) in tets.iter().enumerate() {
         for f in TET_FACES {
             holders
@@ -46,6 +131,15 @@ pub(super) fn peel_boundary_slivers(
                 .or_default()
                 .push(e);
         }
+    }
+    let mut keys: Vec<&[u32; 3]> = holders
+        .iter()
+        .filter(|(_, h)| h.len() == 1)
+        .map(|(k, _)| k)
+        .collect();
+    keys.sort_unstable();
+    for key in keys {
+        boundary.set(*key, true);
     }
     let mut alive = vec![true; tets.len()];
     let mut peeled = Vec::new();
@@ -69,15 +163,21 @@ pub(super) fn peel_boundary_slivers(
                     .collect();
                 match others[..] {
                     [] => outer[k] = true,
-                    [o] => inner_ok &= o >= first,
+                    [o] => inner_ok &= o >= first && !fixed[o - first],
                     _ => inner_ok = false,
                 }
             }
-            if !inner_ok || outer.iter().filter(|&&b| b).count() != 2 {
+            if !inner_ok
+                || !(erode || outer.contains(&true))
+                || !keeps_manifold(&tet, &outer, &boundary)
+            {
                 continue;
             }
             alive[e] = false;
-            peeled.push((tet, outer));
+            for (k, f) in TET_FACES.iter().enumerate() {
+                boundary.set(face_key(f.map(|i| tet[i])), !outer[k]);
+            }
+            peeled.push((tet.map(|n| nodes[n as usize]), outer));
         }
         if peeled.len() == before {
             break;
@@ -118,11 +218,12 @@ mod tests {
     #[test]
     fn a_flat_element_with_two_faces_on_the_boundary_is_peeled() {
         let (x, tets) = roof(0.02);
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10, false);
         assert_eq!(kept, vec![0, 1]);
         assert_eq!(peeled.len(), 1);
-        let (t, outer) = peeled[0];
-        assert_eq!(t, tets[2]);
+        let (corners, outer) = peeled[0];
+        let t = tets[2];
+        assert_eq!(corners, t.map(|n| x[n as usize]));
         // The outer faces are the two that hold the lifted node and the diagonal b d.
         for (k, f) in TET_FACES.iter().enumerate() {
             let face: Vec<u32> = f.iter().map(|&i| t[i]).collect();
@@ -135,11 +236,130 @@ mod tests {
         // Lifted by 1: a well-shaped element on top.
         let (x, tets) = roof(1.0);
         assert!(shape_quality(&tets[2].map(|n| x[n as usize])) > PEEL_QUALITY);
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10, false);
         assert_eq!((kept.len(), peeled.len()), (3, 0));
         // A sliver that copies an old element is never changed.
         let (x, tets) = roof(0.02);
-        let (kept, _) = peel_boundary_slivers(&x, &tets, 0, &[false, false, true], 10);
+        let (kept, _) = peel_boundary_slivers(&x, &tets, 0, &[false, false, true], 10, false);
         assert_eq!(kept.len(), 3);
+    }
+
+    /// The big tetrahedron 1 2 3 4 cut into four from node 0 inside it, which lies `height`
+    /// above the face 1 2 3.
+    fn star(height: f64) -> (Vec<Vector3<f64>>, Vec<[u32; 4]>) {
+        let x = vec![
+            Vector3::new(0.3, 0.3, height),
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+        ];
+        let tets = [[0, 1, 2, 3], [0, 1, 2, 4], [0, 2, 3, 4], [0, 1, 3, 4]]
+            .map(|t| oriented(&x, t))
+            .to_vec();
+        (x, tets)
+    }
+
+    #[test]
+    fn a_flat_element_with_one_face_on_the_boundary_goes_when_its_fourth_node_is_inside() {
+        let (x, tets) = star(0.01);
+        assert!(shape_quality(&tets[0].map(|n| x[n as usize])) < PEEL_QUALITY);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 4], 10, false);
+        assert_eq!(kept, vec![1, 2, 3]);
+        assert_eq!(peeled.len(), 1);
+        // Its face on the boundary is the one opposite node 0.
+        let k0 = tets[0].iter().position(|&n| n == 0).unwrap();
+        let outer: Vec<usize> = (0..4).filter(|&k| peeled[0].1[k]).collect();
+        assert_eq!(outer, vec![k0]);
+        // Without the big element above node 0 (1 3 4 gone), node 0 is on the boundary and the
+        // flat element has two faces there (opposite nodes 0 and 2): peeling it opens the edge
+        // 0-2, which the other two elements hold inside, and is allowed.
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets[..3], 0, &[false; 3], 10, false);
+        assert_eq!((kept, peeled.len()), (vec![1, 2], 1));
+        // With the third element moved off to a node 5 of its own, the edge 0-2 is on the
+        // boundary already (faces 0 2 4 and 0 2 5): peeling would hang four faces on it, and
+        // does not happen.
+        let mut x5 = x.clone();
+        x5.push(Vector3::new(1.0, 1.0, 1.0));
+        let t = vec![tets[0], tets[1], oriented(&x5, [0, 2, 3, 5])];
+        for k in 1..3 {
+            assert!(shape_quality(&t[k].map(|n| x5[n as usize])) > PEEL_QUALITY);
+        }
+        let (kept, peeled) = peel_boundary_slivers(&x5, &t, 0, &[false; 3], 10, false);
+        assert_eq!((kept, peeled.len()), (vec![0, 1, 2], 0));
+    }
+
+    #[test]
+    fn a_flat_cap_goes_with_its_apex() {
+        // The roof's lower pyramid (well shaped) and a cap on its face a b c whose apex (node 5)
+        // lies just above that face and in no other element: three faces on the boundary.
+        let (mut x, tets) = roof(1.0);
+        x.push(Vector3::new(0.7, 0.3, 0.005));
+        let mut t = tets[..2].to_vec();
+        t.push(oriented(&x, [0, 1, 2, 5]));
+        // Node 5 lies above a b c, away from the pyramid, when its base is flipped below it.
+        assert!(signed_volume(&t[2].map(|n| x[n as usize])) > 0.0);
+        let (kept, peeled) = peel_boundary_slivers(&x, &t, 0, &[false; 3], 10, false);
+        assert_eq!((kept, peeled.len()), (vec![0, 1], 1));
+        assert_eq!(peeled[0].1.iter().filter(|&&b| b).count(), 3);
+    }
+
+    /// Whether every edge of the boundary faces of `tets` lies in exactly two of them.
+    fn boundary_is_closed(tets: &[[u32; 4]]) -> bool {
+        let mut count: HashMap<[u32; 3], usize> = HashMap::new();
+        for t in tets {
+            for f in TET_FACES {
+                *count.entry(face_key(f.map(|i| t[i]))).or_default() += 1;
+            }
+        }
+        let mut edges: HashMap<[u32; 2], usize> = HashMap::new();
+        for (f, _) in count.iter().filter(|(_, &c)| c == 1) {
+            for k in 0..3 {
+                let (a, b) = (f[k], f[(k + 1) % 3]);
+                *edges.entry([a.min(b), a.max(b)]).or_default() += 1;
+            }
+        }
+        edges.values().all(|&c| c == 2)
+    }
+
+    #[test]
+    fn erosion_removes_a_collapsed_element_inside_the_body_and_keeps_the_surface_closed() {
+        use crate::mesh::{box_mesh, BoxSpec};
+        let mesh = box_mesh(&BoxSpec {
+            origin: [0.0; 3],
+            size: [1.0; 3],
+            divisions: [4, 4, 4],
+            mirror: Vec::new(),
+        });
+        let mut x = mesh.nodes.clone();
+        let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
+        // An element with its four nodes inside, one of them moved 90 % of the way to the
+        // plane of the opposite face.
+        let e = mesh
+            .tets
+            .iter()
+            .position(|t| t.iter().all(|&n| inside(&x[n as usize])))
+            .unwrap();
+        let t = mesh.tets[e].map(|n| n as usize);
+        let normal = (x[t[2]] - x[t[1]]).cross(&(x[t[3]] - x[t[1]])).normalize();
+        let height = (x[t[0]] - x[t[1]]).dot(&normal);
+        x[t[0]] -= 0.9 * height * normal;
+        assert!(shape_quality(&mesh.tets[e].map(|n| x[n as usize])) < PEEL_QUALITY);
+        let fixed = vec![false; mesh.tets.len()];
+        // Peeling alone leaves it: it has no face on the surface.
+        let (_, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, &fixed, 10, false);
+        assert!(peeled.is_empty());
+        // Erosion removes the collapsed elements, none with a good shape, and leaves a closed
+        // surface (the void's and the box's).
+        let (kept, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, &fixed, 10, true);
+        assert!(peeled
+            .iter()
+            .any(|(c, _)| *c == mesh.tets[e].map(|n| x[n as usize])));
+        for (c, _) in &peeled {
+            assert!(shape_quality(c) < PEEL_QUALITY);
+        }
+        let left: Vec<[u32; 4]> = kept.iter().map(|&k| mesh.tets[k]).collect();
+        assert_eq!(left.len() + peeled.len(), mesh.tets.len());
+        assert!(boundary_is_closed(&left));
     }
 }

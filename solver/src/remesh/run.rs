@@ -51,6 +51,12 @@ pub struct RemeshSettings {
     /// every node there. See [`MesherOptions::surface_deviation`].
     #[serde(default)]
     pub surface_deviation: f64,
+    /// Whether the elements the remesher leaves collapsed may be eroded inside the body as well
+    /// as peeled from its surface, where the surface stays a manifold (the body's mass kept);
+    /// a triggered remeshing then takes every element past the limit. See
+    /// [`MesherOptions::erode`].
+    #[serde(default)]
+    pub erode: bool,
     /// Largest number of remeshings.
     #[serde(default = "default_max_remeshings")]
     pub max_remeshings: usize,
@@ -128,6 +134,7 @@ impl RemeshSettings {
             mesher: MesherOptions {
                 min_edge: self.min_edge,
                 surface_deviation: self.surface_deviation,
+                erode: self.erode,
                 ..MesherOptions::default()
             },
         })
@@ -329,7 +336,15 @@ pub fn run_remeshing_watched(
                     m.reference.iter().zip(&s.u).map(|(x, u)| x + u).collect();
                 let region = policy.region(problem, &x, threshold);
                 if !region.is_empty() {
-                    pause = Pause::Remesh(region);
+                    // With erosion, every element past the limit is offered to the remesher
+                    // (the regrowth threshold only decides when): one the last remeshing left
+                    // collapsed, below the threshold, would otherwise stay outside the region
+                    // and never be reshaped or eroded.
+                    pause = Pause::Remesh(if policy.mesher.erode {
+                        policy.region(problem, &x, policy.collapse_limit)
+                    } else {
+                        region
+                    });
                     return true;
                 }
                 if adapt {
