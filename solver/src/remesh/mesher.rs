@@ -528,16 +528,13 @@ pub fn remesh_region_keeping_edges(
             );
         }
     }
-    // Region elements that copy an old one unchanged, which flips and peeling leave alone.
-    let copies = |origin: &[Option<u32>]| -> Vec<bool> {
-        origin[first_region_element..]
-            .iter()
-            .map(Option::is_some)
-            .collect()
-    };
     let mut peeled = Vec::new();
     if options.flip_passes > 0 {
-        let fixed = copies(&origin);
+        // Region elements that copy an old one unchanged, which the flips leave alone.
+        let fixed: Vec<bool> = origin[first_region_element..]
+            .iter()
+            .map(Option::is_some)
+            .collect();
         let (after, flips) = flip_slivers(
             &nodes,
             &out_tets[first_region_element..],
