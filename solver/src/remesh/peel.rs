@@ -1,15 +1,17 @@
-//! Peeling of boundary slivers, the remesher's last repair (step 6 of the method in
-//! `mesher.rs`).
+//! Peeling of collapsed boundary elements, the remesher's last repair (step 6 of the method in
+//! `mesher.rs`), and erosion.
 //!
 //! An element with all four nodes on a curved part of the outer boundary (the cavity around a
 //! penetrator's nose) cannot be reshaped: none of its nodes moves (a curved surface would lose
-//! its shape), it has no inner face to flip, and a collapse would move the surface. When such an
-//! element is a sliver lying on the surface with two of its faces on it, it is removed ("peeled",
-//! as boundary slivers are in Delaunay refinement: Cheng, Dey & Shewchuk 2012, *Delaunay Mesh
-//! Generation*, 10.4): its two inner faces become the boundary. The surface moves inward by at
-//! most the sliver's height, away from whatever presses on it (material is removed, none added),
-//! and the body keeps its mass: the transfer gives the region's new elements exactly the mass of
-//! the old ones they replace (`apply.rs`).
+//! its shape), it may have no inner face to flip, and a collapse would move the surface. Such an
+//! element, left collapsed with a face on the surface, is removed ("peeled", as boundary slivers
+//! are in Delaunay refinement: Cheng, Dey & Shewchuk 2012, *Delaunay Mesh Generation*, 10.4)
+//! where the boundary stays a manifold: around each of its nodes the outer faces after the
+//! removal make one fan, or none ([`one_fan`]). Its inner faces become the boundary. The surface
+//! moves inward by at most the element's height, away from whatever presses on it (material is
+//! removed, none added), and the body keeps its mass: the transfer gives the region's new
+//! elements exactly the mass of the old ones they replace (`apply.rs`). With erosion, a
+//! collapsed element inside the body may go as well, under the same condition (a void).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
