@@ -173,8 +173,11 @@ pub fn check_remeshed(
     {
         return Err(fail(format!(
             "region volume {after:.15e} m^3 differs from the old {before:.15e} m^3 by {:.3e} \
-             (relative)",
-            (after - before).abs() / before
+             (relative) after the {} peeled elements ({peeled_volume:.6e} m^3) and the \
+             surface collapses ({:.6e} m^3) are accounted for",
+            (after + peeled_volume - new.surface_volume_change - before).abs() / before,
+            new.peeled.len(),
+            new.surface_volume_change
         )));
     }
 

@@ -513,6 +513,17 @@ pub fn remesh_region_keeping_edges(
             out_tets.extend(tets_left);
             origin.truncate(first_region_element);
             origin.extend(origin_left);
+            // A merge on the surface gives the nodes around it new boundary faces: a node that
+            // slid in a plane may now hold a face of the curved surface, which sliding it would
+            // move (the region's volume then changed by 2.5e-6 of itself, unrecorded, in a nail
+            // run). Only nodes whose boundary faces still lie in the same planes slide now.
+            let now = boundary_nodes(&nodes, &out_tets[first_region_element..], &pinned);
+            let sliding: HashMap<u32, [bool; 3]> = now.sliding.into_iter().collect();
+            let surface: BTreeSet<u32> = now.surface.into_iter().map(|(n, _)| n).collect();
+            free.retain(|(n, axes)| match sliding.get(n) {
+                Some(a) => a == axes,
+                None => !surface.contains(n),
+            });
             smooth(
                 &mut nodes,
                 &out_tets[first_region_element..],
