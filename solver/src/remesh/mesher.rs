@@ -575,7 +575,6 @@ pub fn remesh_region_keeping_edges(
             &nodes,
             &out_tets,
             first_region_element,
-            &vec![false; out_tets.len() - first_region_element],
             options.flip_passes,
             options.erode,
         );

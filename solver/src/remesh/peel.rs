@@ -108,9 +108,8 @@ fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> boo
     })
 }
 
-/// Removes from `tets` (the whole new mesh) the changeable elements (`k >= first`, `fixed[k -
-/// first]` false) of quality below [`PEEL_QUALITY`] with at least one face on the outer boundary
-/// (held by no other element), whose other faces are held by changeable elements and whose
+/// Removes from `tets` (the whole new mesh) the region's elements (`k >= first`) of quality below [`PEEL_QUALITY`] with at least one face on the outer boundary
+/// (held by no other element), whose other faces are held by region elements and whose
 /// removal leaves the boundary a manifold ([`keeps_manifold`]), repeatedly up to `passes`
 /// times: a layer of collapsed elements on the surface is peeled from the outside in. With
 /// `erode`, a collapsed element with no face on the boundary may go too (a void inside the
@@ -120,7 +119,6 @@ pub(super) fn peel_boundary_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     first: usize,
-    fixed: &[bool],
     passes: usize,
     erode: bool,
 ) -> (Vec<usize>, Vec<PeeledElement>) {
@@ -134,13 +132,7 @@ pub(super) fn peel_boundary_slivers(
                 .push(e);
         }
     }
-    let mut keys: Vec<&[u32; 3]> = holders
-        .iter()
-        .filter(|(_, h)| h.len() == 1)
-        .map(|(k, _)| k)
-        .collect();
-    keys.sort_unstable();
-    for key in keys {
+    for (key, _) in holders.iter().filter(|(_, h)| h.len() == 1) {
         boundary.set(*key, true);
     }
     let mut alive = vec![true; tets.len()];
@@ -148,7 +140,7 @@ pub(super) fn peel_boundary_slivers(
     for _ in 0..passes {
         let before = peeled.len();
         for e in first..tets.len() {
-            if !alive[e] || fixed[e - first] {
+            if !alive[e] {
                 continue;
             }
             let tet = tets[e];
@@ -165,7 +157,7 @@ pub(super) fn peel_boundary_slivers(
                     .collect();
                 match others[..] {
                     [] => outer[k] = true,
-                    [o] => inner_ok &= o >= first && !fixed[o - first],
+                    [o] => inner_ok &= o >= first,
                     _ => inner_ok = false,
                 }
             }
@@ -220,7 +212,7 @@ mod tests {
     #[test]
     fn a_flat_element_with_two_faces_on_the_boundary_is_peeled() {
         let (x, tets) = roof(0.02);
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, 10, false);
         assert_eq!(kept, vec![0, 1]);
         assert_eq!(peeled.len(), 1);
         let (corners, outer) = peeled[0];
@@ -234,15 +226,15 @@ mod tests {
     }
 
     #[test]
-    fn a_good_element_or_a_copied_one_stays() {
+    fn a_good_element_or_one_outside_the_region_stays() {
         // Lifted by 1: a well-shaped element on top.
         let (x, tets) = roof(1.0);
         assert!(shape_quality(&tets[2].map(|n| x[n as usize])) > PEEL_QUALITY);
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 3], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, 10, false);
         assert_eq!((kept.len(), peeled.len()), (3, 0));
-        // A sliver that copies an old element is never changed.
+        // A sliver outside the region (before `first`) is never changed.
         let (x, tets) = roof(0.02);
-        let (kept, _) = peel_boundary_slivers(&x, &tets, 0, &[false, false, true], 10, false);
+        let (kept, _) = peel_boundary_slivers(&x, &tets, 3, 10, false);
         assert_eq!(kept.len(), 3);
     }
 
@@ -266,7 +258,7 @@ mod tests {
     fn a_flat_element_with_one_face_on_the_boundary_goes_when_its_fourth_node_is_inside() {
         let (x, tets) = star(0.01);
         assert!(shape_quality(&tets[0].map(|n| x[n as usize])) < PEEL_QUALITY);
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, &[false; 4], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, 10, false);
         assert_eq!(kept, vec![1, 2, 3]);
         assert_eq!(peeled.len(), 1);
         // Its face on the boundary is the one opposite node 0.
@@ -276,7 +268,7 @@ mod tests {
         // Without the big element above node 0 (1 3 4 gone), node 0 is on the boundary and the
         // flat element has two faces there (opposite nodes 0 and 2): peeling it opens the edge
         // 0-2, which the other two elements hold inside, and is allowed.
-        let (kept, peeled) = peel_boundary_slivers(&x, &tets[..3], 0, &[false; 3], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets[..3], 0, 10, false);
         assert_eq!((kept, peeled.len()), (vec![1, 2], 1));
         // With the third element moved off to a node 5 of its own, the edge 0-2 is on the
         // boundary already (faces 0 2 4 and 0 2 5): peeling would hang four faces on it, and
@@ -287,7 +279,7 @@ mod tests {
         for k in 1..3 {
             assert!(shape_quality(&t[k].map(|n| x5[n as usize])) > PEEL_QUALITY);
         }
-        let (kept, peeled) = peel_boundary_slivers(&x5, &t, 0, &[false; 3], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x5, &t, 0, 10, false);
         assert_eq!((kept, peeled.len()), (vec![0, 1, 2], 0));
     }
 
@@ -301,7 +293,7 @@ mod tests {
         t.push(oriented(&x, [0, 1, 2, 5]));
         // Node 5 lies above a b c, away from the pyramid, when its base is flipped below it.
         assert!(signed_volume(&t[2].map(|n| x[n as usize])) > 0.0);
-        let (kept, peeled) = peel_boundary_slivers(&x, &t, 0, &[false; 3], 10, false);
+        let (kept, peeled) = peel_boundary_slivers(&x, &t, 0, 10, false);
         assert_eq!((kept, peeled.len()), (vec![0, 1], 1));
         assert_eq!(peeled[0].1.iter().filter(|&&b| b).count(), 3);
     }
@@ -347,13 +339,12 @@ mod tests {
         let height = (x[t[0]] - x[t[1]]).dot(&normal);
         x[t[0]] -= 0.9 * height * normal;
         assert!(shape_quality(&mesh.tets[e].map(|n| x[n as usize])) < PEEL_QUALITY);
-        let fixed = vec![false; mesh.tets.len()];
         // Peeling alone leaves it: it has no face on the surface.
-        let (_, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, &fixed, 10, false);
+        let (_, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, 10, false);
         assert!(peeled.is_empty());
         // Erosion removes the collapsed elements, none with a good shape, and leaves a closed
         // surface (the void's and the box's).
-        let (kept, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, &fixed, 10, true);
+        let (kept, peeled) = peel_boundary_slivers(&x, &mesh.tets, 0, 10, true);
         assert!(peeled
             .iter()
             .any(|(c, _)| *c == mesh.tets[e].map(|n| x[n as usize])));
