@@ -151,19 +151,28 @@ pub(super) struct GlobalSearch {
 impl GlobalSearch {
     /// The search of one pass on the predicted positions `x1`; `None` when no slave node can
     /// reach the master's boundary layer, so the pass finds nothing. `layer` keeps the master
-    /// layer's boxes between calls (it must always be given the same `master`).
+    /// layer's boxes between calls (it must always be given the same `master`). `tolerance`
+    /// is the barycentric tolerance of [`Self::penetrates`]: the boxes are grown by it times
+    /// the master's extent, so a node that test would accept is never outside them.
     pub(super) fn new(
         model: &Model,
         slave: &ContactSurface,
         master: &ContactSurface,
         x1: &[Vector3<f64>],
         layer: &mut LayerBoxes,
+        tolerance: f64,
     ) -> Option<Self> {
         if master.layer.is_empty() {
             return None;
         }
         let slave_box = Aabb::of_points(slave.nodes.iter().map(|&n| &x1[n as usize]));
         let (master_box, moved) = layer.bounds_and_motion(model, master, x1);
+        // A node on a face of the master's box may lie a rounding outside it: two bodies cut by
+        // one symmetry plane x = 0 put their nodes there at 0 and at -1.2e-19 m (a mesher's
+        // cos(pi / 2) r), and a slave node at -1.2e-19 slid into the master unseen (a block
+        // node 0.4 mm inside a nail).
+        let margin = tolerance * (master_box.max - master_box.min).max();
+        let master_box = master_box.grown(margin);
         if !slave_box.overlaps(&master_box) {
             return None;
         }
@@ -179,6 +188,7 @@ impl GlobalSearch {
             .map(|b| (b.max - b.min).max())
             .sum::<f64>()
             / near_boxes.len() as f64;
+        let near_boxes: Vec<Aabb> = near_boxes.iter().map(|b| b.grown(margin)).collect();
         let element_grid = UniformGrid::build(&near_boxes, typical);
         Some(Self {
             overlap,

@@ -253,7 +253,14 @@ impl Detector {
     ) -> (Vec<ContactConstraint>, DetectionStats) {
         let mut stats = DetectionStats::default();
         let mut constraints = Vec::new();
-        let Some(global) = GlobalSearch::new(model, slave, master, x1, &mut self.layer) else {
+        let Some(global) = GlobalSearch::new(
+            model,
+            slave,
+            master,
+            x1,
+            &mut self.layer,
+            settings.tolerance,
+        ) else {
             return (constraints, stats);
         };
         let local = LocalSearch::new(
@@ -522,6 +529,49 @@ mod tests {
         for c in &constraints {
             assert!((c.normal - Vector3::z()).norm() < 1e-12, "{c:?}");
         }
+    }
+
+    #[test]
+    fn a_node_a_rounding_outside_the_masters_box_is_still_found() {
+        // Both blocks end on the plane x = 0, where a mesher put the upper one's nodes at
+        // -1.2e-19 m (cos(pi / 2) r) and the lower one's at 0: the upper block's rim nodes on
+        // that plane lie outside the lower block's box by that rounding, and must be found as
+        // the others are when the upper block is pushed 2 mm into the lower one.
+        let block = |z: f64, n: usize| BoxSpec {
+            origin: [0.0, 0.0, z],
+            size: [1.0, 1.0, 0.5],
+            divisions: [n, n, 2],
+            mirror: Vec::new(),
+        };
+        let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
+        let (lower, upper) = (
+            ContactSurface::new(&model, 0),
+            ContactSurface::new(&model, 1),
+        );
+        let mut x0 = model.reference.clone();
+        for n in model.bodies[1].nodes.clone() {
+            if x0[n].x == 0.0 {
+                x0[n].x = -1.2246467991473532e-19;
+            }
+        }
+        let mut x1 = x0.clone();
+        for n in model.bodies[1].nodes.clone() {
+            x1[n].z -= 2e-3;
+        }
+        let settings = DetectionSettings {
+            tolerance: 1e-9,
+            friction: 0.0,
+            normals: NormalSettings::default(),
+            release: f64::INFINITY,
+        };
+        let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
+        assert_eq!(constraints.len(), 16, "all 4 x 4 bottom nodes: {stats:?}");
+        assert_eq!(stats.unresolved, 0);
+        let on_plane = constraints
+            .iter()
+            .filter(|c| x1[c.slave as usize].x < 0.0)
+            .count();
+        assert_eq!(on_plane, 4, "the rim nodes on x = 0");
     }
 
     #[test]
