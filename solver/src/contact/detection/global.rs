@@ -179,7 +179,7 @@ impl GlobalSearch {
         // Only the master elements where the two bodies' boxes overlap can be reached: for two
         // spheres, a thin slab around the contact instead of the whole boundary layer.
         let overlap = slave_box.intersection(&master_box);
-        let (near, near_boxes) = layer.near(model, master, x1, &overlap, moved);
+        let (near, mut near_boxes) = layer.near(model, master, x1, &overlap, moved);
         if near.is_empty() {
             return None;
         }
@@ -188,7 +188,9 @@ impl GlobalSearch {
             .map(|b| (b.max - b.min).max())
             .sum::<f64>()
             / near_boxes.len() as f64;
-        let near_boxes: Vec<Aabb> = near_boxes.iter().map(|b| b.grown(margin)).collect();
+        for b in &mut near_boxes {
+            *b = b.grown(margin);
+        }
         let element_grid = UniformGrid::build(&near_boxes, typical);
         Some(Self {
             overlap,
