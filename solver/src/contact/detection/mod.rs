@@ -419,6 +419,42 @@ mod tests {
         ])
     }
 
+    /// A 1 x 1 x 0.5 block on another of the same footprint, meshed 4 x 4 and 3 x 3 across
+    /// (non-matching), with their surfaces (lower, upper).
+    fn equal_footprints() -> (Model, ContactSurface, ContactSurface) {
+        let block = |z: f64, n: usize| BoxSpec {
+            origin: [0.0, 0.0, z],
+            size: [1.0, 1.0, 0.5],
+            divisions: [n, n, 2],
+            mirror: Vec::new(),
+        };
+        let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
+        let (lower, upper) = (
+            ContactSurface::new(&model, 0),
+            ContactSurface::new(&model, 1),
+        );
+        (model, lower, upper)
+    }
+
+    /// `x` with the upper block (body 1) lowered by `dz`.
+    fn upper_lowered(model: &Model, x: &[Vector3<f64>], dz: f64) -> Vec<Vector3<f64>> {
+        let mut lowered = x.to_vec();
+        for n in model.bodies[1].nodes.clone() {
+            lowered[n].z -= dz;
+        }
+        lowered
+    }
+
+    /// Frictionless detection that closes every penetration at once.
+    fn closed_at_once() -> DetectionSettings {
+        DetectionSettings {
+            tolerance: 1e-9,
+            friction: 0.0,
+            normals: NormalSettings::default(),
+            release: f64::INFINITY,
+        }
+    }
+
     #[test]
     fn nodes_pushed_into_the_lower_block_are_found_on_the_top_face() {
         let model = two_blocks(1e-3);
@@ -430,12 +466,7 @@ mod tests {
         for n in model.bodies[1].nodes.clone() {
             x1[n].z -= 3e-3;
         }
-        let settings = DetectionSettings {
-            tolerance: 1e-9,
-            friction: 0.0,
-            normals: NormalSettings::default(),
-            release: f64::INFINITY,
-        };
+        let settings = closed_at_once();
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         let bottom = model.bodies[1]
             .nodes
@@ -488,28 +519,10 @@ mod tests {
         // Same footprint, non-matching meshes: the upper block's rim nodes run down the lower
         // block's side planes. CCD sees them coplanar with the side faces all step long; only
         // the top face is crossed, and the closest point must not take a side face either.
-        let block = |z: f64, n: usize| BoxSpec {
-            origin: [0.0, 0.0, z],
-            size: [1.0, 1.0, 0.5],
-            divisions: [n, n, 2],
-            mirror: Vec::new(),
-        };
-        let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
-        let (lower, upper) = (
-            ContactSurface::new(&model, 0),
-            ContactSurface::new(&model, 1),
-        );
+        let (model, lower, upper) = equal_footprints();
         let x0 = model.reference.clone();
-        let mut x1 = x0.clone();
-        for n in model.bodies[1].nodes.clone() {
-            x1[n].z -= 2e-3;
-        }
-        let settings = DetectionSettings {
-            tolerance: 1e-9,
-            friction: 0.0,
-            normals: NormalSettings::default(),
-            release: f64::INFINITY,
-        };
+        let x1 = upper_lowered(&model, &x0, 2e-3);
+        let settings = closed_at_once();
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         assert_eq!(constraints.len(), 16, "all 4 x 4 bottom nodes: {stats:?}");
         assert_eq!(stats.unresolved, 0);
@@ -518,12 +531,8 @@ mod tests {
         }
         // Already inside at the start (no crossing in this step): the closest point takes the
         // face the node is behind, the top face, not the side plane it lies on.
-        let x_inside: Vec<Vector3<f64>> = x1.clone();
-        let mut x2 = x_inside.clone();
-        for n in model.bodies[1].nodes.clone() {
-            x2[n].z -= 1e-4;
-        }
-        let (constraints, stats) = detect(&model, &upper, &lower, &x_inside, &x2, &settings);
+        let x2 = upper_lowered(&model, &x1, 1e-4);
+        let (constraints, stats) = detect(&model, &upper, &lower, &x1, &x2, &settings);
         assert_eq!(constraints.len(), 16, "{stats:?}");
         assert_eq!(stats.by_closest_point, 16);
         for c in &constraints {
@@ -537,33 +546,15 @@ mod tests {
         // -1.2e-19 m (cos(pi / 2) r) and the lower one's at 0: the upper block's rim nodes on
         // that plane lie outside the lower block's box by that rounding, and must be found as
         // the others are when the upper block is pushed 2 mm into the lower one.
-        let block = |z: f64, n: usize| BoxSpec {
-            origin: [0.0, 0.0, z],
-            size: [1.0, 1.0, 0.5],
-            divisions: [n, n, 2],
-            mirror: Vec::new(),
-        };
-        let model = elastic_boxes(&[block(0.0, 4), block(0.5, 3)]);
-        let (lower, upper) = (
-            ContactSurface::new(&model, 0),
-            ContactSurface::new(&model, 1),
-        );
+        let (model, lower, upper) = equal_footprints();
         let mut x0 = model.reference.clone();
         for n in model.bodies[1].nodes.clone() {
             if x0[n].x == 0.0 {
                 x0[n].x = -1.2246467991473532e-19;
             }
         }
-        let mut x1 = x0.clone();
-        for n in model.bodies[1].nodes.clone() {
-            x1[n].z -= 2e-3;
-        }
-        let settings = DetectionSettings {
-            tolerance: 1e-9,
-            friction: 0.0,
-            normals: NormalSettings::default(),
-            release: f64::INFINITY,
-        };
+        let x1 = upper_lowered(&model, &x0, 2e-3);
+        let settings = closed_at_once();
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         assert_eq!(constraints.len(), 16, "all 4 x 4 bottom nodes: {stats:?}");
         assert_eq!(stats.unresolved, 0);
