@@ -7,6 +7,9 @@
 // Parameter fine_depth (default 0): the fine zone is the set of points within r_fine of the
 // segment of the axis from y = 0.5 down to y = 0.5 - fine_depth (a ball about the impact point
 // for 0); e.g. -setnumber fine_depth 0.02 refines along the first 20 mm of the nail's path.
+// Parameters pilot_radius, pilot_depth (default 0: none) and h_pilot (0.4 mm): a pilot hole about
+// the axis from the top face down to pilot_depth, meshed at h_pilot on its wall (README.md: an
+// experiment of issue 21, not used by a case).
 // From this folder, with Gmsh 4.15.2:
 //   gmsh block.geo -3 -format msh41 -bin -o block.msh
 // (or ./generate.sh). README.md lists what the mesh achieves.
@@ -19,6 +22,9 @@
 //   Surface "top"    : y = 0.5 (the impacted face).
 SetFactory("OpenCASCADE");
 DefineConstant[ fine_depth = {0, Name "Parameters/fine_depth"} ];
+DefineConstant[ pilot_radius = {0, Name "Parameters/pilot_radius"} ];
+DefineConstant[ pilot_depth = {0, Name "Parameters/pilot_depth"} ];
+DefineConstant[ h_pilot = {0.0004, Name "Parameters/h_pilot"} ];
 
 B = 0.25;         // half the block's length and width (m)
 H = 0.5;          // height
@@ -28,6 +34,12 @@ h_far = 0.045;    // element size far from it
 growth = 0.08;    // sizes grow by 0.08 mm per mm of distance beyond r_fine
 
 Box(1) = {0, 0, 0, B, H, B};
+If (pilot_radius > 0)
+  // The pilot hole along the nail's path: a cylinder about the axis x = z = 0 from the top face
+  // down to pilot_depth, of which the box keeps the quarter.
+  Cylinder(2) = {0, H - pilot_depth, 0, 0, pilot_depth + 0.001, 0, pilot_radius};
+  BooleanDifference{ Volume{1}; Delete; }{ Volume{2}; Delete; }
+EndIf
 volumes() = Volume{:};
 e = 1e-6;
 sym_x() = Surface In BoundingBox{-e, -e, -e, e, H + e, B + e};
@@ -56,7 +68,23 @@ Field[2].SizeMin = h_fine;
 Field[2].SizeMax = h_far;
 Field[2].DistMin = r_fine;
 Field[2].DistMax = r_fine + (h_far - h_fine) / growth;
-Background Field = 2;
+If (pilot_radius > 0)
+  // h_pilot on the hole's wall (a few segments on its quarter circle), growing to h_fine.
+  Field[3] = MathEval;
+  Field[3].F = Sprintf("Sqrt(x * x + z * z) - %.17g + Max(%.17g - y, 0)", pilot_radius, H - pilot_depth);
+  Field[4] = Threshold;
+  Field[4].InField = 3;
+  Field[4].SizeMin = h_pilot;
+  Field[4].SizeMax = h_fine;
+  Field[4].DistMin = 0;
+  Field[4].DistMax = (h_fine - h_pilot) / 0.3;
+  Field[4].StopAtDistMax = 1;  // beyond it, the size of Field[2]
+  Field[5] = Min;
+  Field[5].FieldsList = {2, 4};
+  Background Field = 5;
+Else
+  Background Field = 2;
+EndIf
 
 Mesh.MeshSizeExtendFromBoundary = 0;
 Mesh.MeshSizeFromPoints = 0;
