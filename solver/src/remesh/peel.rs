@@ -108,12 +108,13 @@ fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> boo
     })
 }
 
-/// Removes from `tets` (the whole new mesh) the region's elements (`k >= first`) of quality below [`PEEL_QUALITY`] with at least one face on the outer boundary
-/// (held by no other element), whose other faces are held by region elements and whose
-/// removal leaves the boundary a manifold ([`keeps_manifold`]), repeatedly up to `passes`
-/// times: a layer of collapsed elements on the surface is peeled from the outside in. With
-/// `erode`, a collapsed element with no face on the boundary may go too (a void inside the
-/// body), under the same conditions. Returns
+/// Removes from `tets` (the whole new mesh) the region's elements (`k >= first`) of quality
+/// below [`PEEL_QUALITY`] with at least one face on the outer boundary (held by no other
+/// element), whose other faces are held by region elements and whose removal leaves the
+/// boundary a manifold ([`keeps_manifold`]), repeatedly up to `passes` times: a layer of
+/// collapsed elements on the surface is peeled from the outside in. With `erode`, a collapsed
+/// element with no face on the boundary may go too (a void inside the body), under the same
+/// conditions. Returns
 /// the kept elements' indices and the peeled elements, in the order removed. Deterministic.
 pub(super) fn peel_boundary_slivers(
     nodes: &[Vector3<f64>],

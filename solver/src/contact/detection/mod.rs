@@ -462,10 +462,7 @@ mod tests {
         let upper = ContactSurface::new(&model, 1);
         let x0: Vec<Vector3<f64>> = model.reference.clone();
         // The upper block moves down by 3 mm: its bottom nodes end 2 mm inside the lower block.
-        let mut x1 = x0.clone();
-        for n in model.bodies[1].nodes.clone() {
-            x1[n].z -= 3e-3;
-        }
+        let x1 = upper_lowered(&model, &x0, 3e-3);
         let settings = closed_at_once();
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
         let bottom = model.bodies[1]
@@ -582,14 +579,10 @@ mod tests {
             normals: NormalSettings::default(),
             release,
         };
-        let shifted = |dz: f64| -> Vec<Vector3<f64>> {
-            let mut x = model.reference.clone();
-            for n in model.bodies[1].nodes.clone() {
-                x[n].z += dz;
-            }
-            x
-        };
-        let (inside, deeper) = (shifted(-3e-3), shifted(-3.1e-3));
+        let (inside, deeper) = (
+            upper_lowered(&model, &model.reference, 3e-3),
+            upper_lowered(&model, &model.reference, 3.1e-3),
+        );
         let release = 5e-4;
         let (held, stats) = detect(&model, &upper, &lower, &inside, &deeper, &settings(release));
         assert!(!held.is_empty());
@@ -632,19 +625,7 @@ mod tests {
             ContactSurface::new(&model, 1),
         );
         let x = model.reference.clone();
-        let (c, stats) = detect(
-            &model,
-            &upper,
-            &lower,
-            &x,
-            &x,
-            &DetectionSettings {
-                tolerance: 1e-9,
-                friction: 0.0,
-                normals: NormalSettings::default(),
-                release: f64::INFINITY,
-            },
-        );
+        let (c, stats) = detect(&model, &upper, &lower, &x, &x, &closed_at_once());
         assert!(c.is_empty());
         assert_eq!(stats, DetectionStats::default());
     }
