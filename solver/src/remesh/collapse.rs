@@ -26,7 +26,7 @@
 
 use nalgebra::Vector3;
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashSet};
 
 use super::mesher::shape_quality;
 use crate::kinematics::signed_volume;
@@ -112,6 +112,8 @@ struct Collapser<'a> {
     tets: Vec<Option<[u32; 4]>>,
     incident: Vec<Vec<usize>>,
     omega: u32,
+    /// The faces of the elements outside that touch these.
+    neighbour_faces: HashSet<[u32; 3]>,
 }
 
 impl Collapser<'_> {
@@ -177,6 +179,13 @@ impl Collapser<'_> {
             .iter()
             .filter_map(|&t| self.quality(&live(t)))
             .fold(f64::INFINITY, f64::min);
+        let shell_faces: HashSet<[u32; 3]> = shell
+            .iter()
+            .flat_map(|&t| {
+                let tet = live(t);
+                TET_FACES.map(|f| face_key(f.map(|i| tet[i])))
+            })
+            .collect();
         let mut changed = Vec::with_capacity(moved.len());
         for &t in &moved {
             let new = live(t).map(|n| if n == gone { keep } else { n });
@@ -184,6 +193,30 @@ impl Collapser<'_> {
                 if !(q > before || q >= floor) {
                     return None;
                 }
+            }
+            // Nor may it duplicate an element (real, or a boundary face as a virtual one): a
+            // loose element, all four faces on the boundary, would fold onto its own face.
+            let mut sorted = new;
+            sorted.sort_unstable();
+            if self.incident[keep as usize].iter().any(|&o| {
+                let mut other = live(o);
+                other.sort_unstable();
+                other == sorted
+            }) {
+                return None;
+            }
+            // Its faces through `keep` are new (the others it had already). Such a face may be
+            // a neighbour's only where a shell element held it (the element takes the shell's
+            // place on the interface, as every collapse zips the shell's faces).
+            if self.quality(&new).is_some()
+                && TET_FACES.iter().any(|f| {
+                    let face = face_key(f.map(|i| new[i]));
+                    face.contains(&keep)
+                        && self.neighbour_faces.contains(&face)
+                        && !shell_faces.contains(&face)
+                })
+            {
+                return None;
             }
             changed.push((t, new));
         }
@@ -249,21 +282,45 @@ impl Collapser<'_> {
     }
 }
 
+/// The bounds of [`collapse_short_edges`].
+#[derive(Debug, Clone, Copy)]
+pub(super) struct CollapseLimits {
+    /// Elements below this quality ([`shape_quality`]) try their edges.
+    pub target: f64,
+    /// Edges shorter than this (m) may coarsen.
+    pub min_edge: f64,
+    /// How far a surface collapse may move the boundary (m).
+    pub surface_deviation: f64,
+    /// The most passes over the elements.
+    pub passes: usize,
+}
+
 /// Collapses short edges of the elements `tets` over the coordinates `nodes` (module's method):
-/// every element whose quality ([`shape_quality`]) is below `target`, or with an edge shorter
-/// than `min_edge`, tries its edges from the shortest, in element order, in up to `passes`
-/// passes until none collapses. `removable[n]` says whether and how node `n` may go; a node of a
-/// curved boundary goes only where the boundary moves by at most `surface_deviation` (m).
-/// Deterministic.
+/// every element whose quality ([`shape_quality`]) is below `limits.target`, or with an edge
+/// shorter than `limits.min_edge`, tries its edges from the shortest, in element order, in up to
+/// `limits.passes` passes until none collapses. `removable[n]` says whether and how node `n` may
+/// go; a node of a curved boundary goes only where the boundary moves by at most
+/// `limits.surface_deviation` (m). No changed element may take a face of the `neighbours` (the
+/// elements outside `tets` that touch them): across a flat pit of the surface, a collapse onto
+/// a node of the interface would glue the region onto a neighbour's boundary face, which the
+/// link condition over `tets` alone does not see. Deterministic.
 pub(super) fn collapse_short_edges(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
+    neighbours: &[[u32; 4]],
     removable: &[Removable],
-    target: f64,
-    min_edge: f64,
-    surface_deviation: f64,
-    passes: usize,
+    limits: CollapseLimits,
 ) -> Collapses {
+    let CollapseLimits {
+        target,
+        min_edge,
+        surface_deviation,
+        passes,
+    } = limits;
+    let neighbour_faces: HashSet<[u32; 3]> = neighbours
+        .iter()
+        .flat_map(|t| TET_FACES.map(|f| face_key(f.map(|i| t[i]))))
+        .collect();
     let omega = nodes.len() as u32;
     let mut all: Vec<Option<[u32; 4]>> = tets.iter().copied().map(Some).collect();
     let mut faces: BTreeMap<[u32; 3], (u32, [u32; 3])> = BTreeMap::new();
@@ -303,6 +360,7 @@ pub(super) fn collapse_short_edges(
         tets: all,
         incident,
         omega,
+        neighbour_faces,
     };
     let mut out = Collapses {
         tets: Vec::new(),
@@ -357,4 +415,71 @@ pub(super) fn collapse_short_edges(
     c.tets.truncate(tets.len());
     out.tets = c.tets;
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits() -> CollapseLimits {
+        CollapseLimits {
+            target: 0.25,
+            min_edge: 0.1,
+            surface_deviation: 1.0,
+            passes: 5,
+        }
+    }
+
+    /// `t` positively oriented over `x`.
+    fn oriented(x: &[Vector3<f64>], mut t: [u32; 4]) -> [u32; 4] {
+        if signed_volume(&t.map(|n| x[n as usize])) < 0.0 {
+            t.swap(2, 3);
+        }
+        t
+    }
+
+    #[test]
+    fn a_loose_element_does_not_fold_onto_its_own_face() {
+        // One element alone (all four faces on the boundary, as erosion can leave one), its
+        // edge 0-1 far below the shortest edge. Merging 1 into 0 would leave its face 0 2 3
+        // twice on the boundary and no element: the area bookkeeping then misses that face.
+        let x = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(0.02, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+        ];
+        let tets = vec![oriented(&x, [0, 1, 2, 3])];
+        let mut removable = vec![Removable::Never; 4];
+        removable[1] = Removable::Surface([false; 3]);
+        let out = collapse_short_edges(&x, &tets, &[], &removable, limits());
+        assert_eq!(out.count, 0);
+        assert_eq!(out.tets, vec![Some(tets[0])]);
+    }
+
+    #[test]
+    fn a_collapse_does_not_glue_the_region_onto_a_neighbours_face() {
+        // Node g lies just above k, so the region's face g a b and the neighbour's face k a b
+        // (outside the region, below the plane z = 0) enclose a flat pit g k a b. Merging g into
+        // k passes the link condition over the region alone, and would glue the region's
+        // element g a b c onto the neighbour as k a b c.
+        let (k, a, b, c, p, g) = (0, 1, 2, 3, 4, 5);
+        let x = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.3, 0.3, 1.0),
+            Vector3::new(0.3, 0.3, -1.0),
+            Vector3::new(0.01, 0.01, 0.005),
+        ];
+        let region = vec![oriented(&x, [g, k, a, c]), oriented(&x, [g, a, b, c])];
+        let neighbour = oriented(&x, [k, a, b, p]);
+        let mut removable = vec![Removable::Never; x.len()];
+        removable[g as usize] = Removable::Surface([false; 3]);
+        let out = collapse_short_edges(&x, &region, &[neighbour], &removable, limits());
+        assert_eq!(out.count, 0);
+        // Without the neighbour the same collapse is taken: the test sees the case it guards.
+        let out = collapse_short_edges(&x, &region, &[], &removable, limits());
+        assert_eq!(out.count, 1);
+    }
 }

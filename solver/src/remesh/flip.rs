@@ -157,27 +157,37 @@ impl Flipper<'_> {
 /// Flips faces and edges of the elements `tets` over `nodes` (module's method): every element
 /// whose quality ([`shape_quality`]) is below `target` tries the 2-3 flip of each face and the
 /// 3-2 flip of each edge, in element order, in up to `passes` passes until none flips.
-/// Elements flagged `fixed` (copies of old ones) are never changed. Returns the elements (live
+/// Elements flagged `fixed` (copies of old ones) are never changed; nor are the `neighbours`
+/// (the elements outside that touch them), whose edges and faces a flip may not duplicate. Returns the elements (live
 /// ones in order, `None` where replaced, the new ones after) with their `fixed` flags, and the
 /// number of flips. Deterministic.
 pub(super) fn flip_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     fixed: &[bool],
+    neighbours: &[[u32; 4]],
     target: f64,
     passes: usize,
 ) -> (Vec<Option<[u32; 4]>>, usize) {
+    // The neighbours go after the elements, fixed: never changed, but their edges and faces
+    // count as existing ones (a region element's faces may fold onto a neighbour's boundary
+    // face across a flat pit of the surface, which the region alone does not see).
+    let all: Vec<[u32; 4]> = tets.iter().chain(neighbours).copied().collect();
     let mut incident = vec![Vec::new(); nodes.len()];
-    for (t, tet) in tets.iter().enumerate() {
+    for (t, tet) in all.iter().enumerate() {
         for &n in tet {
             incident[n as usize].push(t);
         }
     }
     let mut f = Flipper {
         nodes,
-        tets: tets.iter().copied().map(Some).collect(),
+        tets: all.iter().copied().map(Some).collect(),
         incident,
-        fixed: fixed.to_vec(),
+        fixed: fixed
+            .iter()
+            .copied()
+            .chain(neighbours.iter().map(|_| true))
+            .collect(),
     };
     let mut count = 0;
     for _ in 0..passes {
@@ -202,7 +212,9 @@ pub(super) fn flip_slivers(
             break;
         }
     }
-    (f.tets, count)
+    let mut out = f.tets;
+    out.drain(tets.len()..tets.len() + neighbours.len());
+    (out, count)
 }
 
 #[cfg(test)]
@@ -239,7 +251,7 @@ mod tests {
         };
         let tets = [[3, 4, 0, 1], [3, 4, 1, 2], [3, 4, 2, 0]].map(positive);
         let before = worst(&x, &tets);
-        let (after, flips) = flip_slivers(&x, &tets, &[false; 3], 0.25, 5);
+        let (after, flips) = flip_slivers(&x, &tets, &[false; 3], &[], 0.25, 5);
         let live: Vec<[u32; 4]> = after.into_iter().flatten().collect();
         assert_eq!((flips, live.len()), (1, 2), "{live:?}");
         assert!(
@@ -257,12 +269,20 @@ mod tests {
             .all(|t| signed_volume(&t.map(|n| x[n as usize])) > 0.0));
         assert!((volume(&live) - volume(&tets)).abs() < 1e-15);
         // The two caps are better than any 2-3 flip back: nothing flips.
-        let (again, none) = flip_slivers(&x, &live, &[false; 2], 0.3, 5);
+        let (again, none) = flip_slivers(&x, &live, &[false; 2], &[], 0.3, 5);
         assert_eq!(none, 0);
         assert_eq!(again.into_iter().flatten().collect::<Vec<_>>(), live);
         // A copied element is never changed.
-        let (kept, zero) = flip_slivers(&x, &tets, &[false, true, false], 0.25, 5);
+        let (kept, zero) = flip_slivers(&x, &tets, &[false, true, false], &[], 0.25, 5);
         assert_eq!(zero, 0);
         assert_eq!(kept.into_iter().flatten().count(), 3);
+        // Nor is a neighbour, and no flip makes one of its faces again: with an element outside
+        // on the ring's triangle (as across a flat pit of a surface), the edge stays, and the
+        // output holds the region's elements only.
+        let mut x = x;
+        x.push(Vector3::new(0.0, 0.0, 2.0));
+        let (kept, zero) = flip_slivers(&x, &tets, &[false; 3], &[[0, 1, 2, 5]], 0.25, 5);
+        assert_eq!(zero, 0);
+        assert_eq!(kept, tets.map(Some).to_vec());
     }
 }

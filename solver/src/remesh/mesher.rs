@@ -76,7 +76,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
-use super::collapse::{collapse_short_edges, Removable};
+use super::collapse::{collapse_short_edges, CollapseLimits, Removable};
 use super::flip::flip_slivers;
 use super::peel::{peel_boundary_slivers, PeeledElement};
 use super::smoothing::{boundary_nodes, smooth};
@@ -491,11 +491,14 @@ pub fn remesh_region_keeping_edges(
         let collapses = collapse_short_edges(
             &nodes,
             &out_tets[first_region_element..],
+            &neighbours_of_region(&nodes, &out_tets, first_region_element),
             &removable,
-            COLLAPSE_TARGET,
-            options.min_edge,
-            options.surface_deviation,
-            options.collapse_passes,
+            CollapseLimits {
+                target: COLLAPSE_TARGET,
+                min_edge: options.min_edge,
+                surface_deviation: options.surface_deviation,
+                passes: options.collapse_passes,
+            },
         );
         surface_collapses = collapses.surface;
         surface_volume_change = collapses.volume_change;
@@ -550,6 +553,7 @@ pub fn remesh_region_keeping_edges(
             &nodes,
             &out_tets[first_region_element..],
             &fixed,
+            &neighbours_of_region(&nodes, &out_tets, first_region_element),
             COLLAPSE_TARGET,
             options.flip_passes,
         );
@@ -615,6 +619,22 @@ pub fn remesh_region_keeping_edges(
         surface_area_change,
         peeled,
     })
+}
+
+/// The elements before `first` (outside the region) that hold a node of the region's elements
+/// (from `first` on).
+fn neighbours_of_region(nodes: &[Vector3<f64>], tets: &[[u32; 4]], first: usize) -> Vec<[u32; 4]> {
+    let mut region_node = vec![false; nodes.len()];
+    for t in &tets[first..] {
+        for &n in t {
+            region_node[n as usize] = true;
+        }
+    }
+    tets[..first]
+        .iter()
+        .filter(|t| t.iter().any(|&n| region_node[n as usize]))
+        .copied()
+        .collect()
 }
 
 /// Removes the nodes no element of `tets` holds (those an edge collapse merged away, or a
