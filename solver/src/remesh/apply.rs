@@ -270,8 +270,14 @@ pub fn remesh_problem(
         .iter()
         .map(|c| locator.locate(c).element)
         .collect();
-    let separation =
-        separate_new_surface_nodes(model, &x_all, &partners, &mut new.nodes, &candidates);
+    let separation = separate_new_surface_nodes(
+        model,
+        &x_all,
+        &partners,
+        &mut new.nodes,
+        &new.tets,
+        &candidates,
+    );
     for load in &problem.loads {
         if let Some(n) = load.nodes.iter().find(|&&n| {
             nodes.contains(&(n as usize)) && new.kept_nodes[n as usize - nodes.start].is_none()

@@ -10,10 +10,13 @@
 //! surface before the transfer: the new mesh's geometry moves by that depth at such nodes, its
 //! fields do not (the carried `F_0` and the velocities are transferred to the moved position).
 
+use std::collections::HashMap;
+
 use nalgebra::Vector3;
 
 use super::locate::Locator;
 use crate::contact::geometry::closest_point_on_triangle;
+use crate::kinematics::signed_volume;
 use crate::mesh::boundary_faces_of;
 use crate::model::Model;
 
@@ -24,6 +27,9 @@ pub struct SurfaceSeparation {
     pub moved: usize,
     /// The largest distance moved (m).
     pub largest_depth: f64,
+    /// New surface nodes left inside a partner, because the move would have inverted or
+    /// flattened one of their elements (the contact then pushes them out).
+    pub left_inside: usize,
 }
 
 /// Moves each of the `candidates` (ids into `nodes`, the remeshed body's new nodes, current
@@ -31,14 +37,29 @@ pub struct SurfaceSeparation {
 /// partner's boundary. `partners` gives each partner's body in `model` with a locator over its
 /// elements at the current coordinates `x`. A node counts as inside when the partner holds it
 /// strictly ([`Locator::holds_strictly`]), so a node on the partner's surface stays where it is.
+///
+/// A move that would give one of the node's elements in `tets` (the new mesh) a volume that is
+/// not positive is not made ([`move_keeps_elements_positive`]): a node generated a little inside
+/// a partner, behind which the element is thinner than the depth, stays, and the contact pushes
+/// it out over the next steps; moved, it turned the element inside out.
 pub(super) fn separate_new_surface_nodes(
     model: &Model,
     x: &[Vector3<f64>],
     partners: &[(usize, Locator)],
     nodes: &mut [Vector3<f64>],
+    tets: &[[u32; 4]],
     candidates: &[u32],
 ) -> SurfaceSeparation {
     let mut out = SurfaceSeparation::default();
+    let mut held_by: HashMap<u32, Vec<usize>> =
+        candidates.iter().map(|&n| (n, Vec::new())).collect();
+    for (e, t) in tets.iter().enumerate() {
+        for n in t {
+            if let Some(list) = held_by.get_mut(n) {
+                list.push(e);
+            }
+        }
+    }
     for (o, locator) in partners {
         let faces = boundary_faces_of(&model.tets[model.bodies[*o].elements.clone()]);
         for &n in candidates {
@@ -55,10 +76,51 @@ pub(super) fn separate_new_surface_nodes(
                     best = (d, q);
                 }
             }
+            let elements: Vec<[u32; 4]> = held_by[&n].iter().map(|&e| tets[e]).collect();
+            if !move_keeps_elements_positive(nodes, &elements, n, best.1) {
+                out.left_inside += 1;
+                continue;
+            }
             nodes[n as usize] = best.1;
             out.moved += 1;
             out.largest_depth = out.largest_depth.max(best.0);
         }
     }
     out
+}
+
+/// Whether every element of `elements` (those holding node `n`) keeps a positive volume with
+/// `n` at `to`.
+fn move_keeps_elements_positive(
+    nodes: &[Vector3<f64>],
+    elements: &[[u32; 4]],
+    n: u32,
+    to: Vector3<f64>,
+) -> bool {
+    elements
+        .iter()
+        .all(|t| signed_volume(&t.map(|m| if m == n { to } else { nodes[m as usize] })) > 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_move_through_the_opposite_face_is_refused() {
+        let nodes = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.2, 0.2, 0.1),
+        ];
+        let tet = [[0, 1, 2, 3]];
+        assert!(signed_volume(&tet[0].map(|m| nodes[m as usize])) > 0.0);
+        // Node 3 lies 0.1 above the face 0 1 2: a move of 0.05 down keeps the element, one of
+        // 0.1 flattens it and one of 0.15 inverts it.
+        let down = |d: f64| nodes[3] - Vector3::new(0.0, 0.0, d);
+        assert!(move_keeps_elements_positive(&nodes, &tet, 3, down(0.05)));
+        assert!(!move_keeps_elements_positive(&nodes, &tet, 3, down(0.1)));
+        assert!(!move_keeps_elements_positive(&nodes, &tet, 3, down(0.15)));
+    }
 }

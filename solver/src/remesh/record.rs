@@ -219,8 +219,8 @@ impl RemeshRecord {
             "remeshing at t = {:.6e} s: {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
              mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
-             {} new surface nodes moved out of a contact partner (by up to {:.3e} m), {} boundary \
-             slivers peeled, {} surface collapses (volume change {:.3e} m^3)",
+             {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
+             inside), {} boundary slivers peeled, {} surface collapses (volume change {:.3e} m^3)",
             self.time,
             self.before.elements,
             self.after.elements,
@@ -237,6 +237,7 @@ impl RemeshRecord {
             self.velocity_shift.norm(),
             self.separation.moved,
             self.separation.largest_depth,
+            self.separation.left_inside,
             self.peeled,
             self.surface_collapses,
             self.surface_volume_change,
