@@ -158,9 +158,9 @@ impl Flipper<'_> {
 /// whose quality ([`shape_quality`]) is below `target` tries the 2-3 flip of each face and the
 /// 3-2 flip of each edge, in element order, in up to `passes` passes until none flips.
 /// Elements flagged `fixed` (copies of old ones) are never changed; nor are the `neighbours`
-/// (the elements outside that touch them), whose edges and faces a flip may not duplicate. Returns the elements (live
-/// ones in order, `None` where replaced, the new ones after) with their `fixed` flags, and the
-/// number of flips. Deterministic.
+/// (the elements outside that touch them), whose edges and faces a flip may not duplicate.
+/// Returns the elements (live ones in order, `None` where replaced, the new ones after; the
+/// neighbours left out) and the number of flips. Deterministic.
 pub(super) fn flip_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
