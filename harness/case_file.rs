@@ -120,10 +120,7 @@ fn resolve_paths(spec: &mut CaseSpec, base: &Path) {
         if let impact_solver::scene::MeshSource::Gmsh(p) = &mut body.mesh {
             resolve(p);
         }
-        if let impact_solver::scene::MaterialSpec::Microplane(
-            impact_solver::scene::MicroplaneSpec { file: Some(p), .. },
-        ) = &mut body.material
-        {
+        if let Some(p) = body.material.file_mut() {
             resolve(p);
         }
         for p in body

@@ -163,7 +163,7 @@ impl MaterialSpec {
     /// The parameter file of a microplane material, to resolve relative paths.
     pub fn file_mut(&mut self) -> Option<&mut PathBuf> {
         match self {
-            MaterialSpec::Microplane(MicroplaneSpec { file: Some(p), .. }) => Some(p),
+            MaterialSpec::Microplane(spec) => spec.file.as_mut(),
             _ => None,
         }
     }
@@ -183,7 +183,7 @@ pub enum MaterialSpec {
     /// the second Piola-Kirchhoff stress (thesis chapter 3).
     SaintVenantKirchhoff(IsotropicElastic),
     /// Microplane concrete (thesis chapter 5), from a parameter file or inline parameters.
-    Microplane(MicroplaneSpec),
+    Microplane(Box<MicroplaneSpec>),
 }
 
 /// Where the parameters of a microplane body come from: exactly one of `file` and `parameters`.
@@ -210,6 +210,11 @@ pub struct MicroplaneSpec {
     /// strain reads as volumetric tension.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub volumetric_strain: Option<crate::material::microplane::VolumetricStrain>,
+    /// Coulomb friction on the microplanes once their shear laws have softened, replacing the
+    /// parameters' (`MicroplaneParameters::crack_friction`): the residual strength of crushed
+    /// concrete under pressure, which a penetrator's nose works against.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_friction: Option<f64>,
 }
 
 fn rate_effect_on() -> bool {
@@ -263,6 +268,9 @@ impl MaterialSpec {
                 }
                 if let Some(measure) = spec.volumetric_strain {
                     parameters.volumetric_strain = measure;
+                }
+                if let Some(mu) = spec.crack_friction {
+                    parameters.crack_friction = Some(mu);
                 }
                 MaterialModel::Microplane(parameters)
             }
@@ -561,9 +569,7 @@ impl Scene {
                     *p = base.join(&*p);
                 }
             }
-            if let MaterialSpec::Microplane(MicroplaneSpec { file: Some(p), .. }) =
-                &mut body.material
-            {
+            if let Some(p) = body.material.file_mut() {
                 if p.is_relative() {
                     *p = base.join(&*p);
                 }

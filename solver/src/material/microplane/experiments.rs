@@ -425,7 +425,7 @@ pub fn hydrostatic_compression(
             de / QUASI_STATIC_RATE,
         )
     }));
-    let damaged = point.state.secants().iter().any(|&s| {
+    let damaged = point.state.secants(model.planes().len()).iter().any(|&s| {
         s.is_finite()
             && s < 0.999 * model.parameters.youngs_modulus / (1.0 + model.parameters.poisson_ratio)
     });
@@ -478,7 +478,7 @@ pub fn closed_strain_cycle(
     let mut point = MaterialPoint::new(model, h)?;
     let mut points = vec![point.strain_step(corners[0], 1.0)];
     let start_work_index = points.len() - 1;
-    let mut previous = point.state.secants();
+    let mut previous = point.state.secants(model.planes().len());
     let mut healed = false;
     let legs = corners.iter().zip(corners.iter().cycle().skip(1));
     for (from, to) in legs {
@@ -487,7 +487,7 @@ pub fn closed_strain_cycle(
             let strain: Sym = std::array::from_fn(|j| from[j] + t * (to[j] - from[j]));
             let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
             points.push(point.strain_step(strain, dt));
-            let now = point.state.secants();
+            let now = point.state.secants(model.planes().len());
             healed |= now
                 .iter()
                 .zip(&previous)

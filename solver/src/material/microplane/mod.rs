@@ -122,7 +122,9 @@ impl MicroplaneConcrete {
             exact: false,
             elastic_limit: elastic_path::elastic_limit_of(&parameters),
             plane_stiffness: [[0.0; 6]; 6],
-            elastic_path: true,
+            // The friction sliders move in every update (MICROPLANE "Crack friction"); the
+            // elastic path leaves the plane histories untouched, so it is off with them.
+            elastic_path: parameters.crack_friction.is_none(),
             wide_vectors: wide_vectors(),
             parameters,
         };
@@ -161,7 +163,12 @@ impl MicroplaneConcrete {
 
     /// Number of `f32` values of history per element.
     pub fn state_len(&self) -> usize {
-        state::HEADER + state::PER_PLANE * self.planes.len()
+        let friction = if self.parameters.crack_friction.is_some() {
+            state::FRICTION_PER_PLANE
+        } else {
+            0
+        };
+        state::HEADER + (state::PER_PLANE + friction) * self.planes.len()
     }
 
     /// A virgin state.
@@ -467,6 +474,7 @@ impl MicroplaneConcrete {
         // The kinematic constraint (5.85, 5.86) for every plane at once, in one pass per tensor
         // over planes laid out side by side (it vectorises; the sums are those of `contract`).
         let count = self.planes.len();
+        let (planes, sliders) = planes.split_at_mut(state::PER_PLANE * count);
         let mut normal = [0.0; MAX_PLANES];
         let mut along_m = [0.0; MAX_PLANES];
         let mut along_k = [0.0; MAX_PLANES];
@@ -482,6 +490,7 @@ impl MicroplaneConcrete {
         // The energy the planes dissipate in this update (J/m^3, each branch that loads on its
         // virgin law): what may pay for the growth of the dilatant strain.
         let dilatant = p.dilatancy > 0.0;
+        let p_friction = p.crack_friction;
         let mut dissipation = 0.0;
         let mut sigma = [0.0; 6];
         for (p, (plane, history)) in self
@@ -547,6 +556,18 @@ impl MicroplaneConcrete {
                 shear_energy,
                 dilatant.then_some(&mut dissipated),
             );
+            let (s_m, s_k) = match p_friction {
+                Some(mu) => {
+                    // The plane's normal stress s_V + s_D (5.36 before the trace term).
+                    let bound = mu * (-(s_v + s_d)).max(0.0);
+                    let slip = &mut sliders[2 * p..2 * p + 2];
+                    // The cracks slide once a shear law has passed its peak on this plane.
+                    let reached = [state::M, state::M + 2, state::K, state::K + 2];
+                    let cracked = reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
+                    self.crack_friction([s_m, s_k], [e_m, e_k], slip, bound, cracked)
+                }
+                None => (s_m, s_k),
+            };
             let w = 6.0 * plane.weight;
             dissipation += w * dissipated;
             sum_d += w * s_d;
@@ -585,6 +606,48 @@ impl MicroplaneConcrete {
                 psi: relaxation,
             },
         )
+    }
+
+    /// The shear stress `[s_m, s_k]` of a plane with crack friction (MICROPLANE "Crack
+    /// friction"). Until a shear law of the plane has passed its peak (`cracked` false) the
+    /// laws' stress `s`, with the slider's slip set so that it carries `s` too; after, the
+    /// Coulomb slider at the plane's shear strain `e`, `t = E_T0 (e - slip)` with
+    /// `|t| <= bound` (the slip advancing along `t` where the trial passes the bound: M4's shear
+    /// boundary acts on the shear vector), where it carries more than `s` and does not oppose
+    /// it, and `s` otherwise.
+    #[inline(always)]
+    fn crack_friction(
+        &self,
+        s: [f64; 2],
+        e: [f64; 2],
+        slip: &mut [f32],
+        bound: f64,
+        cracked: bool,
+    ) -> (f64, f64) {
+        if !cracked {
+            for i in 0..2 {
+                slip[i] = (e[i] - s[i] / self.e_t0) as f32;
+            }
+            return (s[0], s[1]);
+        }
+        let mut t = [
+            self.e_t0 * (e[0] - slip[0] as f64),
+            self.e_t0 * (e[1] - slip[1] as f64),
+        ];
+        let norm = t[0].hypot(t[1]);
+        if norm > bound {
+            let scale = bound / norm;
+            for i in 0..2 {
+                t[i] *= scale;
+                slip[i] = (e[i] - t[i] / self.e_t0) as f32;
+            }
+        }
+        let carried = |v: [f64; 2]| v[0] * v[0] + v[1] * v[1];
+        if t[0] * s[0] + t[1] * s[1] >= 0.0 && carried(t) > carried(s) {
+            (t[0], t[1])
+        } else {
+            (s[0], s[1])
+        }
     }
 
     /// One shear component (5.20, 5.23) with its two branches and the cyclic damage (5.104):

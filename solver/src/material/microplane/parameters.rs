@@ -84,6 +84,13 @@ pub struct MicroplaneParameters {
     /// the Green-Lagrange strain (MICROPLANE.md, the default) or the volume ratio `J`.
     #[serde(default, skip_serializing_if = "is_trace")]
     pub volumetric_strain: VolumetricStrain,
+    /// Coulomb friction on the microplanes once their shear laws have softened (MICROPLANE
+    /// "Crack friction", `docs/MICROPLANE.md`): each shear component keeps at least the stress
+    /// of a friction slider of stiffness `E_T0` bounded by this coefficient times the plane's
+    /// compressive normal stress (the frictional shear boundary of M4, Bažant et al. 2000,
+    /// `c10 = 0.73`). `~` (the default, the thesis): none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_friction: Option<f64>,
 }
 
 fn is_trace(v: &VolumetricStrain) -> bool {
@@ -199,6 +206,11 @@ impl MicroplaneParameters {
                 return Err(ParameterError::UnloadingFraction { name, value });
             }
         }
+        if let Some(mu) = self.crack_friction {
+            if !(mu > 0.0 && mu.is_finite()) {
+                return Err(ParameterError::CrackFriction(mu));
+            }
+        }
         if let Some(rate) = self.rate_effect {
             if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
                 return Err(ParameterError::RateEffect {
@@ -232,6 +244,9 @@ pub enum ParameterError {
     /// A negative `dilatancy` (dilatant volumetric per inelastic deviatoric strain); holds it.
     #[error("dilatancy must be >= 0 (0: none), got {0}")]
     Dilatancy(f64),
+    /// A `crack_friction` coefficient that is not positive and finite; holds it.
+    #[error("crack_friction must be positive and finite (leave it out for none), got {0}")]
+    CrackFriction(f64),
     /// `e4` or `p`, which must not be negative.
     #[error("{name} must be >= 0, got {value}")]
     Negative {

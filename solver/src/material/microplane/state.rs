@@ -4,7 +4,8 @@
 //! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi, dilatancy, virgin
 //! planes, elastic updates]`, then per plane
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
-//! component ending with its cyclic dissipation `Lambda` (5.104).
+//! component ending with its cyclic dissipation `Lambda` (5.104); with crack friction, the two
+//! slips of each plane's friction sliders after the last plane.
 
 /// Number of values of the element header, before the first plane.
 pub const HEADER: usize = 9;
@@ -29,6 +30,10 @@ pub const VIRGIN_PLANES: usize = 7;
 pub const ELASTIC_UPDATES: usize = 8;
 /// Number of values of each microplane after the header.
 pub const PER_PLANE: usize = 14;
+/// Number of values per plane of the crack-friction sliders (MICROPLANE "Crack friction"): the
+/// slip of the `m` and `k` components. With crack friction they follow the planes, two per
+/// plane in plane order; without it there are none.
+pub const FRICTION_PER_PLANE: usize = 2;
 /// Offset in a plane of the deviatoric-tension branch `D+` (5.19): largest strain, stress (Pa).
 pub const D_POSITIVE: usize = 0;
 /// Offset in a plane of the deviatoric-compression branch `D-` (5.19): largest strain magnitude,
@@ -79,8 +84,9 @@ impl MicroplaneState {
     }
 
     /// Secant `s / e` at the turning point of every branch that has been loaded (volumetric
-    /// tension, then per plane D+, D-, M+, M-, K+, K-): each can only fall as damage grows.
-    pub fn secants(&self) -> Vec<f64> {
+    /// tension, then per plane D+, D-, M+, M-, K+, K-, for the model's `planes` planes): each
+    /// can only fall as damage grows.
+    pub fn secants(&self, planes: usize) -> Vec<f64> {
         let mut out = Vec::new();
         let mut push = |e: f32, s: f32| {
             out.push(if e > 0.0 {
@@ -90,7 +96,7 @@ impl MicroplaneState {
             })
         };
         push(self.values[V_TENSION], self.values[V_TENSION + 1]);
-        for plane in self.values[HEADER..].chunks_exact(PER_PLANE) {
+        for plane in self.values[HEADER..].chunks_exact(PER_PLANE).take(planes) {
             for start in [D_POSITIVE, D_NEGATIVE, M, M + 2, K, K + 2] {
                 push(plane[start], plane[start + 1]);
             }

@@ -99,6 +99,10 @@ pub struct Targets {
     /// ([`super::experiments::bonded_tension`]).
     #[serde(default)]
     pub fracture_path: FracturePath,
+    /// Crack friction of the calibrated parameters (MICROPLANE "Crack friction"), held fixed
+    /// while the laws are fitted around it; none (the thesis) by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_friction: Option<f64>,
 }
 
 impl Targets {
@@ -127,6 +131,7 @@ impl Targets {
             // Started at 0.6: from 0.3 the fit stops at 0.38, where the ratio peaks at 0.494.
             dilatancy: 0.6,
             fracture_path: FracturePath::Bonded,
+            crack_friction: None,
         }
     }
 }
@@ -450,5 +455,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         dilatancy: 0.0,
         tension_driver: TensionDriver::Volumetric,
         volumetric_strain: Default::default(),
+        crack_friction: None,
     }
 }

@@ -80,6 +80,7 @@ pub fn calibrate(
     p.rate_effect = None;
     p.tension_driver = targets.tension_driver;
     p.dilatancy = targets.dilatancy;
+    p.crack_friction = targets.crack_friction;
     let tension = |p: &mut MicroplaneParameters, stage: &str, log: &mut dyn FnMut(&str)| {
         *p = optimise(
             p,
