@@ -561,10 +561,16 @@ impl MicroplaneConcrete {
                     // The plane's normal stress s_V + s_D (5.36 before the trace term).
                     let bound = mu * (-(s_v + s_d)).max(0.0);
                     let slip = &mut sliders[2 * p..2 * p + 2];
-                    // The cracks slide once a shear law has passed its peak on this plane.
+                    // The cracks slide once a shear law has passed its peak on this plane or
+                    // the element's cracks have opened (psi < 1). The slider sees the plane's
+                    // shear strain itself: psi stands for open cracks, which carry nothing, and
+                    // an open crack has no compressive normal stress to bound friction by, but
+                    // once closed under pressure it slides with friction however wide it was.
                     let reached = [state::M, state::M + 2, state::K, state::K + 2];
-                    let cracked = reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
-                    self.crack_friction([s_m, s_k], [e_m, e_k], slip, bound, cracked)
+                    let cracked = relaxation < 1.0
+                        || reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
+                    let strain = [along_m[p], along_k[p]];
+                    self.crack_friction([s_m, s_k], strain, slip, bound, cracked)
                 }
                 None => (s_m, s_k),
             };
@@ -609,9 +615,10 @@ impl MicroplaneConcrete {
     }
 
     /// The shear stress `[s_m, s_k]` of a plane with crack friction (MICROPLANE "Crack
-    /// friction"). Until a shear law of the plane has passed its peak (`cracked` false) the
-    /// laws' stress `s`, with the slider's slip set so that it carries `s` too; after, the
-    /// Coulomb slider at the plane's shear strain `e`, `t = E_T0 (e - slip)` with
+    /// friction"). Until the plane cracks (`cracked` false: no shear law past its peak, `psi`
+    /// still 1) the laws' stress `s`, with the slider's slip set so that it carries `s` too;
+    /// after, the Coulomb slider at the plane's shear strain `e` (without `psi`),
+    /// `t = E_T0 (e - slip)` with
     /// `|t| <= bound` (the slip advancing along `t` where the trial passes the bound: M4's shear
     /// boundary acts on the shear vector), where it carries more than `s` and does not oppose
     /// it, and `s` otherwise.
