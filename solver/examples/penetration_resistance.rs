@@ -20,7 +20,7 @@
 //! softens to zero whatever the pressure. The elements by the nail's nose (0.3 to 1.5 mm) were
 //! stress-free or nearly hydrostatic in the run, a fluid. The crack-friction refit
 //! (`thesis-concrete-crack-friction.yaml`, docs/MICROPLANE.md "Crack friction") keeps 0.63 times the
-//! pressure on the same paths at both sizes (101 / 198 / 635 MPa at 0.25 mm, 48 / 153 / 585 MPa at
+//! pressure on the same paths at both sizes (70 / 169 / 592 MPa at 0.25 mm, 38 / 145 / 567 MPa at
 //! 50 mm): the Coulomb limit of friction 0.73 homogenised over the 21 planes.
 //!
 //! `cargo run --release -p impact-solver --example penetration_resistance [-- MATERIAL_FILE]`
