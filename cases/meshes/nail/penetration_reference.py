@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Empirical penetration depths of the nail of this folder into the thesis concrete.
 
-Reproduces the numbers of PENETRATION-REFERENCE.md, section (d). Standard library only:
+Reproduces the numbers of PENETRATION-REFERENCE.md, section (d), and writes the speed-travel
+curve of Forrestal's model that the nail case draws (forrestal-1994-speed.csv). Standard library
+only:
     python3 penetration_reference.py
 
 Formulas (SI units unless said):
@@ -18,6 +20,7 @@ Formulas (SI units unless said):
 """
 
 import math
+import os
 
 # The nail of nail.geo (full, not the quarter): steel, 4 mm shank of 40 mm, tangent ogive psi = 3.
 RHO_STEEL = 8000.0
@@ -64,6 +67,31 @@ def forrestal_1994(m, a, psi, vs, fc_mpa, rho, verbose=True):
         print(f"  P = {length * math.log1p(arg) * 1e3:.2f} mm + 4a = {4 * a * 1e3:.1f} mm"
               f" -> P = {p * 1e3:.2f} mm  (P/d = {p / (2 * a):.2f}; needs P > 4a: {p > 4 * a})")
     return p
+
+
+def forrestal_speed_curve(m, a, psi, vs, fc_mpa, rho, gap, points=200):
+    """The nail's speed against its tip's travel under Forrestal's force law (the same model as
+    forrestal_1994): constant Vs across the gap, then the crater, F = c z for z <= 4a with
+    c 4a = pi a^2 (S fc + N rho V1^2), so v^2 = Vs^2 - c z^2 / m; then the tunnel,
+    m v dv/dz = -pi a^2 (S fc + N rho v^2), so
+    v^2 = (S fc / (N rho) + V1^2) exp(-2 pi a^2 N rho (z - 4a) / m) - S fc / (N rho).
+    Rows (tip displacement along the nail's motion, negative: -(gap + z); speed), to the stop."""
+    fc = fc_mpa * 1e6
+    n = (8 * psi - 1) / (24 * psi**2)
+    s = 82.6 * fc_mpa**-0.544
+    v1_sq = (m * vs**2 - 4 * math.pi * a**3 * s * fc) / (m + 4 * math.pi * a**3 * n * rho)
+    c = math.pi * a**2 * (s * fc + n * rho * v1_sq) / (4 * a)
+    stop = forrestal_1994(m, a, psi, vs, fc_mpa, rho, False)
+    rows = [(0.0, vs)]
+    for i in range(points + 1):
+        z = stop * i / points
+        if z <= 4 * a:
+            v_sq = vs**2 - c * z * z / m
+        else:
+            k = s * fc / (n * rho)
+            v_sq = (k + v1_sq) * math.exp(-2 * math.pi * a**2 * n * rho * (z - 4 * a) / m) - k
+        rows.append((-(gap + z), math.sqrt(max(v_sq, 0.0))))
+    return rows
 
 
 def li_chen_2003(m, a, psi, nose_length, vs, fc_mpa, rho, verbose=True):
@@ -136,6 +164,16 @@ def main():
             print(f"  fc {fc:4.0f} MPa, Vs {v:4.0f} m/s:"
                   f" {forrestal_1994(m, A, PSI, v, fc, RHO_C, False) * 1e3:6.2f}"
                   f" / {ndrc_modified(m, D, PSI, v, fc, False) * 1e3:6.2f}")
+    # The curve the nail case draws beside its run (cases/penetration/nail-200ms.yaml): the
+    # meshed nail, its tip 0.5 mm above the block at the start.
+    curve = forrestal_speed_curve(m_mesh, a_eq, PSI, VS, FC_MPA, RHO_C, 0.5e-3)
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "forrestal-1994-speed.csv")
+    with open(path, "w") as out:
+        out.write("# Forrestal et al. 1994, the meshed nail (penetration_reference.py)\n")
+        out.write("tip_y,speed\n")
+        for x, v in curve:
+            out.write(f"{x:.6e},{v:.4f}\n")
+    print(f"wrote {path} ({len(curve)} rows, stop at {-curve[-1][0] * 1e3:.2f} mm of travel)")
     gm = math.sqrt(p_f * p_n)
     print(f"\ngeometric mean of the two: {gm * 1e3:.1f} mm; factor-2 band about it:"
           f" {gm / 2 * 1e3:.1f} to {gm * 2 * 1e3:.1f} mm")
