@@ -17,6 +17,8 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use impact_solver::kinematics::{cofactor, polar_rotation};
 use impact_solver::material::microplane::{sym, MicroplaneConcrete, MicroplaneParameters};
 use nalgebra::Matrix3;
@@ -31,15 +33,11 @@ fn concretes() -> Vec<(&'static str, MicroplaneConcrete)> {
 }
 
 fn concrete(name: &str) -> MicroplaneParameters {
-    let path = format!(
-        "{}/../cases/materials/{name}.yaml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let mut p = impact_solver::material::read_microplane_file(std::path::Path::new(&path))
-        .expect("the shipped material file");
-    // Quasi-static: the rate factor only scales the strengths.
-    p.rate_effect = None;
-    p
+    MicroplaneParameters {
+        // Quasi-static: the rate factor only scales the strengths.
+        rate_effect: None,
+        ..common::shipped_concrete(name)
+    }
 }
 
 /// The work `int P : dF` per unit reference volume (J/m^3, trapezoidal) at every point of the

@@ -12,19 +12,17 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
 /// The shipped material `cases/materials/<name>.yaml`, quasi-static.
 fn concrete(name: &str) -> MicroplaneParameters {
-    let path = format!(
-        "{}/../cases/materials/{name}.yaml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let mut p = impact_solver::material::read_microplane_file(std::path::Path::new(&path))
-        .expect("the shipped material file");
-    p.rate_effect = None;
-    p
+    MicroplaneParameters {
+        rate_effect: None,
+        ..common::shipped_concrete(name)
+    }
 }
 
 /// The thesis concrete with the given crack friction.

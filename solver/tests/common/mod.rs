@@ -147,8 +147,13 @@ pub fn tip_loaded_cantilever<M: Into<impact_solver::model::MaterialSource>>(
 
 /// The microplane parameters of the thesis' concrete (`cases/materials/thesis-concrete.yaml`).
 pub fn thesis_concrete() -> impact_solver::material::microplane::MicroplaneParameters {
+    shipped_concrete("thesis-concrete")
+}
+
+/// The microplane parameters of the shipped material `cases/materials/<name>.yaml`.
+pub fn shipped_concrete(name: &str) -> impact_solver::material::microplane::MicroplaneParameters {
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../cases/materials/thesis-concrete.yaml");
+        .join(format!("../cases/materials/{name}.yaml"));
     impact_solver::material::read_microplane_file(&path).unwrap()
 }
 
