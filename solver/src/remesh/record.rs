@@ -131,6 +131,11 @@ pub struct MeshState {
     pub elements: usize,
     /// The largest collapse ratio `chi = L_max / L_min` of its elements (8.1).
     pub worst_collapse_ratio: f64,
+    /// The largest distortion the run watches ([`super::distortion`]: `chi`, or the inverse
+    /// mean ratio where larger, which sees slivers), infinite for an element without volume.
+    pub worst_distortion: f64,
+    /// The element of [`Self::worst_distortion`] (the lowest index among equals).
+    pub worst_distortion_element: usize,
     /// Total mass (kg).
     pub mass: f64,
     /// Kinetic energy (J).
@@ -154,9 +159,22 @@ impl MeshState {
         v: &[Vector3<f64>],
         stored: f64,
     ) -> Self {
+        let (worst_distortion_element, worst_distortion) = tets
+            .iter()
+            .map(|tet| super::distortion(&tet.map(|n| x[n as usize])))
+            .enumerate()
+            .fold((0, 0.0), |worst, (e, d)| {
+                if d > worst.1 || (d.is_nan() && !worst.1.is_nan()) {
+                    (e, d)
+                } else {
+                    worst
+                }
+            });
         Self {
             elements: tets.len(),
             worst_collapse_ratio: super::check_distortion(x, tets, f64::INFINITY).worst_ratio,
+            worst_distortion,
+            worst_distortion_element,
             mass: mass.iter().sum(),
             kinetic: kinetic_energy(mass, v),
             stored,
@@ -217,7 +235,7 @@ impl RemeshRecord {
     pub fn summary(&self) -> String {
         format!(
             "remeshing at t = {:.6e} s: {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
-             mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
+             worst distortion {:.3} (element {}) -> {:.3} (element {}), mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
              inside), {} boundary slivers peeled, {} surface collapses (volume change {:.3e} m^3)",
@@ -226,6 +244,10 @@ impl RemeshRecord {
             self.after.elements,
             self.before.worst_collapse_ratio,
             self.after.worst_collapse_ratio,
+            self.before.worst_distortion,
+            self.before.worst_distortion_element,
+            self.after.worst_distortion,
+            self.after.worst_distortion_element,
             self.before.mass,
             self.after.mass,
             self.before.kinetic,
@@ -242,5 +264,39 @@ impl RemeshRecord {
             self.surface_collapses,
             self.surface_volume_change,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MeshState;
+    use nalgebra::Vector3;
+
+    /// A needle (a long element, `chi` 10) beside a sliver (edges alike, `chi` 1.41, nearly no
+    /// volume): the collapse ratio names the needle, the watched distortion the sliver, which
+    /// is the element a run pauses for.
+    #[test]
+    fn the_record_names_the_sliver_the_collapse_ratio_misses() {
+        let h = 1e-3;
+        let x = [
+            // the needle
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(10.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+            // the sliver
+            Vector3::new(1.0, 0.0, h),
+            Vector3::new(-1.0, 0.0, h),
+            Vector3::new(0.0, 1.0, -h),
+            Vector3::new(0.0, -1.0, -h),
+        ];
+        let tets = [[0, 1, 2, 3], [4, 5, 6, 7]];
+        let state = MeshState::measure(&x, &tets, &[1.0; 8], &[Vector3::zeros(); 8], 0.0);
+        let chi_needle = super::super::collapse_ratio(&tets[0].map(|n| x[n as usize]));
+        assert_eq!(state.worst_collapse_ratio, chi_needle);
+        let sliver = super::super::distortion(&tets[1].map(|n| x[n as usize]));
+        assert!(sliver > chi_needle, "sliver {sliver}, needle {chi_needle}");
+        assert_eq!(state.worst_distortion_element, 1);
+        assert_eq!(state.worst_distortion, sliver);
     }
 }

@@ -57,17 +57,19 @@ impl RemeshWatch for Watches<'_> {
 /// after; the largest collapse ratio (8.1) before and after; kinetic and stored energy (J)
 /// before and after; the jump in total energy (J); the norm of the momentum jump (kg m/s) and
 /// of the uniform velocity shift that restored it (m/s); the new surface nodes moved out of a
-/// contact partner and the largest move (m).
+/// contact partner and the largest move (m); the largest distortion the run watches before and
+/// after and its element in each mesh.
 pub const REMESHING_CSV_HEADER: &str = "time,elements_before,elements_after,\
 worst_collapse_before,worst_collapse_after,kinetic_before,kinetic_after,stored_before,\
 stored_after,total_energy_jump,momentum_jump,velocity_shift,surface_nodes_moved,\
-largest_surface_move";
+largest_surface_move,worst_distortion_before,worst_distortion_after,\
+worst_distortion_element_before,worst_distortion_element_after";
 
 /// One row of `<stem>_remeshing.csv` (the columns of [`REMESHING_CSV_HEADER`]), without the
 /// line end; floats in Rust's shortest round-trip exponent form.
 pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
     format!(
-        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}",
+        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{}",
         r.time,
         r.before.elements,
         r.after.elements,
@@ -82,6 +84,10 @@ pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
         r.velocity_shift.norm(),
         r.separation.moved,
         r.separation.largest_depth,
+        r.before.worst_distortion,
+        r.after.worst_distortion,
+        r.before.worst_distortion_element,
+        r.after.worst_distortion_element,
     )
 }
 
