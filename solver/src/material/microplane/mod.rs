@@ -616,12 +616,11 @@ impl MicroplaneConcrete {
 
     /// The shear stress `[s_m, s_k]` of a plane with crack friction (MICROPLANE "Crack
     /// friction"). Until the plane cracks (`cracked` false: no shear law past its peak, `psi`
-    /// still 1) the laws' stress `s`, with the slider's slip set so that it carries `s` too;
-    /// after, the Coulomb slider at the plane's shear strain `e` (without `psi`),
-    /// `t = E_T0 (e - slip)` with
-    /// `|t| <= bound` (the slip advancing along `t` where the trial passes the bound: M4's shear
-    /// boundary acts on the shear vector), where it carries more than `s` and does not oppose
-    /// it, and `s` otherwise.
+    /// still 1) the laws' stress `s`, with the slider's slip set so that it carries `s` too.
+    /// After, the Coulomb slider at the plane's shear strain `e` (without `psi`),
+    /// `t = E_T0 (e - slip)` with `|t| <= bound` (the slip advancing along `t` where the trial
+    /// passes the bound: M4's shear boundary acts on the shear vector), where it carries more
+    /// than `s` and does not oppose it; `s` otherwise.
     #[inline(always)]
     fn crack_friction(
         &self,
