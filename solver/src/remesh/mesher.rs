@@ -59,9 +59,9 @@
 //!    the outer boundary, whose nodes none of the steps above may move (a sliver lying on the
 //!    curved cavity around a penetrator's nose), is removed where the boundary stays a
 //!    manifold (one fan of faces about each node): its inner faces become the boundary, which
-//!    moves inward by at most its height. With [`MesherOptions::erode`], a collapsed element
-//!    inside the body may go too (erosion), under the same condition. Taken with the flips
-//!    (`flip_passes > 0`).
+//!    moves inward by at most its height. With [`MesherOptions::erode`], every collapsed
+//!    element goes, inside the body too, whatever the surface's shape after (erosion). Taken
+//!    with the flips (`flip_passes > 0`).
 //!
 //! Refinement stops at [`MesherOptions::min_edge`]: an edge shorter than twice it is not split.
 //! Without that bound, each remeshing at the same place halved the elements there, and the
@@ -115,10 +115,11 @@ pub struct MesherOptions {
     /// curved parts keep every node (their shape exactly).
     pub surface_deviation: f64,
     /// Whether the elements the steps above leave collapsed (quality below 0.1, a collapse
-    /// ratio of 10) may be removed inside the body too, not only from its surface (step 6),
-    /// where the boundary stays a manifold: erosion of what the remesher cannot reshape, as
-    /// explicit codes erode failed elements (LS-DYNA's `*MAT_ADD_EROSION`), with the body's
-    /// mass kept. false: only peeling from the surface.
+    /// ratio of 10) may be removed wherever they are (step 6), inside the body or on its
+    /// surface, whatever the surface's shape after (two parts of it may meet at a node or an
+    /// edge): erosion of what the remesher cannot reshape, as explicit codes erode failed
+    /// elements (LS-DYNA's `*MAT_ADD_EROSION`), with the body's mass kept. false: only
+    /// peeling from the surface, where it stays a manifold.
     pub erode: bool,
 }
 

@@ -51,9 +51,10 @@ pub struct RemeshSettings {
     /// every node there. See [`MesherOptions::surface_deviation`].
     #[serde(default)]
     pub surface_deviation: f64,
-    /// Whether the elements the remesher leaves collapsed may be eroded inside the body as well
-    /// as peeled from its surface, where the surface stays a manifold (the body's mass kept);
-    /// a triggered remeshing then takes every element past the limit. See
+    /// Whether the elements the remesher leaves collapsed may be eroded wherever they are,
+    /// whatever the surface's shape after (the body's mass kept), not only peeled from the
+    /// surface where it stays a manifold; a triggered remeshing then takes every element past
+    /// the limit. See
     /// [`MesherOptions::erode`].
     #[serde(default)]
     pub erode: bool,
