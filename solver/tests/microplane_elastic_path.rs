@@ -1,15 +1,20 @@
 //! The elastic path of the microplane update (`MicroplaneConcrete::update`) against the full
 //! update over the planes (`MicroplaneConcrete::with_full_update`): on random strain states near
 //! its limit the stresses agree to the `f32` rounding of the history, beyond the limit the path is
-//! not taken, and along paths that start elastic and go on into softening the two stay together.
+//! not taken, and along paths that start elastic and go on into softening the two stay together;
+//! for the thesis concrete and the one with crack friction (whose sliders the elastic path
+//! leaves untouched).
 #![allow(clippy::unwrap_used)]
 
 mod common;
 
-use common::{sym_norm, thesis_concrete};
+use common::{shipped_concrete, sym_norm, thesis_concrete};
 use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
 use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneState, Sym};
 use impact_solver::rng::SplitMix64;
+
+/// The shipped concretes the elastic path serves: the thesis' and the one with crack friction.
+const CONCRETES: [&str; 2] = ["thesis-concrete", "thesis-concrete-crack-friction"];
 
 /// `f32` rounding: half an ulp at 1.
 const F32_ROUNDING: f64 = 1.0 / (1u64 << 24) as f64;
@@ -28,7 +33,13 @@ fn strain_with_deviator(rng: &mut SplitMix64, size: f64, volumetric: f64) -> Sym
 
 #[test]
 fn elastic_path_equals_the_full_update_to_f32_rounding() {
-    let parameters = thesis_concrete();
+    for name in CONCRETES {
+        elastic_path_equals_the_full_update_for(name);
+    }
+}
+
+fn elastic_path_equals_the_full_update_for(name: &str) {
+    let parameters = shipped_concrete(name);
     let fast = MicroplaneConcrete::new(parameters).unwrap();
     let full = fast.clone().with_full_update();
     let limit = fast.elastic_limit();
@@ -74,8 +85,8 @@ fn elastic_path_equals_the_full_update_to_f32_rounding() {
         }
     }
     eprintln!(
-        "limit {limit:.3e}: {taken} states on the elastic path, largest difference {worst:.2e} of \
-         E|E|; {refused} beyond it"
+        "{name}: limit {limit:.3e}: {taken} states on the elastic path, largest difference \
+         {worst:.2e} of E|E|; {refused} beyond it"
     );
     assert!(taken > 500 && refused > 500);
 }
@@ -84,7 +95,13 @@ fn elastic_path_equals_the_full_update_to_f32_rounding() {
 /// shear cycles: the stresses of the two updates stay within `1e-6` of `max(|sigma|, f_t)`.
 #[test]
 fn paths_leaving_the_elastic_path_follow_the_full_update() {
-    let parameters = thesis_concrete();
+    for name in CONCRETES {
+        paths_leaving_the_elastic_path_follow_the_full_update_for(name);
+    }
+}
+
+fn paths_leaving_the_elastic_path_follow_the_full_update_for(name: &str) {
+    let parameters = shipped_concrete(name);
     let fast = MicroplaneConcrete::new(parameters).unwrap();
     let full = fast.clone().with_full_update();
     let limit = fast.elastic_limit();
@@ -119,8 +136,14 @@ fn paths_leaving_the_elastic_path_follow_the_full_update() {
             from = *to;
         }
         let elastic = a.state.elastic_updates();
-        assert!(elastic >= 300.0, "path {path}: {elastic} elastic updates");
-        assert!(worst < 1e-6, "path {path}: stresses differ by {worst:.2e}");
+        assert!(
+            elastic >= 300.0,
+            "{name} path {path}: {elastic} elastic updates"
+        );
+        assert!(
+            worst < 1e-6,
+            "{name} path {path}: stresses differ by {worst:.2e}"
+        );
     }
 }
 

@@ -40,6 +40,13 @@ use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
 
+/// The relaxation `psi` below which an element's cracks count as open for crack friction
+/// (MICROPLANE "Crack friction"): 1 less the `f32` epsilon. The tension law's secant falls below
+/// its initial modulus at any tension, by rounding first (`2^-25` at the elastic path's limit),
+/// and a test against 1 engaged every plane's slider at the first volumetric tension, so that
+/// the model left linear elasticity where the elastic path (and the thesis) keep it.
+const RELAXATION_ONSET: f64 = 1.0 - f32::EPSILON as f64;
+
 /// The model with everything that does not change during a run precomputed.
 #[derive(Debug, Clone)]
 pub struct MicroplaneConcrete {
@@ -122,9 +129,11 @@ impl MicroplaneConcrete {
             exact: false,
             elastic_limit: elastic_path::elastic_limit_of(&parameters),
             plane_stiffness: [[0.0; 6]; 6],
-            // The friction sliders move in every update (MICROPLANE "Crack friction"); the
-            // elastic path leaves the plane histories untouched, so it is off with them.
-            elastic_path: parameters.crack_friction.is_none(),
+            // With crack friction too: an uncracked plane's slider takes its slip afresh from
+            // the strain and the laws' stress in every full update (`crack_friction`), so the
+            // slips the elastic path leaves untouched (zero, as the full update makes them at
+            // linear laws) are never read.
+            elastic_path: true,
             wide_vectors: wide_vectors(),
             parameters,
         };
@@ -562,12 +571,12 @@ impl MicroplaneConcrete {
                     let bound = mu * (-(s_v + s_d)).max(0.0);
                     let slip = &mut sliders[2 * p..2 * p + 2];
                     // The cracks slide once a shear law has passed its peak on this plane or
-                    // the element's cracks have opened (psi < 1). The slider sees the plane's
+                    // the element's cracks have opened (psi < 1, beyond rounding). The slider sees the plane's
                     // shear strain itself: psi stands for open cracks, which carry nothing, and
                     // an open crack has no compressive normal stress to bound friction by, but
                     // once closed under pressure it slides with friction however wide it was.
                     let reached = [state::M, state::M + 2, state::K, state::K + 2];
-                    let cracked = relaxation < 1.0
+                    let cracked = relaxation < RELAXATION_ONSET
                         || reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
                     let strain = [along_m[p], along_k[p]];
                     self.crack_friction([s_m, s_k], strain, slip, bound, cracked)
