@@ -353,15 +353,20 @@ mod tests {
         boundary
     }
 
-    #[test]
-    fn erosion_removes_a_membrane_between_two_surfaces_where_peeling_may_not() {
+    /// The unit cube in 4 x 4 x 4 cells of six elements.
+    fn unit_box() -> crate::mesh::Mesh {
         use crate::mesh::{box_mesh, BoxSpec};
-        let mesh = box_mesh(&BoxSpec {
+        box_mesh(&BoxSpec {
             origin: [0.0; 3],
             size: [1.0; 3],
             divisions: [4, 4, 4],
             mirror: Vec::new(),
-        });
+        })
+    }
+
+    #[test]
+    fn erosion_removes_a_membrane_between_two_surfaces_where_peeling_may_not() {
+        let mesh = unit_box();
         let mut x = mesh.nodes.clone();
         let on_top = |n: u32| (mesh.nodes[n as usize].z - 1.0).abs() < 1e-9;
         let inside = |n: u32| {
@@ -426,13 +431,7 @@ mod tests {
 
     #[test]
     fn erosion_removes_a_collapsed_element_inside_the_body_and_keeps_the_surface_closed() {
-        use crate::mesh::{box_mesh, BoxSpec};
-        let mesh = box_mesh(&BoxSpec {
-            origin: [0.0; 3],
-            size: [1.0; 3],
-            divisions: [4, 4, 4],
-            mirror: Vec::new(),
-        });
+        let mesh = unit_box();
         let mut x = mesh.nodes.clone();
         let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
         // An element with its four nodes inside, one of them moved 90 % of the way to the
