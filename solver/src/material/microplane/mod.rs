@@ -571,10 +571,11 @@ impl MicroplaneConcrete {
                     let bound = mu * (-(s_v + s_d)).max(0.0);
                     let slip = &mut sliders[2 * p..2 * p + 2];
                     // The cracks slide once a shear law has passed its peak on this plane or
-                    // the element's cracks have opened (psi < 1, beyond rounding). The slider sees the plane's
-                    // shear strain itself: psi stands for open cracks, which carry nothing, and
-                    // an open crack has no compressive normal stress to bound friction by, but
-                    // once closed under pressure it slides with friction however wide it was.
+                    // the element's cracks have opened (psi < 1, beyond rounding). The slider
+                    // sees the plane's shear strain itself: psi stands for open cracks, which
+                    // carry nothing, and an open crack has no compressive normal stress to bound
+                    // friction by, but once closed under pressure it slides with friction
+                    // however wide it was.
                     let reached = [state::M, state::M + 2, state::K, state::K + 2];
                     let cracked = relaxation < RELAXATION_ONSET
                         || reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
