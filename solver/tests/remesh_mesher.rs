@@ -23,6 +23,9 @@ const N: usize = 6;
 /// given that the region's interface faces (edges h, sqrt 2 h, sqrt 3 h) are kept next to
 /// elements of half their size.
 const CHI_BOUND: f64 = 4.0;
+/// The same for the distortion with the altitude ratio ([`distortion`]), where the region meets the
+/// outer boundary, whose nodes stay.
+const DISTORTION_BOUND: f64 = 5.0;
 
 /// The unit cube meshed with `N^3` Kuhn cells.
 fn cube() -> Mesh {
@@ -183,7 +186,19 @@ fn region_on_the_outer_boundary_keeps_it() {
     }
     let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
     assert!((total - 1.0).abs() <= 1e-12, "volume {total}");
-    assert!(check.worst_ratio_after < CHI_BOUND, "{check:?}");
+    // The distortion the run watches, the altitude ratio included: before the remesher's
+    // quality weighed the altitude, this region came out with collapse ratios under 3.8 but an
+    // element of altitude ratio 11.5 (a sliver, whose stable step is 1/11 of a regular
+    // element's of the same edges); now 4.5, with collapse ratios up to 4.4.
+    let worst = new
+        .tets
+        .iter()
+        .map(|t| distortion(&t.map(|n| new.nodes[n as usize])))
+        .fold(0.0, f64::max);
+    assert!(
+        worst < DISTORTION_BOUND,
+        "worst distortion {worst}: {check:?}"
+    );
 }
 
 #[test]

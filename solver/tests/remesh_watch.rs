@@ -17,8 +17,7 @@ use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::model::Problem;
 use impact_solver::remesh::{
-    check_distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER,
-    REMESHING_CSV_HEADER,
+    distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER, REMESHING_CSV_HEADER,
 };
 use impact_solver::scene::Analysis;
 use impact_solver::SolverError;
@@ -50,7 +49,13 @@ fn sheared_block(remeshing: &str) -> (Problem, Analysis) {
         MaterialModel::SaintVenantKirchhoff(SOFT),
     );
     shear_the_box(&mut p, size, 1.0 / END);
-    let initial = check_distortion(&p.model.reference, &p.model.tets, f64::INFINITY).worst_ratio;
+    // The limit 30 % above the mesh's initial worst distortion, as the run measures it.
+    let initial = p
+        .model
+        .tets
+        .iter()
+        .map(|t| distortion(&t.map(|n| p.model.reference[n as usize])))
+        .fold(0.0, f64::max);
     let mut settings = ExplicitSettings::new(END);
     settings.safety = 0.5;
     settings.history_interval = Some(END / 200.0);

@@ -44,7 +44,25 @@ pub fn collapse_ratio(x: &[Vector3<f64>; 4]) -> f64 {
 pub fn distortion(x: &[Vector3<f64>; 4]) -> f64 {
     let eta = super::mean_ratio(x);
     if eta > 0.0 {
-        collapse_ratio(x).max(1.0 / eta)
+        collapse_ratio(x).max(1.0 / eta).max(altitude_ratio(x))
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The altitude ratio `sqrt(2/3) L_max / h_min`: the longest edge over the smallest altitude,
+/// scaled to 1 for the regular tetrahedron (whose altitudes are `sqrt(2/3)` of its edge).
+/// Infinite for an element without positive volume.
+///
+/// Why: the explicit step goes with the smallest altitude (`h_min / c_d`), which neither the
+/// collapse ratio nor the mean ratio bounds. A sliver whose altitude is 1/50 of its edges has
+/// `chi` near 2 and `1 / eta` near 12 (the mean ratio reads the volume to the power 2/3); in the
+/// nail run such elements, flattened across by the nose's passage, held the step at 1 ns while
+/// a well-shaped element of the same edges allows 30.
+pub fn altitude_ratio(x: &[Vector3<f64>; 4]) -> f64 {
+    let q = crate::mesh::element_quality(x);
+    if q.min_altitude > 0.0 {
+        (2.0f64 / 3.0).sqrt() * q.max_edge / q.min_altitude
     } else {
         f64::INFINITY
     }
@@ -296,7 +314,9 @@ mod tests {
     fn distortion_sees_the_sliver_the_collapse_ratio_misses() {
         // The sliver (1, 0, h), (-1, 0, h), (0, 1, -h), (0, -1, -h): edges 2, 2 and four of
         // sqrt(2 + 4 h^2), so chi = sqrt 2 / sqrt(1 + 2 h^2) whatever h; volume 4h / 3, so
-        // eta = 12 (3V)^(2/3) / sum l^2 = 0.75 (4h)^(2/3) / (1 + h^2).
+        // eta = 12 (3V)^(2/3) / sum l^2 = 0.75 (4h)^(2/3) / (1 + h^2). Its four faces have the
+        // area sqrt(1 + 4 h^2), so every altitude is 3V / area = 4h / sqrt(1 + 4 h^2) and the
+        // altitude ratio sqrt(2/3) 2 / h_min = sqrt(2/3) sqrt(1 + 4 h^2) / (2h).
         for h in [0.1, 0.01, 1e-3, 1e-6] {
             let x = [
                 Vector3::new(1.0, 0.0, h),
@@ -308,25 +328,35 @@ mod tests {
             let chi = collapse_ratio(&x);
             assert!(chi < 1.5, "chi = {chi}");
             let eta = 0.75 * (4.0 * h).powf(2.0 / 3.0) / (1.0 + h * h);
-            let d = distortion(&x);
+            let altitude = (2.0f64 / 3.0).sqrt() * (1.0 + 4.0 * h * h).sqrt() / (2.0 * h);
             assert!(
-                (d * eta - 1.0).abs() < 1e-12,
-                "h {h}: distortion {d}, 1/eta {}",
+                altitude > 1.0 / eta,
+                "h {h}: {altitude} against {}",
                 1.0 / eta
             );
-            // Caught from h = 0.01 (1/eta = 11.4) on, where chi stays sqrt 2.
+            let d = distortion(&x);
+            assert!(
+                (d / altitude - 1.0).abs() < 1e-12,
+                "h {h}: distortion {d}, altitude ratio {altitude}"
+            );
+            // Caught from h = 0.01 on (altitude ratio 40.8, 1/eta 11.4), where chi stays
+            // sqrt 2; at h = 0.1 the altitude ratio is 4.2.
             assert_eq!(d > COLLAPSE_RATIO_LIMIT, h <= 0.01, "h {h}: {d}");
             // Inverted: infinite.
             let flipped = [x[1], x[0], x[2], x[3]];
             assert_eq!(distortion(&flipped), f64::INFINITY);
         }
-        // A needle's collapse ratio exceeds its 1/eta: the distortion is chi.
+        // A needle (one edge 0.01 long) has chi = 100 sqrt 2 = 141, above its 1/eta (17) and
+        // its altitude ratio (sqrt(2/3) sqrt 2 / h_min = 115, with h_min = 3V over the largest
+        // face, 0.01 / sqrt(1.0002)): the distortion is chi.
         let needle = [
             Vector3::new(0.0, 0.0, 0.0),
-            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.01, 0.0, 0.0),
             Vector3::new(0.0, 1.0, 0.0),
-            Vector3::new(0.01, 0.01, 0.02),
+            Vector3::new(0.0, 0.0, 1.0),
         ];
+        let altitude = (4.0f64 / 3.0).sqrt() * 1.0002f64.sqrt() / 0.01;
+        assert!((altitude_ratio(&needle) / altitude - 1.0).abs() < 1e-12);
         assert_eq!(distortion(&needle), collapse_ratio(&needle));
         assert!((distortion(&regular()) - 1.0).abs() < 1e-14);
     }

@@ -239,9 +239,12 @@ mod tests {
     }
 
     #[test]
-    fn three_wedges_round_a_short_edge_become_two_elements() {
-        // The short edge (3, 4) of length 0.2 is held by three wedges (chi 8.7): the 3-2 flip
-        // removes it, leaving the two caps on the ring's triangle.
+    fn two_flat_caps_on_a_triangle_become_three_elements_round_an_edge() {
+        // Two caps of height 0.1 on the ring's triangle (altitude ratio 14): the 2-3 flip
+        // replaces their common face by the edge (3, 4): three wedges round it, collapse ratio
+        // 8.7 and altitude ratio about 7 (their smallest altitude is twice the caps'). The
+        // quality weighs the altitude because the stable step does: the 3-2 flip back, which
+        // trades the short edge for the caps' altitude, is refused.
         let x = nodes(0.1);
         let positive = |mut t: [u32; 4]| {
             if signed_volume(&t.map(|n| x[n as usize])) < 0.0 {
@@ -249,11 +252,12 @@ mod tests {
             }
             t
         };
-        let tets = [[3, 4, 0, 1], [3, 4, 1, 2], [3, 4, 2, 0]].map(positive);
-        let before = worst(&x, &tets);
-        let (after, flips) = flip_slivers(&x, &tets, &[false; 3], &[], 0.25, 5);
+        let caps = [[0, 1, 2, 3], [0, 1, 2, 4]].map(positive);
+        let before = worst(&x, &caps);
+        let (after, flips) = flip_slivers(&x, &caps, &[false; 2], &[], 0.25, 5);
         let live: Vec<[u32; 4]> = after.into_iter().flatten().collect();
-        assert_eq!((flips, live.len()), (1, 2), "{live:?}");
+        assert_eq!((flips, live.len()), (1, 3), "{live:?}");
+        assert!(live.iter().all(|t| t.contains(&3) && t.contains(&4)));
         assert!(
             worst(&x, &live) > before,
             "{} <= {before}",
@@ -267,22 +271,22 @@ mod tests {
         assert!(live
             .iter()
             .all(|t| signed_volume(&t.map(|n| x[n as usize])) > 0.0));
-        assert!((volume(&live) - volume(&tets)).abs() < 1e-15);
-        // The two caps are better than any 2-3 flip back: nothing flips.
-        let (again, none) = flip_slivers(&x, &live, &[false; 2], &[], 0.3, 5);
+        assert!((volume(&live) - volume(&caps)).abs() < 1e-15);
+        // The wedges are better than the 3-2 flip back: nothing flips.
+        let (again, none) = flip_slivers(&x, &live, &[false; 3], &[], 0.3, 5);
         assert_eq!(none, 0);
         assert_eq!(again.into_iter().flatten().collect::<Vec<_>>(), live);
         // A copied element is never changed.
-        let (kept, zero) = flip_slivers(&x, &tets, &[false, true, false], &[], 0.25, 5);
+        let (kept, zero) = flip_slivers(&x, &caps, &[false, true], &[], 0.25, 5);
         assert_eq!(zero, 0);
-        assert_eq!(kept.into_iter().flatten().count(), 3);
-        // Nor is a neighbour, and no flip makes one of its faces again: with an element outside
-        // on the ring's triangle (as across a flat pit of a surface), the edge stays, and the
+        assert_eq!(kept.into_iter().flatten().count(), 2);
+        // Nor is a neighbour, and no flip makes one of its edges again: with an element outside
+        // holding the edge (3, 4) (as across a flat pit of a surface), the caps stay, and the
         // output holds the region's elements only.
         let mut x = x;
-        x.push(Vector3::new(0.0, 0.0, 2.0));
-        let (kept, zero) = flip_slivers(&x, &tets, &[false; 3], &[[0, 1, 2, 5]], 0.25, 5);
+        x.push(Vector3::new(-2.0, 0.5, 0.0));
+        let (kept, zero) = flip_slivers(&x, &caps, &[false; 2], &[[3, 4, 5, 0]], 0.25, 5);
         assert_eq!(zero, 0);
-        assert_eq!(kept, tets.map(Some).to_vec());
+        assert_eq!(kept, caps.map(Some).to_vec());
     }
 }

@@ -261,6 +261,7 @@ pub(super) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
         return eta;
     }
     eta.min(1.0 / super::distortion::collapse_ratio(x))
+        .min(1.0 / super::distortion::altitude_ratio(x))
 }
 
 /// Replaces the elements `region` (indices into `tets`) of the mesh with current coordinates

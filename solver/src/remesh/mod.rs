@@ -71,9 +71,9 @@ mod watch;
 pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
 pub use distortion::{
-    check_distortion, collapse_ratio, deformation_jacobians, distortion, refinement_region,
-    region_parts, DistortionCheck, JacobianExtreme, RefinementCriteria, COLLAPSE_RATIO_LIMIT,
-    REFINEMENT_DELTA,
+    altitude_ratio, check_distortion, collapse_ratio, deformation_jacobians, distortion,
+    refinement_region, region_parts, DistortionCheck, JacobianExtreme, RefinementCriteria,
+    COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
