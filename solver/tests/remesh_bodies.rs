@@ -380,3 +380,97 @@ fn bars_remeshed_during_their_impact_still_exchange_velocities() {
         "the remeshed run ends with {b:?} m/s, the fixed mesh with {a:?} m/s"
     );
 }
+
+/// The fields written after a remeshing read the deformation reached before it: an element
+/// the remeshing left as it was has, on the new mesh at the moment of the remeshing, the
+/// Green-Lagrange strain, largest principal strain and Cauchy stress it had on the old mesh, and every
+/// node of it the displacement from the original configuration. (They were computed from the
+/// displacement since the remeshing alone, so a remeshed body's frames showed it unstrained.)
+#[test]
+fn fields_after_a_remeshing_read_the_deformation_reached_before_it() {
+    let m = MaterialModel::SaintVenantKirchhoff(STEEL);
+    let model = Model::new(vec![(
+        "cube".into(),
+        box_body([1.0; 3], [4, 4, 4], 0.2, 7),
+        m,
+    )])
+    .unwrap();
+    let mut p = Problem::new(model);
+    // A stretch along x and a shear in y, growing with time.
+    for (n, x) in p.model.reference.clone().iter().enumerate() {
+        p.initial_velocity[n] = Vector3::new(40.0 * x.x, 15.0 * x.x, 0.0);
+    }
+    let state = run(&p, None, 40);
+    let region = region_near(&p, &state, 0, Vector3::new(0.5, 0.5, 0.5), 0.2);
+    let r = remesh(&p, &state, &region);
+    let (old, new) = (&p.model, &r.problem.model);
+    let before = old.element_fields(&state.u);
+    let after = new.element_fields(&r.state.u);
+    let frame = |model: &Model, u: &[Vector3<f64>]| {
+        let points: Vec<Vector3<f64>> = model.reference.iter().zip(u).map(|(x, u)| x + u).collect();
+        let f = impact_solver::model::field_frame(model, &points, u, None, 0.0);
+        match &f.point_data[0] {
+            (name, impact_solver::output::vtu::FieldData::Vector(d)) if name == "displacement" => {
+                d.clone()
+            }
+            _ => panic!("the first point field is the displacement"),
+        }
+    };
+    let (d_old, d_new) = (frame(old, &state.u), frame(new, &r.state.u));
+    // Old elements by their current corners (the new reference is the old current
+    // configuration, computed the same way, so a kept element's corners match bit for bit).
+    let key = |x: [Vector3<f64>; 4]| {
+        let mut k: Vec<[u64; 3]> = x.iter().map(|p| p.map(f64::to_bits).into()).collect();
+        k.sort_unstable();
+        k
+    };
+    let old_by_corners: std::collections::HashMap<_, usize> = (0..old.element_count())
+        .map(|e| {
+            (
+                key(old.tets[e].map(|n| old.reference[n as usize] + state.u[n as usize])),
+                e,
+            )
+        })
+        .collect();
+    let (mut kept, mut strain_seen) = (0, 0.0f64);
+    for e in 0..new.element_count() {
+        let corners = new.tets[e].map(|n| new.reference[n as usize]);
+        let Some(&o) = old_by_corners.get(&key(corners)) else {
+            continue;
+        };
+        kept += 1;
+        let scale = before.green_lagrange[o]
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        strain_seen = strain_seen.max(scale);
+        for i in 0..6 {
+            assert!(
+                (after.green_lagrange[e][i] - before.green_lagrange[o][i]).abs() < 1e-12 * scale,
+                "element {e} (was {o}): E {:?} against {:?}",
+                after.green_lagrange[e],
+                before.green_lagrange[o]
+            );
+            let s = before.cauchy[o].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!((after.cauchy[e][i] - before.cauchy[o][i]).abs() < 1e-9 * s);
+        }
+        let eps_1 = before.max_principal_strain[o];
+        assert!((after.max_principal_strain[e] - eps_1).abs() < 1e-12 * scale);
+        for &n in &new.tets[e] {
+            // The node of the old mesh at the same place.
+            let x = new.reference[n as usize];
+            let q = old.tets[o]
+                .iter()
+                .find(|&&q| old.reference[q as usize] + state.u[q as usize] == x)
+                .unwrap();
+            let (a, b) = (d_new[n as usize], d_old[*q as usize]);
+            for i in 0..3 {
+                assert!(
+                    (a[i] - b[i]).abs() < 1e-15 + 1e-12 * b[i].abs(),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+    }
+    assert!(kept > 100, "most elements are kept ({kept})");
+    assert!(strain_seen > 1e-4, "the body is strained ({strain_seen:e})");
+}

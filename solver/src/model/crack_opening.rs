@@ -18,7 +18,7 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::{MaterialHistory, Model};
-use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
+use crate::kinematics::green_lagrange_from_h;
 use crate::material::microplane::{largest_principal, sym};
 
 impl Model {
@@ -39,9 +39,7 @@ impl Model {
                 .enumerate()
                 .for_each(|(local, w)| {
                     let e = first + local;
-                    let grad_h =
-                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
-                    let strain = green_lagrange_from_h(&grad_h);
+                    let strain = green_lagrange_from_h(&self.strain_gradient(e, u));
                     let inelastic = strain - elastic_strain(&h.cauchy[local], young, nu);
                     let length = self
                         .crack_indicator

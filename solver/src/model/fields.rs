@@ -4,7 +4,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::{MaterialHistory, Model};
-use crate::kinematics::{displacement_gradient, green_lagrange_from_h, principal_values, voigt};
+use crate::kinematics::{green_lagrange_from_h, principal_values, voigt};
 use crate::material::{Deformation, ElementState};
 use crate::output::vtu::{FieldData, FieldFrame};
 
@@ -104,7 +104,7 @@ impl Model {
             rate_factor: Vec::with_capacity(n),
         };
         let strains = |out: &mut ElementFields, e: usize| {
-            let h = displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+            let h = self.strain_gradient(e, u);
             let green = green_lagrange_from_h(&h);
             let eps_1 = principal_values(&green)[2];
             out.max_principal_strain.push(eps_1);
@@ -181,7 +181,18 @@ pub fn field_frame_with_history<'a>(
 ) -> FieldFrame<'a> {
     let fields = model.element_fields_with_history(u, history);
     let as_arrays = |x: &[Vector3<f64>]| x.iter().map(|a| [a.x, a.y, a.z]).collect();
-    let mut point_data = vec![("displacement".to_string(), FieldData::Vector(as_arrays(u)))];
+    // After a remeshing `u` runs from the remeshing: the frame gives the displacement from the
+    // original configuration, as before it (the points are the current ones either way).
+    let displacement = match &model.carried {
+        Some(c) => c
+            .displacement
+            .iter()
+            .zip(u)
+            .map(|(d, u)| [d.x + u.x, d.y + u.y, d.z + u.z])
+            .collect(),
+        None => as_arrays(u),
+    };
+    let mut point_data = vec![("displacement".to_string(), FieldData::Vector(displacement))];
     if let Some(v) = v {
         point_data.push(("velocity".to_string(), FieldData::Vector(as_arrays(v))));
     }

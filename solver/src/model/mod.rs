@@ -331,6 +331,18 @@ impl Model {
         }
     }
 
+    /// Displacement gradient `H = F - I` of element `e` from the stress-free configuration: the
+    /// one every strain measure reads. `grad_X u` itself before any remeshing (so bitwise what
+    /// it always was); after one, `F_r F_0 - I` with [`Self::deformation_gradient`], not the
+    /// gradient of the displacement since the remeshing, which knows nothing of the
+    /// deformation reached before it.
+    pub fn strain_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
+        match &self.carried {
+            Some(_) => self.deformation_gradient(e, u) - Matrix3::identity(),
+            None => displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]),
+        }
+    }
+
     /// Internal nodal forces `f_a = V P grad_X N_a` summed per node, written into `f`, for a
     /// model whose materials have no history.
     ///

@@ -5,7 +5,7 @@
 use super::ExplicitSolver;
 use crate::dynamics::InstabilityReport;
 use crate::error::SolverError;
-use crate::kinematics::{displacement_gradient, green_lagrange_from_h};
+use crate::kinematics::green_lagrange_from_h;
 use crate::output::{Halt, ObserverSet};
 
 impl<'p> ExplicitSolver<'p> {
@@ -66,8 +66,7 @@ impl<'p> ExplicitSolver<'p> {
         let model = &self.problem.model;
         let mut worst: Option<(f64, usize)> = None;
         for e in 0..model.element_count() {
-            let h =
-                displacement_gradient(&model.element_displacements(e, &self.u), &model.grad_n[e]);
+            let h = model.strain_gradient(e, &self.u);
             let norm = green_lagrange_from_h(&h).norm();
             let norm = if norm.is_finite() {
                 norm
