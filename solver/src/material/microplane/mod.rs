@@ -650,9 +650,11 @@ impl MicroplaneConcrete {
             self.e_t0 * (e[0] - slip[0] as f64),
             self.e_t0 * (e[1] - slip[1] as f64),
         ];
-        let norm = t[0].hypot(t[1]);
-        if norm > bound {
-            let scale = bound / norm;
+        // Squared norms compare: `hypot` guards against an overflow these stresses cannot
+        // reach, and it took 8 % of the nail run's time (perf).
+        let norm_squared = t[0] * t[0] + t[1] * t[1];
+        if norm_squared > bound * bound {
+            let scale = bound / norm_squared.sqrt();
             for i in 0..2 {
                 t[i] *= scale;
                 slip[i] = (e[i] - t[i] / self.e_t0) as f32;
