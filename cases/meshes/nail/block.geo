@@ -7,9 +7,11 @@
 // Parameter fine_depth (default 0): the fine zone is the set of points within r_fine of the
 // segment of the axis from y = 0.5 down to y = 0.5 - fine_depth (a ball about the impact point
 // for 0); e.g. -setnumber fine_depth 0.02 refines along the first 20 mm of the nail's path.
-// Parameter h_fine (default 0.0015): the element size of the fine zone; -setnumber h_fine 0.0005
-// -setnumber fine_depth 0.012 is the 0.5 mm block of the nail case's known failure (about 163 000
-// tetrahedra against 35 000).
+// Parameters h_fine (default 0.0015), r_fine (0.010) and growth (0.08): the fine zone's element
+// size and radius, and the growth of the size beyond it. block-path.msh, the block of the nail
+// case, is 0.5 mm within 4 mm of the nail's path for 25 mm, growing by 0.2 mm per mm:
+//   gmsh block.geo -3 -format msh41 -bin -setnumber h_fine 0.0005 -setnumber r_fine 0.004
+//        -setnumber growth 0.2 -setnumber fine_depth 0.025 -o block-path.msh
 // Parameters pilot_radius, pilot_depth (default 0: none) and h_pilot (0.4 mm): a pilot hole about
 // the axis from the top face down to pilot_depth, meshed at h_pilot on its wall (README.md: an
 // experiment of issue 21, not used by a case).
@@ -29,13 +31,14 @@ DefineConstant[ pilot_radius = {0, Name "Parameters/pilot_radius"} ];
 DefineConstant[ pilot_depth = {0, Name "Parameters/pilot_depth"} ];
 DefineConstant[ h_pilot = {0.0004, Name "Parameters/h_pilot"} ];
 DefineConstant[ h_fine = {0.0015, Name "Parameters/h_fine"} ];
+DefineConstant[ r_fine = {0.010, Name "Parameters/r_fine"} ];
+DefineConstant[ growth = {0.08, Name "Parameters/growth"} ];
 
 B = 0.25;         // half the block's length and width (m)
 H = 0.5;          // height
-// h_fine: the element size near the impact point (a parameter, above)
-r_fine = 0.010;   // h_fine within this distance of it
+// h_fine: the element size near the impact point, within r_fine of it (parameters, above).
 h_far = 0.045;    // element size far from it
-growth = 0.08;    // sizes grow by 0.08 mm per mm of distance beyond r_fine
+// growth: sizes grow by this many mm per mm of distance beyond r_fine (a parameter, above)
 
 Box(1) = {0, 0, 0, B, H, B};
 If (pilot_radius > 0)

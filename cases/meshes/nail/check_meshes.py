@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks and measures the three meshes of this folder (nail.msh, block.msh, plate.msh).
+"""Checks and measures the meshes of this folder (nail.msh, block.msh, block-path.msh, plate.msh).
 
 For each file: every tetrahedron has a positive volume with its nodes in the file's order (the
 solver's convention: (x1 - x0) x (x2 - x0) . (x3 - x0) > 0; it rejects inverted elements), every
@@ -46,6 +46,8 @@ NAIL_FULL = math.pi * A * A * L_SHANK + ogive_volume(A, S_ARC, L_NOSE)
 MESHES = [
     ("nail.msh", ["nail", "sym_x", "sym_z", "tip"], (200e9, 0.3, 8000.0), NAIL_FULL / 4),
     ("block.msh", ["block", "sym_x", "sym_z", "bottom", "top"], (30e9, 0.18, 2300.0),
+     0.25 * 0.5 * 0.25),
+    ("block-path.msh", ["block", "sym_x", "sym_z", "bottom", "top"], (30e9, 0.18, 2300.0),
      0.25 * 0.5 * 0.25),
     ("plate.msh", ["plate", "sym_x", "sym_z", "top"], (200e9, 0.3, 8000.0),
      (0.05 * 0.05 - math.pi * 0.006**2 / 4) * 0.010),
