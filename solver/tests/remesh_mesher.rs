@@ -23,9 +23,11 @@ const N: usize = 6;
 /// given that the region's interface faces (edges h, sqrt 2 h, sqrt 3 h) are kept next to
 /// elements of half their size.
 const CHI_BOUND: f64 = 4.0;
-/// The same for the distortion with the altitude ratio ([`distortion`]), where the region meets the
-/// outer boundary, whose nodes stay.
-const DISTORTION_BOUND: f64 = 5.0;
+/// The same for the distortion with the altitude ratio ([`distortion`]): the Kuhn cell's
+/// distortion is its altitude ratio, 2 (largest face sqrt 2 / 2, smallest altitude 1 / sqrt 2,
+/// longest edge sqrt 3), against its collapse ratio sqrt 3; the same headroom over it as
+/// `CHI_BOUND` gives 2 CHI_BOUND / sqrt 3 = 4.62.
+const DISTORTION_BOUND: f64 = 2.0 * CHI_BOUND / 1.732_050_807_568_877_2;
 
 /// The unit cube meshed with `N^3` Kuhn cells.
 fn cube() -> Mesh {
@@ -186,6 +188,12 @@ fn region_on_the_outer_boundary_keeps_it() {
     }
     let total: f64 = new.tets.iter().map(|t| volume(&new.nodes, t)).sum();
     assert!((total - 1.0).abs() <= 1e-12, "volume {total}");
+    // The Kuhn cells' distortion, from which DISTORTION_BOUND is scaled, is 2 exactly.
+    let kuhn = cube();
+    for t in &kuhn.tets {
+        let d = distortion(&t.map(|n| kuhn.nodes[n as usize]));
+        assert!((d - 2.0).abs() < 1e-12, "Kuhn cell distortion {d}");
+    }
     // The distortion the run watches, the altitude ratio included: before the remesher's
     // quality weighed the altitude, this region came out with collapse ratios under 3.8 but an
     // element of altitude ratio 11.5 (a sliver, whose stable step is 1/11 of a regular

@@ -44,7 +44,8 @@ pub fn collapse_ratio(x: &[Vector3<f64>; 4]) -> f64 {
 pub fn distortion(x: &[Vector3<f64>; 4]) -> f64 {
     let eta = super::mean_ratio(x);
     if eta > 0.0 {
-        collapse_ratio(x).max(1.0 / eta).max(altitude_ratio(x))
+        let (chi, altitude) = edge_and_altitude_ratios(x);
+        chi.max(1.0 / eta).max(altitude)
     } else {
         f64::INFINITY
     }
@@ -60,12 +61,24 @@ pub fn distortion(x: &[Vector3<f64>; 4]) -> f64 {
 /// nail run such elements, flattened across by the nose's passage, held the step at 1 ns while
 /// a well-shaped element of the same edges allows 30.
 pub fn altitude_ratio(x: &[Vector3<f64>; 4]) -> f64 {
+    edge_and_altitude_ratios(x).1
+}
+
+/// [`collapse_ratio`] and [`altitude_ratio`] of `x` from one pass over its edges and faces (the
+/// distortion check and the remesher's quality read both).
+pub(super) fn edge_and_altitude_ratios(x: &[Vector3<f64>; 4]) -> (f64, f64) {
     let q = crate::mesh::element_quality(x);
-    if q.min_altitude > 0.0 {
+    let chi = if q.min_edge > 0.0 {
+        q.max_edge / q.min_edge
+    } else {
+        f64::INFINITY
+    };
+    let altitude = if q.min_altitude > 0.0 {
         (2.0f64 / 3.0).sqrt() * q.max_edge / q.min_altitude
     } else {
         f64::INFINITY
-    }
+    };
+    (chi, altitude)
 }
 
 /// The outcome of the distortion check of Box 8.1 over a whole mesh.

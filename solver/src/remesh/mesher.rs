@@ -260,8 +260,8 @@ pub(super) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
     if eta < 0.0 {
         return eta;
     }
-    eta.min(1.0 / super::distortion::collapse_ratio(x))
-        .min(1.0 / super::distortion::altitude_ratio(x))
+    let (chi, altitude) = super::distortion::edge_and_altitude_ratios(x);
+    eta.min(1.0 / chi).min(1.0 / altitude)
 }
 
 /// Replaces the elements `region` (indices into `tets`) of the mesh with current coordinates
