@@ -118,6 +118,48 @@ fn main() {
         println!();
     }
 
+    // The elements that set the stable time step (smallest altitude over wave speed): `STEP=n`
+    // lists the n smallest, with their volume ratio J = det F (from the stress-free state) and
+    // how many of their faces lie on the surface.
+    if let Ok(n) = std::env::var("STEP") {
+        let n: usize = n.parse().unwrap();
+        let on_surface: std::collections::HashSet<[u32; 3]> =
+            impact_solver::mesh::boundary_faces_of(&m.tets)
+                .iter()
+                .map(|f| face_key(f.nodes))
+                .collect();
+        let mut steps: Vec<(f64, usize)> = (0..m.tets.len())
+            .map(|e| {
+                let c = m.tets[e].map(|k| x[k as usize]);
+                let l = impact_solver::mesh::element_quality(&c).min_altitude;
+                (
+                    l / m.material_of(e).constants().dilatational_wave_speed(),
+                    e,
+                )
+            })
+            .collect();
+        steps.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for &(dt, e) in steps.iter().take(n) {
+            let c = m.tets[e].map(|k| x[k as usize]);
+            let q = impact_solver::mesh::element_quality(&c);
+            let centroid = (c[0] + c[1] + c[2] + c[3]) * 0.25e3;
+            let faces = TET_FACES
+                .iter()
+                .filter(|f| on_surface.contains(&face_key(f.map(|i| m.tets[e][i]))))
+                .count();
+            println!(
+                "  step {dt:.3e} s: element {e}, altitude {:.4} mm, distortion {:.1}, \
+                 J {:.3}, {faces} surface faces, centroid ({:.3}, {:.3}, {:.3}) mm",
+                q.min_altitude * 1e3,
+                distortion(&c),
+                m.deformation_gradient(e, &run.state.u).determinant(),
+                centroid.x,
+                centroid.y,
+                centroid.z
+            );
+        }
+    }
+
     // The element that sets the stable time step (smallest altitude over wave speed).
     {
         let (limit, e) = m.current_critical_time_step(&run.state.u);

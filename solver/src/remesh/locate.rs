@@ -1,14 +1,15 @@
 //! Where the points of a new mesh lie in the old one (thesis 8.4.2 step (i), Box 8.3), and which
 //! old Gauss point is closest to a new one (8.4.1.2).
 //!
-//! Both searches run over a uniform grid of cells (a bucket grid): each old element is listed in
-//! every cell its bounding box overlaps, each old centroid in the cell that holds it. The lists
-//! are filled in ascending element order and every tie is broken towards the lower element id,
-//! so the answers do not depend on anything but the meshes.
+//! Both searches run over a bounding-volume hierarchy of the old elements' boxes or centroids
+//! (`box_tree.rs`; a uniform grid crowded the fine elements of a graded mesh into a few cells).
+//! Every tie is broken towards the lower element id, so the answers do not depend on anything
+//! but the meshes.
 
 use nalgebra::Vector3;
 
-use crate::contact::broad_phase::{Aabb, UniformGrid};
+use super::box_tree::BoxTree;
+use crate::contact::broad_phase::Aabb;
 use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
 use crate::kinematics::shape_gradients;
@@ -40,7 +41,7 @@ pub struct Locator<'a> {
     nodes: &'a [Vector3<f64>],
     tets: &'a [[u32; 4]],
     grad: Vec<[Vector3<f64>; 4]>,
-    grid: UniformGrid,
+    tree: BoxTree,
 }
 
 impl<'a> Locator<'a> {
@@ -68,13 +69,17 @@ impl<'a> Locator<'a> {
                 });
             };
             grad.push(g);
-            boxes.push(Aabb::of_points(&x));
+            // A point whose barycentric coordinates are all at least -LOCATE_TOLERANCE lies
+            // within LOCATE_TOLERANCE altitudes of the element, so within that many of its
+            // extents of its box: the box grown by twice that holds every point it may hold.
+            let b = Aabb::of_points(&x);
+            boxes.push(b.grown(2.0 * LOCATE_TOLERANCE * (b.max - b.min).max()));
         }
         Ok(Self {
             nodes,
             tets,
             grad,
-            grid: grid_of(&boxes),
+            tree: BoxTree::new(boxes),
         })
     }
 
@@ -103,22 +108,21 @@ impl<'a> Locator<'a> {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Where `p` lies: the element of its grid cell whose smallest barycentric coordinate is
-    /// at least `-LOCATE_TOLERANCE` (the most interior one, then the lowest id, where several
-    /// qualify, as on a shared face); failing that, the nearest element, with `distance` how far
-    /// outside it the point is (a point of the new boundary just outside the old one).
+    /// Where `p` lies: the element whose smallest barycentric coordinate is at least
+    /// `-LOCATE_TOLERANCE` (the most interior one, then the lowest id, where several qualify, as
+    /// on a shared face); failing that, the nearest element, with `distance` how far outside it
+    /// the point is (a point of the new boundary just outside the old one).
     pub fn locate(&self, p: &Vector3<f64>) -> Location {
         let mut best: Option<(usize, [f64; 4], f64)> = None;
-        if let Some(candidates) = self.grid.items_at(p) {
-            for &e in candidates {
-                let e = e as usize;
-                let l = self.barycentric(e, p);
-                let smallest = l.iter().copied().fold(f64::INFINITY, f64::min);
-                if smallest >= -LOCATE_TOLERANCE && best.is_none_or(|b| smallest > b.2) {
-                    best = Some((e, l, smallest));
-                }
+        self.tree.for_each_holding(p, |e| {
+            let e = e as usize;
+            let l = self.barycentric(e, p);
+            let smallest = l.iter().copied().fold(f64::INFINITY, f64::min);
+            let better = best.is_none_or(|b| smallest > b.2 || (smallest == b.2 && e < b.0));
+            if smallest >= -LOCATE_TOLERANCE && better {
+                best = Some((e, l, smallest));
             }
-        }
+        });
         if let Some((element, barycentric, _)) = best {
             return Location {
                 element,
@@ -127,7 +131,7 @@ impl<'a> Locator<'a> {
             };
         }
         let (e, distance) = self
-            .grid
+            .tree
             .nearest(p, |e| self.distance(e as usize, p))
             .expect("the locator has at least one element (checked when built)");
         let element = e as usize;
@@ -175,7 +179,7 @@ impl<'a> Locator<'a> {
 #[derive(Debug, Clone)]
 pub struct CentroidSearch {
     centroids: Vec<Vector3<f64>>,
-    grid: UniformGrid,
+    tree: BoxTree,
 }
 
 impl CentroidSearch {
@@ -185,31 +189,18 @@ impl CentroidSearch {
             .iter()
             .map(|c| Aabb { min: *c, max: *c })
             .collect();
-        let grid = grid_of(&boxes);
-        Self { centroids, grid }
+        let tree = BoxTree::new(boxes);
+        Self { centroids, tree }
     }
 
     /// The index of the centroid closest to `p` (Euclidean distance; the lowest index among
     /// equally close ones), with its distance (m). `None` when there are no centroids.
     pub fn closest(&self, p: &Vector3<f64>) -> Option<(usize, f64)> {
         let (i, d) = self
-            .grid
+            .tree
             .nearest(p, |i| (self.centroids[i as usize] - p).norm())?;
         Some((i as usize, d))
     }
-}
-
-/// A grid over `boxes` with cells of about the volume per box, so about one box per cell.
-fn grid_of(boxes: &[Aabb]) -> UniformGrid {
-    if boxes.is_empty() {
-        return UniformGrid::build(boxes, 1.0);
-    }
-    let bounds = boxes.iter().fold(boxes[0], |acc, b| acc.union(b));
-    let extent = bounds.max - bounds.min;
-    // A flat extent along an axis still gives a cell of positive size.
-    let floor = 1e-9 * extent.max().max(f64::MIN_POSITIVE);
-    let volume = extent.map(|e| e.max(floor)).product();
-    UniformGrid::build(boxes, (volume / boxes.len().max(1) as f64).cbrt())
 }
 
 /// The centroid `(x_0 + x_1 + x_2 + x_3) / 4` of every element of `tets` over `nodes` (m).
@@ -249,7 +240,7 @@ mod tests {
     }
 
     #[test]
-    fn grid_search_matches_a_brute_force_scan() {
+    fn tree_search_matches_a_brute_force_scan() {
         let old = unit_box(4);
         let locator = Locator::new(&old.nodes, &old.tets).unwrap();
         let mut rng = crate::rng::SplitMix64::new(7);

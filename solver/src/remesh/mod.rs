@@ -51,6 +51,7 @@
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
 mod apply;
+mod box_tree;
 mod collapse;
 mod contact_surface;
 mod distortion;
