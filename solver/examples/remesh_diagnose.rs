@@ -78,6 +78,19 @@ fn main() {
         run.state.time_step,
         run.records.len()
     );
+    // Where the wall time went: the step's phases, and the rest (remeshing, distortion checks).
+    let phases = run.summary.phase_seconds;
+    let stepping: f64 = phases.named().iter().map(|(_, s)| s).sum();
+    print!(
+        "wall {:.1} s over {} steps: remeshing and checks {:.1} s",
+        run.summary.wall_seconds,
+        run.summary.steps,
+        run.summary.wall_seconds - stepping
+    );
+    for (name, seconds) in phases.named() {
+        print!(", {name} {seconds:.1} s");
+    }
+    println!();
 
     // Folds of the remeshed body's surface: boundary edges whose two faces' outward normals
     // point against each other (a crease sharper than 120 degrees), where the surface has
