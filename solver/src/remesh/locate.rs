@@ -69,11 +69,12 @@ impl<'a> Locator<'a> {
                 });
             };
             grad.push(g);
-            // A point whose barycentric coordinates are all at least -LOCATE_TOLERANCE lies
-            // within LOCATE_TOLERANCE altitudes of the element, so within that many of its
-            // extents of its box: the box grown by twice that holds every point it may hold.
+            // The points whose barycentric coordinates are all at least -t form the element
+            // scaled by 1 + 4t about its centroid c (corner a moves to x_a + 4t (x_a - c)), and
+            // |x_a - c| is at most 3/4 of the box's extent along each axis: the box grown by
+            // 3t times its largest extent holds every point the element may hold.
             let b = Aabb::of_points(&x);
-            boxes.push(b.grown(2.0 * LOCATE_TOLERANCE * (b.max - b.min).max()));
+            boxes.push(b.grown(3.0 * LOCATE_TOLERANCE * (b.max - b.min).max()));
         }
         Ok(Self {
             nodes,
