@@ -16,6 +16,7 @@ pub mod calibration;
 pub mod cyclic;
 pub mod directions;
 pub mod discontinuity;
+mod dissipation;
 pub mod driver;
 mod elastic_path;
 mod element;
@@ -38,6 +39,7 @@ pub use volumetric::VolumetricStrain;
 
 use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
+use dissipation::{Law, VirginSteps};
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
 
 /// The relaxation `psi` below which an element's cracks count as open for crack friction
@@ -81,6 +83,9 @@ pub struct MicroplaneConcrete {
     elastic_path: bool,
     /// Whether the processor has AVX2 and FMA, so the update runs its wide-register build.
     wide_vectors: bool,
+    /// Whether the planes' dissipation is counted in the plane loop of every update, not only
+    /// where the dilatancy reads it (see [`MicroplaneConcrete::with_dissipation_always_counted`]).
+    always_count_dissipation: bool,
 }
 
 /// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
@@ -135,6 +140,7 @@ impl MicroplaneConcrete {
             // linear laws) are never read.
             elastic_path: true,
             wide_vectors: wide_vectors(),
+            always_count_dissipation: false,
             parameters,
         };
         model.plane_stiffness = model.plane_stiffness();
@@ -157,6 +163,15 @@ impl MicroplaneConcrete {
     /// (`tests/microplane_wide_build.rs`).
     pub fn with_portable_code(mut self) -> Self {
         self.wide_vectors = false;
+        self
+    }
+
+    /// The same model counting the planes' dissipation in the plane loop of every update, as
+    /// before the count was deferred to where the dilatancy reads it (`dissipation.rs`): the
+    /// reference that the deferred count is checked against bit for bit
+    /// (`tests/microplane_dissipation_count.rs`).
+    pub fn with_dissipation_always_counted(mut self) -> Self {
+        self.always_count_dissipation = true;
         self
     }
 
@@ -403,7 +418,8 @@ impl MicroplaneConcrete {
     /// The dilatant strain the next update may use, given the one used now (`reached`), the
     /// one the planes ask for (`wanted`, larger), the volumetric strain `e_V` of this update, the
     /// largest compressive strain the volumetric law has reached (`compressed`) and the energy
-    /// per unit volume the planes dissipated in this update (`dissipated`, J/m^3).
+    /// per unit volume the planes dissipated in this update (`dissipated()`, J/m^3, evaluated
+    /// only where the shift reaches volumetric compression).
     ///
     /// The dilatant strain shifts the volumetric law's argument (MICROPLANE "Dilatancy"): a growth
     /// `d` at fixed `e_V` raises the law's stored energy by `3 int p dx` over the compressive part
@@ -420,7 +436,7 @@ impl MicroplaneConcrete {
         wanted: f64,
         e_v: f64,
         compressed: f64,
-        dissipated: f64,
+        dissipated: impl FnOnce() -> f64,
     ) -> f64 {
         // Compressive strain of the volumetric law at the start and at the end of the shift.
         let (x0, x1) = (reached - e_v, wanted - e_v);
@@ -433,7 +449,7 @@ impl MicroplaneConcrete {
         }
         // The part of the shift in volumetric tension (x < 0) stores nothing.
         let free = (-x0).max(0.0);
-        (reached + free + dissipated.max(0.0) / (3.0 * pressure)).min(wanted)
+        (reached + free + dissipated().max(0.0) / (3.0 * pressure)).min(wanted)
     }
 
     /// The planes (5.85, 5.86, 5.23, 5.100-5.104) and the homogenisation (5.36) around the
@@ -497,8 +513,11 @@ impl MicroplaneConcrete {
         let mut sum_d = 0.0;
         let mut inelastic_compression = 0.0;
         // The energy the planes dissipate in this update (J/m^3, each branch that loads on its
-        // virgin law): what may pay for the growth of the dilatant strain.
+        // virgin law) may pay for the growth of the dilatant strain: the virgin steps are
+        // recorded, and summed only where the growth reads them (`dissipation`).
         let dilatant = p.dilatancy > 0.0;
+        let mut virgin_steps = VirginSteps::new();
+        let eager = dilatant && self.always_count_dissipation;
         let p_friction = p.crack_friction;
         let mut dissipation = 0.0;
         let mut sigma = [0.0; 6];
@@ -521,50 +540,76 @@ impl MicroplaneConcrete {
             let s_d = if e_d >= 0.0 {
                 let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
                 let before = b;
-                let s = b.stress(e_d, self.e_d0, tension_peak, &self.rule, |x| {
-                    self.tension
-                        .scaled_stress(x * inverse_e1, tension_amplitude, band.tension)
-                });
+                // The split form of `Branch::stress`: its law closure was called out of line,
+                // outside the AVX2 build (perf).
+                let s = match b.unloading(e_d, self.e_d0, tension_peak, &self.rule) {
+                    Some(s) => s,
+                    None => b.virgin(
+                        e_d,
+                        self.tension.scaled_stress(
+                            e_d * inverse_e1,
+                            tension_amplitude,
+                            band.tension,
+                        ),
+                    ),
+                };
                 b.store(&mut history[state::D_POSITIVE..state::D_POSITIVE + 2]);
                 if dilatant && b.reached > before.reached {
-                    dissipated += b.dissipated_since(&before, self.e_d0, tension_peak, &self.rule);
+                    virgin_steps.push(p, Law::Tension, before, b, 1.0);
+                    if eager {
+                        dissipated +=
+                            b.dissipated_since(&before, self.e_d0, tension_peak, &self.rule);
+                    }
                 }
                 s
             } else {
                 let mut b = Branch::load(&history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
                 let before = b;
-                let s = b.stress(-e_d, self.e_d0, compression_peak, &self.rule, |x| {
-                    self.compression
-                        .scaled_stress(x * inverse_e2, compression_amplitude, 1.0)
-                });
+                let s = match b.unloading(-e_d, self.e_d0, compression_peak, &self.rule) {
+                    Some(s) => s,
+                    None => b.virgin(
+                        -e_d,
+                        self.compression.scaled_stress(
+                            -e_d * inverse_e2,
+                            compression_amplitude,
+                            1.0,
+                        ),
+                    ),
+                };
                 b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
                 inelastic_compression += 6.0 * plane.weight * (-e_d - s * inverse_e_d0).max(0.0);
                 if dilatant && b.reached > before.reached {
-                    dissipated +=
-                        b.dissipated_since(&before, self.e_d0, compression_peak, &self.rule);
+                    virgin_steps.push(p, Law::Compression, before, b, 1.0);
+                    if eager {
+                        dissipated +=
+                            b.dissipated_since(&before, self.e_d0, compression_peak, &self.rule);
+                    }
                 }
                 -s
             };
             let e_m = along_m[p] * psi_t;
             let e_k = along_k[p] * psi_t;
-            let s_m = self.shear_stress(
-                e_m,
-                &mut history[state::M..state::M + 5],
-                e5,
-                shear_peak,
-                band.shear,
-                shear_energy,
-                dilatant.then_some(&mut dissipated),
-            );
-            let s_k = self.shear_stress(
-                e_k,
-                &mut history[state::K..state::K + 5],
-                e5,
-                shear_peak,
-                band.shear,
-                shear_energy,
-                dilatant.then_some(&mut dissipated),
-            );
+            // (A loop, not a closure: a closure would not inherit the AVX2 build's features.)
+            let mut shear = [0.0; 2];
+            for (s_shear, (e, at)) in shear.iter_mut().zip([(e_m, state::M), (e_k, state::K)]) {
+                let (s, step) = self.shear_stress(
+                    e,
+                    &mut history[at..at + 5],
+                    e5,
+                    shear_peak,
+                    band.shear,
+                    shear_energy,
+                );
+                if let Some((before, after, damage)) = step.filter(|_| dilatant) {
+                    virgin_steps.push(p, Law::Shear, before, after, damage);
+                    if eager {
+                        dissipated += damage
+                            * after.dissipated_since(&before, self.e_t0, shear_peak, &self.rule);
+                    }
+                }
+                *s_shear = s;
+            }
+            let [s_m, s_k] = shear;
             let (s_m, s_k) = match p_friction {
                 Some(mu) => {
                     // The plane's normal stress s_V + s_D (5.36 before the trace term).
@@ -611,7 +656,20 @@ impl MicroplaneConcrete {
                     wanted,
                     e_v,
                     header[state::V_COMPRESSION] as f64,
-                    dissipation,
+                    || {
+                        if eager {
+                            return dissipation;
+                        }
+                        virgin_steps.dissipation(
+                            |p| 6.0 * self.planes[p].weight,
+                            |law| match law {
+                                Law::Tension => (self.e_d0, tension_peak),
+                                Law::Compression => (self.e_d0, compression_peak),
+                                Law::Shear => (self.e_t0, shear_peak),
+                            },
+                            &self.rule,
+                        )
+                    },
                 ) as f32;
             }
         }
@@ -669,9 +727,9 @@ impl MicroplaneConcrete {
     }
 
     /// One shear component (5.20, 5.23) with its two branches and the cyclic damage (5.104):
-    /// `history` holds `[e+, s+, e-, s-, Lambda]`. Adds the energy its branch dissipates by
-    /// virgin loading to `dissipation`, where given.
-    #[allow(clippy::too_many_arguments)]
+    /// `history` holds `[e+, s+, e-, s-, Lambda]`. Returns the stress and, where the branch
+    /// loaded on its virgin law, the branch before and after with the cyclic damage its
+    /// dissipation is to be multiplied by.
     #[inline(always)]
     fn shear_stress(
         &self,
@@ -681,8 +739,7 @@ impl MicroplaneConcrete {
         peak: (f64, f64),
         band: f64,
         monotonic_energy: f64,
-        dissipation: Option<&mut f64>,
-    ) -> f64 {
+    ) -> (f64, Option<(Branch, Branch, f64)>) {
         let (own, other) = if e >= 0.0 { (0, 2) } else { (2, 0) };
         let mut branch = Branch::load(&history[own..own + 2]);
         let before = branch;
@@ -714,12 +771,8 @@ impl MicroplaneConcrete {
                 };
             }
         }
-        if let Some(total) = dissipation {
-            if branch.reached > before.reached {
-                *total += damage * branch.dissipated_since(&before, c0, peak, &self.rule);
-            }
-        }
-        s.copysign(e) * damage
+        let virgin = (branch.reached > before.reached).then_some((before, branch, damage));
+        (s.copysign(e) * damage, virgin)
     }
 
     /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
