@@ -7,49 +7,15 @@
 
 mod common;
 
-use common::thesis_concrete;
+use common::{assert_same_updates, strain_walk, thesis_concrete};
 use impact_solver::material::microplane::{state, MicroplaneConcrete, SphereRule, Sym};
 use impact_solver::rng::SplitMix64;
 
-/// A random walk of `steps` strain increments of up to `reach` per component from zero, with a
-/// drift `drift` per step added to every component (negative: towards compression), each step's
-/// rate drawn from 1e-5 to 1e2 /s on a log scale.
-fn walk(rng: &mut SplitMix64, steps: usize, reach: f64, drift: Sym) -> Vec<(Sym, f64)> {
-    let mut strain = [0.0; 6];
-    (0..steps)
-        .map(|_| {
-            for (e, d) in strain.iter_mut().zip(drift) {
-                *e += d + rng.uniform(-reach, reach) / (steps as f64).sqrt();
-            }
-            (strain, 10f64.powf(rng.uniform(-5.0, 2.0)))
-        })
-        .collect()
-}
-
-/// Runs `path` through both models from the virgin state, asserting equal bits at every step;
-/// returns the dilatant strain reached.
+/// Runs `path` through the deferred count and the count in every update, asserting equal bits
+/// at every step; returns the dilatant strain reached.
 fn compare(deferred: &MicroplaneConcrete, path: &[(Sym, f64)], h: f64, label: &str) -> f64 {
     let always = deferred.clone().with_dissipation_always_counted();
-    let band = deferred.crack_band(h).unwrap();
-    let mut a = deferred.initial_state().values;
-    let mut b = a.clone();
-    for (step, (strain, rate)) in path.iter().enumerate() {
-        let (sa, _) = deferred.update(&mut a, strain, *rate, &band);
-        let (sb, _) = always.update(&mut b, strain, *rate, &band);
-        let bits = |s: &Sym| s.map(f64::to_bits);
-        assert_eq!(
-            bits(&sa),
-            bits(&sb),
-            "{label} step {step}: {sa:?} vs {sb:?}"
-        );
-        let history_bits = |h: &[f32]| h.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(
-            history_bits(&a),
-            history_bits(&b),
-            "{label} step {step}: histories differ"
-        );
-    }
-    a[state::DILATANCY] as f64
+    assert_same_updates(deferred, &always, path, h, label)[state::DILATANCY] as f64
 }
 
 #[test]
@@ -69,7 +35,7 @@ fn deferred_count_gives_the_bits_of_counting_always() {
                 1 => [-2e-5, 4e-6, 4e-6, 3e-6, 0.0, 0.0],
                 _ => [1e-5, -2e-6, -2e-6, 0.0, 2e-6, 0.0],
             };
-            let path = walk(&mut rng, 80, reach, drift);
+            let path = strain_walk(&mut rng, 80, reach, drift);
             let h = [0.025, 0.05, 0.1][w % 3];
             let dilatancy = compare(&model, &path, h, &format!("{rule:?} walk {w}"));
             grown += usize::from(dilatancy > 0.0);
