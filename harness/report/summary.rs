@@ -1,7 +1,7 @@
 //! The facts both the HTML page and the Markdown summary show: per-case counts, the worst
 //! metric, and the run's verdict. Computed once here so that the two outputs cannot disagree.
 
-use crate::results::{CaseResult, MetricResult, RunResults, Status};
+use crate::results::{CaseResult, MetricResult, RunResults, Status, ToleranceKind};
 
 /// Statuses in the order the page lists them.
 pub const STATUSES: [Status; 5] = [
@@ -23,21 +23,44 @@ pub fn status_name(status: Status) -> &'static str {
     }
 }
 
-/// How far a metric is from failing: error over tolerance, above 1 when it fails (for a floor,
-/// `at_least` or `at_least_ratio`, the bound over the value). A NaN error counts as infinitely bad, so that a
-/// broken metric is never hidden behind a passing one.
+/// How far a metric is from failing: error over tolerance, above 1 exactly when it fails, so
+/// that the worst metric of a failed case is one that failed. Two-sided tolerances compare
+/// `|error|` with the tolerance. One-sided bounds are read with their sign: a ceiling
+/// (`at_most`) gives `error / tolerance`, 0 at or below zero (the whole admissible side of a zero
+/// ceiling, such as a support reaction that may only be negative, is as far from failing as a
+/// ceiling allows); a floor (`at_least`, `at_least_ratio`) gives `tolerance / error`, 0 where the
+/// bound is not positive and is met. A side that fails with a bound that gives no ratio counts as
+/// infinitely bad, and so does a NaN error, so that a broken metric is never hidden behind a
+/// passing one.
 pub fn tolerance_ratio(m: &MetricResult) -> f64 {
-    let ratio = if m.tolerance_kind.is_floor() {
-        m.tolerance.abs() / m.error.abs()
-    } else {
-        m.error.abs() / m.tolerance.abs()
+    let (error, tolerance) = (m.error, m.tolerance);
+    if error.is_nan() {
+        return f64::INFINITY;
+    }
+    let ratio = match m.tolerance_kind {
+        ToleranceKind::AtMost if error <= tolerance => {
+            if tolerance > 0.0 {
+                (error / tolerance).max(0.0)
+            } else {
+                0.0
+            }
+        }
+        ToleranceKind::AtMost if tolerance > 0.0 => error / tolerance,
+        ToleranceKind::AtMost => f64::INFINITY,
+        ToleranceKind::AtLeast | ToleranceKind::AtLeastRatio if error >= tolerance => {
+            if tolerance > 0.0 {
+                tolerance / error
+            } else {
+                0.0
+            }
+        }
+        ToleranceKind::AtLeast | ToleranceKind::AtLeastRatio if error > 0.0 => tolerance / error,
+        ToleranceKind::AtLeast | ToleranceKind::AtLeastRatio => f64::INFINITY,
+        _ => error.abs() / tolerance.abs(),
     };
     if ratio.is_nan() {
-        if m.error == 0.0 {
-            0.0
-        } else {
-            f64::INFINITY
-        }
+        // 0 / 0: a two-sided metric exactly on a zero reference with a zero tolerance.
+        0.0
     } else {
         ratio
     }
@@ -186,5 +209,86 @@ pub fn plural<'s>(n: usize, one: &'s str, many: &'s str) -> &'s str {
         one
     } else {
         many
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn metric(
+        name: &str,
+        kind: ToleranceKind,
+        error: f64,
+        tolerance: f64,
+        pass: bool,
+    ) -> MetricResult {
+        MetricResult {
+            name: name.into(),
+            value: error,
+            reference: 0.0,
+            error,
+            tolerance,
+            unit: String::new(),
+            pass,
+            tolerance_kind: kind,
+            reference_source: String::new(),
+        }
+    }
+
+    /// The ratio is above 1 exactly where the metric fails, whatever the kind and the sign.
+    #[test]
+    fn the_ratio_exceeds_one_exactly_where_the_metric_fails() {
+        use ToleranceKind::*;
+        let cases = [
+            // A zero ceiling met far below (an uplift reaction of -160 kN) and broken.
+            (AtMost, -1.6e5, 0.0, true),
+            (AtMost, 0.0, 0.0, true),
+            (AtMost, 3.0, 0.0, false),
+            (AtMost, 0.5, 1.0, true),
+            (AtMost, -0.5, 1.0, true),
+            (AtMost, 1.5, 1.0, false),
+            (AtMost, -6.0, -5.0, true),
+            (AtMost, -4.0, -5.0, false),
+            // Floors: a zero floor broken by a negative value, a ratio floor met and broken.
+            (AtLeast, 2.0e-4, 0.0, true),
+            (AtLeast, -2.0e-4, 0.0, false),
+            (AtLeast, 0.0, 0.0, true),
+            (AtLeastRatio, 25.0, 5.0, true),
+            (AtLeastRatio, 4.0, 5.0, false),
+            (AtLeastRatio, -1.0, 5.0, false),
+            (Absolute, -0.2, 0.1, false),
+            (Absolute, 0.05, 0.1, true),
+            (Relative, 0.0, 0.0, true),
+        ];
+        for (kind, error, tolerance, pass) in cases {
+            let r = tolerance_ratio(&metric("m", kind, error, tolerance, pass));
+            assert_eq!(
+                r > 1.0,
+                !pass,
+                "{kind:?} error {error} tolerance {tolerance}: ratio {r}"
+            );
+            assert!(r >= 0.0, "{kind:?} error {error}: ratio {r}");
+        }
+        let nan = metric("m", AtMost, f64::NAN, 1.0, false);
+        assert_eq!(tolerance_ratio(&nan), f64::INFINITY);
+    }
+
+    /// A failed case names a failed metric as its worst, not a met zero ceiling.
+    #[test]
+    fn the_worst_metric_of_a_failed_case_is_one_that_failed() {
+        let metrics = [
+            metric("failure_mode", ToleranceKind::Absolute, 1.0, 0.0, false),
+            metric("uplift_right", ToleranceKind::AtMost, -1.6e5, 0.0, true),
+            metric(
+                "energy_balance_error",
+                ToleranceKind::AtMost,
+                1.2e-3,
+                0.01,
+                true,
+            ),
+        ];
+        assert_eq!(worst_metric(&metrics).unwrap().name, "failure_mode");
     }
 }
