@@ -70,6 +70,23 @@ impl VirginSteps {
         self.len += 1;
     }
 
+    /// Records the virgin step `(before, after, damage)` of a shear branch of `plane`; with
+    /// `eager` (the law's initial modulus and peak, and the unloading rule) also returns its
+    /// dissipation times the damage, the reference count's term, and 0 without.
+    #[inline(always)]
+    pub fn push_shear(
+        &mut self,
+        plane: usize,
+        (before, after, damage): (Branch, Branch, f64),
+        eager: Option<(f64, (f64, f64), &UnloadingRule)>,
+    ) -> f64 {
+        self.push(plane, Law::Shear, before, after, damage);
+        match eager {
+            Some((c0, peak, rule)) => damage * after.dissipated_since(&before, c0, peak, rule),
+            None => 0.0,
+        }
+    }
+
     /// The energy dissipated per unit volume, `sum_p weight(p) sum_b f_b D_b`, summed as the
     /// plane loop summed it: per plane from zero, then weighted into the total (a plane without
     /// steps added `weight * 0.0`, which changes no total). `modulus(law)` gives the initial

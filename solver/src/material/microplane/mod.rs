@@ -42,6 +42,7 @@ use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
 use dissipation::{Law, VirginSteps};
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
+use shear::ShearScale;
 
 /// The relaxation `psi` below which an element's cracks count as open for crack friction
 /// (MICROPLANE "Crack friction"): 1 less the `f32` epsilon. The tension law's secant falls below
@@ -492,10 +493,15 @@ impl MicroplaneConcrete {
         let compression_peak = self.compression.peak(e2, self.e_d0);
         let tension_peak = self.tension.peak(e1, self.e_d0);
         let shear_peak = self.shear.peak(e5, self.e_t0);
-        let shear_energy = self.e_t0
-            * e5
-            * e5
-            * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear);
+        let shear_scale = ShearScale {
+            e5,
+            peak: shear_peak,
+            band: band.shear,
+            monotonic_energy: self.e_t0
+                * e5
+                * e5
+                * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear),
+        };
 
         // The kinematic constraint (5.85, 5.86) for every plane at once, in one pass per tensor
         // over planes laid out side by side (it vectorises; the sums are those of `contract`).
@@ -599,26 +605,21 @@ impl MicroplaneConcrete {
             };
             let e_m = along_m[p] * psi_t;
             let e_k = along_k[p] * psi_t;
-            // (A loop, not a closure: a closure would not inherit the AVX2 build's features.)
-            let mut shear = [0.0; 2];
-            for (s_shear, (e, at)) in shear.iter_mut().zip([(e_m, state::M), (e_k, state::K)]) {
-                let (s, step) = self.shear_stress(
-                    e,
-                    &mut history[at..at + 5],
-                    e5,
-                    shear_peak,
-                    band.shear,
-                    shear_energy,
-                );
-                if let Some((before, after, damage)) = step.filter(|_| dilatant) {
-                    virgin_steps.push(p, Law::Shear, before, after, damage);
-                    if eager {
-                        dissipated += damage * dissipated_by(Law::Shear, &before, &after);
-                    }
-                }
-                *s_shear = s;
+            // M, then K, each by a direct call (a closure would not inherit the AVX2 build's
+            // features). Not a loop over a two-element array either: its 8-byte stores were
+            // read back by one wider load, which store forwarding cannot serve, and the stall
+            // took a tenth of the update's samples (perf, static beam).
+            let eager_shear = eager.then_some((self.e_t0, shear_peak, &self.rule));
+            let (s_m, step_m) =
+                self.shear_stress(e_m, &mut history[state::M..state::M + 5], &shear_scale);
+            if let Some(step) = step_m.filter(|_| dilatant) {
+                dissipated += virgin_steps.push_shear(p, step, eager_shear);
             }
-            let [s_m, s_k] = shear;
+            let (s_k, step_k) =
+                self.shear_stress(e_k, &mut history[state::K..state::K + 5], &shear_scale);
+            if let Some(step) = step_k.filter(|_| dilatant) {
+                dissipated += virgin_steps.push_shear(p, step, eager_shear);
+            }
             let (s_m, s_k) = match p_friction {
                 Some(mu) => {
                     // The plane's normal stress s_V + s_D (5.36 before the trace term).

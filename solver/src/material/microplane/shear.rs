@@ -5,6 +5,18 @@
 use super::cyclic::Branch;
 use super::MicroplaneConcrete;
 
+/// What the shear laws of one update share: the strain scale `e5` of the law at this update's
+/// rate and volumetric strain (5.23), the law's peak `(e_p, s_p)`, the element's crack-band
+/// factor, and the energy of monotonic loading to full softening that scales the cyclic damage
+/// (5.104).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ShearScale {
+    pub(super) e5: f64,
+    pub(super) peak: (f64, f64),
+    pub(super) band: f64,
+    pub(super) monotonic_energy: f64,
+}
+
 impl MicroplaneConcrete {
     /// The shear stress `[s_m, s_k]` of a plane with crack friction (MICROPLANE "Crack
     /// friction"). Until the plane cracks (`cracked` false: no shear law past its peak, `psi`
@@ -59,11 +71,14 @@ impl MicroplaneConcrete {
         &self,
         e: f64,
         history: &mut [f32],
-        e5: f64,
-        peak: (f64, f64),
-        band: f64,
-        monotonic_energy: f64,
+        scale: &ShearScale,
     ) -> (f64, Option<(Branch, Branch, f64)>) {
+        let ShearScale {
+            e5,
+            peak,
+            band,
+            monotonic_energy,
+        } = *scale;
         let (own, other) = if e >= 0.0 { (0, 2) } else { (2, 0) };
         let mut branch = Branch::load(&history[own..own + 2]);
         let before = branch;
