@@ -537,6 +537,8 @@ impl MicroplaneConcrete {
             after.dissipated_since(before, c0, peak, &self.rule)
         };
         let p_friction = p.crack_friction;
+        // The shear branches' modulus, peak and rule for the eager reference count.
+        let eager_shear = eager.then_some((self.e_t0, shear_peak, &self.rule));
         let mut dissipation = 0.0;
         let mut sigma = [0.0; 6];
         for (p, (plane, history)) in self
@@ -609,7 +611,6 @@ impl MicroplaneConcrete {
             // features). Not a loop over a two-element array either: its 8-byte stores were
             // read back by one wider load, which store forwarding cannot serve, and the stall
             // took a tenth of the update's samples (perf, static beam).
-            let eager_shear = eager.then_some((self.e_t0, shear_peak, &self.rule));
             let (s_m, step_m) =
                 self.shear_stress(e_m, &mut history[state::M..state::M + 5], &shear_scale);
             if let Some(step) = step_m.filter(|_| dilatant) {
