@@ -59,8 +59,13 @@ pub fn tolerance_ratio(m: &MetricResult) -> f64 {
         _ => error.abs() / tolerance.abs(),
     };
     if ratio.is_nan() {
-        // 0 / 0: a two-sided metric exactly on a zero reference with a zero tolerance.
-        0.0
+        // A two-sided metric's 0 / 0 (exactly on a zero reference with a zero tolerance) meets
+        // it; inf / inf does not.
+        if error == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
     } else {
         ratio
     }
