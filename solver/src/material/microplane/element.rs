@@ -102,8 +102,10 @@ impl Material for MicroplaneMaterial {
         history.copy_from_slice(&self.model.initial_state().values);
     }
 
+    /// Only with the rate effect on: without it the rate factor is 1 whatever the rate, so the
+    /// element loop skips the corner velocities and `F_dot`, and the update the strain rate.
     fn reads_rate(&self) -> bool {
-        true
+        self.model.parameters.rate_effect.is_some()
     }
 
     /// The update of one element (FORMULATION 1, MICROPLANE.md):
@@ -116,7 +118,7 @@ impl Material for MicroplaneMaterial {
     ///   `(E_n - E_{n-1})/dt` exactly (up to round-off; the first step, where `v` is the initial
     ///   velocity, and contact position corrections make it a first-order estimate), the backward
     ///   difference that the material-point driver uses too. Equivalent rate
-    ///   `gamma_dot = sqrt(1/2 Edot:Edot)` (5.111);
+    ///   `gamma_dot = sqrt(1/2 Edot:Edot)` (5.111), 0 with the rate effect off;
     /// - back-rotated Cauchy stress `s` from the model, `sigma = R s R^T`, first Piola
     ///   `P = J sigma F^-T = sigma cof F`.
     #[inline]
@@ -126,10 +128,14 @@ impl Material for MicroplaneMaterial {
             _ => return None,
         };
         let strain = sym(&green_lagrange_from_h(&d.h));
-        let f_mid = d.f - (0.5 * d.dt) * d.f_dot;
-        let e_dot = f_mid.transpose() * d.f_dot;
-        let e_dot = 0.5 * (e_dot + e_dot.transpose());
-        let gamma_dot = (0.5 * e_dot.norm_squared()).sqrt();
+        let gamma_dot = if self.reads_rate() {
+            let f_mid = d.f - (0.5 * d.dt) * d.f_dot;
+            let e_dot = f_mid.transpose() * d.f_dot;
+            let e_dot = 0.5 * (e_dot + e_dot.transpose());
+            (0.5 * e_dot.norm_squared()).sqrt()
+        } else {
+            0.0
+        };
         let (s, _) = self
             .model
             .update(state.history, &strain, gamma_dot, &self.bands[element]);
