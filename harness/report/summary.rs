@@ -266,6 +266,9 @@ mod tests {
             (Absolute, -0.2, 0.1, false),
             (Absolute, 0.05, 0.1, true),
             (Relative, 0.0, 0.0, true),
+            // An infinite value never passes (`judge`), whatever the tolerance: inf / inf is no
+            // 0 / 0.
+            (Absolute, f64::INFINITY, f64::INFINITY, false),
         ];
         for (kind, error, tolerance, pass) in cases {
             let r = tolerance_ratio(&metric("m", kind, error, tolerance, pass));
