@@ -162,6 +162,7 @@ fn run_on(
                 fields: false,
                 time_limit_s: Some(time_limit_s),
                 stop: options.stop.clone(),
+                ranks: None,
             };
             let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
                 .map_err(|e| e.to_string())?;

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
+use impact_solver::distributed::Communicator;
 use impact_vv::case_file::{load_case, load_catalogue, matches};
 use impact_vv::case_kind::{LoadedCase, RunOptions};
 use impact_vv::catalogue::Tier;
@@ -417,22 +418,47 @@ fn main() -> ExitCode {
             path,
             out,
             no_fields,
-        } => match impact_vv::scene_run::run_scene_file(
-            &path,
-            &out,
-            !no_fields,
-            Some(stop_on_signal()),
-        ) {
-            Ok(report) => {
-                println!("{report}");
-                ExitCode::SUCCESS
+        } => {
+            let ranks = mpi_ranks();
+            let comm = ranks.as_ref().map(|(_, world)| world as &dyn Communicator);
+            let root = comm.is_none_or(|c| c.rank() == 0);
+            match impact_vv::scene_run::run_scene_file(
+                &path,
+                &out,
+                !no_fields,
+                Some(stop_on_signal()),
+                comm,
+            ) {
+                Ok(report) => {
+                    if root {
+                        println!("{report}");
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    if root {
+                        eprintln!("error: {e}");
+                    }
+                    ExitCode::from(e.exit_code())
+                }
             }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(e.exit_code())
-            }
-        },
+        }
     }
+}
+
+/// The MPI environment and world when this process was started by `mpirun` (Open MPI sets
+/// `OMPI_COMM_WORLD_SIZE`) in a build with the `mpi` feature; `None` otherwise, and the scene runs
+/// on one process.
+#[cfg(feature = "mpi")]
+fn mpi_ranks() -> Option<(impl Sized, impact_solver::distributed::MpiWorld)> {
+    std::env::var_os("OMPI_COMM_WORLD_SIZE")?;
+    impact_solver::distributed::MpiWorld::initialize()
+}
+
+/// Without the `mpi` feature a scene always runs on one process.
+#[cfg(not(feature = "mpi"))]
+fn mpi_ranks() -> Option<((), impact_solver::distributed::ThreadGroup)> {
+    None
 }
 
 /// The tier a run reports: the one given, or `selected` for cases named by patterns alone.

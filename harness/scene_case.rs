@@ -115,6 +115,7 @@ fn run_case(
                     fields: false,
                     time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
                     stop: options.stop.clone(),
+                    ranks: None,
                 };
                 execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
             });

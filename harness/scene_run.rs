@@ -10,6 +10,7 @@ use impact_solver::SolverError;
 
 use crate::progress::fraction_bar;
 use impact_solver::analysis::{execute, ExecuteOptions};
+use impact_solver::distributed::Communicator;
 
 /// Why a scene run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -96,12 +97,14 @@ fn is_case_file(path: &Path) -> bool {
 
 /// Reads, builds and runs the scene at `path` (a scene file, or a case file's `scene`), writing
 /// its output under `out`; `stop` (set by a signal handler) ends an explicit run at the end of the
-/// current step.
+/// current step. With `ranks` (a run under `mpirun`), this process is one rank of a distributed
+/// run: every rank computes the same history, rank 0 writes it and shows the progress.
 pub fn run_scene_file(
     path: &Path,
     out: &Path,
     fields: bool,
     stop: Option<Arc<AtomicBool>>,
+    ranks: Option<&dyn Communicator>,
 ) -> Result<SceneReport, SceneRunError> {
     let scene = if is_case_file(path) {
         Scene::from_yaml_file_entry(path, "scene")?
@@ -110,12 +113,16 @@ pub fn run_scene_file(
     };
     let mut problem = build_problem(&scene)?;
     let bar = fraction_bar(&scene.name);
+    if ranks.is_some_and(|c| c.rank() > 0) {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
     let options = ExecuteOptions {
         out: Some(out),
         stem: &scene.name,
         fields,
         time_limit_s: None,
         stop,
+        ranks,
     };
     let result = execute(&mut problem, &scene.analysis, &options, &mut |x| {
         bar.set_position((1000.0 * x) as u64)

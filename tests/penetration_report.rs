@@ -74,6 +74,7 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
         fields: false,
         time_limit_s: None,
         stop: None,
+        ranks: None,
     };
     match execute(&mut p, &Analysis::Explicit(settings), &options, &mut |_| {}) {
         Ok(run) => {

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
+use crate::distributed::Communicator;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
 use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
@@ -71,6 +72,9 @@ pub struct ExecuteOptions<'a> {
     pub time_limit_s: Option<f64>,
     /// Stops an explicit run at the end of the step during which it becomes true (a signal).
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// The ranks of a distributed explicit run (`crate::distributed`), of which this process is
+    /// one; only rank 0 writes files. `None` or one rank: the run of one process.
+    pub ranks: Option<&'a dyn Communicator>,
 }
 
 /// Runs `analysis` on `problem`, reporting progress in `[0, 1]`.
@@ -80,6 +84,15 @@ pub fn execute(
     options: &ExecuteOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
+    let distributed = options.ranks.is_some_and(|c| c.size() > 1);
+    if distributed && !matches!(analysis, Analysis::Explicit(s) if s.remeshing.is_none()) {
+        return Err(SolverError::InvalidScene {
+            entity: "analysis".into(),
+            message: "only an explicit analysis without remeshing runs over several ranks; run \
+                      this scene without mpirun"
+                .into(),
+        });
+    }
     match analysis {
         Analysis::Explicit(settings) if settings.remeshing.is_some() => {
             explicit_remeshing(problem, settings, options, progress)
@@ -143,8 +156,10 @@ fn explicit(
     options: &ExecuteOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
+    // Rank 0 writes the files of a distributed run; the others compute the same history.
+    let writes = options.ranks.is_none_or(|c| c.rank() == 0);
     let output = OutputSettings {
-        dir: options.out.map(Path::to_path_buf),
+        dir: options.out.filter(|_| writes).map(Path::to_path_buf),
         stem: options.stem.to_string(),
         fields: options.fields,
     };
@@ -152,7 +167,19 @@ fn explicit(
     if let Some(u0) = initial_u {
         solver.set_initial_displacement(u0);
     }
-    let plan = solver.plan();
+    let mut plan = solver.plan();
+    if let Some(comm) = options.ranks.filter(|c| c.size() > 1) {
+        solver.distribute(comm)?;
+        let counts = solver.exchange_counts();
+        plan += &format!(
+            "; {} ranks (elements in consecutive ranges), each step an all-gather of the nodal \
+             forces ({} to {} values of 8 B sent per rank, {:.1} KB in all) and an all-reduce",
+            counts.len(),
+            counts.iter().min().unwrap_or(&0),
+            counts.iter().max().unwrap_or(&0),
+            counts.iter().sum::<usize>() as f64 * 8e-3,
+        );
+    }
     let mut files = solver.output_observers()?;
     let mut watchers = Watchers::new(options, progress);
     let mut observers = watchers.with(&mut files);

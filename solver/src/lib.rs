@@ -10,6 +10,7 @@
 
 pub mod analysis;
 pub mod contact;
+pub mod distributed;
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;

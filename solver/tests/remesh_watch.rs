@@ -75,6 +75,7 @@ fn run(dir: &Path, problem: &mut Problem, analysis: &Analysis) -> Result<(), Sol
         fields: false,
         time_limit_s: None,
         stop: None,
+        ranks: None,
     };
     execute(problem, analysis, &options, &mut |_| {}).map(|_| ())
 }

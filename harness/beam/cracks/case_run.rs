@@ -24,6 +24,7 @@ fn run_scene(
         fields: false,
         time_limit_s: None,
         stop: None,
+        ranks: None,
     };
     let run =
         impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})

@@ -109,6 +109,7 @@ pub fn explicit(
         fields: false,
         time_limit_s: Some(time_limit_s),
         stop: None,
+        ranks: None,
     };
     let run =
         impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})

@@ -4,6 +4,7 @@
 //! how it stops early in `stopping`, the contact phase's buffers in `contact_phase`.
 
 mod contact_phase;
+mod ranks;
 mod records;
 mod resume;
 mod run_loop;
@@ -94,6 +95,8 @@ pub struct ExplicitSolver<'p> {
     /// The time step of the run before a resume, when it differs: the first step after it
     /// spans `(dt_before + dt) / 2` between its half-step velocities ([`Self::advance`]).
     dt_before_resume: Option<f64>,
+    /// This rank's share of a distributed run ([`Self::distribute`]); `None` on one process.
+    ranks: Option<ranks::RankShare<'p>>,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -188,6 +191,7 @@ impl<'p> ExplicitSolver<'p> {
             time_origin: 0.0,
             step_origin: 0,
             dt_before_resume: None,
+            ranks: None,
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -338,14 +342,16 @@ impl<'p> ExplicitSolver<'p> {
     /// The internal forces at `t_n`, the only force computation of the step: it advances the
     /// material histories, with the strain rate from `v_{n-1/2}` (`v_0` at the first step).
     fn internal_forces(&mut self) -> std::result::Result<(), (String, Option<usize>)> {
-        let model = &self.problem.model;
-        if let Some(e) = model.advance_internal_forces(
+        let problem = self.problem;
+        let model = &problem.model;
+        let inverted = model.advance_internal_forces(
             &self.u,
             &self.v_half,
             self.dt,
             &mut self.history,
             &mut self.f_int,
-        ) {
+        );
+        if let Some(e) = self.complete_forces(inverted) {
             let det = model.deformation_gradient(e, &self.u).determinant();
             return Err((format!("element inverted (det F = {det:.3e})"), Some(e)));
         }

@@ -77,6 +77,9 @@ struct Chunk {
 struct Layout {
     /// Thread count the layout was built for.
     threads: usize,
+    /// The elements assembled: all of them, or one rank's range in a distributed run
+    /// (`crate::distributed`).
+    range: Range<usize>,
     chunks: Vec<Chunk>,
     /// Nodes that receive slotted contributions.
     shared_nodes: Vec<u32>,
@@ -84,6 +87,12 @@ struct Layout {
     /// `shared_slots[shared_offsets[i]..shared_offsets[i + 1]]`.
     shared_offsets: Vec<u32>,
     shared_slots: Vec<u32>,
+    /// Nodes whose first element lies before `range` (in a lower rank's range): their slots
+    /// are not folded here but handed to the other ranks ([`ForceAssembler::foreign_contributions`]),
+    /// in the same layout as the shared nodes'.
+    foreign_nodes: Vec<u32>,
+    foreign_offsets: Vec<u32>,
+    foreign_slots: Vec<u32>,
     buffer: Vec<Vector3<f64>>,
 }
 
@@ -185,8 +194,13 @@ impl ForceAssembler {
         let orphans = (0..node_count as u32)
             .filter(|&n| first_element[n as usize] == NO_ELEMENT)
             .collect();
-        let layout =
-            Layout::for_threads(&first_element, tets, bodies, rayon::current_num_threads());
+        let layout = Layout::for_threads(
+            &first_element,
+            tets,
+            bodies,
+            rayon::current_num_threads(),
+            0..tets.len(),
+        );
         Self {
             first_element,
             orphans,
@@ -202,7 +216,10 @@ impl ForceAssembler {
             + layout.chunks.len() * std::mem::size_of::<Chunk>()
             + 4 * (layout.shared_nodes.len()
                 + layout.shared_offsets.len()
-                + layout.shared_slots.len())
+                + layout.shared_slots.len()
+                + layout.foreign_nodes.len()
+                + layout.foreign_offsets.len()
+                + layout.foreign_slots.len())
             + std::mem::size_of::<Vector3<f64>>() * layout.buffer.len()
     }
 
@@ -211,6 +228,31 @@ impl ForceAssembler {
     pub fn shared_fraction(&self, node_count: usize) -> f64 {
         let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         layout.shared_nodes.len() as f64 / node_count.max(1) as f64
+    }
+
+    /// Assembles only the elements of `range` from now on (one rank's elements in a distributed
+    /// run, `crate::distributed`): the nodes whose first element lies in `range` get the fold of
+    /// its contributions, the nodes of lower ranks' elements none (their contributions are
+    /// [`Self::foreign_contributions`]), the other nodes are left as they were.
+    pub fn restrict_to(&self, model: &Model, range: Range<usize>) {
+        let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
+        let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
+        let threads = layout.threads;
+        *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads, range);
+    }
+
+    /// The contributions of the last assembly to nodes whose first element precedes the
+    /// assembled range, node by node in ascending order and for each in ascending element order,
+    /// into `out` (cleared first).
+    pub fn foreign_contributions(&self, out: &mut Vec<Vector3<f64>>) {
+        let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
+        out.clear();
+        out.extend(
+            layout
+                .foreign_slots
+                .iter()
+                .map(|&s| layout.buffer[s as usize]),
+        );
     }
 
     /// Internal forces at `u` into `f`, with the velocities, time step and history the materials
@@ -227,7 +269,9 @@ impl ForceAssembler {
         let threads = rayon::current_num_threads();
         if layout.threads != threads {
             let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
-            *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads);
+            let range = layout.range.clone();
+            *layout =
+                Layout::for_threads(&self.first_element, &model.tets, &bodies, threads, range);
         }
         self.assemble_with(&mut layout, model, u, stateful, f)
     }
@@ -475,7 +519,13 @@ impl Layout {
         tets: &[[u32; 4]],
         bodies: &[Range<usize>],
         threads: usize,
+        range: Range<usize>,
     ) -> Self {
+        // Each body's part of the assembled range (empty for a body outside it).
+        let bodies: Vec<Range<usize>> = bodies
+            .iter()
+            .map(|b| b.start.clamp(range.start, range.end)..b.end.clamp(range.start, range.end))
+            .collect();
         let total: usize = bodies.iter().map(|b| b.len()).sum();
         let length = if threads <= 1 {
             total
@@ -484,21 +534,26 @@ impl Layout {
         };
         Self {
             threads,
-            ..Self::with_chunk_length(first_element, tets, bodies, length)
+            ..Self::with_chunk_length(first_element, tets, &bodies, length, range)
         }
     }
 
-    /// Chunks of at most `length` elements, equal within each body, and their slots.
+    /// Chunks of at most `length` elements, equal within each body, and their slots; `bodies`
+    /// are the bodies' parts of `range`, the elements assembled.
     fn with_chunk_length(
         first_element: &[u32],
         tets: &[[u32; 4]],
         bodies: &[Range<usize>],
         length: usize,
+        assembled: Range<usize>,
     ) -> Self {
         let mut chunks = Vec::new();
         // Slotted contributions `(node, slot)`, with slots numbered in ascending element order.
         let mut slotted = Vec::new();
         for (body, range) in bodies.iter().enumerate() {
+            if range.is_empty() {
+                continue;
+            }
             // Equal chunks, so that the threads get equal work.
             let count = range.len().div_ceil(length.max(1)).max(1);
             for k in 0..count {
@@ -522,20 +577,34 @@ impl Layout {
         let buffer = vec![Vector3::zeros(); slotted.len()];
         // Group by node; sorting by (node, slot) keeps each node's slots in element order.
         slotted.sort_unstable();
-        let mut shared_nodes = Vec::new();
-        let mut shared_offsets = vec![0];
-        for (i, &(n, _)) in slotted.iter().enumerate() {
-            if slotted.get(i + 1).is_none_or(|next| next.0 != n) {
-                shared_nodes.push(n);
-                shared_offsets.push(i as u32 + 1);
+        // Nodes of lower ranks' elements come first (their ids need not be lower, so split).
+        let (foreign, shared): (Vec<_>, Vec<_>) = slotted
+            .into_iter()
+            .partition(|&(n, _)| (first_element[n as usize] as usize) < assembled.start);
+        let group = |slotted: Vec<(u32, u32)>| {
+            let mut nodes = Vec::new();
+            let mut offsets = vec![0];
+            for (i, &(n, _)) in slotted.iter().enumerate() {
+                if slotted.get(i + 1).is_none_or(|next| next.0 != n) {
+                    nodes.push(n);
+                    offsets.push(i as u32 + 1);
+                }
             }
-        }
+            let slots = slotted.into_iter().map(|(_, slot)| slot).collect();
+            (nodes, offsets, slots)
+        };
+        let (shared_nodes, shared_offsets, shared_slots) = group(shared);
+        let (foreign_nodes, foreign_offsets, foreign_slots) = group(foreign);
         Self {
             threads: 0,
+            range: assembled,
             chunks,
             shared_nodes,
             shared_offsets,
-            shared_slots: slotted.into_iter().map(|(_, slot)| slot).collect(),
+            shared_slots,
+            foreign_nodes,
+            foreign_offsets,
+            foreign_slots,
             buffer,
         }
     }

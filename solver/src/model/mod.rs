@@ -390,6 +390,21 @@ impl Model {
             .assemble(self, u, Some(assembly::Stateful { v, dt, history }), f)
     }
 
+    /// From now on [`Self::advance_internal_forces`] and [`Self::internal_forces`] compute only
+    /// the elements of `range`, one rank's share of a distributed run (`crate::distributed`): a
+    /// node whose first element lies in `range` gets the fold of the range's contributions, the
+    /// contributions to nodes of earlier elements are kept apart
+    /// ([`Self::foreign_contributions`]).
+    pub fn restrict_assembly(&self, range: std::ops::Range<usize>) {
+        self.assembler.restrict_to(self, range);
+    }
+
+    /// The last assembly's contributions to nodes whose first element precedes its range, node
+    /// by node ascending and each in element order ([`Self::restrict_assembly`]).
+    pub fn foreign_contributions(&self, out: &mut Vec<Vector3<f64>>) {
+        self.assembler.foreign_contributions(out);
+    }
+
     /// The mass of each element (kg): the body's density times its reference volume, or the
     /// carried mass after a remeshing ([`CarriedState::element_mass`]).
     pub fn element_masses(&self) -> Vec<f64> {

@@ -58,6 +58,8 @@ impl<'p> ExplicitSolver<'p> {
         set.history_columns(&self.history_columns())?;
         let mut schedule = OutputSchedule::default();
         self.run_segment(&mut set, &mut schedule, &mut |_| false)?;
+        // The final stresses of a distributed run are read from the whole history.
+        self.gather_history();
         set.finish()?;
         let written = std::mem::take(&mut set.written);
         drop(set);
@@ -108,7 +110,8 @@ impl<'p> ExplicitSolver<'p> {
             .history_interval
             .unwrap_or(self.settings.end_time / 500.0)
             .max(0.0);
-        let wants_fields = set.wants_fields();
+        // Collective output (frames gather the history) needs the same answer on every rank.
+        let wants_fields = self.on_any_rank(set.wants_fields());
         let progress_every = (steps / 100).max(1);
         let resumed = self.step_origin > 0;
 
@@ -157,6 +160,7 @@ impl<'p> ExplicitSolver<'p> {
                     let crack_opening = if self.history.is_empty() {
                         Vec::new()
                     } else {
+                        self.gather_history();
                         self.problem.model.crack_openings(&self.u, &self.history)
                     };
                     set.snapshot(&SnapshotView {
@@ -178,7 +182,14 @@ impl<'p> ExplicitSolver<'p> {
             // Every observer sees the last step's progress, but a run whose last step is done
             // completes: there is nothing left to halt (before the observers, a stop flag was
             // not read after the last step either).
-            match set.poll(fraction) {
+            // A halt on one rank (its deadline, a signal) halts them all at this step.
+            let halt = set.poll(fraction);
+            let halt = if self.on_any_rank(halt.is_some()) {
+                Some(halt.unwrap_or(crate::output::Halt::Interrupted))
+            } else {
+                None
+            };
+            match halt {
                 Some(halt) if !last => return Err(self.halt(halt, set)),
                 _ if last => break,
                 _ => {}

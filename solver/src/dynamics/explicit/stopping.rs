@@ -17,7 +17,8 @@ impl<'p> ExplicitSolver<'p> {
         observers: &mut ObserverSet,
     ) -> SolverError {
         // The state at the stop may hold NaN; the last good frame is already on disk.
-        if observers.wants_fields() && self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
+        let wants_fields = self.on_any_rank(observers.wants_fields());
+        if wants_fields && self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
             // What could not be written is left out of the report's list; the error is the
             // instability.
             let _ = self.field_frame(observers);

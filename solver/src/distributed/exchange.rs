@@ -1,0 +1,172 @@
+//! The nodal forces of a distributed step, completed across ranks in the one-process fold order.
+
+use std::ops::Range;
+
+use nalgebra::Vector3;
+
+use super::Communicator;
+
+/// `first_element` of a node without elements.
+const NO_ELEMENT: u32 = u32::MAX;
+
+/// How the ranks complete each other's nodal forces (module doc of `distributed`).
+///
+/// After its element loop, rank `r` holds for each node it *owns* (whose first element lies in
+/// its range) the fold of its own contributions, which is the start of the node's one-process
+/// fold `((0 + f_e1) + f_e2) + ...`, and for each node owned by a lower rank its single
+/// contributions, in ascending element order (the assembler's *foreign* slots). Every rank sends
+/// both; every rank then folds, for every node, the owner's partial sum followed by the higher
+/// ranks' contributions in rank order, which is ascending element order: the one-process fold,
+/// bit for bit, on every rank.
+#[derive(Debug)]
+pub struct ForceExchange {
+    /// Nodes owned by this rank, ascending: their partial sums open this rank's message.
+    owned: Vec<u32>,
+    /// This rank's foreign contributions (the rest of its message), to check the assembler's.
+    foreign_len: usize,
+    /// Values (`f64`) each rank sends.
+    counts: Vec<usize>,
+    /// The gathered vectors each node folds, in fold order:
+    /// `sources[offsets[n]..offsets[n + 1]]` (empty for a node without elements).
+    offsets: Vec<u32>,
+    sources: Vec<u32>,
+    send: Vec<f64>,
+    gathered: Vec<f64>,
+}
+
+impl ForceExchange {
+    /// The exchange of rank `rank` when the ranks hold the element `ranges` (consecutive, in rank
+    /// order, covering every element) of a mesh of `tets` over `node_count` nodes. Every rank
+    /// builds the same plan: the mesh is known everywhere.
+    pub fn new(tets: &[[u32; 4]], node_count: usize, ranges: &[Range<usize>], rank: usize) -> Self {
+        assert!(rank < ranges.len(), "rank {rank} of {} ranks", ranges.len());
+        assert_eq!(
+            ranges.first().map_or(0, |r| r.start),
+            0,
+            "ranges start at 0"
+        );
+        assert_eq!(
+            ranges.last().map_or(0, |r| r.end),
+            tets.len(),
+            "ranges cover the mesh"
+        );
+        let mut first_element = vec![NO_ELEMENT; node_count];
+        for (e, tet) in tets.iter().enumerate().rev() {
+            for &n in tet {
+                first_element[n as usize] = e as u32;
+            }
+        }
+        let owner_of = |e: u32| ranges.partition_point(|r| r.end <= e as usize);
+        // Per rank: owned nodes ascending, and foreign contributions `(node, element)` sorted,
+        // which is the order the assembler keeps its slots in (node, then element).
+        let mut owned: Vec<Vec<u32>> = vec![Vec::new(); ranges.len()];
+        for (n, &first) in first_element.iter().enumerate() {
+            if first != NO_ELEMENT {
+                owned[owner_of(first)].push(n as u32);
+            }
+        }
+        let foreign: Vec<Vec<(u32, u32)>> = ranges
+            .iter()
+            .map(|range| {
+                let mut list: Vec<(u32, u32)> = range
+                    .clone()
+                    .flat_map(|e| tets[e].iter().map(move |&n| (n, e as u32)))
+                    .filter(|&(n, _)| (first_element[n as usize] as usize) < range.start)
+                    .collect();
+                list.sort_unstable();
+                list
+            })
+            .collect();
+        let mut offsets = vec![0u32; node_count + 1];
+        for (n, &first) in first_element.iter().enumerate() {
+            offsets[n + 1] = u32::from(first != NO_ELEMENT);
+        }
+        for list in &foreign {
+            for &(n, _) in list {
+                offsets[n as usize + 1] += 1;
+            }
+        }
+        for n in 0..node_count {
+            offsets[n + 1] += offsets[n];
+        }
+        let mut sources = vec![0u32; offsets[node_count] as usize];
+        let mut next: Vec<u32> = offsets[..node_count].to_vec();
+        let mut base = 0u32;
+        let mut counts = Vec::with_capacity(ranges.len());
+        // Owners first (a node's owner precedes every rank that sends it a contribution), then
+        // the ranks' contributions in rank order.
+        let mut bases = Vec::with_capacity(ranges.len());
+        for (own, list) in owned.iter().zip(&foreign) {
+            bases.push(base);
+            for (i, &n) in own.iter().enumerate() {
+                sources[next[n as usize] as usize] = base + i as u32;
+                next[n as usize] += 1;
+            }
+            counts.push(3 * (own.len() + list.len()));
+            base += (own.len() + list.len()) as u32;
+        }
+        for ((own, list), &base) in owned.iter().zip(&foreign).zip(&bases) {
+            for (j, &(n, _)) in list.iter().enumerate() {
+                sources[next[n as usize] as usize] = base + (own.len() + j) as u32;
+                next[n as usize] += 1;
+            }
+        }
+        let total = 3 * base as usize;
+        let mine = owned.swap_remove(rank);
+        Self {
+            send: Vec::with_capacity(counts[rank]),
+            foreign_len: foreign[rank].len(),
+            owned: mine,
+            counts,
+            offsets,
+            sources,
+            gathered: vec![0.0; total],
+        }
+    }
+
+    /// Number of contributions this rank sends to nodes owned by lower ranks.
+    pub fn foreign_len(&self) -> usize {
+        self.foreign_len
+    }
+
+    /// Values sent per rank per step (`f64`), in rank order: the communication volume.
+    pub fn counts(&self) -> &[usize] {
+        &self.counts
+    }
+
+    /// Completes the nodal forces `f` of every node from this rank's partial sums (in `f`, for the
+    /// nodes it owns) and `foreign` contributions (in the assembler's order), and those of the
+    /// other ranks. Collective: every rank calls it at the same step.
+    pub fn complete(
+        &mut self,
+        comm: &dyn Communicator,
+        foreign: &[Vector3<f64>],
+        f: &mut [Vector3<f64>],
+    ) {
+        assert_eq!(
+            foreign.len(),
+            self.foreign_len,
+            "foreign contributions out of date"
+        );
+        self.send.clear();
+        for &n in &self.owned {
+            self.send.extend(f[n as usize].iter());
+        }
+        for v in foreign {
+            self.send.extend(v.iter());
+        }
+        comm.all_gather_f64(&self.send, &self.counts, &mut self.gathered);
+        let g = &self.gathered;
+        let vector = |s: u32| {
+            let i = 3 * s as usize;
+            Vector3::new(g[i], g[i + 1], g[i + 2])
+        };
+        for (n, force) in f.iter_mut().enumerate() {
+            let range = self.offsets[n] as usize..self.offsets[n + 1] as usize;
+            *force = match self.sources[range].split_first() {
+                None => Vector3::zeros(),
+                Some((&owner, rest)) => rest.iter().fold(vector(owner), |acc, &s| acc + vector(s)),
+            };
+        }
+    }
+}

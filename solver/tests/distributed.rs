@@ -1,0 +1,147 @@
+//! A run over several ranks gives the one-process run's history bit for bit (issue 22). The ranks
+//! are threads here ([`ThreadGroup`]), with the same collectives the MPI ranks use, so the test
+//! needs no MPI installation; `tests/mpi_ranks.rs` (feature `mpi`) runs the same under `mpirun`.
+
+// Test code: an `unwrap` that fails is the failure (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+
+use impact_solver::distributed::{Communicator, ThreadGroup};
+use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
+use impact_solver::scene::{build_problem, Analysis, Scene};
+
+fn case(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
+}
+
+/// Bits of a run: the history rows, the final displacement and velocity, the material history.
+#[derive(Debug, PartialEq)]
+struct Bits {
+    history: Vec<u64>,
+    state: Vec<u64>,
+    material: Vec<u64>,
+    /// Values this rank sent per step to complete the forces.
+    sent: usize,
+    /// Largest number of active contact nodes in a history row (0 without contact).
+    most_in_contact: f64,
+}
+
+/// Runs `steps` steps of the scene (the scene of a case file under `scene`, or a plain scene file)
+/// as rank `comm.rank()` (or alone).
+fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
+    let scene = Scene::from_yaml_file_entry(path, "scene")
+        .or_else(|_| Scene::from_yaml_file(path))
+        .unwrap();
+    let problem = build_problem(&scene).unwrap();
+    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+        panic!("{}: an explicit scene", path.display())
+    };
+    settings.max_steps = Some(steps);
+    let mut solver = ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap();
+    if let Some(comm) = comm {
+        solver.distribute(comm).unwrap();
+    }
+    let summary = solver.run(&mut |_| {}).unwrap();
+    let sent = comm.map_or(0, |c| solver.exchange_counts()[c.rank()]);
+    let history = &summary.history;
+    let most_in_contact = history
+        .columns()
+        .iter()
+        .filter(|c| c.ends_with("_active"))
+        .flat_map(|c| history.column(c).unwrap())
+        .fold(0.0, f64::max);
+    Bits {
+        history: summary
+            .history
+            .rows()
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect(),
+        state: solver
+            .u
+            .iter()
+            .chain(&solver.v_full)
+            .flat_map(|x| x.iter().map(|c| c.to_bits()))
+            .collect(),
+        material: solver
+            .history()
+            .bodies
+            .iter()
+            .flatten()
+            .flat_map(|b| {
+                b.values
+                    .iter()
+                    .map(|x| x.to_bits() as u64)
+                    .chain(b.cauchy.iter().flatten().map(|x| x.to_bits()))
+            })
+            .collect(),
+        sent,
+        most_in_contact,
+    }
+}
+
+/// The bits of every rank of a run on `ranks` threads.
+fn run_ranks(path: &Path, steps: usize, ranks: usize) -> Vec<Bits> {
+    let group = ThreadGroup::new(ranks);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = group
+            .iter()
+            .map(|comm| s.spawn(move || run(path, steps, Some(comm))))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// Runs the case alone and on each count of `ranks`; with `contact`, the bodies must touch.
+fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
+    let path = case(path);
+    let alone = run(&path, steps, None);
+    assert_eq!(
+        alone.most_in_contact > 0.0,
+        contact,
+        "{}: contact within the steps run",
+        path.display()
+    );
+    assert!(
+        alone.state.iter().any(|&b| b != 0),
+        "{}: the run must move something",
+        path.display()
+    );
+    for &n in ranks {
+        let bits = run_ranks(&path, steps, n);
+        for (rank, b) in bits.iter().enumerate() {
+            let what = format!("{} on {n} ranks, rank {rank}", path.display());
+            assert_eq!(b.history, alone.history, "{what}: history differs");
+            assert_eq!(b.state, alone.state, "{what}: final state differs");
+            assert_eq!(
+                b.material, alone.material,
+                "{what}: material history differs"
+            );
+        }
+        // Ranks above the first send contributions to their lower neighbour's nodes: the
+        // exchange is exercised, not bypassed.
+        assert!(
+            bits.iter().all(|b| b.sent > 0),
+            "{}: every rank sends",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn confined_column_on_two_and_three_ranks_is_bitwise_the_one_process_run() {
+    check("cases/examples/confined-column.yaml", 200, &[2, 3], false);
+}
+
+#[test]
+fn head_on_spheres_in_contact_on_two_ranks_are_bitwise_the_one_process_run() {
+    check("cases/contact/spheres-headon.yaml", 150, &[2, 4], true);
+}
+
+#[test]
+fn the_microplane_drop_test_on_two_ranks_is_bitwise_the_one_process_run() {
+    // 60 steps of 2.8 us: the hammer, 0.1 mm above the beam at 2 m/s, is on it from step 18.
+    check("cases/beam/drop-2ms.yaml", 60, &[2], true);
+}
