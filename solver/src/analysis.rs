@@ -156,10 +156,10 @@ fn explicit(
     options: &ExecuteOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
-    // Rank 0 writes the files of a distributed run; the others compute the same history.
-    let writes = options.ranks.is_none_or(|c| c.rank() == 0);
+    // In a distributed run rank 0 writes the history, every rank its piece of the field frames
+    // (`ExplicitSolver::output_observers`).
     let output = OutputSettings {
-        dir: options.out.filter(|_| writes).map(Path::to_path_buf),
+        dir: options.out.map(Path::to_path_buf),
         stem: options.stem.to_string(),
         fields: options.fields,
     };
@@ -187,7 +187,8 @@ fn explicit(
     // Recorded problems are written whether or not the run completed: they are results too.
     let contact_problems = solver.take_recorded_problems();
     let mut written_problems = match options.out {
-        Some(dir) if !contact_problems.is_empty() => {
+        // Every rank records the same problems; rank 0 writes them.
+        Some(dir) if !contact_problems.is_empty() && solver.rank().0 == 0 => {
             write_contact_problems(dir, options.stem, &contact_problems)?
         }
         _ => Vec::new(),

@@ -19,7 +19,7 @@ use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
-use crate::output::{FieldFrames, HistoryFile, ObserverSet, Progress, RunObserver};
+use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use contact_phase::ContactScratch;
 pub use resume::RunState;
 pub use run_loop::{OutputSchedule, SegmentEnd};
@@ -294,13 +294,23 @@ impl<'p> ExplicitSolver<'p> {
 
     /// The observers that write what the output settings ask for: the history CSV
     /// (`<stem>_history.csv`) and, with `fields`, the VTU frames and their `<stem>.pvd`.
+    /// In a distributed run ([`Self::distribute`]) rank 0 writes the history, and every rank its
+    /// piece of each frame (`PieceFrames`: `<stem>_<i>_<rank>.vtu`, joined by rank 0's
+    /// `<stem>_<i>.pvtu`).
     pub fn output_observers(&self) -> Result<Vec<Box<dyn RunObserver>>> {
         let mut observers: Vec<Box<dyn RunObserver>> = Vec::new();
         if let Some(dir) = &self.output.dir {
-            let path = dir.join(format!("{}_history.csv", self.output.stem));
-            observers.push(Box::new(HistoryFile::new(path)));
+            let (rank, size) = self.rank();
+            if rank == 0 {
+                let path = dir.join(format!("{}_history.csv", self.output.stem));
+                observers.push(Box::new(HistoryFile::new(path)));
+            }
             if self.output.fields {
-                observers.push(Box::new(FieldFrames::new(dir, &self.output.stem)?));
+                let stem = &self.output.stem;
+                observers.push(match self.rank_elements() {
+                    Some(cells) => Box::new(PieceFrames::new(dir, stem, rank, size, cells)?),
+                    None => Box::new(FieldFrames::new(dir, stem)?),
+                });
             }
         }
         Ok(observers)

@@ -5,6 +5,7 @@
 
 pub mod history;
 pub mod observer;
+pub mod pieces;
 pub mod vtu;
 
 pub use history::{HistoryStream, HistoryTable};
@@ -12,4 +13,5 @@ pub use observer::{
     Deadline, FieldFrames, Halt, HistoryFile, ObserverSet, Progress, Recorder, RunObserver,
     SnapshotView, StopFlag,
 };
+pub use pieces::PieceFrames;
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};

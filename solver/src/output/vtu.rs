@@ -179,34 +179,31 @@ fn write_vtu_body(out: &mut impl Write, frame: &FieldFrame) -> std::io::Result<(
     writeln!(out, "</VTKFile>")
 }
 
-fn write_field(out: &mut impl Write, name: &str, data: &FieldData) -> std::io::Result<()> {
+/// The attributes of a field's `DataArray` (type, name, components), which the `.pvtu` of a
+/// distributed run repeats for its pieces.
+pub(super) fn field_attributes(name: &str, data: &FieldData) -> String {
     let name = escape_xml(name);
     match data {
-        FieldData::Scalar(v) => write_array(
-            out,
-            &format!(r#"type="Float64" Name="{name}""#),
-            &f64_bytes(v.iter().copied()),
-        ),
-        FieldData::Vector(v) => write_array(
-            out,
-            &format!(r#"type="Float64" Name="{name}" NumberOfComponents="3""#),
-            &f64_bytes(v.iter().flatten().copied()),
-        ),
+        FieldData::Scalar(_) => format!(r#"type="Float64" Name="{name}""#),
+        FieldData::Vector(_) => format!(r#"type="Float64" Name="{name}" NumberOfComponents="3""#),
         // Named components make ParaView offer the tensor components by their meaning
         // rather than as 0..5.
-        FieldData::SymmetricTensor(v) => write_array(
-            out,
-            &format!(
-                r#"type="Float64" Name="{name}" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ""#
-            ),
-            &f64_bytes(v.iter().flatten().copied()),
+        FieldData::SymmetricTensor(_) => format!(
+            r#"type="Float64" Name="{name}" NumberOfComponents="6" ComponentName0="XX" ComponentName1="YY" ComponentName2="ZZ" ComponentName3="XY" ComponentName4="YZ" ComponentName5="XZ""#
         ),
-        FieldData::Int(v) => write_array(
-            out,
-            &format!(r#"type="Int32" Name="{name}""#),
-            &v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>(),
-        ),
+        FieldData::Int(_) => format!(r#"type="Int32" Name="{name}""#),
     }
+}
+
+fn write_field(out: &mut impl Write, name: &str, data: &FieldData) -> std::io::Result<()> {
+    let attributes = field_attributes(name, data);
+    let bytes = match data {
+        FieldData::Scalar(v) => f64_bytes(v.iter().copied()),
+        FieldData::Vector(v) => f64_bytes(v.iter().flatten().copied()),
+        FieldData::SymmetricTensor(v) => f64_bytes(v.iter().flatten().copied()),
+        FieldData::Int(v) => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+    };
+    write_array(out, &attributes, &bytes)
 }
 
 /// Writes one inline binary `DataArray` element holding `bytes` (already little-endian).
@@ -250,7 +247,7 @@ fn base64(bytes: &[u8]) -> String {
 }
 
 /// Escapes text for use inside a double-quoted XML attribute.
-fn escape_xml(text: &str) -> String {
+pub(super) fn escape_xml(text: &str) -> String {
     let mut escaped = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -301,9 +298,15 @@ impl PvdWriter {
         let file_name = format!("{}_{:05}.vtu", self.stem, self.frames.len());
         let path = self.dir.join(&file_name);
         write_vtu(&path, frame)?;
-        self.frames.push((frame.time, file_name));
-        self.write_pvd()?;
+        self.add_file(frame.time, file_name)?;
         Ok(path)
+    }
+
+    /// Lists `file_name` (relative to the folder, written by the caller: a `.pvtu` of the pieces
+    /// of a distributed run) as the next frame, at `time`, and updates the collection.
+    pub fn add_file(&mut self, time: f64, file_name: String) -> Result<()> {
+        self.frames.push((time, file_name));
+        self.write_pvd()
     }
 
     /// Number of frames written so far.

@@ -54,6 +54,11 @@ impl<'p> ExplicitSolver<'p> {
             .map_or((0, 1), |r| (r.comm.rank(), r.comm.size()))
     }
 
+    /// The elements of this rank in a distributed run (`None` on one process).
+    pub fn rank_elements(&self) -> Option<Range<usize>> {
+        self.ranks.as_ref().map(|r| r.ranges[r.comm.rank()].clone())
+    }
+
     /// `f64` values each rank sends per step to complete the forces (empty on one process).
     pub fn exchange_counts(&self) -> &[usize] {
         self.ranks.as_ref().map_or(&[], |r| r.exchange.counts())
