@@ -22,6 +22,7 @@ use crate::results::{
     SweepLevel, SweepResult,
 };
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
+use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::output::HistoryTable;
 use measure::Measure;
 
@@ -108,17 +109,46 @@ fn run_case(
         .map(|(i, (parameter, scene))| {
             let t0 = Instant::now();
             let stem = stem_of(i, levels.len());
-            let outcome = build_problem(scene).and_then(|mut problem| {
-                let opts = ExecuteOptions {
-                    out: case_dir.as_deref(),
-                    stem: &stem,
-                    fields: false,
-                    time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
-                    stop: options.stop.clone(),
-                    ranks: None,
-                };
-                execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
-            });
+            let run_as = |ranks: Option<&dyn Communicator>| {
+                build_problem(scene).and_then(|mut problem| {
+                    let opts = ExecuteOptions {
+                        out: case_dir.as_deref(),
+                        stem: &stem,
+                        fields: false,
+                        time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
+                        stop: options.stop.clone(),
+                        ranks,
+                    };
+                    execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
+                        .map(|run| (problem, run))
+                })
+            };
+            let outcome = match variant.and_then(|v| v.ranks).filter(|&n| n > 1) {
+                // Every rank runs the case; rank 0's outcome is the run's (every rank holds the
+                // same nodal history, and rank 0 alone writes files).
+                Some(n) => {
+                    let group = ThreadGroup::new(n);
+                    std::thread::scope(|s| {
+                        let ranks: Vec<_> = group
+                            .iter()
+                            .map(|comm| s.spawn(|| run_as(Some(comm as &dyn Communicator))))
+                            .collect();
+                        let mut outcomes = ranks.into_iter().map(|h| {
+                            h.join().unwrap_or_else(|_| {
+                                Err(SolverError::InvalidScene {
+                                    entity: "ranks".into(),
+                                    message: "a rank of the distributed run panicked".into(),
+                                })
+                            })
+                        });
+                        let first = outcomes.next().expect("at least two ranks");
+                        // The others must end too; their outcome is rank 0's.
+                        outcomes.for_each(drop);
+                        first
+                    })
+                }
+                None => run_as(None),
+            };
             LevelRun {
                 parameter: *parameter,
                 wall_s: t0.elapsed().as_secs_f64(),
