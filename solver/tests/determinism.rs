@@ -37,18 +37,7 @@ fn run(threads: usize, material: MaterialModel) -> (Vec<u64>, Vec<u64>, Vec<u64>
             .flatten()
             .map(|x| x.to_bits())
             .collect();
-        let material_history = solver
-            .history()
-            .bodies
-            .iter()
-            .flatten()
-            .flat_map(|b| {
-                b.values
-                    .iter()
-                    .map(|x| x.to_bits() as u64)
-                    .chain(b.cauchy.iter().flatten().map(|x| x.to_bits()))
-            })
-            .collect();
+        let material_history = material_history_bits(solver.history());
         (state, history, material_history)
     })
 }

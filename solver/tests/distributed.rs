@@ -5,8 +5,11 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
+use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
 use impact_solver::scene::{build_problem, Analysis, Scene};
@@ -65,18 +68,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .chain(&solver.v_full)
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect(),
-        material: solver
-            .history()
-            .bodies
-            .iter()
-            .flatten()
-            .flat_map(|b| {
-                b.values
-                    .iter()
-                    .map(|x| x.to_bits() as u64)
-                    .chain(b.cauchy.iter().flatten().map(|x| x.to_bits()))
-            })
-            .collect(),
+        material: material_history_bits(solver.history()),
         sent,
         most_in_contact,
     }

@@ -245,3 +245,19 @@ pub fn assert_same_updates(
     }
     state_a
 }
+
+/// The bits of a run's material history (values, then stresses, body by body), for bitwise
+/// comparisons of runs.
+pub fn material_history_bits(history: &impact_solver::model::MaterialHistory) -> Vec<u64> {
+    history
+        .bodies
+        .iter()
+        .flatten()
+        .flat_map(|b| {
+            b.values
+                .iter()
+                .map(|x| x.to_bits() as u64)
+                .chain(b.cauchy.iter().flatten().map(|x| x.to_bits()))
+        })
+        .collect()
+}
