@@ -134,6 +134,6 @@ fn head_on_spheres_in_contact_on_two_ranks_are_bitwise_the_one_process_run() {
 
 #[test]
 fn the_microplane_drop_test_on_two_ranks_is_bitwise_the_one_process_run() {
-    // 60 steps of 2.8 us: the hammer, 0.1 mm above the beam at 2 m/s, is on it from step 18.
+    // 60 steps of 4.4 us: the hammer, 0.1 mm above the beam at 2 m/s, is on it from step 11.
     check("cases/beam/drop-2ms.yaml", 60, &[2], true);
 }
