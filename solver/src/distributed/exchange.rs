@@ -5,9 +5,7 @@ use std::ops::Range;
 use nalgebra::Vector3;
 
 use super::Communicator;
-
-/// `first_element` of a node without elements.
-const NO_ELEMENT: u32 = u32::MAX;
+use crate::model::{first_elements, NO_ELEMENT};
 
 /// How the ranks complete each other's nodal forces (module doc of `distributed`).
 ///
@@ -50,12 +48,7 @@ impl ForceExchange {
             tets.len(),
             "ranges cover the mesh"
         );
-        let mut first_element = vec![NO_ELEMENT; node_count];
-        for (e, tet) in tets.iter().enumerate().rev() {
-            for &n in tet {
-                first_element[n as usize] = e as u32;
-            }
-        }
+        let first_element = first_elements(tets, node_count);
         let owner_of = |e: u32| ranges.partition_point(|r| r.end <= e as usize);
         // Per rank: owned nodes ascending, and foreign contributions `(node, element)` sorted,
         // which is the order the assembler keeps its slots in (node, then element).
@@ -122,11 +115,6 @@ impl ForceExchange {
             sources,
             gathered: vec![0.0; total],
         }
-    }
-
-    /// Number of contributions this rank sends to nodes owned by lower ranks.
-    pub fn foreign_len(&self) -> usize {
-        self.foreign_len
     }
 
     /// Values sent per rank per step (`f64`), in rank order: the communication volume.

@@ -1,5 +1,5 @@
-//! The collectives of [`Collectives`] (the run's `Communicator`) over MPI (rsmpi, the `mpi` feature), for runs under
-//! `mpirun`.
+//! The collectives of [`Collectives`] (the run's `Communicator`) over MPI (rsmpi, the `mpi`
+//! feature), for runs under `mpirun`.
 
 use std::thread::ThreadId;
 

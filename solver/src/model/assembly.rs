@@ -48,7 +48,7 @@ const CHUNKS_PER_THREAD: usize = 4;
 /// Smallest chunk worth a task of its own.
 const MIN_CHUNK: usize = 4096;
 /// `first_element` of a node that belongs to no element.
-const NO_ELEMENT: u32 = u32::MAX;
+pub(crate) const NO_ELEMENT: u32 = u32::MAX;
 
 /// Assembles element forces into nodal forces in parallel with a result bitwise independent of
 /// the thread count (module doc): node ownership by first element, and the chunk layout for the
@@ -87,11 +87,9 @@ struct Layout {
     /// `shared_slots[shared_offsets[i]..shared_offsets[i + 1]]`.
     shared_offsets: Vec<u32>,
     shared_slots: Vec<u32>,
-    /// Nodes whose first element lies before `range` (in a lower rank's range): their slots
-    /// are not folded here but handed to the other ranks ([`ForceAssembler::foreign_contributions`]),
-    /// in the same layout as the shared nodes'.
-    foreign_nodes: Vec<u32>,
-    foreign_offsets: Vec<u32>,
+    /// Slots of the nodes whose first element lies before `range` (in a lower rank's range),
+    /// by node and then element: not folded here but handed to the other ranks
+    /// ([`ForceAssembler::foreign_contributions`]).
     foreign_slots: Vec<u32>,
     buffer: Vec<Vector3<f64>>,
 }
@@ -167,6 +165,18 @@ unsafe fn scatter(
     }
 }
 
+/// The lowest element of each of `node_count` nodes (`NO_ELEMENT` for a node without one): the
+/// element whose contribution starts the node's fold.
+pub(crate) fn first_elements(tets: &[[u32; 4]], node_count: usize) -> Vec<u32> {
+    let mut first_element = vec![NO_ELEMENT; node_count];
+    for (e, tet) in tets.iter().enumerate().rev() {
+        for &n in tet {
+            first_element[n as usize] = e as u32;
+        }
+    }
+    first_element
+}
+
 /// Whether the chunk over `elements`, visiting an element of a node whose first element is
 /// `first`, owns that node. The visited element is at least `first` and lies in the chunk, so
 /// `first >= start` means that the chunk holds `first`; exactly one chunk does. The element loop
@@ -185,12 +195,7 @@ impl ForceAssembler {
             tets.len() < NO_ELEMENT as usize,
             "element ids must fit in u32"
         );
-        let mut first_element = vec![NO_ELEMENT; node_count];
-        for (e, tet) in tets.iter().enumerate().rev() {
-            for &n in tet {
-                first_element[n as usize] = e as u32;
-            }
-        }
+        let first_element = first_elements(tets, node_count);
         let orphans = (0..node_count as u32)
             .filter(|&n| first_element[n as usize] == NO_ELEMENT)
             .collect();
@@ -217,8 +222,6 @@ impl ForceAssembler {
             + 4 * (layout.shared_nodes.len()
                 + layout.shared_offsets.len()
                 + layout.shared_slots.len()
-                + layout.foreign_nodes.len()
-                + layout.foreign_offsets.len()
                 + layout.foreign_slots.len())
             + std::mem::size_of::<Vector3<f64>>() * layout.buffer.len()
     }
@@ -594,7 +597,6 @@ impl Layout {
             (nodes, offsets, slots)
         };
         let (shared_nodes, shared_offsets, shared_slots) = group(shared);
-        let (foreign_nodes, foreign_offsets, foreign_slots) = group(foreign);
         Self {
             threads: 0,
             range: assembled,
@@ -602,9 +604,7 @@ impl Layout {
             shared_nodes,
             shared_offsets,
             shared_slots,
-            foreign_nodes,
-            foreign_offsets,
-            foreign_slots,
+            foreign_slots: foreign.into_iter().map(|(_, slot)| slot).collect(),
             buffer,
         }
     }

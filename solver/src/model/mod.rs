@@ -16,6 +16,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Vector3};
 
+pub(crate) use assembly::{first_elements, NO_ELEMENT};
 pub use assembly::{ChunkJob, ForceAssembler};
 pub use carried::CarriedState;
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};

@@ -174,17 +174,19 @@ impl RunObserver for PieceFrames {
         };
         let path = self.dir.join(self.piece_name(index, self.rank));
         write_vtu(&path, &piece)?;
-        let text = self.pvtu_text(frame, index);
-        let Some(collection) = self.collection.as_mut() else {
+        if self.collection.is_none() {
             return Ok(Some(path));
-        };
+        }
+        let text = self.pvtu_text(frame, index);
         let name = format!("{}_{index:05}.pvtu", self.stem);
         let pvtu = self.dir.join(&name);
         std::fs::write(&pvtu, text).map_err(|source| SolverError::Write {
             path: pvtu.clone(),
             source,
         })?;
-        collection.add_file(frame.time, name)?;
+        if let Some(collection) = self.collection.as_mut() {
+            collection.add_file(frame.time, name)?;
+        }
         Ok(Some(pvtu))
     }
 }
