@@ -9,8 +9,10 @@ use crate::model::{first_elements, NO_ELEMENT};
 
 /// How the ranks complete each other's nodal forces (module doc of `distributed`).
 ///
-/// After its element loop, rank `r` holds for each node it *owns* (whose first element lies in
-/// its range) the fold of its own contributions, which is the start of the node's one-process
+/// Only the *exchanged* nodes ([`super::NodePlan`]) take part: every node that two ranks use is
+/// one, and every other node's forces are complete where they are assembled.
+/// After its element loop, rank `r` holds for each exchanged node it *owns* (whose first element
+/// lies in its range) the fold of its own contributions, which is the start of the node's one-process
 /// fold `((0 + f_e1) + f_e2) + ...`, and for each node owned by a lower rank its single
 /// contributions, in ascending element order (the assembler's *foreign* slots). Every rank sends
 /// both; every rank then folds, for every node, the owner's partial sum followed by the higher
@@ -18,8 +20,11 @@ use crate::model::{first_elements, NO_ELEMENT};
 /// bit for bit, on every rank.
 #[derive(Debug)]
 pub struct ForceExchange {
-    /// Nodes owned by this rank, ascending: their partial sums open this rank's message.
+    /// Exchanged nodes owned by this rank, ascending: their partial sums open this rank's
+    /// message.
     owned: Vec<u32>,
+    /// The exchanged nodes, ascending: the nodes whose forces [`Self::complete`] sets.
+    exchanged: Vec<u32>,
     /// This rank's foreign contributions (the rest of its message), to check the assembler's.
     foreign_len: usize,
     /// Values (`f64`) each rank sends.
@@ -34,9 +39,16 @@ pub struct ForceExchange {
 
 impl ForceExchange {
     /// The exchange of rank `rank` when the ranks hold the element `ranges` (consecutive, in rank
-    /// order, covering every element) of a mesh of `tets` over `node_count` nodes. Every rank
-    /// builds the same plan: the mesh is known everywhere.
-    pub fn new(tets: &[[u32; 4]], node_count: usize, ranges: &[Range<usize>], rank: usize) -> Self {
+    /// order, covering every element) of a mesh of `tets` over `node_count` nodes, for the nodes
+    /// flagged in `exchanged` (which must hold every node two ranks use). Every rank builds the
+    /// same plan: the mesh is known everywhere.
+    pub fn new(
+        tets: &[[u32; 4]],
+        node_count: usize,
+        ranges: &[Range<usize>],
+        rank: usize,
+        exchanged: &[bool],
+    ) -> Self {
         assert!(rank < ranges.len(), "rank {rank} of {} ranks", ranges.len());
         assert_eq!(
             ranges.first().map_or(0, |r| r.start),
@@ -54,7 +66,7 @@ impl ForceExchange {
         // which is the order the assembler keeps its slots in (node, then element).
         let mut owned: Vec<Vec<u32>> = vec![Vec::new(); ranges.len()];
         for (n, &first) in first_element.iter().enumerate() {
-            if first != NO_ELEMENT {
+            if first != NO_ELEMENT && exchanged[n] {
                 owned[owner_of(first)].push(n as u32);
             }
         }
@@ -72,10 +84,11 @@ impl ForceExchange {
             .collect();
         let mut offsets = vec![0u32; node_count + 1];
         for (n, &first) in first_element.iter().enumerate() {
-            offsets[n + 1] = u32::from(first != NO_ELEMENT);
+            offsets[n + 1] = u32::from(first != NO_ELEMENT && exchanged[n]);
         }
         for list in &foreign {
             for &(n, _) in list {
+                assert!(exchanged[n as usize], "node {n} is used by two ranks");
                 offsets[n as usize + 1] += 1;
             }
         }
@@ -110,6 +123,9 @@ impl ForceExchange {
             send: Vec::with_capacity(counts[rank]),
             foreign_len: foreign[rank].len(),
             owned: mine,
+            exchanged: (0..node_count as u32)
+                .filter(|&n| exchanged[n as usize])
+                .collect(),
             counts,
             offsets,
             sources,
@@ -122,8 +138,8 @@ impl ForceExchange {
         &self.counts
     }
 
-    /// Completes the nodal forces `f` of every node from this rank's partial sums (in `f`, for the
-    /// nodes it owns) and `foreign` contributions (in the assembler's order), and those of the
+    /// Completes the nodal forces `f` of every exchanged node from this rank's partial sums (in
+    /// `f`, for the nodes it owns) and `foreign` contributions (in the assembler's order), and those of the
     /// other ranks. Collective: every rank calls it at the same step.
     pub fn complete(
         &mut self,
@@ -149,9 +165,10 @@ impl ForceExchange {
             let i = 3 * s as usize;
             Vector3::new(g[i], g[i + 1], g[i + 2])
         };
-        for (n, force) in f.iter_mut().enumerate() {
+        for &n in &self.exchanged {
+            let n = n as usize;
             let range = self.offsets[n] as usize..self.offsets[n + 1] as usize;
-            *force = match self.sources[range].split_first() {
+            f[n] = match self.sources[range].split_first() {
                 None => Vector3::zeros(),
                 Some((&owner, rest)) => rest.iter().fold(vector(owner), |acc, &s| acc + vector(s)),
             };

@@ -11,12 +11,18 @@
 //! their cells slab by slab, so the ranges are slabs; a mesh whose ids wander would give ranges
 //! with a large surface, slower but still exact.
 //!
-//! **Replicated nodes.** Every rank keeps every node's displacement and velocity and integrates
-//! them all from the same forces, so contact, boundary conditions, energies, momenta, reactions
-//! and probes run unchanged and agree bit for bit across ranks; only the element loop, the
-//! expensive part with the microplane concrete (70 times a linear element's cost), is divided.
-//! What that costs is one all-gather of the nodal forces per step and the node loops on every
-//! rank: the scaling limit of this first decomposition, measured in the README.
+//! **Nodes.** Each rank integrates the nodes of its elements ([`NodePlan`]). The nodes that two
+//! ranks share, and those that every rank needs whole (the contact surfaces and the elements
+//! under them, probed and prescribed nodes), are *exchanged*: their forces are completed on every
+//! rank as above, and every rank integrates them alike, so contact is solved on every rank from
+//! the same state and agrees bit for bit wherever the partition cuts the contact zone; only
+//! their contributions travel, once per step. Sums over nodes (energies, momenta) are folds over
+//! fixed blocks of node ids, *leaves* ([`NODE_LEAF`]), one process or many: each leaf is summed by
+//! one rank that holds all its nodes (a leaf that no rank holds whole is exchanged), and every
+//! rank folds the leaves' shares in leaf order. The stored energy is likewise folded over blocks
+//! of elements, which the element ranges keep whole. Output that reads every node (history rows
+//! need only exchanged nodes and sums; field frames, snapshots and the end of a run do) first
+//! gathers the nodes from the ranks that sum their leaves.
 //!
 //! **Collectives.** [`Communicator`] is the few collective operations the run needs. The MPI one
 //! (`mpi` feature, `mpi_world.rs`) runs under `mpirun`; [`ThreadGroup`] runs the ranks as threads
@@ -26,6 +32,7 @@ mod exchange;
 mod history;
 #[cfg(feature = "mpi")]
 mod mpi_world;
+mod nodes;
 mod threads;
 
 use std::ops::Range;
@@ -34,11 +41,14 @@ pub use exchange::ForceExchange;
 pub use history::gather_history;
 #[cfg(feature = "mpi")]
 pub use mpi_world::MpiWorld;
+pub use nodes::{NodePlan, NODE_LEAF};
 pub use threads::ThreadGroup;
 
+use crate::model::ELEMENT_LEAF;
+
 /// The collective operations of a distributed run. Every rank calls each one in the same order
-/// (they are collective): the run's control flow is the same on every rank because all of them
-/// hold the same nodal state.
+/// (they are collective): the run's control flow is the same on every rank because every
+/// decision is taken on values all ranks share (the folded energies, the exchanged nodes).
 pub trait Communicator: Send + Sync {
     /// This process's rank, `0..size()`.
     fn rank(&self) -> usize;
@@ -54,11 +64,17 @@ pub trait Communicator: Send + Sync {
 }
 
 /// The element ranges of `size` ranks over `elements` elements: consecutive ids, as equal as
-/// integers allow (rank `r` from `r n / size` to `(r + 1) n / size`).
+/// whole blocks of [`ELEMENT_LEAF`] elements allow (rank `r` from `r n / size` to
+/// `(r + 1) n / size`, each end rounded to the nearest block), so that each block's share of a
+/// sum over elements is computed by one rank.
 pub fn element_ranges(elements: usize, size: usize) -> Vec<Range<usize>> {
     let size = size.max(1);
+    let end = |r: usize| {
+        let exact = r * elements / size;
+        ((exact + ELEMENT_LEAF / 2) / ELEMENT_LEAF * ELEMENT_LEAF).min(elements)
+    };
     (0..size)
-        .map(|r| r * elements / size..(r + 1) * elements / size)
+        .map(|r| end(r)..if r + 1 == size { elements } else { end(r + 1) })
         .collect()
 }
 

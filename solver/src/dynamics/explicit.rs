@@ -4,6 +4,7 @@
 //! how it stops early in `stopping`, the contact phase's buffers in `contact_phase`.
 
 mod contact_phase;
+mod ledger;
 mod ranks;
 mod records;
 mod resume;
@@ -17,6 +18,7 @@ use nalgebra::Vector3;
 
 use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
+use crate::distributed::NodePlan;
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
@@ -97,6 +99,9 @@ pub struct ExplicitSolver<'p> {
     dt_before_resume: Option<f64>,
     /// This rank's share of a distributed run ([`Self::distribute`]); `None` on one process.
     ranks: Option<ranks::RankShare<'p>>,
+    /// The nodes this rank integrates and the leaves of the sums over nodes it computes (all of
+    /// them on one process).
+    nodes: NodePlan,
 }
 
 impl<'p> ExplicitSolver<'p> {
@@ -192,6 +197,7 @@ impl<'p> ExplicitSolver<'p> {
             step_origin: 0,
             dt_before_resume: None,
             ranks: None,
+            nodes: NodePlan::single(n),
         };
         let k0 = solver.kinetic_energy(&solver.v_full);
         solver.energies.initial_kinetic = k0;
@@ -264,7 +270,8 @@ impl<'p> ExplicitSolver<'p> {
     /// move to `u_{n+1}`; whether the mesh stability check flagged a node. For benchmarks and
     /// callers that drive the integrator themselves ([`Self::run_with`] is the run with output,
     /// the energy-balance stop and progress). An instability is returned as the error it is in
-    /// a run, with nothing written.
+    /// a run, with nothing written. In a distributed run ([`Self::distribute`]) it moves this
+    /// rank's nodes only; a run gathers every node at its end.
     pub fn step(&mut self) -> Result<bool> {
         match self.advance() {
             Ok(moved_too_far) => {
@@ -378,7 +385,7 @@ impl<'p> ExplicitSolver<'p> {
         }
         let alpha = self.settings.damping;
         let (c_old, c_new) = (1.0 - 0.5 * alpha * h, 1.0 / (1.0 + 0.5 * alpha * h));
-        for i in 0..model.node_count() {
+        for i in self.nodes.active().iter().flat_map(Clone::clone) {
             let a = (self.f_ext[i] - self.f_int[i]) / model.mass[i];
             self.v_next[i] = (c_old * self.v_half[i] + h * a) * c_new;
         }
@@ -459,105 +466,9 @@ impl<'p> ExplicitSolver<'p> {
         );
     }
 
-    /// Full-step velocity, reactions, the mesh stability check and the energy pieces of this
-    /// step (FORMULATION 2: the work of each force over the interval, trapezoidal).
-    fn energy_ledger(&mut self, h: f64) -> std::result::Result<bool, (String, Option<usize>)> {
-        let model = &self.problem.model;
-        let (dt, alpha) = (self.dt, self.settings.damping);
-        let first = self.step == 0;
-        // At the first step after a resume with a new time step, v_n lies dt_before / 2 after
-        // v_{n-1/2}, not midway to v_{n+1/2}.
-        let resume_weight = match self.dt_before_resume {
-            Some(before) if self.step == self.step_origin && !first => Some(0.5 * before / h),
-            _ => None,
-        };
-        let mut moved_too_far = false;
-        let mut kinetic = 0.0;
-        let mut closing = EnergyLedger::default();
-        let mut pending = EnergyLedger::default();
-        let eta = self.settings.mesh_stability_eta;
-        for i in 0..model.node_count() {
-            let m = model.mass[i];
-            let v_new = self.v_next[i];
-            let v_full = if first {
-                self.v_half[i]
-            } else if let Some(w) = resume_weight {
-                self.v_half[i] + w * (v_new - self.v_half[i])
-            } else {
-                0.5 * (self.v_half[i] + v_new)
-            };
-            let mut r = Vector3::zeros();
-            let cs = self.constraint_of[i];
-            let walled = |d: usize| self.walls.holds(i, d);
-            if cs.iter().any(Option::is_some) || (0..3).any(walled) {
-                let a = (v_new - self.v_half[i]) / h;
-                let total = m * a + alpha * m * v_full - self.f_ext[i] + self.f_int[i];
-                for d in 0..3 {
-                    if cs[d].is_some() || walled(d) {
-                        r[d] = total[d];
-                    }
-                }
-            }
-            // Contact moves a node by dx = beta dt^2 r / m but changes its velocity by
-            // gamma dt r / m (beta-2 scheme): with beta_0 > 0 the position keeps the surplus.
-            let (f_contact, f_friction, dx_extra) = match &self.contact {
-                Some(c) => (c.force[i], c.friction_force[i], c.position_surplus[i]),
-                None => (Vector3::zeros(), Vector3::zeros(), Vector3::zeros()),
-            };
-            let f_normal = f_contact - f_friction;
-            let du = dt * v_new + dx_extra;
-            moved_too_far |= du.norm() > eta * self.node_length[i];
-            let du_old = self.du_prev[i];
-            let (f_int, f_out) = (self.f_int[i], self.f_ext[i] + r);
-            let damping = alpha * m * v_full;
-            // Work over the coming interval. At the start the first half step spans dt/2 with
-            // mean velocity (v_0 + v_1/2)/2, which keeps an impulsive start (a velocity jump at
-            // t = 0) exact: the leapfrog identity m (v_1/2 - v_0) = dt/2 F_0 dotted with it.
-            let du = if first {
-                0.5 * (dt * self.v_half[i] + du)
-            } else {
-                du
-            };
-            kinetic += 0.5 * m * v_full.norm_squared();
-            closing.internal_work += 0.5 * f_int.dot(&du_old);
-            closing.external_work += 0.5 * f_out.dot(&du_old);
-            closing.damping_work += 0.5 * damping.dot(&du_old);
-            closing.contact_work -= 0.5 * f_normal.dot(&du_old);
-            pending.contact_work -= 0.5 * f_normal.dot(&du);
-            closing.friction_work -= 0.5 * f_friction.dot(&du_old);
-            pending.friction_work -= 0.5 * f_friction.dot(&du);
-            pending.internal_work += 0.5 * f_int.dot(&du);
-            pending.external_work += 0.5 * f_out.dot(&du);
-            pending.damping_work += 0.5 * damping.dot(&du);
-            if self.history_node.get(i) == Some(&true) {
-                closing.history_work += 0.5 * f_int.dot(&du_old);
-                pending.history_work += 0.5 * f_int.dot(&du);
-            }
-            self.du_prev[i] = dt * v_new + dx_extra;
-            self.v_full[i] = v_full;
-            self.reaction[i] = r;
-        }
-        if !kinetic.is_finite() || !closing.internal_work.is_finite() {
-            let element = self.most_strained_element();
-            return Err((
-                "non-finite kinetic energy or work (NaN or overflow)".into(),
-                element,
-            ));
-        }
-        self.energies.kinetic = kinetic;
-        self.energies.internal_work += self.pending.internal_work + closing.internal_work;
-        self.energies.external_work += self.pending.external_work + closing.external_work;
-        self.energies.damping_work += self.pending.damping_work + closing.damping_work;
-        self.energies.contact_work += self.pending.contact_work + closing.contact_work;
-        self.energies.friction_work += self.pending.friction_work + closing.friction_work;
-        self.energies.history_work += self.pending.history_work + closing.history_work;
-        self.pending = pending;
-        Ok(moved_too_far)
-    }
-
     fn finish_step(&mut self) {
-        for (u, du) in self.u.iter_mut().zip(&self.du_prev) {
-            *u += du;
+        for i in self.nodes.active().iter().flat_map(Clone::clone) {
+            self.u[i] += self.du_prev[i];
         }
         self.step += 1;
         self.time = self.time_origin + (self.step - self.step_origin) as f64 * self.dt;
@@ -567,9 +478,4 @@ impl<'p> ExplicitSolver<'p> {
 /// Sum of `term(i)` for `i < n` in index order, so the result does not depend on threads.
 pub(crate) fn fixed_order_sum(n: usize, term: impl Fn(usize) -> f64) -> f64 {
     (0..n).map(term).sum()
-}
-
-/// [`fixed_order_sum`] of vectors.
-fn fixed_order_sum3(n: usize, term: impl Fn(usize) -> Vector3<f64>) -> Vector3<f64> {
-    (0..n).map(term).fold(Vector3::zeros(), |a, b| a + b)
 }

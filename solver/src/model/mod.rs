@@ -17,6 +17,9 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Vector3};
 
 pub(crate) use assembly::{first_elements, NO_ELEMENT};
+
+/// Elements per block of the sums over elements (the stored energy): ranks own whole blocks.
+pub const ELEMENT_LEAF: usize = 64;
 pub use assembly::{ChunkJob, ForceAssembler};
 pub use carried::CarriedState;
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
@@ -426,35 +429,57 @@ impl Model {
     /// Microplane concrete defines no potential: its elements count zero here. Their internal
     /// work (the energy ledger's `internal_work`, from the forces) is what they stored plus what
     /// they dissipated, and the energy balance uses it for every material.
+    ///
+    /// The sum is the fold, in order, of the shares of blocks of [`ELEMENT_LEAF`] elements
+    /// ([`Self::stored_energy_shares`]), so that ranks holding whole blocks give the same bits.
     pub fn stored_energy(&self, u: &[Vector3<f64>]) -> f64 {
-        self.bodies
+        let leaves = 0..self.element_count().div_ceil(ELEMENT_LEAF);
+        self.stored_energy_shares(u, leaves).iter().sum()
+    }
+
+    /// The elastic energy of each block `j` of elements `j L..(j + 1) L` in `leaves`
+    /// (`L` = [`ELEMENT_LEAF`]), each the fold over its elements in ascending order; reads the
+    /// displacement of those elements' nodes only.
+    pub fn stored_energy_shares(&self, u: &[Vector3<f64>], leaves: Range<usize>) -> Vec<f64> {
+        let mut shares = vec![0.0; leaves.len()];
+        let elements =
+            leaves.start * ELEMENT_LEAF..(leaves.end * ELEMENT_LEAF).min(self.element_count());
+        let has_potential: Vec<bool> = self
+            .bodies
             .iter()
-            .map(|body| {
-                let material = &body.material;
-                if material.strain_energy_density(&Matrix3::zeros()).is_none() {
-                    return 0.0;
-                }
-                body.elements
-                    .clone()
-                    .map(|e| match &self.carried {
-                        // The stress-free volume is V_r / det F_0.
-                        Some(c) => {
-                            let f = self.deformation_gradient(e, u);
-                            let h = f - Matrix3::identity();
-                            self.volume[e] / c.deformation[e].determinant()
-                                * material.strain_energy_density(&h).unwrap_or(0.0)
-                        }
-                        None => {
-                            let h = displacement_gradient(
-                                &self.element_displacements(e, u),
-                                &self.grad_n[e],
-                            );
-                            self.volume[e] * material.strain_energy_density(&h).unwrap_or(0.0)
-                        }
-                    })
-                    .sum::<f64>()
+            .map(|b| {
+                b.material
+                    .strain_energy_density(&Matrix3::zeros())
+                    .is_some()
             })
-            .sum()
+            .collect();
+        for e in elements {
+            let body = self.element_body[e] as usize;
+            if !has_potential[body] {
+                continue;
+            }
+            let material = &self.bodies[body].material;
+            let energy = match &self.carried {
+                // The stress-free volume is V_r / det F_0.
+                Some(c) => {
+                    let h = self.deformation_gradient(e, u) - Matrix3::identity();
+                    material
+                        .strain_energy_density(&h)
+                        .map(|w| self.volume[e] / c.deformation[e].determinant() * w)
+                }
+                None => {
+                    let h =
+                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+                    material
+                        .strain_energy_density(&h)
+                        .map(|w| self.volume[e] * w)
+                }
+            };
+            if let Some(energy) = energy {
+                shares[e / ELEMENT_LEAF - leaves.start] += energy;
+            }
+        }
+        shares
     }
 
     /// Element size `(6 V)^(1/3)` (m): the edge of a cube cut into six tetrahedra of this

@@ -66,6 +66,20 @@ impl ContactScratch {
         }
     }
 
+    /// The nodes the contact phase reads or moves: in a distributed run, every rank integrates
+    /// them alike and solves the whole contact problem.
+    pub(super) fn replicated_nodes(&self) -> Vec<u32> {
+        let mut nodes: Vec<u32> = self
+            .layer_nodes
+            .iter()
+            .chain(&self.surface_nodes)
+            .copied()
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+
     /// Corrects the predicted velocities `v_next` (and records forces) so that the positions
     /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
     pub(super) fn correct(

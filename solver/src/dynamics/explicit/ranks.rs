@@ -1,14 +1,15 @@
 //! The explicit run over several ranks (`crate::distributed`): each rank computes the forces of
-//! its elements, the ranks complete each other's nodal forces, and everything else runs on every
-//! rank from the same nodal state.
+//! its elements and integrates their nodes; the nodes two ranks share, the contact surfaces and
+//! the probed and prescribed nodes are completed and integrated on every rank alike.
 
 use std::ops::Range;
 
 use nalgebra::Vector3;
 
 use super::ExplicitSolver;
-use crate::distributed::{element_ranges, gather_history, Communicator, ForceExchange};
+use crate::distributed::{element_ranges, gather_history, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
+use crate::model::ELEMENT_LEAF;
 
 /// A rank's part of a distributed run.
 pub(super) struct RankShare<'p> {
@@ -19,11 +20,19 @@ pub(super) struct RankShare<'p> {
     foreign: Vec<Vector3<f64>>,
 }
 
+impl<'p> RankShare<'p> {
+    /// The ranks' collectives.
+    pub(super) fn comm(&self) -> &'p dyn Communicator {
+        self.comm
+    }
+}
+
 impl<'p> ExplicitSolver<'p> {
     /// Runs this solver as rank `comm.rank()` of `comm.size()`: from the next step on it computes
-    /// the forces and advances the history of its elements only ([`element_ranges`]) and
-    /// completes the nodal forces with the other ranks, which must make the same call on the same
-    /// problem. One rank changes nothing. A run that remeshes cannot be distributed.
+    /// the forces and advances the history of its elements only ([`element_ranges`]), completes
+    /// the forces of the shared nodes with the other ranks and integrates its nodes
+    /// ([`NodePlan`]); the other ranks must make the same call on the same problem. One rank
+    /// changes nothing. A run that remeshes cannot be distributed.
     pub fn distribute(&mut self, comm: &'p dyn Communicator) -> Result<()> {
         if comm.size() <= 1 {
             return Ok(());
@@ -37,7 +46,33 @@ impl<'p> ExplicitSolver<'p> {
         }
         let ranges = element_ranges(model.element_count(), comm.size());
         model.restrict_assembly(ranges[comm.rank()].clone());
-        let exchange = ForceExchange::new(&model.tets, model.node_count(), &ranges, comm.rank());
+        // Every rank integrates what contact reads and moves and what the history rows read.
+        let mut replicated = self
+            .contact
+            .as_ref()
+            .map(|c| c.replicated_nodes())
+            .unwrap_or_default();
+        for probe in &self.problem.probes {
+            replicated.extend(&probe.nodes);
+        }
+        for constraint in &self.problem.constraints {
+            replicated.extend(&constraint.nodes);
+        }
+        let nodes = NodePlan::new(
+            &model.tets,
+            model.node_count(),
+            &ranges,
+            comm.rank(),
+            &replicated,
+        );
+        let exchange = ForceExchange::new(
+            &model.tets,
+            model.node_count(),
+            &ranges,
+            comm.rank(),
+            nodes.exchanged(),
+        );
+        self.nodes = nodes;
         self.ranks = Some(RankShare {
             comm,
             ranges,
@@ -87,6 +122,39 @@ impl<'p> ExplicitSolver<'p> {
             Some(share) => share.comm.max_u64(u64::from(mine)) != 0,
             None => mine,
         }
+    }
+
+    /// Gives every rank every node's displacement, velocities and reaction, each from the rank
+    /// that sums the node's leaf (collective; nothing on one process). Before output that reads
+    /// nodes beyond this rank's and at the end of a run.
+    pub(super) fn gather_nodes(&mut self) {
+        if let Some(share) = &self.ranks {
+            self.nodes.gather(
+                share.comm,
+                &mut [
+                    &mut self.u[..],
+                    &mut self.v_half[..],
+                    &mut self.v_full[..],
+                    &mut self.reaction[..],
+                ],
+            );
+        }
+    }
+
+    /// The elastic energy stored in all elements ([`crate::model::Model::stored_energy`]): each
+    /// rank computes the shares of its blocks of elements, and every rank folds all of them in
+    /// order (collective).
+    pub(super) fn stored_energy(&self) -> f64 {
+        let model = &self.problem.model;
+        let Some(share) = &self.ranks else {
+            return model.stored_energy(&self.u);
+        };
+        let leaves = |r: &Range<usize>| r.start / ELEMENT_LEAF..r.end.div_ceil(ELEMENT_LEAF);
+        let mine = model.stored_energy_shares(&self.u, leaves(&share.ranges[share.comm.rank()]));
+        let counts: Vec<usize> = share.ranges.iter().map(|r| leaves(r).len()).collect();
+        let mut all = vec![0.0; counts.iter().sum()];
+        share.comm.all_gather_f64(&mine, &counts, &mut all);
+        all.iter().sum()
     }
 
     /// Gives every rank the whole material history before output reads it (collective; nothing

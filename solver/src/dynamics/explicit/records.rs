@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use super::{fixed_order_sum3, ExplicitSolver};
+use super::ExplicitSolver;
 use crate::dynamics::EnergyLedger;
 use crate::error::Result;
 use crate::model::field_frame_with_history;
@@ -130,7 +130,7 @@ impl<'p> ExplicitSolver<'p> {
             self.step as f64,
             e.kinetic,
             e.internal_work,
-            model.stored_energy(&self.u),
+            self.stored_energy(),
             e.external_work,
             e.damping_work,
             e.contact_work,
@@ -138,28 +138,12 @@ impl<'p> ExplicitSolver<'p> {
             e.balance_error(),
             e.relative_error(),
         ];
-        let momentum = fixed_order_sum3(model.node_count(), |i| self.v_full[i] * model.mass[i]);
-        row.extend(momentum.iter());
-        // About the origin, with the full-step velocity: the average of two values leapfrog
-        // keeps exactly for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
-        let angular = fixed_order_sum3(model.node_count(), |i| {
-            (model.reference[i] + self.u[i]).cross(&self.v_full[i]) * model.mass[i]
-        });
-        row.extend(angular.iter());
+        let sums = self.node_sums();
+        row.extend(&sums[..6]);
         if !self.history_node.is_empty() {
             row.push(e.history_work);
         }
-        if model.bodies.len() > 1 {
-            for b in &model.bodies {
-                let (mut kinetic, mut momentum) = (0.0, Vector3::zeros());
-                for n in b.nodes.clone() {
-                    kinetic += 0.5 * model.mass[n] * self.v_full[n].norm_squared();
-                    momentum += self.v_full[n] * model.mass[n];
-                }
-                row.push(kinetic);
-                row.extend(momentum.iter());
-            }
-        }
+        row.extend(&sums[6..]);
         self.problem.push_probe_values(
             &mut row,
             &self.u,
@@ -191,9 +175,51 @@ impl<'p> ExplicitSolver<'p> {
         row
     }
 
+    /// The sums over nodes of a history row, folded leaf by leaf across the ranks
+    /// ([`crate::distributed::NodePlan::fold`], collective): the momentum, the angular momentum
+    /// about the origin and, when there are several bodies, each body's kinetic energy and
+    /// momentum (the hammer's energy passing to the beam, thesis Figs. 10.11-10.14; (6.48)).
+    fn node_sums(&self) -> Vec<f64> {
+        let model = &self.problem.model;
+        let per_body = if model.bodies.len() > 1 {
+            model.bodies.len()
+        } else {
+            0
+        };
+        let width = 6 + 4 * per_body;
+        let plan = &self.nodes;
+        let mut shares = Vec::with_capacity(width * plan.my_leaves().len());
+        for &k in plan.my_leaves() {
+            let mut leaf = vec![0.0; width];
+            for i in plan.leaf_nodes(k) {
+                let (m, v) = (model.mass[i], self.v_full[i]);
+                let momentum = v * m;
+                // With the full-step velocity: the average of two values leapfrog keeps exactly
+                // for torque-free forces, `sum m x_n x v_(n+1/2) = sum m x_(n+1) x v_(n+1/2)`.
+                let angular = (model.reference[i] + self.u[i]).cross(&v) * m;
+                for d in 0..3 {
+                    leaf[d] += momentum[d];
+                    leaf[3 + d] += angular[d];
+                }
+                if per_body > 0 {
+                    if let Some(b) = model.bodies.iter().position(|b| b.nodes.contains(&i)) {
+                        let at = 6 + 4 * b;
+                        leaf[at] += 0.5 * m * v.norm_squared();
+                        for d in 0..3 {
+                            leaf[at + 1 + d] += momentum[d];
+                        }
+                    }
+                }
+            }
+            shares.extend(leaf);
+        }
+        plan.fold(self.ranks.as_ref().map(|r| r.comm()), width, &shares)
+    }
+
     /// Shows the observers the field frame of the current state.
     pub(super) fn field_frame(&mut self, observers: &mut ObserverSet) -> Result<()> {
         self.gather_history();
+        self.gather_nodes();
         let model = &self.problem.model;
         let points: Vec<Vector3<f64>> = model
             .reference

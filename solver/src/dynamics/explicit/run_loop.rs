@@ -157,6 +157,7 @@ impl<'p> ExplicitSolver<'p> {
             }
             if let Some(interval) = self.settings.snapshot_interval {
                 if last || self.time >= schedule.next_snapshot - 1e-9 * self.dt {
+                    self.gather_nodes();
                     let crack_opening = if self.history.is_empty() {
                         Vec::new()
                     } else {
@@ -191,7 +192,11 @@ impl<'p> ExplicitSolver<'p> {
             };
             match halt {
                 Some(halt) if !last => return Err(self.halt(halt, set)),
-                _ if last => break,
+                _ if last => {
+                    // The caller reads the final state of every node.
+                    self.gather_nodes();
+                    break;
+                }
                 _ => {}
             }
             self.finish_step();

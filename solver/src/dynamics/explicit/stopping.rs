@@ -16,6 +16,7 @@ impl<'p> ExplicitSolver<'p> {
         (reason, element): (String, Option<usize>),
         observers: &mut ObserverSet,
     ) -> SolverError {
+        self.gather_nodes();
         // The state at the stop may hold NaN; the last good frame is already on disk.
         let wants_fields = self.on_any_rank(observers.wants_fields());
         if wants_fields && self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
@@ -45,6 +46,7 @@ impl<'p> ExplicitSolver<'p> {
     /// asked for. A failed write stops an interrupted run with that error instead; a run past its
     /// time limit reports the limit.
     pub(super) fn halt(&mut self, halt: Halt, observers: &mut ObserverSet) -> SolverError {
+        self.gather_nodes();
         let finished = observers.finish();
         match halt {
             Halt::TimeLimit { limit_s } => SolverError::TimeLimit {
