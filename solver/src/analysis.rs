@@ -172,9 +172,12 @@ fn explicit(
         solver.distribute(comm)?;
         let counts = solver.exchange_counts();
         plan += &format!(
-            "; {} ranks (elements in consecutive ranges), each step an all-gather of the nodal \
-             forces ({} to {} values of 8 B sent per rank, {:.1} KB in all) and an all-reduce",
+            "; {} ranks (elements in consecutive ranges, each rank integrating their nodes; {} \
+             nodes shared or replicated), each step an all-gather of those nodes' force \
+             contributions ({} to {} values of 8 B sent per rank, {:.1} KB in all), one of the \
+             energy sums' leaf shares and two all-reduces",
             counts.len(),
+            solver.exchanged_nodes(),
             counts.iter().min().unwrap_or(&0),
             counts.iter().max().unwrap_or(&0),
             counts.iter().sum::<usize>() as f64 * 8e-3,

@@ -24,6 +24,8 @@ struct Bits {
     history: Vec<u64>,
     state: Vec<u64>,
     material: Vec<u64>,
+    /// The snapshots' times, displacements and crack openings.
+    snapshots: Vec<u64>,
     /// Values this rank sent per step to complete the forces.
     sent: usize,
     /// Largest number of active contact nodes in a history row (0 without contact).
@@ -41,6 +43,10 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
         panic!("{}: an explicit scene", path.display())
     };
     settings.max_steps = Some(steps);
+    // Snapshots gather the nodes and the crack openings from the ranks (at the end at least).
+    settings
+        .snapshot_interval
+        .get_or_insert(settings.end_time / 1000.0);
     let mut solver = ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap();
     if let Some(comm) = comm {
         solver.distribute(comm).unwrap();
@@ -69,6 +75,15 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect(),
         material: material_history_bits(solver.history()),
+        snapshots: summary
+            .snapshots
+            .iter()
+            .flat_map(|s| {
+                let u = s.u.iter().flat_map(|x| x.iter().map(|c| c.to_bits()));
+                let w = s.crack_opening.iter().map(|w| u64::from(w.to_bits()));
+                std::iter::once(s.time.to_bits()).chain(u).chain(w)
+            })
+            .collect(),
         sent,
         most_in_contact,
     }
@@ -86,6 +101,19 @@ fn run_ranks(path: &Path, steps: usize, ranks: usize) -> Vec<Bits> {
     })
 }
 
+/// Fails with the first differing value (the vectors hold millions).
+fn same(got: &[u64], expected: &[u64], what: &str) {
+    assert_eq!(got.len(), expected.len(), "{what}: lengths differ");
+    if let Some(i) = (0..got.len()).find(|&i| got[i] != expected[i]) {
+        panic!(
+            "{what} differs first at value {i} of {}: {:e} instead of {:e} (as f64 bits)",
+            got.len(),
+            f64::from_bits(got[i]),
+            f64::from_bits(expected[i])
+        );
+    }
+}
+
 /// Runs the case alone and on each count of `ranks`; with `contact`, the bodies must touch.
 fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
     let path = case(path);
@@ -101,15 +129,26 @@ fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
         "{}: the run must move something",
         path.display()
     );
+    assert!(
+        !alone.snapshots.is_empty(),
+        "{}: the run keeps snapshots",
+        path.display()
+    );
     for &n in ranks {
         let bits = run_ranks(&path, steps, n);
         for (rank, b) in bits.iter().enumerate() {
             let what = format!("{} on {n} ranks, rank {rank}", path.display());
-            assert_eq!(b.history, alone.history, "{what}: history differs");
-            assert_eq!(b.state, alone.state, "{what}: final state differs");
-            assert_eq!(
-                b.material, alone.material,
-                "{what}: material history differs"
+            same(&b.history, &alone.history, &format!("{what}: history"));
+            same(&b.state, &alone.state, &format!("{what}: final state"));
+            same(
+                &b.material,
+                &alone.material,
+                &format!("{what}: material history"),
+            );
+            same(
+                &b.snapshots,
+                &alone.snapshots,
+                &format!("{what}: snapshots"),
             );
         }
         // Ranks above the first send contributions to their lower neighbour's nodes: the

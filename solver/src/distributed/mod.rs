@@ -63,19 +63,48 @@ pub trait Communicator: Send + Sync {
     fn max_u64(&self, value: u64) -> u64;
 }
 
-/// The element ranges of `size` ranks over `elements` elements: consecutive ids, as equal as
-/// whole blocks of [`ELEMENT_LEAF`] elements allow (rank `r` from `r n / size` to
-/// `(r + 1) n / size`, each end rounded to the nearest block), so that each block's share of a
-/// sum over elements is computed by one rank.
+/// The element ranges of `size` ranks over `elements` elements of equal cost: consecutive ids,
+/// as equal as whole blocks of [`ELEMENT_LEAF`] elements allow.
 pub fn element_ranges(elements: usize, size: usize) -> Vec<Range<usize>> {
+    element_ranges_by_cost(elements, size, |_| 1.0)
+}
+
+/// The element ranges of `size` ranks over `elements` elements, element `e` costing `cost(e)`:
+/// consecutive ids, each range ending on a block of [`ELEMENT_LEAF`] elements (so that each
+/// block's share of a sum over elements is computed by one rank), at the block boundary nearest
+/// to an equal share `r / size` of the total cost.
+pub fn element_ranges_by_cost(
+    elements: usize,
+    size: usize,
+    cost: impl Fn(usize) -> f64,
+) -> Vec<Range<usize>> {
     let size = size.max(1);
+    // The cost before each block boundary.
+    let mut before = vec![0.0];
+    for start in (0..elements).step_by(ELEMENT_LEAF) {
+        let block: f64 = (start..(start + ELEMENT_LEAF).min(elements))
+            .map(&cost)
+            .sum();
+        before.push(before[before.len() - 1] + block);
+    }
+    let total = before[before.len() - 1];
     let end = |r: usize| {
-        let exact = r * elements / size;
-        ((exact + ELEMENT_LEAF / 2) / ELEMENT_LEAF * ELEMENT_LEAF).min(elements)
+        if r == size {
+            return elements;
+        }
+        let target = total * r as f64 / size as f64;
+        let next = before
+            .partition_point(|&c| c < target)
+            .min(before.len() - 1);
+        // The nearer of the boundaries on either side of the target.
+        let b = if next > 0 && target - before[next - 1] < before[next] - target {
+            next - 1
+        } else {
+            next
+        };
+        (b * ELEMENT_LEAF).min(elements)
     };
-    (0..size)
-        .map(|r| end(r)..if r + 1 == size { elements } else { end(r + 1) })
-        .collect()
+    (0..size).map(|r| end(r)..end(r + 1)).collect()
 }
 
 #[cfg(test)]

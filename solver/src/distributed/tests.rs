@@ -40,6 +40,29 @@ fn element_ranges_cover_the_elements_in_order_and_nearly_equal() {
     }
 }
 
+#[test]
+fn ranges_by_cost_give_each_rank_an_equal_share_of_the_cost_in_whole_blocks() {
+    // A cheap body (elastic, cost 1) before a dear one (microplane, 22), as in the drop test.
+    let cost = |e: usize| if e < 4000 { 1.0 } else { 22.0 };
+    let elements = 30_000;
+    let total: f64 = (0..elements).map(cost).sum();
+    for size in [2, 3, 4] {
+        let ranges = element_ranges_by_cost(elements, size, cost);
+        assert_eq!((ranges[0].start, ranges[size - 1].end), (0, elements));
+        for (r, range) in ranges.iter().enumerate() {
+            let share: f64 = range.clone().map(cost).sum();
+            assert!(
+                (share - total / size as f64).abs() <= ELEMENT_LEAF as f64 * 22.0,
+                "rank {r} of {size}: cost {share} of {total}"
+            );
+            assert!(
+                range.start % ELEMENT_LEAF == 0,
+                "{range:?} starts inside a block"
+            );
+        }
+    }
+}
+
 /// A strip of tetrahedra over `nodes` node ids, element `e` on the strip's points `e..e + 4`,
 /// with point `p` numbered `p / 2` when even and `nodes / 2 + p / 2` when odd: each half of the
 /// strip numbers nodes in two quarters of the ids, so leaves straddle ranks.

@@ -107,6 +107,13 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
         0
     }
 
+    /// The cost of one element update relative to a linear elastic element's (1, the default),
+    /// by which a distributed run divides the elements among its ranks
+    /// (`distributed::element_ranges`). An estimate: it moves work, never results.
+    fn relative_cost(&self) -> f64 {
+        1.0
+    }
+
     /// Writes the history of a virgin element.
     fn initial_history(&self, _history: &mut [f32]) {}
 

@@ -14,6 +14,8 @@
 //! Only bodies whose material keeps a history (the microplane concrete) can open a crack; the
 //! elements of the other bodies get 0.
 
+use std::ops::Range;
+
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -26,19 +28,33 @@ impl Model {
     /// bodies' last updates in `history` (see the module documentation). Each element is
     /// computed on its own, so the result does not depend on the thread count.
     pub fn crack_openings(&self, u: &[Vector3<f64>], history: &MaterialHistory) -> Vec<f32> {
-        let mut out = vec![0.0_f32; self.element_count()];
+        self.crack_openings_of(u, history, 0..self.element_count())
+    }
+
+    /// [`Self::crack_openings`] of the elements of `elements` only, in order (one rank's part of
+    /// a distributed run: it reads their nodes and their history only).
+    pub fn crack_openings_of(
+        &self,
+        u: &[Vector3<f64>],
+        history: &MaterialHistory,
+        elements: Range<usize>,
+    ) -> Vec<f32> {
+        let mut out = vec![0.0_f32; elements.len()];
         for (b, body) in self.bodies.iter().enumerate() {
             let Some(Some(h)) = history.bodies.get(b) else {
                 continue;
             };
             let c0 = body.material.constants();
             let (young, nu) = (c0.youngs_modulus, c0.poisson_ratio);
-            let first = body.elements.start;
-            out[body.elements.clone()]
+            let part = body.elements.start.max(elements.start)..body.elements.end.min(elements.end);
+            if part.is_empty() {
+                continue;
+            }
+            out[part.start - elements.start..part.end - elements.start]
                 .par_iter_mut()
-                .enumerate()
-                .for_each(|(local, w)| {
-                    let e = first + local;
+                .zip(part)
+                .for_each(|(w, e)| {
+                    let local = e - body.elements.start;
                     let strain = green_lagrange_from_h(&self.strain_gradient(e, u));
                     let inelastic = strain - elastic_strain(&h.cauchy[local], young, nu);
                     let length = self

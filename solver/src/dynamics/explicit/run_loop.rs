@@ -158,12 +158,7 @@ impl<'p> ExplicitSolver<'p> {
             if let Some(interval) = self.settings.snapshot_interval {
                 if last || self.time >= schedule.next_snapshot - 1e-9 * self.dt {
                     self.gather_nodes();
-                    let crack_opening = if self.history.is_empty() {
-                        Vec::new()
-                    } else {
-                        self.gather_history();
-                        self.problem.model.crack_openings(&self.u, &self.history)
-                    };
+                    let crack_opening = self.crack_openings();
                     set.snapshot(&SnapshotView {
                         time: self.time,
                         u: &self.u,
