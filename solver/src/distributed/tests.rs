@@ -151,8 +151,21 @@ fn leaf_folds_and_node_gathers_give_every_rank_the_one_process_values() {
             })
             .collect()
     };
-    let expected = single.fold(None, 2, &shares(&single));
+    // The one-process sums, written out: each block of NODE_LEAF ids folded, then the blocks in
+    // order.
+    let expected: Vec<f64> = (0..nodes as usize)
+        .step_by(NODE_LEAF)
+        .map(|start| {
+            let leaf = start..(start + NODE_LEAF).min(nodes as usize);
+            [leaf.clone().map(value).sum::<f64>(), leaf.len() as f64]
+        })
+        .fold(vec![0.0, 0.0], |acc, s| vec![acc[0] + s[0], acc[1] + s[1]]);
     assert_eq!(expected[1], nodes as f64);
+    assert_eq!(
+        single.fold(None, 2, &shares(&single))[0].to_bits(),
+        expected[0].to_bits(),
+        "one process"
+    );
     for size in [2, 3] {
         let ranges = element_ranges(tets.len(), size);
         let results: Vec<(Vec<f64>, Vec<Vector3<f64>>)> = std::thread::scope(|s| {

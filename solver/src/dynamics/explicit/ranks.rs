@@ -20,6 +20,9 @@ pub(super) struct RankShare<'p> {
     exchange: ForceExchange,
     /// This rank's contributions to nodes of lower ranks, reused from step to step.
     foreign: Vec<Vector3<f64>>,
+    /// The step at which the nodes were last gathered: the outputs of one step (a snapshot, a
+    /// frame, the end or a stop) share one gather.
+    gathered_at: Option<usize>,
 }
 
 impl<'p> RankShare<'p> {
@@ -31,10 +34,10 @@ impl<'p> RankShare<'p> {
 
 impl<'p> ExplicitSolver<'p> {
     /// Runs this solver as rank `comm.rank()` of `comm.size()`: from the next step on it computes
-    /// the forces and advances the history of its elements only ([`element_ranges_by_cost`], by the materials' relative cost), completes
-    /// the forces of the shared nodes with the other ranks and integrates its nodes
-    /// ([`NodePlan`]); the other ranks must make the same call on the same problem. One rank
-    /// changes nothing. A run that remeshes cannot be distributed.
+    /// the forces and advances the history of its elements only ([`element_ranges_by_cost`], by
+    /// the materials' relative cost), completes the forces of the shared nodes with the other
+    /// ranks and integrates its nodes ([`NodePlan`]); the other ranks must make the same call on
+    /// the same problem. One rank changes nothing. A run that remeshes cannot be distributed.
     pub fn distribute(&mut self, comm: &'p dyn Communicator) -> Result<()> {
         if comm.size() <= 1 {
             return Ok(());
@@ -87,6 +90,7 @@ impl<'p> ExplicitSolver<'p> {
             ranges,
             exchange,
             foreign: Vec::new(),
+            gathered_at: None,
         });
         Ok(())
     }
@@ -143,7 +147,13 @@ impl<'p> ExplicitSolver<'p> {
     /// that sums the node's leaf (collective; nothing on one process). Before output that reads
     /// nodes beyond this rank's and at the end of a run.
     pub(super) fn gather_nodes(&mut self) {
-        if let Some(share) = &self.ranks {
+        if let Some(share) = &mut self.ranks {
+            // Nothing moves between the outputs of one step (the step counter advances with the
+            // displacement in `finish_step`).
+            if share.gathered_at == Some(self.step) {
+                return;
+            }
+            share.gathered_at = Some(self.step);
             self.nodes.gather(
                 share.comm,
                 &mut [
