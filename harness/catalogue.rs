@@ -127,10 +127,12 @@ pub struct Variant {
     /// problems, another algorithm (issue 5).
     #[serde(default)]
     pub contact_solver: Option<impact_solver::scene::ContactSolverSpec>,
-    /// Runs the case as this many ranks of a distributed run (issue 22, `impact_solver::distributed`):
-    /// the ranks are threads of the harness joined by `ThreadGroup`, with the decomposition and
-    /// force exchange that `mpirun` ranks use (`.ci/mpi-check` runs those), so the report sets the
-    /// distributed run beside the one-process one. One rank when absent.
+    /// Runs the case as this many ranks of a distributed run (issue 22, `impact_solver::distributed`),
+    /// so the report sets the distributed run beside the one-process one: in a build with the
+    /// `mpi` feature the harness starts them with `mpirun` (`crate::mpirun`); in the default
+    /// build they are threads of the harness joined by `ThreadGroup`, with the same
+    /// decomposition and force exchange but not MPI's transport or wall time. One rank when
+    /// absent.
     #[serde(default)]
     pub ranks: Option<usize>,
 }

@@ -16,6 +16,7 @@ pub mod determinism;
 pub mod judge;
 pub mod material_point;
 pub mod metadata;
+pub mod mpirun;
 pub mod progress;
 pub mod reference;
 pub mod registry;

@@ -122,6 +122,20 @@ enum Command {
         #[arg(long)]
         no_fields: bool,
     },
+    /// One rank of a case variant with `ranks: N`, started by the harness under `mpirun`
+    /// (`impact_vv::mpirun`); rank 0 writes the judged result to `--result`.
+    #[command(name = "rank-case", hide = true)]
+    RankCase {
+        case: PathBuf,
+        #[arg(long)]
+        variant: String,
+        #[arg(long)]
+        result: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(long, default_value_t = 900.0)]
+        time_limit: f64,
+    },
 }
 
 fn parse_tier(s: &str) -> Result<Tier, String> {
@@ -413,6 +427,28 @@ fn main() -> ExitCode {
                 return ExitCode::from(2);
             }
             code
+        }
+        Command::RankCase {
+            case,
+            variant,
+            result,
+            out,
+            time_limit,
+        } => {
+            let Some((_env, world)) = mpi_ranks() else {
+                eprintln!(
+                    "error: `rank-case` is one rank of an `mpirun` run of a build with the \
+                     `mpi` feature; run the case with `impact-vv run` instead"
+                );
+                return ExitCode::from(2);
+            };
+            match impact_vv::mpirun::rank_case(&case, &variant, &result, out, time_limit, &world) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
         }
         Command::Scene {
             path,

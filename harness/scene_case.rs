@@ -65,7 +65,23 @@ impl CaseKind for SceneCase {
         variant: Option<&Variant>,
         options: &RunOptions,
     ) -> CaseResult {
-        run_case(self, case, variant, options)
+        run_case(self, case, variant, options, None)
+    }
+}
+
+impl SceneCase {
+    /// Runs `case` under `variant` as one rank of `world` (this process is one of the
+    /// `mpirun` ranks that [`crate::mpirun`] started for a variant with `ranks: N`): every
+    /// level's scene runs distributed over `world`, and every rank judges the same history
+    /// (rank 0's result is the case's).
+    pub fn run_as_rank(
+        &self,
+        case: &LoadedCase,
+        variant: Option<&Variant>,
+        options: &RunOptions,
+        world: &dyn Communicator,
+    ) -> CaseResult {
+        run_case(self, case, variant, options, Some(world))
     }
 }
 
@@ -77,14 +93,23 @@ struct LevelRun {
 }
 
 /// Runs one case under one variant (or the scene's own analysis): every level of its sweep (or
-/// the scene once), then judges its metrics.
+/// the scene once), then judges its metrics. A variant with `ranks: N` runs as `N` ranks: over
+/// `world` when this process is one of them, under `mpirun` in a build with the `mpi` feature
+/// ([`crate::mpirun`]), and otherwise as `N` threads of this process (`ThreadGroup`).
 fn run_case(
     kind: &SceneCase,
     case: &LoadedCase,
     variant: Option<&Variant>,
     options: &RunOptions,
+    world: Option<&dyn Communicator>,
 ) -> CaseResult {
     let spec = &case.spec;
+    #[cfg(feature = "mpi")]
+    if let (None, Some(v)) = (world, variant) {
+        if let Some(n) = v.ranks.filter(|&n| n > 1) {
+            return crate::mpirun::run_variant(case, v, n, options);
+        }
+    }
     let mut result = unfinished_result(spec, variant.map_or("default", |v| v.name.as_str()));
     let Some(scene) = &spec.scene else {
         result.message = Some("the case has no scene".into());
@@ -124,6 +149,14 @@ fn run_case(
                 })
             };
             let outcome = match variant.and_then(|v| v.ranks).filter(|&n| n > 1) {
+                Some(n) if world.is_some_and(|w| w.size() != n) => Err(SolverError::InvalidScene {
+                    entity: "ranks".into(),
+                    message: format!(
+                        "the variant asks for {n} ranks, but {} were started",
+                        world.map_or(1, |w| w.size())
+                    ),
+                }),
+                Some(_) if world.is_some() => run_as(world),
                 // Every rank runs the case; rank 0's outcome is the run's (every rank holds the
                 // same nodal history, and rank 0 alone writes files).
                 Some(n) => {
