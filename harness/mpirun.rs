@@ -69,6 +69,18 @@ pub fn run_variant(
             return failed;
         }
     };
+    // A signal to the harness reaches mpirun and its ranks too (one process group).
+    if options
+        .stop
+        .as_ref()
+        .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    {
+        let _ = std::fs::remove_file(&result_file);
+        failed.status = crate::results::Status::Interrupted;
+        failed.message = Some(format!("`mpirun -np {ranks}` was interrupted"));
+        failed.wall_s = started.elapsed().as_secs_f64();
+        return failed;
+    }
     let read = std::fs::read_to_string(&result_file)
         .map_err(|e| e.to_string())
         .and_then(|text| serde_json::from_str::<CaseResult>(&text).map_err(|e| e.to_string()));
