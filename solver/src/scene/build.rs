@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix3, Unit, Vector3};
 
-use super::{Component, MeshSource, MotionSpec, Scene, Selector};
+use super::{Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
 use crate::error::{Result, SolverError};
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
@@ -91,6 +91,9 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             MeshSource::Gmsh(path) => read_msh(path)?,
         };
         let mut mesh = mesh;
+        if body.numbering == Numbering::Spatial {
+            mesh.renumber_spatially();
+        }
         if let Some(t) = &body.transform {
             let rotation = match t.rotation_axis {
                 Some(axis) => {

@@ -135,6 +135,23 @@ pub struct BodySpec {
     /// elastic neighbours; an element is in the first region that holds it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub regions: Vec<RegionSpec>,
+    /// `as_read` (the default): the mesh's own element and node ids; `spatial`: renumbered in
+    /// recursive-coordinate-bisection order ([`crate::mesh::Mesh::renumber_spatially`]), so
+    /// that the consecutive element ranges of a distributed run are compact parts. It changes
+    /// the order of the sums, so the results of the two differ at round-off.
+    #[serde(default)]
+    pub numbering: Numbering,
+}
+
+/// How a body's elements and nodes are numbered (`numbering:` of a body).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Numbering {
+    /// As the mesh generator or file gives them.
+    #[default]
+    AsRead,
+    /// In recursive-coordinate-bisection order of the element centroids.
+    Spatial,
 }
 
 /// A material region of a body: `{ name, centroid_box: { min, max }, material }`.
