@@ -18,6 +18,7 @@ pub mod material_point;
 pub mod metadata;
 pub mod mpirun;
 pub mod progress;
+pub mod rank_case;
 pub mod reference;
 pub mod registry;
 pub mod replay;

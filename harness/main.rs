@@ -123,7 +123,7 @@ enum Command {
         no_fields: bool,
     },
     /// One rank of a case variant with `ranks: N`, started by the harness under `mpirun`
-    /// (`impact_vv::mpirun`); rank 0 writes the judged result to `--result`.
+    /// (`impact_vv::rank_case`); rank 0 writes the judged result to `--result`.
     #[command(name = "rank-case", hide = true)]
     RankCase {
         case: PathBuf,
@@ -442,7 +442,8 @@ fn main() -> ExitCode {
                 );
                 return ExitCode::from(2);
             };
-            match impact_vv::mpirun::rank_case(&case, &variant, &result, out, time_limit, &world) {
+            match impact_vv::rank_case::rank_case(&case, &variant, &result, out, time_limit, &world)
+            {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");

@@ -1,0 +1,61 @@
+//! The hidden `rank-case` command: one rank of a case variant that the harness started under
+//! `mpirun` ([`crate::mpirun::run_variant`]). Its own module, above the case kinds and the
+//! registry that it reads, so that neither imports it.
+
+use std::path::{Path, PathBuf};
+
+use impact_solver::distributed::Communicator;
+
+use crate::case_file::load_case;
+use crate::case_kind::RunOptions;
+use crate::mpirun::write_result;
+use crate::registry::KINDS;
+use crate::results::CaseResult;
+use crate::scene_case::SceneCase;
+
+/// The `rank-case` command: runs `variant` of the case file `case_path` as this rank of `world`
+/// and, on rank 0, writes the judged result to `result_file`. `out` is the harness run's folder
+/// (`None`: output kept in memory).
+pub fn rank_case(
+    case_path: &Path,
+    variant: &str,
+    result_file: &Path,
+    out: Option<PathBuf>,
+    time_limit_s: f64,
+    world: &dyn Communicator,
+) -> Result<(), String> {
+    let case = load_case(case_path, &KINDS).map_err(|e| e.to_string())?;
+    let chosen = case
+        .spec
+        .variants
+        .iter()
+        .find(|v| v.name == variant)
+        .ok_or_else(|| format!("{}: no variant `{variant}`", case_path.display()))?;
+    let scene = case
+        .kind
+        .as_any()
+        .downcast_ref::<SceneCase>()
+        .ok_or_else(|| {
+            format!(
+                "{}: a `{}` case does not run on ranks; only scene cases do",
+                case_path.display(),
+                case.kind.name()
+            )
+        })?;
+    let options = RunOptions {
+        output_dir: out,
+        time_limit_s,
+        parallel: false,
+        stop: None,
+    };
+    let result = scene.run_as_rank(&case, Some(chosen), &options, world);
+    if world.rank() == 0 {
+        let result = CaseResult {
+            known_failure: case.spec.known_failure.clone(),
+            ..result
+        };
+        write_result(result_file, &result)
+            .map_err(|e| format!("{}: {e}", result_file.display()))?;
+    }
+    Ok(())
+}
