@@ -171,11 +171,19 @@ fn explicit(
     if let Some(comm) = options.ranks.filter(|c| c.size() > 1) {
         solver.distribute(comm)?;
         let counts = solver.exchange_counts();
+        let shared = solver.shared_nodes();
+        // Compact ranges share about a cross-section; a quarter of all nodes means scattered ones.
+        let hint = if 4 * shared > problem.model.node_count() {
+            ": the ranges are scattered through the mesh, a body's `numbering: spatial` makes \
+             them compact"
+        } else {
+            ""
+        };
         plan += &format!(
             "; {} ranks (elements in consecutive ranges, each rank integrating their nodes; {} \
-             nodes shared or replicated), each step an all-gather of those nodes' force \
-             contributions ({} to {} values of 8 B sent per rank, {:.1} KB in all), one of the \
-             energy sums' leaf shares and two all-reduces",
+             nodes exchanged, {shared} of them shared by two ranks' elements{hint}), each step \
+             an all-gather of those nodes' force contributions ({} to {} values of 8 B sent per \
+             rank, {:.1} KB in all), one of the energy sums' leaf shares and two all-reduces",
             counts.len(),
             solver.exchanged_nodes(),
             counts.iter().min().unwrap_or(&0),

@@ -36,6 +36,8 @@ pub struct NodePlan {
     leaf_counts: Vec<usize>,
     /// Position of each leaf in the rank-major order of the gathered shares.
     leaf_slot: Vec<u32>,
+    /// Nodes used by the elements of two ranks or more.
+    shared_nodes: usize,
 }
 
 impl NodePlan {
@@ -50,6 +52,7 @@ impl NodePlan {
             extra: Vec::new(),
             leaf_counts: vec![leaves],
             leaf_slot: (0..leaves as u32).collect(),
+            shared_nodes: 0,
         }
     }
 
@@ -79,6 +82,7 @@ impl NodePlan {
                 }
             }
         }
+        let shared_nodes = exchanged.iter().filter(|&&x| x).count();
         for (a, &r) in first_rank.iter().enumerate() {
             exchanged[a] |= r == NONE;
         }
@@ -135,7 +139,16 @@ impl NodePlan {
             extra,
             leaf_counts,
             leaf_slot,
+            shared_nodes,
         }
+    }
+
+    /// Nodes used by the elements of two ranks or more: about one cross-section of the mesh
+    /// per pair of neighbouring ranks when each rank's elements are compact, most nodes when
+    /// the numbering wanders through the mesh (a body's `numbering: spatial` orders it by
+    /// coordinate bisection).
+    pub fn shared_nodes(&self) -> usize {
+        self.shared_nodes
     }
 
     /// The nodes this rank integrates, as ascending runs of ids.

@@ -124,6 +124,11 @@ fn every_rank_holds_its_elements_nodes_and_each_leaf_has_one_rank_holding_it_who
             }
         }
         assert!(owner.iter().all(Option::is_some), "every leaf has a rank");
+        // Consecutive elements of a strip: each cut between two ranges shares the three points
+        // of the face between them.
+        let shared = users.iter().filter(|u| u.len() > 1).count();
+        assert_eq!(shared, 3 * (size - 1));
+        assert!(plans.iter().all(|p| p.shared_nodes() == shared));
         // A split leaf: exchanged whole, though some of its nodes have one user.
         let split = (0..owner.len() as u32).any(|k| {
             let leaf = plans[0].leaf_nodes(k);

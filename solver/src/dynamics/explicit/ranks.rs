@@ -113,6 +113,12 @@ impl<'p> ExplicitSolver<'p> {
         self.nodes.exchanged().iter().filter(|&&x| x).count()
     }
 
+    /// Nodes used by the elements of two ranks or more ([`NodePlan::shared_nodes`]); 0 on one
+    /// process.
+    pub fn shared_nodes(&self) -> usize {
+        self.nodes.shared_nodes()
+    }
+
     /// `f64` values each rank sends per step to complete the forces (empty on one process).
     pub fn exchange_counts(&self) -> &[usize] {
         self.ranks.as_ref().map_or(&[], |r| r.exchange.counts())
