@@ -1,0 +1,100 @@
+//! Issue 17 diagnostic: the tensile peak of one material point of the calibrated concrete
+//! (h = 50 mm, quasi-static) under a lateral compression, beside Kupfer's tension-compression
+//! envelope. The lateral stress `sigma_yy = -k f_t` is applied first (with `sigma_xx = sigma_zz
+//! = 0`), then held while `E_xx` grows to 8e-4 (`sigma_zz = 0`, no shear). A second set drives
+//! `E_yy = -r E_xx` instead. Concrete's tensile strength falls under lateral compression (Kupfer &
+//! Gerstle 1973: `sigma_1 = f_t (1 + 0.8 sigma_2 / f_c)`); the thesis concrete's rises
+//! (docs/MICROPLANE.md, "Tension under lateral compression"), which is what the bottom of the
+//! dynamic beam meets under the impact's vertical compression.
+//!
+//! `cargo run --release -p impact-solver --example tension_under_lateral_compression [-- MATERIAL_FILE]`
+
+// Example code: an `unwrap` that fails stops the example (the lint is for library code).
+#![allow(clippy::unwrap_used)]
+use impact_solver::material::microplane::driver::{Control, MaterialPoint, PathPoint};
+use impact_solver::material::microplane::MicroplaneConcrete;
+use impact_solver::material::read_microplane_file;
+
+/// Tensile and compressive strength of the thesis concrete (thesis 10.3, the calibration's
+/// targets), the scales of the envelope.
+const FT: f64 = 2.70e6;
+const FC: f64 = 45.0e6;
+
+/// Seconds per increment: the strain rate stays quasi-static (rate factor 1).
+const DT: f64 = 2.0;
+
+/// Controls with `sigma_zz = 0` and no shear strain.
+fn controls(xx: Control, yy: Control) -> [Control; 6] {
+    [
+        xx,
+        yy,
+        Control::Stress(0.0),
+        Control::Strain(0.0),
+        Control::Strain(0.0),
+        Control::Strain(0.0),
+    ]
+}
+
+/// The point of largest `sigma_xx` on a path, and `">="` when that is the path's last point
+/// (the stress still rising where the path ends).
+fn peak(points: &[PathPoint]) -> (PathPoint, &'static str) {
+    let (i, top) = points
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.stress[0].total_cmp(&b.1.stress[0]))
+        .unwrap();
+    (*top, if i + 1 == points.len() { ">=" } else { "" })
+}
+
+fn main() {
+    let file = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "cases/materials/thesis-concrete.yaml".into());
+    let parameters = read_microplane_file(std::path::Path::new(&file)).unwrap();
+    let (ft, fc) = (FT, FC);
+    let model = MicroplaneConcrete::new(parameters).unwrap();
+    println!(
+        "{file}: f_t {:.2} MPa, f_c {:.1} MPa, h = 50 mm",
+        ft * 1e-6,
+        fc * 1e-6
+    );
+    println!("lateral stress  tensile peak  Kupfer-Gerstle  E_xx at the peak");
+    for k in [0.0, 0.5, 1.0, 2.0, 5.0] {
+        let lateral = -k * ft;
+        let mut point = MaterialPoint::new(&model, 0.05).unwrap();
+        let (preload, error) = point.run((1..=20).map(|i| {
+            let s = lateral * f64::from(i) / 20.0;
+            (controls(Control::Stress(0.0), Control::Stress(s)), DT)
+        }));
+        assert!(error.is_none(), "{error:?}");
+        let start = preload.last().unwrap().strain[0];
+        let (points, error) = point.run((1..=400).map(|i| {
+            let e = start + 8e-4 * f64::from(i) / 400.0;
+            (controls(Control::Strain(e), Control::Stress(lateral)), DT)
+        }));
+        assert!(error.is_none(), "{error:?}");
+        let (top, bound) = peak(&points);
+        println!(
+            "{:>6.1} f_t   {bound:>2}{:>6.2} f_t     {:>6.2} f_t      {:.2e}",
+            -k,
+            top.stress[0] / ft,
+            1.0 + 0.8 * lateral / fc,
+            top.strain[0]
+        );
+    }
+    println!("E_yy = -r E_xx  tensile peak  sigma_yy there");
+    for r in [0.0, 0.18, 0.4, 0.63, 1.0] {
+        let mut point = MaterialPoint::new(&model, 0.05).unwrap();
+        let (points, error) = point.run((1..=400).map(|i| {
+            let e = 8e-4 * f64::from(i) / 400.0;
+            (controls(Control::Strain(e), Control::Strain(-r * e)), DT)
+        }));
+        assert!(error.is_none(), "{error:?}");
+        let (top, bound) = peak(&points);
+        println!(
+            "r = {r:<4}      {bound:>2}{:>6.2} f_t     {:>6.2} f_t",
+            top.stress[0] / ft,
+            top.stress[1] / ft
+        );
+    }
+}
