@@ -124,7 +124,7 @@ enum Command {
     },
     /// One rank of a case variant with `ranks: N`, started by the harness under `mpirun`
     /// (`impact_vv::rank_case`); rank 0 writes the judged result to `--result`.
-    #[command(name = "rank-case", hide = true)]
+    #[command(name = impact_vv::mpirun::RANK_COMMAND, hide = true)]
     RankCase {
         case: PathBuf,
         #[arg(long)]

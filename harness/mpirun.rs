@@ -96,8 +96,8 @@ pub fn run_variant(
         }
         outcome => {
             let stderr = String::from_utf8_lossy(&output.stderr);
-            let tail: Vec<&str> = stderr.lines().rev().take(6).collect();
-            let tail: Vec<&str> = tail.into_iter().rev().collect();
+            let lines: Vec<&str> = stderr.lines().collect();
+            let tail = &lines[lines.len().saturating_sub(6)..];
             failed.message = Some(format!(
                 "`mpirun -np {ranks}` ended with {} ({}): {}",
                 output.status,

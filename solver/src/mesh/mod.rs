@@ -12,7 +12,6 @@ use nalgebra::Vector3;
 
 pub use boundary::{boundary_faces, boundary_faces_of, boundary_nodes, face_key, BoundaryFace};
 pub use generate::{box_mesh, perturb_interior, Axis, BoxSpec};
-pub use numbering::shared_nodes;
 pub use quality::{edge_extremes, element_quality, ElementQuality};
 
 use crate::error::{Result, SolverError};

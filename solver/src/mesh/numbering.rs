@@ -88,23 +88,19 @@ fn bisect(elements: &mut [u32], centroids: &[Vector3<f64>]) {
     bisect(upper, centroids);
 }
 
-/// Nodes used by elements of both `a` and `b` (element id ranges of `mesh`).
-pub fn shared_nodes(mesh: &Mesh, a: std::ops::Range<usize>, b: std::ops::Range<usize>) -> usize {
-    let mut used = vec![0u8; mesh.nodes.len()];
-    for (range, bit) in [(a, 1u8), (b, 2u8)] {
-        for tet in &mesh.tets[range] {
-            for &n in tet {
-                used[n as usize] |= bit;
-            }
-        }
-    }
-    used.iter().filter(|&&u| u == 3).count()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::distributed::NodePlan;
     use crate::mesh::{box_mesh, BoxSpec};
+
+    /// Nodes that the elements of the two halves of `mesh` share, as the distributed runs count
+    /// them ([`NodePlan::shared_nodes`]).
+    fn shared_by_halves(mesh: &Mesh) -> usize {
+        let half = mesh.tets.len() / 2;
+        let ranges = [0..half, half..mesh.tets.len()];
+        NodePlan::new(&mesh.tets, mesh.nodes.len(), &ranges, 0, &[]).shared_nodes()
+    }
 
     /// A box mesh with its elements and nodes numbered at random (a deterministic shuffle).
     fn scrambled_box(divisions: usize) -> Mesh {
@@ -185,9 +181,9 @@ mod tests {
         let divisions = 8;
         let mut mesh = scrambled_box(divisions);
         let half = mesh.tets.len() / 2;
-        let scattered = shared_nodes(&mesh, 0..half, half..mesh.tets.len());
+        let scattered = shared_by_halves(&mesh);
         mesh.renumber_spatially();
-        let compact = shared_nodes(&mesh, 0..half, half..mesh.tets.len());
+        let compact = shared_by_halves(&mesh);
         // The first bisection cuts the 16 x 8 x 8 box across x at its middle: one plane of
         // 9 x 9 nodes.
         let section = (divisions + 1) * (divisions + 1);
