@@ -2,8 +2,9 @@
 //! update over the planes (`MicroplaneConcrete::with_full_update`): on random strain states near
 //! its limit the stresses agree to the `f32` rounding of the history, beyond the limit the path is
 //! not taken, and along paths that start elastic and go on into softening the two stay together;
-//! for the thesis concrete and the one with crack friction (whose sliders the elastic path
-//! leaves untouched).
+//! for the thesis concrete, the one with crack friction (whose sliders the elastic path leaves
+//! untouched) and the one with the tensile-stress relaxation (whose crack opening both paths
+//! advance).
 #![allow(clippy::unwrap_used)]
 
 mod common;
@@ -13,8 +14,13 @@ use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint
 use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneState, Sym};
 use impact_solver::rng::SplitMix64;
 
-/// The shipped concretes the elastic path serves: the thesis' and the one with crack friction.
-const CONCRETES: [&str; 2] = ["thesis-concrete", "thesis-concrete-crack-friction"];
+/// The shipped concretes the elastic path serves: the thesis', the one with crack friction and
+/// the one with the tensile-stress relaxation.
+const CONCRETES: [&str; 3] = [
+    "thesis-concrete",
+    "thesis-concrete-crack-friction",
+    "thesis-concrete-tensile-relaxation",
+];
 
 /// `f32` rounding: half an ulp at 1.
 const F32_ROUNDING: f64 = 1.0 / (1u64 << 24) as f64;

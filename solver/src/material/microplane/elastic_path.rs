@@ -67,6 +67,7 @@ impl MicroplaneConcrete {
         header[state::RATE_FACTOR] = f as f32;
         header[state::PRINCIPAL_STRESS] =
             principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
+        self.advance_opening(header, &sigma);
         header[state::ELASTIC_UPDATES] += 1.0;
         (
             sigma,

@@ -401,6 +401,55 @@ pub fn equal_biaxial_compression(
     Ok((curve, peak))
 }
 
+/// Tension under a held lateral stress (Kupfer, Hilsdorf & Rüsch 1969's tension-compression
+/// tests): `sigma_22 = lateral` applied first in 20 increments (`sigma_11 = sigma_33 = 0`), then
+/// held while `E_11` grows by `end` in `steps` increments (`sigma_33 = 0`, no shear). The curve
+/// holds the second stage; it ends early (with the driver's error) where the point can no longer
+/// carry the lateral stress.
+pub fn tension_under_lateral_stress(
+    model: &MicroplaneConcrete,
+    h: f64,
+    lateral: f64,
+    end: f64,
+    steps: usize,
+) -> Result<Curve, DriverError> {
+    let controls = |axial: Control, lateral: f64| {
+        [
+            axial,
+            Control::Stress(lateral),
+            Control::Stress(0.0),
+            Control::Strain(0.0),
+            Control::Strain(0.0),
+            Control::Strain(0.0),
+        ]
+    };
+    let mut point = MaterialPoint::new(model, h)?;
+    // The preload's time step follows the strain its stress gives in elastic uniaxial stress.
+    let preload_step = (lateral / model.parameters.youngs_modulus).abs() / 20.0;
+    let (preload, error) = point.run((1..=20).map(|i| {
+        let s = lateral * f64::from(i) / 20.0;
+        (
+            controls(Control::Stress(0.0), s),
+            preload_step.max(1e-12) / QUASI_STATIC_RATE,
+        )
+    }));
+    if let Some(error) = error {
+        return Ok(Curve {
+            points: Vec::new(),
+            error: Some(error),
+        });
+    }
+    let start = preload.last().map_or(0.0, |p| p.strain[0]);
+    let de = end / steps as f64;
+    let (points, error) = point.run((1..=steps).map(|i| {
+        (
+            controls(Control::Strain(start + de * i as f64), lateral),
+            de / QUASI_STATIC_RATE,
+        )
+    }));
+    Ok(Curve { points, error })
+}
+
 /// Hydrostatic compression to a volumetric strain `-end` (all normal strains `-end`), then back
 /// to zero: the pressure-volume curve, and whether any microplane branch lost stiffness.
 pub fn hydrostatic_compression(

@@ -24,6 +24,7 @@ pub mod experiments;
 pub mod laws;
 pub mod parameters;
 mod principal;
+mod relaxation;
 mod shear;
 pub mod state;
 pub mod tabulated;
@@ -31,7 +32,9 @@ pub mod volumetric;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
-pub use parameters::{MicroplaneParameters, ParameterError, RateEffect, TensionDriver};
+pub use parameters::{
+    MicroplaneParameters, ParameterError, RateEffect, RelaxationDriver, TensionDriver,
+};
 pub use principal::{
     largest_principal, mazars_strain, principal_stress_for_closure, principal_values,
 };
@@ -68,6 +71,10 @@ pub struct MicroplaneConcrete {
     compression: ExponentialLaw,
     /// `(1 - 2 nu) / 3`: the equivalent tension driver per unit of Mazars' strain.
     equivalent_factor: f64,
+    /// Lamé's `lambda` and `2 mu` over `E`: the elastic stress `C : E / E` of the relaxation's
+    /// tensile-stress driver ([`RelaxationDriver::TensileStress`]).
+    effective_lambda: f64,
+    effective_two_mu: f64,
     shear: ExponentialLaw,
     rule: UnloadingRule,
     /// The cyclic shear damage `exp(-1.2 (Lambda / E)^1.1)` (5.104), tabulated.
@@ -125,6 +132,8 @@ impl MicroplaneConcrete {
             e_d0: e / (1.0 + nu),
             e_t0: e / (1.0 + nu),
             equivalent_factor: (1.0 - 2.0 * nu) / 3.0,
+            effective_lambda: nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            effective_two_mu: 1.0 / (1.0 + nu),
             tension: ExponentialLaw::with_hordijk_tail(parameters.m, parameters.hordijk_tail),
             compression: ExponentialLaw::new(parameters.n),
             shear: ExponentialLaw::new(parameters.k),
@@ -477,8 +486,14 @@ impl MicroplaneConcrete {
         // potential, and shear cycles across an opening crack then give energy back (in the beam
         // drop tests the cracked zone pumped about 700 J into the beam in 3 ms).
         let s_i = header[state::PRINCIPAL_STRESS] as f64;
+        let driver = match p.relaxation_driver {
+            RelaxationDriver::Volumetric => e_v,
+            RelaxationDriver::TensileStress => {
+                self.tensile_stress_driver(strain, e_v, header[state::OPENING] as f64)
+            }
+        };
         let relaxation = discontinuity::relaxation(
-            discontinuity::closure(s_i, p.s_i_min) * e_v.max(0.0),
+            discontinuity::closure(s_i, p.s_i_min) * driver.max(0.0),
             e1,
             &self.tension,
             band.tension,
@@ -658,6 +673,7 @@ impl MicroplaneConcrete {
         header[state::RATE_FACTOR] = f as f32;
         header[state::PRINCIPAL_STRESS] =
             principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
+        self.advance_opening(header, &sigma);
         if dilatant {
             let wanted = p.dilatancy * inelastic_compression;
             let reached = header[state::DILATANCY] as f64;

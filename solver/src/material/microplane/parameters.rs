@@ -80,6 +80,10 @@ pub struct MicroplaneParameters {
     /// What drives the softening of volumetric tension (MICROPLANE.md "Tension driver").
     #[serde(default)]
     pub tension_driver: TensionDriver,
+    /// What drives the relaxation `psi` of the deviatoric and shear planes (docs/MICROPLANE.md
+    /// "Tension under lateral compression").
+    #[serde(default, skip_serializing_if = "is_volumetric_relaxation")]
+    pub relaxation_driver: RelaxationDriver,
     /// How the volumetric strain is measured at finite strain (`volumetric.rs`): the trace of
     /// the Green-Lagrange strain (MICROPLANE.md, the default) or the volume ratio `J`.
     #[serde(default, skip_serializing_if = "is_trace")]
@@ -95,6 +99,29 @@ pub struct MicroplaneParameters {
 
 fn is_trace(v: &VolumetricStrain) -> bool {
     *v == VolumetricStrain::GreenLagrangeTrace
+}
+
+fn is_volumetric_relaxation(v: &RelaxationDriver) -> bool {
+    *v == RelaxationDriver::Volumetric
+}
+
+/// The strain whose tension law secant is the relaxation `psi` of the deviatoric and shear
+/// planes (5.91, 5.96, 5.99), before the crack closure `f(s_I)` (5.97).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RelaxationDriver {
+    /// The thesis: the positive part of `e_V = tr(E) / 3`. Under a lateral compression `e_V`
+    /// stays small while the tensile strain grows, nothing relaxes, and the shear planes carry
+    /// the tension to their own, far later peak: 1.45 `f_t` beside `sigma_2 = -f_t`, where
+    /// concrete gives about 0.95 (Kupfer & Gerstle 1973).
+    #[default]
+    Volumetric,
+    /// The larger of `e_V` and `(1 - 2 nu) / 3 <sigma~_I> / E`, with `sigma~_I` the largest
+    /// principal value of the elastic (effective) stress `C : E` (Rankine's equivalent strain,
+    /// e.g. Jirásek 2004): in uniaxial stress both equal `e_V`, under a lateral compression the
+    /// planes relax as the tensile stress, not the volume, grows, and under compression alone
+    /// (`sigma~_I <= 0`) it is the thesis' driver.
+    TensileStress,
 }
 
 /// The strain that drives volumetric tensile softening (the relaxation `psi` follows `e_V` with

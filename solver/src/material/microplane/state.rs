@@ -2,13 +2,13 @@
 //! more digits, and the state of 21 planes then fits in 1.2 KB).
 //!
 //! Layout: a header `[V+ strain, V+ stress, V- strain, rate factor, s_I, psi, dilatancy, virgin
-//! planes, elastic updates]`, then per plane
+//! planes, elastic updates, opening]`, then per plane
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
 //! component ending with its cyclic dissipation `Lambda` (5.104); with crack friction, the two
 //! slips of each plane's friction sliders after the last plane.
 
 /// Number of values of the element header, before the first plane.
-pub const HEADER: usize = 9;
+pub const HEADER: usize = 10;
 /// Index of the volumetric-tension branch (5.19): largest volumetric strain reached, then the
 /// volumetric stress there (Pa), two values.
 pub const V_TENSION: usize = 0;
@@ -28,6 +28,10 @@ pub const DILATANCY: usize = 6;
 pub const VIRGIN_PLANES: usize = 7;
 /// Number of updates that took the elastic path (exact in `f32` up to 2^24 updates).
 pub const ELASTIC_UPDATES: usize = 8;
+/// The largest crack opening `o(s_I)` reached (`discontinuity::opening`), which weighs the
+/// tensile-stress driver of the relaxation (`RelaxationDriver::TensileStress`); 0 in a virgin
+/// element, and never smaller later: a crack once opened in tension stays a crack.
+pub const OPENING: usize = 9;
 /// Number of values of each microplane after the header.
 pub const PER_PLANE: usize = 14;
 /// Number of values per plane of the crack-friction sliders (MICROPLANE "Crack friction"): the

@@ -79,6 +79,7 @@ pub fn calibrate(
     let mut p = *start;
     p.rate_effect = None;
     p.tension_driver = targets.tension_driver;
+    p.relaxation_driver = targets.relaxation_driver;
     p.dilatancy = targets.dilatancy;
     p.crack_friction = targets.crack_friction;
     let tension = |p: &mut MicroplaneParameters, stage: &str, log: &mut dyn FnMut(&str)| {
