@@ -73,6 +73,7 @@ fn given_options(spec: &MaterialPointSpec) -> Vec<&'static str> {
         ("rules", !spec.rules.is_empty()),
         ("cycles", !spec.cycles.is_empty()),
         ("unload_at", spec.unload_at.is_some()),
+        ("lateral_stresses", !spec.lateral_stresses.is_empty()),
         ("reference_curves", !spec.reference_curves.is_empty()),
     ]
     .into_iter()
@@ -172,6 +173,18 @@ fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasu
         }
         Experiment::Cyclic if mp.cycles.is_empty() => {
             return Err("material_point: cyclic needs `cycles`".into())
+        }
+        Experiment::TensionCompression
+            if mp
+                .lateral_stresses
+                .iter()
+                .any(|s| !s.is_finite() || *s > 0.0) =>
+        {
+            return Err(format!(
+                "material_point: lateral_stresses {:?}: give lateral compressions in Pa (0 or \
+                 negative)",
+                mp.lateral_stresses
+            ))
         }
         Experiment::RateEffect => {
             let Some(r) = mp.relative_to else {

@@ -9,6 +9,7 @@ mod hydrostatic;
 mod isotropy;
 mod rate_effect;
 mod tension;
+mod tension_compression;
 
 use impact_solver::material::microplane::driver::PathPoint;
 use impact_solver::material::microplane::experiments::{Curve, QUASI_STATIC_RATE};
@@ -23,6 +24,7 @@ use hydrostatic::hydrostatic;
 use isotropy::isotropy;
 use rate_effect::rate_effect;
 use tension::{tension_plots, tension_run};
+use tension_compression::tension_compression;
 
 /// Strain magnitude of the isotropy check: far inside the elastic range, so that the nonlinear
 /// terms (of relative size `(eps / e1)^m`) stay below 1e-15 for exponents `m` of 1 or more.
@@ -103,6 +105,7 @@ pub fn run(
         Experiment::Hydrostatic => hydrostatic(mp, params, h, &mut out)?,
         Experiment::Cyclic => cyclic(mp, params, h, targets, &mut out)?,
         Experiment::RateEffect => rate_effect(mp, params, h, targets, &mut out)?,
+        Experiment::TensionCompression => tension_compression(mp, params, h, targets, &mut out)?,
     }
     Ok(out)
 }

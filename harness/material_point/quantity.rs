@@ -104,6 +104,10 @@ pub enum Quantity {
     CompressionPeakRatio,
     /// `(max - min) / mean` of the initial slopes (`initial_slope`) over the rates.
     InitialSlopeSpread,
+    /// Peak of `sigma_11` in tension under a held lateral stress `sigma_22` (MPa).
+    LateralTensionPeak,
+    /// That peak over the same point's uniaxial tensile peak (lateral stress 0).
+    LateralTensionRatio,
 }
 
 impl Quantity {
@@ -127,7 +131,8 @@ impl Quantity {
             | UnloadingSlope
             | UnloadingSecant
             | TensionPeakStress
-            | CompressionPeakStress => "MPa",
+            | CompressionPeakStress
+            | LateralTensionPeak => "MPa",
             FractureEnergy => "N/mm",
             SofteningEndOpening => "mm",
             SmallestDissipation | CycleDissipation => "J/m^3",

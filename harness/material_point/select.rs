@@ -29,6 +29,9 @@ pub struct MaterialMeasure {
     /// Cycles run with the deviatoric trace term (true, the default) or without (false).
     #[serde(default)]
     pub deviatoric_trace_term: Option<bool>,
+    /// Held lateral stress `sigma_22` (Pa) of a tension-compression run.
+    #[serde(default)]
+    pub lateral_stress: Option<f64>,
 }
 
 impl MaterialMeasure {
@@ -40,6 +43,7 @@ impl MaterialMeasure {
             rule: self.rule,
             cycle: self.cycle.clone(),
             deviatoric_trace_term: self.deviatoric_trace_term,
+            lateral_stress: self.lateral_stress,
         }
     }
 }
@@ -57,6 +61,8 @@ pub struct Selector {
     pub cycle: Option<String>,
     /// With the deviatoric trace term of the homogenisation (cycles).
     pub deviatoric_trace_term: Option<bool>,
+    /// Held lateral stress `sigma_22` (Pa).
+    pub lateral_stress: Option<f64>,
 }
 
 pub(super) fn close(a: f64, b: f64) -> bool {
@@ -68,11 +74,12 @@ impl Selector {
     pub fn selects(&self, value: &Selector) -> bool {
         let num = |want: Option<f64>, have: Option<f64>| match (want, have) {
             (None, _) => true,
-            (Some(w), Some(h)) => close(w, h),
+            (Some(w), Some(h)) => close(w, h) || (w == 0.0 && h == 0.0),
             (Some(_), None) => false,
         };
         num(self.element_size, value.element_size)
             && num(self.rate, value.rate)
+            && num(self.lateral_stress, value.lateral_stress)
             && self.rule.is_none_or(|r| value.rule == Some(r))
             && self
                 .cycle
@@ -97,6 +104,12 @@ impl Selector {
         }
         if let Some(c) = &self.cycle {
             parts.push(format!("cycle {c}"));
+        }
+        if let Some(s) = self.lateral_stress {
+            parts.push(format!(
+                "sigma_22 = {} MPa",
+                crate::report::format::num(s / 1e6)
+            ));
         }
         match self.deviatoric_trace_term {
             // (The model's default is on since issue 16; off is the thesis' homogenisation.)
@@ -154,8 +167,8 @@ pub fn select(measure: &MaterialMeasure, values: &[Value]) -> Result<f64, String
             available()
         )),
         _ => Err(format!(
-            "`{}` was measured at {}: say which (element_size, rate, rule, cycle or \
-             deviatoric_trace_term)",
+            "`{}` was measured at {}: say which (element_size, rate, rule, cycle, \
+             deviatoric_trace_term or lateral_stress)",
             measure.quantity.name(),
             available()
         )),

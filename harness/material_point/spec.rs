@@ -57,6 +57,10 @@ pub struct MaterialPointSpec {
     /// Published curves drawn beside the model's (not judged unless a metric says so).
     #[serde(default)]
     pub reference_curves: Vec<ReferenceCurve>,
+    /// `tension_compression`: the held lateral stresses `sigma_22` (Pa, compression negative),
+    /// one run each; 0 runs the uniaxial test the others are compared with.
+    #[serde(default)]
+    pub lateral_stresses: Vec<f64>,
     /// `uniaxial_tension`, `crack_band`: the path of the tension tests, uniaxial stress or
     /// `bonded` (lateral strains held after the peak). Default: the path on which the
     /// calibration defines GF for the material's tension driver (`FracturePath::of_driver`).
@@ -93,6 +97,9 @@ pub enum Experiment {
     CrackBand,
     /// The rate law's unit check, and tension and compression peaks over strain rates.
     RateEffect,
+    /// Tension under held lateral compressions beside uniaxial tension (Kupfer, Hilsdorf &
+    /// Rüsch 1969).
+    TensionCompression,
 }
 
 impl Experiment {
@@ -107,6 +114,7 @@ impl Experiment {
             Experiment::Cyclic => "cyclic",
             Experiment::CrackBand => "crack_band",
             Experiment::RateEffect => "rate_effect",
+            Experiment::TensionCompression => "tension_compression",
         }
     }
 
@@ -121,6 +129,7 @@ impl Experiment {
             Experiment::EqualBiaxial | Experiment::Hydrostatic => &["element_size", "end", "steps"],
             Experiment::Cyclic => &["element_size", "cycles", "unload_at"],
             Experiment::CrackBand => &["element_sizes", "rate", "reference_curves"],
+            Experiment::TensionCompression => &["element_size", "lateral_stresses", "end", "steps"],
             Experiment::RateEffect => &[
                 "element_size",
                 "rates",
@@ -198,6 +207,7 @@ impl Experiment {
                 CompressionPeakRatio,
                 InitialSlopeSpread,
             ],
+            Experiment::TensionCompression => &[LateralTensionPeak, LateralTensionRatio],
         }
     }
 }
