@@ -152,22 +152,11 @@ pub fn post_peak_rise(stress: &[f64]) -> f64 {
     rise / peak
 }
 
-/// Whether the curve passed its peak: the stress fell below its largest |sigma_11| by 1e-3 of it
-/// afterwards. Otherwise the largest stress computed is only a lower bound of the peak (the path
-/// ended or stopped while the stress still rose).
-pub fn peak_passed(curve: &Curve) -> bool {
-    let s: Vec<f64> = curve.points.iter().map(|p| p.stress[0].abs()).collect();
-    let Some((i, &top)) = s.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
-        return false;
-    };
-    s[i..].iter().any(|&x| x < (1.0 - 1e-3) * top)
-}
-
 /// The peak stress and strain (magnitudes, Pa) if the curve passed its peak, else NaN with a
 /// note.
 fn established_peak(curve: &Curve, what: &str, out: &mut Outcome) -> (f64, f64) {
     let p = curve.peak();
-    if peak_passed(curve) {
+    if curve.peak_passed() {
         (p.stress[0].abs(), p.strain[0].abs())
     } else {
         out.notes.push(format!(
@@ -283,10 +272,10 @@ mod tests {
                 .collect(),
             error: None,
         };
-        assert!(peak_passed(&curve(&[0.0, 2.0, 1.0])));
-        assert!(!peak_passed(&curve(&[0.0, 1.0, 2.0])));
+        assert!(curve(&[0.0, 2.0, 1.0]).peak_passed());
+        assert!(!curve(&[0.0, 1.0, 2.0]).peak_passed());
         // A plateau within 1e-3 of the top is not a passed peak.
-        assert!(!peak_passed(&curve(&[0.0, 2.0, 1.9995])));
-        assert!(peak_passed(&curve(&[0.0, -2.0, -1.0])));
+        assert!(!curve(&[0.0, 2.0, 1.9995]).peak_passed());
+        assert!(curve(&[0.0, -2.0, -1.0]).peak_passed());
     }
 }

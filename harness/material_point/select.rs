@@ -74,7 +74,7 @@ impl Selector {
     pub fn selects(&self, value: &Selector) -> bool {
         let num = |want: Option<f64>, have: Option<f64>| match (want, have) {
             (None, _) => true,
-            (Some(w), Some(h)) => close(w, h) || (w == 0.0 && h == 0.0),
+            (Some(w), Some(h)) => close(w, h),
             (Some(_), None) => false,
         };
         num(self.element_size, value.element_size)

@@ -13,7 +13,7 @@
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 use impact_solver::material::microplane::driver::{Control, MaterialPoint, PathPoint};
-use impact_solver::material::microplane::experiments::tension_under_lateral_stress;
+use impact_solver::material::microplane::experiments::{tension_under_lateral_stress, Curve};
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::read_microplane_file;
 
@@ -37,15 +37,10 @@ fn controls(xx: Control, yy: Control) -> [Control; 6] {
     ]
 }
 
-/// The point of largest `sigma_xx` on a path, and `">="` when that is the path's last point
-/// (the stress still rising where the path ends).
-fn peak(points: &[PathPoint]) -> (PathPoint, &'static str) {
-    let (i, top) = points
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.stress[0].total_cmp(&b.1.stress[0]))
-        .unwrap();
-    (*top, if i + 1 == points.len() { ">=" } else { "" })
+/// The point of largest `sigma_xx` on a path, and `">="` when the path has not passed it
+/// (`Curve::peak_passed`: the stress still within 1e-3 of it where the path ends).
+fn peak(curve: &Curve) -> (PathPoint, &'static str) {
+    (*curve.peak(), if curve.peak_passed() { "" } else { ">=" })
 }
 
 fn main() {
@@ -53,23 +48,22 @@ fn main() {
         .nth(1)
         .unwrap_or_else(|| "cases/materials/thesis-concrete.yaml".into());
     let parameters = read_microplane_file(std::path::Path::new(&file)).unwrap();
-    let (ft, fc) = (FT, FC);
     let model = MicroplaneConcrete::new(parameters).unwrap();
     println!(
         "{file}: f_t {:.2} MPa, f_c {:.1} MPa, h = 50 mm",
-        ft * 1e-6,
-        fc * 1e-6
+        FT * 1e-6,
+        FC * 1e-6
     );
     println!("lateral stress  tensile peak  Kupfer-Gerstle  E_xx at the peak");
     for k in [0.0, 0.5, 1.0, 2.0, 5.0] {
-        let lateral = -k * ft;
+        let lateral = -k * FT;
         let curve = tension_under_lateral_stress(&model, 0.05, lateral, 8e-4, 400).unwrap();
-        let (top, bound) = peak(&curve.points);
+        let (top, bound) = peak(&curve);
         println!(
             "{:>6.1} f_t   {bound:>2}{:>6.2} f_t     {:>6.2} f_t      {:.2e}",
             -k,
-            top.stress[0] / ft,
-            1.0 + 0.8 * lateral / fc,
+            top.stress[0] / FT,
+            1.0 + 0.8 * lateral / FC,
             top.strain[0]
         );
         if let Some(last) = curve.error.and(curve.points.last()) {
@@ -89,11 +83,11 @@ fn main() {
             (controls(Control::Strain(e), Control::Strain(-r * e)), DT)
         }));
         assert!(error.is_none(), "{error:?}");
-        let (top, bound) = peak(&points);
+        let (top, bound) = peak(&Curve { points, error });
         println!(
             "r = {r:<4}      {bound:>2}{:>6.2} f_t     {:>6.2} f_t",
-            top.stress[0] / ft,
-            top.stress[1] / ft
+            top.stress[0] / FT,
+            top.stress[1] / FT
         );
     }
 }

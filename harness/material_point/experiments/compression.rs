@@ -7,8 +7,8 @@ use impact_solver::material::microplane::experiments::{
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
 use super::{
-    axial_points, compression_paths, established_peak, note_stop, peak_box, peak_passed, rate_of,
-    value, MPA, PER_MILLE,
+    axial_points, compression_paths, established_peak, note_stop, peak_box, rate_of, value, MPA,
+    PER_MILLE,
 };
 use crate::material_point::plots::{sampled, series};
 use crate::material_point::{
@@ -243,13 +243,13 @@ pub(super) fn biaxial(
                 "equal biaxial".into(),
                 num(peak_bi / MPA),
                 format!("{:.3e}", -bi.peak().strain[0]),
-                peak_passed(&bi).to_string(),
+                bi.peak_passed().to_string(),
             ],
             vec![
                 "uniaxial".into(),
                 num(r.peak_stress / MPA),
                 format!("{:.3e}", r.peak_strain),
-                peak_passed(&uni).to_string(),
+                uni.peak_passed().to_string(),
             ],
             vec!["ratio".into(), num(ratio), String::new(), String::new()],
         ],

@@ -8,8 +8,8 @@ use impact_solver::material::microplane::experiments::{
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
 use super::{
-    axial_points, compression_paths, established_peak, note_stop, peak_passed, value, MPA,
-    PER_MILLE, STIFFNESS_PROBE, UNIT_CHECK_END, UNIT_CHECK_STEPS,
+    axial_points, compression_paths, established_peak, note_stop, value, MPA, PER_MILLE,
+    STIFFNESS_PROBE, UNIT_CHECK_END, UNIT_CHECK_STEPS,
 };
 use crate::material_point::plots::{sampled, series, STRAIN_AXIS};
 use crate::material_point::{
@@ -126,7 +126,7 @@ pub(super) fn rate_effect(
         note_stop(&c, &format!("compression at {rate:e} /s"), out);
         // Compression is reported, not judged: a path that did not pass its peak still shows its
         // largest stress, marked as a lower bound.
-        let passed = peak_passed(&c);
+        let passed = c.peak_passed();
         if !passed {
             out.notes.push(format!(
                 "compression at {rate:e} /s: the stress still rose where the path ended or \

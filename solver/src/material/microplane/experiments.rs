@@ -47,6 +47,17 @@ impl Curve {
             .sum()
     }
 
+    /// Whether the path passed its peak: `|sigma_11|` fell below its largest value by 1e-3 of it
+    /// afterwards. Otherwise the largest stress computed is only a lower bound of the peak (the
+    /// path ended or stopped while the stress still rose).
+    pub fn peak_passed(&self) -> bool {
+        let s: Vec<f64> = self.points.iter().map(|p| p.stress[0].abs()).collect();
+        let Some((i, &top)) = s.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
+            return false;
+        };
+        s[i..].iter().any(|&x| x < (1.0 - 1e-3) * top)
+    }
+
     /// The point of largest `|sigma_11|`.
     pub fn peak(&self) -> &PathPoint {
         self.points
@@ -405,7 +416,7 @@ pub fn equal_biaxial_compression(
 /// tests): `sigma_22 = lateral` applied first in 20 increments (`sigma_11 = sigma_33 = 0`), then
 /// held while `E_11` grows by `end` in `steps` increments (`sigma_33 = 0`, no shear). The curve
 /// holds the second stage; it ends early (with the driver's error) where the point can no longer
-/// carry the lateral stress.
+/// carry the lateral stress. A preload the point cannot carry is the error.
 pub fn tension_under_lateral_stress(
     model: &MicroplaneConcrete,
     h: f64,
@@ -434,10 +445,7 @@ pub fn tension_under_lateral_stress(
         )
     }));
     if let Some(error) = error {
-        return Ok(Curve {
-            points: Vec::new(),
-            error: Some(error),
-        });
+        return Err(error);
     }
     let start = preload.last().map_or(0.0, |p| p.strain[0]);
     let de = end / steps as f64;

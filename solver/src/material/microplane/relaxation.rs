@@ -13,7 +13,8 @@ impl MicroplaneConcrete {
     /// (docs/MICROPLANE.md "Tension under lateral compression").
     ///
     /// `sigma~_I / E <= lambda tr(E) + 2 mu |E|` (the largest principal strain is at most the
-    /// norm), so where that bound cannot pass `e_V` the eigenvalue is not computed. On the
+    /// norm), so where that bound cannot pass `<e_V>` (the caller takes the positive part) the
+    /// eigenvalue is not computed: in an unopened element (`o = 0`) never. On the
     /// elastic path (`|dev E| <= L`, `e_V <= L`) the driver is below `0.5 L`, so that path's
     /// limit still keeps `psi` at 1.
     #[inline(always)]
@@ -24,7 +25,7 @@ impl MicroplaneConcrete {
             * self.equivalent_factor
             * (lambda * trace + two_mu * contract(strain, strain).sqrt())
             * (1.0 + 1e-9);
-        if bound <= e_v {
+        if bound <= e_v.max(0.0) {
             return e_v;
         }
         let effective: Sym =
