@@ -23,7 +23,8 @@ pub use classify::{
 };
 pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
-    crack_tip_history, initiation, tip_height, tip_speeds, TIP_OPENING_FRACTION, TIP_SPEED_HALF_WINDOW,
+    crack_tip_history, initiation, tip_height, tip_speeds, TIP_OPENING_FRACTION,
+    TIP_SPEED_HALF_WINDOW,
 };
 
 use impact_solver::model::Problem;

@@ -235,7 +235,13 @@ mod tests {
         let t: Vec<f64> = (0..10).map(|i| i as f64 * 2e-5).collect();
         let h: Vec<f64> = t
             .iter()
-            .map(|&t| if t < 5e-5 { 0.0 } else { 0.15 + 600.0 * (t - 6e-5) })
+            .map(|&t| {
+                if t < 5e-5 {
+                    0.0
+                } else {
+                    0.15 + 600.0 * (t - 6e-5)
+                }
+            })
             .collect();
         let s = tip_speeds(&t, &h);
         assert!(s[..3].iter().all(|p| p.2 == 0.0));

@@ -95,7 +95,8 @@ fn section(
          at the end of the run; the `failure_mode` metric judges the state its case names. \
          The crack patterns below are final states (side view, largest eps_1/eps_r across the \
          width; 1 and more is cracked); each case's section shows the state at the end of the \
-         contact too. The tip speed is that of the bending crack's opening front (w = w_cr / 2).",
+         contact too. The tip speed is that of the bending crack's opening front (w = w_cr / 2), from \
+         the crack's initiation on; the length the crack appears with is given beside it.",
     ));
     let anchor_of = |c: &CaseResult| {
         summaries
@@ -141,6 +142,16 @@ fn section(
                 text(r.record.mode_at_end.as_deref().unwrap_or("—")),
                 r.metric
                     .map_or_else(|| text("no failure_mode metric"), |m| text(&metric_text(m))),
+                initiation(r.record).map_or_else(
+                    || text("—"),
+                    |(t, h)| {
+                        text(&format!(
+                            "{} ms, {} m",
+                            format::num(t * 1e3),
+                            format::num(h)
+                        ))
+                    },
+                ),
                 tip_ratio(r.record).map_or_else(|| text("—"), |v| Cell::Num(format::num(v))),
             ])
         })
@@ -156,6 +167,7 @@ fn section(
             "mode at the end of contact",
             "mode at the end of the run",
             FAILURE_MODE_METRIC,
+            "bending crack appears (time, length)",
             "largest tip speed / c_R (thesis 0.55)",
         ]),
         &table_rows,
@@ -188,6 +200,12 @@ fn section(
     });
     html.push_str(&plots("plots", finals));
     Some(html)
+}
+
+/// When the bending crack appears and how long it is then (`crate::beam::initiation`).
+fn initiation(record: &BeamRecord) -> Option<(f64, f64)> {
+    let tip: Vec<(f64, f64, f64)> = record.tip.iter().map(|p| (p[0], p[1], p[2])).collect();
+    crate::beam::cracks::initiation(&tip)
 }
 
 /// Largest bending-crack tip speed over the Rayleigh speed, if the record has a tip.
