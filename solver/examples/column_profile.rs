@@ -18,10 +18,19 @@
 use std::path::{Path, PathBuf};
 
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
-use impact_solver::kinematics::signed_volume;
 use impact_solver::output::observer::RunObserver;
 use impact_solver::output::vtu::{FieldData, FieldFrame};
+use impact_solver::remesh::{centroids, element_volumes};
 use impact_solver::scene::{build_problem, Analysis, Scene};
+
+/// One layer's sums over a frame.
+#[derive(Clone, Copy)]
+struct Layer {
+    sigma_xx: f64,
+    sigma_yy: f64,
+    elements: f64,
+    crack: f64,
+}
 
 /// Prints the column's layers at every field frame.
 struct ColumnProfile {
@@ -48,19 +57,26 @@ impl RunObserver for ColumnProfile {
         else {
             return Ok(None);
         };
-        let mut sum = vec![[0.0, 0.0, 0.0, f64::NEG_INFINITY]; self.layers];
+        let empty = Layer {
+            sigma_xx: 0.0,
+            sigma_yy: 0.0,
+            elements: 0.0,
+            crack: f64::NEG_INFINITY,
+        };
+        let mut sum = vec![empty; self.layers];
         for &(e, layer) in &self.column {
             let s = &mut sum[layer];
-            s[0] += sigma[e][0];
-            s[1] += sigma[e][1];
-            s[2] += 1.0;
-            s[3] = s[3].max(crack[e]);
+            s.sigma_xx += sigma[e][0];
+            s.sigma_yy += sigma[e][1];
+            s.elements += 1.0;
+            s.crack = s.crack.max(crack[e]);
         }
         let row: Vec<String> = sum
             .iter()
             .map(|s| {
-                let n = s[2].max(1.0);
-                format!("{:5.1}/{:5.1}/{:.2}", s[0] / n / 1e6, s[1] / n / 1e6, s[3])
+                let n = s.elements.max(1.0);
+                let (sxx, syy) = (s.sigma_xx / n / 1e6, s.sigma_yy / n / 1e6);
+                format!("{sxx:5.1}/{syy:5.1}/{:.2}", s.crack)
             })
             .collect();
         println!("{:.3} ms  {}", frame.time * 1e3, row.join(" "));
@@ -94,17 +110,10 @@ fn main() {
     let elements: Vec<usize> = (0..model.tets.len())
         .filter(|&e| model.element_body[e] as usize == b)
         .collect();
-    let centroid = |e: usize| {
-        model.tets[e]
-            .iter()
-            .map(|&n| model.reference[n as usize])
-            .sum::<nalgebra::Vector3<f64>>()
-            / 4.0
-    };
-    let volume: f64 = elements
-        .iter()
-        .map(|&e| signed_volume(&model.tets[e].map(|n| model.reference[n as usize])))
-        .sum();
+    // Centroids and volumes of the whole model, as the remeshing's transfer computes them.
+    let centroid = centroids(&model.reference, &model.tets);
+    let volumes = element_volumes(&model.reference, &model.tets);
+    let volume: f64 = elements.iter().map(|&e| volumes[e]).sum();
     let cell = (6.0 * volume / elements.len() as f64).cbrt();
     let (bottom, top) = elements
         .iter()
@@ -119,7 +128,7 @@ fn main() {
     let column: Vec<(usize, usize)> = elements
         .iter()
         .filter_map(|&e| {
-            let c = centroid(e);
+            let c = centroid[e];
             ((c.x - x0).abs() < 0.5 * cell).then(|| {
                 let layer = ((c.y - bottom) / layer_height).floor().max(0.0) as usize;
                 (e, layer.min(layers - 1))
