@@ -117,13 +117,13 @@ impl Default for BeamSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FailureMode {
-    /// No qualifying crack (or only a bending crack below half the height): code 0.
+    /// No qualifying crack: code 0.
     None,
-    /// Mode I: only the bending crack: code 1.
+    /// Mode I: only the bending crack, at any height: code 1.
     Bending,
-    /// Bending crack and shear cracks: code 2.
+    /// A bending crack reaching half the height, and shear cracks: code 2.
     Mixed,
-    /// Only shear cracks, or a bending crack below half the height: code 3.
+    /// Only shear cracks, or shear cracks beside a bending crack below half the height: code 3.
     Shear,
     /// The transition: a bending crack with inclined damage zones on its sides but no shear
     /// crack ([`DAMAGE_LEVEL`]): code 4.

@@ -149,10 +149,14 @@ fn inclined(c: &Crack) -> bool {
 /// 5. The same for the damaged elements (indicator at least [`DAMAGE_LEVEL`]): a part left or
 ///    right of the strip, inclined 25 to 65 degrees, that holds no element of a shear crack is
 ///    an **inclined damage** zone.
-/// 6. Mode: a bending crack counts when its top reaches half the height. `mixed` with a
-///    counting bending crack and a shear crack; `bending_inclined` with a counting bending
-///    crack and inclined damage but no shear crack; `bending` with the bending crack alone;
-///    `shear` with only shear cracks (short bending cracks or not); `none` otherwise.
+/// 6. Mode (FORMULATION.md 5): with no shear crack, `bending` when a bending crack exists, or
+///    `bending_inclined` when inclined damage zones lie beside it; with shear cracks, `mixed`
+///    when the bending crack's top reaches half the height and `shear` when it stays below (or
+///    there is none); `none` with neither. Half the height decides only between `mixed` and
+///    `shear`: the thesis judges the mode when the contact ends (10.3.2.1), and at 2 m/s its own
+///    tip kinematics (the tip starting when the wave reaches the bottom, 0.165 ms, at most
+///    0.55 c_R) put half the depth after that, so a mode-I crack alone is `bending` at any
+///    height.
 pub fn classify(
     frame: &BeamFrame,
     elements: &[BeamElement],
@@ -185,15 +189,23 @@ pub fn classify(
         }
     }
     let has = |kind: CrackKind| cracks.iter().any(|c| c.kind == kind);
-    let bending = cracks
+    let through_half = cracks
         .iter()
         .any(|c| c.kind == CrackKind::Bending && c.top >= 0.5 * frame.height);
-    let mode = match (bending, has(CrackKind::Shear)) {
-        (true, true) => FailureMode::Mixed,
-        (true, false) if has(CrackKind::InclinedDamage) => FailureMode::BendingInclined,
-        (true, false) => FailureMode::Bending,
-        (false, true) => FailureMode::Shear,
-        (false, false) => FailureMode::None,
+    let mode = if has(CrackKind::Shear) {
+        if through_half {
+            FailureMode::Mixed
+        } else {
+            FailureMode::Shear
+        }
+    } else if has(CrackKind::Bending) {
+        if has(CrackKind::InclinedDamage) {
+            FailureMode::BendingInclined
+        } else {
+            FailureMode::Bending
+        }
+    } else {
+        FailureMode::None
     };
     (mode, cracks)
 }
@@ -318,7 +330,7 @@ mod tests {
         let e = grid(60, 12, 0.05);
         let (mode, _) = classify(&frame(), &e, &flag(&e, &shear_left()));
         assert_eq!(mode, FailureMode::Shear);
-        // A bending crack below half the height does not count.
+        // Beside shear cracks, a bending crack below half the height does not make it mixed.
         let mut cells = vertical(5);
         cells.extend(shear_left());
         let (mode, cracks) = classify(&frame(), &e, &flag(&e, &cells));
@@ -326,9 +338,25 @@ mod tests {
         assert!(cracks
             .iter()
             .any(|c| c.kind == CrackKind::Bending && c.top < 0.3));
-        // ... and alone it is no failure mode at all.
-        let (mode, _) = classify(&frame(), &e, &flag(&e, &vertical(5)));
-        assert_eq!(mode, FailureMode::None);
+    }
+
+    #[test]
+    fn a_short_bending_crack_alone_is_bending() {
+        // Half the height splits mixed from shear only: a mode-I crack below it, with no shear
+        // crack, is bending, and with inclined damage beside it the transition mode.
+        let e = grid(60, 12, 0.05);
+        let (mode, cracks) = classify(&frame(), &e, &flag(&e, &vertical(5)));
+        assert_eq!(mode, FailureMode::Bending);
+        assert!(cracks[0].top < 0.3, "{cracks:?}");
+        let mut indicator = flag(&e, &vertical(5));
+        raise(&mut indicator, &shear_left(), 0.6);
+        assert_eq!(
+            classify(&frame(), &e, &indicator).0,
+            FailureMode::BendingInclined
+        );
+        // A bottom crack away from mid-span is no bending crack: still no mode.
+        let off: Vec<(usize, usize)> = (0..5).map(|j| (5, j)).collect();
+        assert_eq!(classify(&frame(), &e, &flag(&e, &off)).0, FailureMode::None);
     }
 
     #[test]
