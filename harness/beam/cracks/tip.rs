@@ -17,9 +17,10 @@ use super::{beam_elements, BeamElement, BeamFrame, BeamSpec};
 /// `eps_1 / eps_r` = 0.5, `crate::beam::cracks::DAMAGE_LEVEL`).
 pub const TIP_OPENING_FRACTION: f64 = 0.5;
 
-/// Snapshots on each side of a snapshot in the tip speed's least-squares line (a 5-snapshot
-/// window, 80 us at the drop tests' 20 us).
-pub const TIP_SPEED_HALF_WINDOW: usize = 2;
+/// Time on each side of a snapshot in the tip speed's least-squares line (s): an 80 us window,
+/// five of the drop tests' 20 us snapshots. A time, not a count of snapshots, so that finer
+/// snapshots sample the same smoothing instead of a shorter one.
+pub const TIP_SPEED_HALF_WINDOW: f64 = 4e-5;
 
 /// Height of the bending-crack tip above the bottom face (m) from the elements' openings `w`
 /// (m), along the crack path at mid-span:
@@ -68,7 +69,7 @@ pub fn tip_height(frame: &BeamFrame, elements: &[BeamElement], opening: &[f64], 
 /// `(t, height, speed)` from tip heights at times: `height` is the highest the tip has reached
 /// so far (the running maximum, so that a crack closing elastically does not count as a tip
 /// moving back), `speed` the slope of the least-squares line through the heights reached at the
-/// `2 k + 1` snapshots around it (`k = TIP_SPEED_HALF_WINDOW`, the window cut at the ends).
+/// snapshots within [`TIP_SPEED_HALF_WINDOW`] of it (the window cut at the ends).
 ///
 /// A tip exists from the first snapshot with a crack (height above 0, the *initiation*) on: the
 /// window is cut there too and the speed before it is 0. A crack that appears over several cell
@@ -91,8 +92,17 @@ pub fn tip_speeds(times: &[f64], heights: &[f64]) -> Vec<(f64, f64, f64)> {
             if i < start {
                 return (times[i], reached[i], 0.0);
             }
-            let window = i.saturating_sub(TIP_SPEED_HALF_WINDOW).max(start)
-                ..(i + TIP_SPEED_HALF_WINDOW + 1).min(n);
+            // Snapshot times carry the step's rounding: a 1e-9 relative margin keeps the
+            // snapshots 2 x 20 us away inside.
+            let reach = TIP_SPEED_HALF_WINDOW * (1.0 + 1e-9);
+            let first = (start..=i)
+                .find(|&k| times[i] - times[k] <= reach)
+                .unwrap_or(i);
+            let last = (i..n)
+                .take_while(|&k| times[k] - times[i] <= reach)
+                .last()
+                .unwrap_or(i);
+            let window = first..last + 1;
             let m = window.len() as f64;
             let t_mean = times[window.clone()].iter().sum::<f64>() / m;
             let h_mean = reached[window.clone()].iter().sum::<f64>() / m;
@@ -225,6 +235,34 @@ mod tests {
             "{} {expected}",
             s[2].2
         );
+    }
+
+    #[test]
+    fn the_speed_window_is_a_time_whatever_the_snapshots() {
+        // A tip rising as h = a t^3. The least-squares slope over snapshots at offsets u_k
+        // symmetric about t is 3 a t^2 + a sum(u^4) / sum(u^2): at 20 us and at 2.5 us the
+        // offsets must span the same +-40 us (a window of five 2.5 us snapshots, +-5 us, would
+        // read 3 a t^2 + 21 a us^2 instead).
+        let a = 1e11;
+        let check = |dt: f64, n: usize| {
+            let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();
+            let h: Vec<f64> = t.iter().map(|t| a * t * t * t).collect();
+            let s = tip_speeds(&t, &h);
+            let half = (TIP_SPEED_HALF_WINDOW / dt).round() as i64;
+            let u: Vec<f64> = (-half..=half).map(|k| k as f64 * dt).collect();
+            let m4 =
+                u.iter().map(|u| u.powi(4)).sum::<f64>() / u.iter().map(|u| u * u).sum::<f64>();
+            let centre = half as usize + 1;
+            for &(t, _, v) in &s[centre..n - half as usize] {
+                let expected = 3.0 * a * t * t + a * m4;
+                assert!(
+                    (v - expected).abs() < 1e-7 * expected,
+                    "dt {dt}: {t} {v} {expected}"
+                );
+            }
+        };
+        check(2e-5, 16);
+        check(2.5e-6, 121);
     }
 
     #[test]

@@ -40,6 +40,11 @@ pub struct ExplicitSettings {
     /// modes); `None` keeps none. Cheaper than field frames: nothing is written or derived.
     #[serde(default)]
     pub snapshot_interval: Option<f64>,
+    /// A shorter time between snapshots up to a time (s), for what changes fast early in a run
+    /// (a crack's initiation and first growth in a drop test); after `until`, and without it,
+    /// `snapshot_interval`. Needs `snapshot_interval`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub snapshot_refined: Option<RefinedSnapshots>,
     /// The run is declared unstable when the energy balance error exceeds this fraction of the
     /// largest energy scale seen so far.
     #[serde(default = "default_energy_tolerance")]
@@ -76,10 +81,33 @@ impl ExplicitSettings {
             history_interval: None,
             field_interval: None,
             snapshot_interval: None,
+            snapshot_refined: None,
             instability_energy_tolerance: default_energy_tolerance(),
             mesh_stability_eta: default_eta(),
             remeshing: None,
         }
+    }
+}
+
+/// Snapshots every `interval` (s) until `until` (s): [`ExplicitSettings::snapshot_refined`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefinedSnapshots {
+    /// Time between snapshots before `until` (s).
+    pub interval: f64,
+    /// The time the refined snapshots end (s).
+    pub until: f64,
+}
+
+impl ExplicitSettings {
+    /// The time between snapshots at time `t`: the refined interval before its `until`,
+    /// `snapshot_interval` after; `None` without snapshots.
+    pub fn snapshot_interval_at(&self, t: f64) -> Option<f64> {
+        let coarse = self.snapshot_interval?;
+        Some(match self.snapshot_refined {
+            Some(r) if t < r.until => r.interval.min(coarse),
+            _ => coarse,
+        })
     }
 }
 

@@ -155,7 +155,7 @@ impl<'p> ExplicitSolver<'p> {
                     }
                 }
             }
-            if let Some(interval) = self.settings.snapshot_interval {
+            if let Some(interval) = self.settings.snapshot_interval_at(self.time) {
                 if last || self.time >= schedule.next_snapshot - 1e-9 * self.dt {
                     self.gather_nodes();
                     let crack_opening = self.crack_openings();
