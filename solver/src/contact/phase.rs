@@ -28,6 +28,9 @@ pub struct ContactPhase {
     pub recorded: Vec<RecordedProblem>,
     /// CCD queries recorded so far (pairs with `record_ccd_every`).
     pub recorded_ccd: Vec<RecordedCcdQuery>,
+    /// The nodes the last [`Self::resolve`] may have moved (those of its solved constraints),
+    /// ascending and without repeats.
+    touched: Vec<u32>,
 }
 
 /// Whether the face `f` (node ids into `x`) lies on a plane of symmetry: its normal is along an
@@ -82,7 +85,15 @@ impl ContactPhase {
             solvers,
             recorded: Vec::new(),
             recorded_ccd: Vec::new(),
+            touched: Vec::new(),
         }
+    }
+
+    /// The nodes the last [`Self::resolve`] may have moved, ascending: the slave nodes and
+    /// master-face nodes of the constraints it solved. Every other node's `x1` and
+    /// `tangential` are as they were passed in.
+    pub fn touched_nodes(&self) -> &[u32] {
+        &self.touched
     }
 
     /// The nodes whose predicted positions contact reads, ascending: those of the
@@ -136,7 +147,10 @@ impl ContactPhase {
     ) -> Vec<ContactStep> {
         let recorded = &mut self.recorded;
         let recorded_ccd = &mut self.recorded_ccd;
-        self.pairs
+        let touched = &mut self.touched;
+        touched.clear();
+        let steps = self
+            .pairs
             .iter()
             .zip(&self.surfaces)
             .zip(&mut self.solvers)
@@ -197,6 +211,11 @@ impl ContactPhase {
                     if constraints.is_empty() {
                         continue;
                     }
+                    touched.extend(
+                        constraints
+                            .iter()
+                            .flat_map(|c| [c.slave, c.face[0], c.face[1], c.face[2]]),
+                    );
                     let beta_dt2 = (pair.beta_0 + 0.5) * dt * dt;
                     let position_problem = PositionProblem {
                         constraints: &constraints,
@@ -258,7 +277,10 @@ impl ContactPhase {
                 }
                 step
             })
-            .collect()
+            .collect();
+        touched.sort_unstable();
+        touched.dedup();
+        steps
     }
 }
 

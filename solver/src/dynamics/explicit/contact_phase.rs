@@ -20,11 +20,14 @@ pub(super) struct ContactScratch {
     surface_nodes: Vec<u32>,
     x0: Vec<Vector3<f64>>,
     x1: Vec<Vector3<f64>>,
-    predicted: Vec<Vector3<f64>>,
+    /// The nodes the last step's contact moved: the only ones whose `force`,
+    /// `friction_force` and `position_surplus` are not zero.
+    moved: Vec<u32>,
     /// Contact force on each node over the step, `m dv (1/h + alpha/2)` with `h` the velocity
     /// update's step and `alpha` the mass-proportional damping (N).
     pub(super) force: Vec<Vector3<f64>>,
-    /// Position corrections made by the tangential parts of the contact forces.
+    /// Position corrections made by the tangential parts of the contact forces; zero between
+    /// steps.
     tangential_dx: Vec<Vector3<f64>>,
     /// The friction part of `force` (N).
     pub(super) friction_force: Vec<Vector3<f64>>,
@@ -58,7 +61,7 @@ impl ContactScratch {
             beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
             x0: vec![Vector3::zeros(); n],
             x1: vec![Vector3::zeros(); n],
-            predicted: vec![Vector3::zeros(); n],
+            moved: Vec::new(),
             force: vec![Vector3::zeros(); n],
             tangential_dx: vec![Vector3::zeros(); n],
             friction_force: vec![Vector3::zeros(); n],
@@ -93,13 +96,17 @@ impl ContactScratch {
     ) -> Vec<crate::contact::ContactStep> {
         for &i in &self.layer_nodes {
             let i = i as usize;
-            self.x1[i] = (model.reference[i] + u[i]) + v_next[i] * dt;
+            self.x1[i] = predicted_position(model, u, v_next, dt, i);
         }
         for &i in &self.surface_nodes {
             let i = i as usize;
             self.x0[i] = model.reference[i] + u[i];
-            self.predicted[i] = self.x1[i];
-            self.tangential_dx[i] = Vector3::zeros();
+        }
+        for &i in &self.moved {
+            let i = i as usize;
+            self.force[i] = Vector3::zeros();
+            self.friction_force[i] = Vector3::zeros();
+            self.position_surplus[i] = Vector3::zeros();
         }
         let mut steps = self.phase.resolve(
             step,
@@ -116,13 +123,18 @@ impl ContactScratch {
         const GAMMA: f64 = 0.5;
         let velocity_share = GAMMA / (self.beta_0 + 0.5);
         let force_per_dx = velocity_share / dt * force_per_dv;
-        for &i in &self.surface_nodes {
+        // Only the nodes of solved constraints moved: elsewhere `x1` is the prediction, and the
+        // correction, its force and its surplus are zero.
+        self.moved.clear();
+        self.moved.extend_from_slice(self.phase.touched_nodes());
+        for &i in &self.moved {
             let i = i as usize;
-            let dx = self.x1[i] - self.predicted[i];
+            let dx = self.x1[i] - predicted_position(model, u, v_next, dt, i);
             let dv = dx * (velocity_share / dt);
             v_next[i] += dv;
             self.force[i] = dx * (model.mass[i] * force_per_dx);
             self.friction_force[i] = self.tangential_dx[i] * (model.mass[i] * force_per_dx);
+            self.tangential_dx[i] = Vector3::zeros();
             self.position_surplus[i] = dx - dv * dt;
         }
         for step in &mut steps {
@@ -131,4 +143,17 @@ impl ContactScratch {
         }
         steps
     }
+}
+
+/// The position `x + dt v` the step predicts for node `i` before contact; the correction is
+/// measured from it, so it is formed the same way wherever it is read.
+#[inline]
+fn predicted_position(
+    model: &crate::model::Model,
+    u: &[Vector3<f64>],
+    v_next: &[Vector3<f64>],
+    dt: f64,
+    i: usize,
+) -> Vector3<f64> {
+    (model.reference[i] + u[i]) + v_next[i] * dt
 }
