@@ -6,6 +6,9 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::{contact_pair, tight_solver};
 use impact_solver::contact::conic::{ConicMode, ConicSolver};
 use impact_solver::contact::problem::natural_map_error;
 use impact_solver::contact::registry::{SolverChoice, SolverKind};
@@ -35,14 +38,7 @@ fn bars() -> Problem {
 
 /// The thesis Gauss-Seidel, run to 1e-12.
 fn gauss_seidel() -> SolverChoice {
-    SolverChoice {
-        kind: SolverKind::GaussSeidelThesis,
-        limits: SolveLimits {
-            tolerance: 1e-12,
-            max_iterations: 5000,
-            time_limit: None,
-        },
-    }
+    tight_solver(SolverKind::GaussSeidelThesis)
 }
 
 fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
@@ -67,18 +63,8 @@ fn bars_with(solver: SolverChoice, record_every: Option<usize>) -> Problem {
         }
     }
     p.contact.push(ContactPair {
-        name: "impact".into(),
-        bodies: [0, 1],
-        friction: 0.0,
-        beta_0: 0.0,
-        solver,
         record_every,
-        record_ccd_every: None,
-        detection_tolerance: 1e-9,
-        two_pass: true,
-        normals: Default::default(),
-        skip_symmetry_faces: false,
-        penetration_release_speed: f64::INFINITY,
+        ..contact_pair("impact", 0.0, solver)
     });
     p
 }

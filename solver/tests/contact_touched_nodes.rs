@@ -6,9 +6,11 @@
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 
-use impact_solver::contact::registry::{SolverChoice, SolverKind};
-use impact_solver::contact::solver::SolveLimits;
-use impact_solver::contact::{ContactPair, ContactPhase};
+mod common;
+
+use common::{contact_pair, tight_solver};
+use impact_solver::contact::registry::SolverKind;
+use impact_solver::contact::ContactPhase;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
 use impact_solver::model::Model;
@@ -37,27 +39,7 @@ fn blocks(kind: SolverKind) -> (Model, ContactPhase) {
         ("right".into(), block(0.1 + GAP, [3, 5, 3]), m),
     ])
     .unwrap();
-    let pair = ContactPair {
-        name: "pair".into(),
-        bodies: [0, 1],
-        friction: 0.5,
-        beta_0: 0.0,
-        solver: SolverChoice {
-            kind,
-            limits: SolveLimits {
-                tolerance: 1e-12,
-                max_iterations: 5000,
-                time_limit: None,
-            },
-        },
-        record_every: None,
-        record_ccd_every: None,
-        detection_tolerance: 1e-9,
-        two_pass: true,
-        normals: Default::default(),
-        skip_symmetry_faces: false,
-        penetration_release_speed: f64::INFINITY,
-    };
+    let pair = contact_pair("pair", 0.5, tight_solver(kind));
     let phase = ContactPhase::new(&model, vec![pair]);
     (model, phase)
 }

@@ -10,9 +10,7 @@
 mod common;
 
 use common::*;
-use impact_solver::contact::registry::{SolverChoice, SolverKind};
-use impact_solver::contact::solver::SolveLimits;
-use impact_solver::contact::ContactPair;
+use impact_solver::contact::registry::SolverKind;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
@@ -271,27 +269,11 @@ fn bars_remeshed_during_their_impact_still_exchange_velocities() {
             p.initial_velocity[n] = Vector3::new(velocity, 0.0, 0.0);
         }
     }
-    p.contact.push(ContactPair {
-        name: "impact".into(),
-        bodies: [0, 1],
-        friction: 0.0,
-        beta_0: 0.0,
-        solver: SolverChoice {
-            kind: SolverKind::GaussSeidelThesis,
-            limits: SolveLimits {
-                tolerance: 1e-12,
-                max_iterations: 5000,
-                time_limit: None,
-            },
-        },
-        record_every: None,
-        record_ccd_every: None,
-        detection_tolerance: 1e-9,
-        two_pass: true,
-        normals: Default::default(),
-        skip_symmetry_faces: false,
-        penetration_release_speed: f64::INFINITY,
-    });
+    p.contact.push(contact_pair(
+        "impact",
+        0.0,
+        tight_solver(SolverKind::GaussSeidelThesis),
+    ));
     let c = (SOFT.youngs_modulus / SOFT.density).sqrt();
     let dt = 0.5 * p.model.critical_time_step().0;
     let contact_time = 2.0 * LENGTH / c;

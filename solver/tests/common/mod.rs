@@ -4,6 +4,9 @@
 #![allow(clippy::unwrap_used)]
 #![allow(dead_code)]
 
+use impact_solver::contact::registry::{SolverChoice, SolverKind};
+use impact_solver::contact::solver::SolveLimits;
+use impact_solver::contact::ContactPair;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
 use impact_solver::model::{Model, Problem};
@@ -260,4 +263,35 @@ pub fn material_history_bits(history: &impact_solver::model::MaterialHistory) ->
                 .chain(b.cauchy.iter().flatten().map(|x| x.to_bits()))
         })
         .collect()
+}
+
+/// `kind` run to a residual of 1e-12, at most 5000 iterations.
+pub fn tight_solver(kind: SolverKind) -> SolverChoice {
+    SolverChoice {
+        kind,
+        limits: SolveLimits {
+            tolerance: 1e-12,
+            max_iterations: 5000,
+            time_limit: None,
+        },
+    }
+}
+
+/// A two-pass contact pair between bodies 0 and 1 solved by `solver`: barycentric tolerance
+/// 1e-9, default normals, nothing recorded, a penetration closed at once.
+pub fn contact_pair(name: &str, friction: f64, solver: SolverChoice) -> ContactPair {
+    ContactPair {
+        name: name.into(),
+        bodies: [0, 1],
+        friction,
+        beta_0: 0.0,
+        solver,
+        record_every: None,
+        record_ccd_every: None,
+        detection_tolerance: 1e-9,
+        two_pass: true,
+        normals: Default::default(),
+        skip_symmetry_faces: false,
+        penetration_release_speed: f64::INFINITY,
+    }
 }
