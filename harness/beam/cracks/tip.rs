@@ -95,13 +95,9 @@ pub fn tip_speeds(times: &[f64], heights: &[f64]) -> Vec<(f64, f64, f64)> {
             // Snapshot times carry the step's rounding: a 1e-9 relative margin keeps the
             // snapshots 2 x 20 us away inside.
             let reach = TIP_SPEED_HALF_WINDOW * (1.0 + 1e-9);
-            let first = (start..=i)
-                .find(|&k| times[i] - times[k] <= reach)
-                .unwrap_or(i);
-            let last = (i..n)
-                .take_while(|&k| times[k] - times[i] <= reach)
-                .last()
-                .unwrap_or(i);
+            // The times ascend: both ends by bisection.
+            let first = start + times[start..i].partition_point(|&t| times[i] - t > reach);
+            let last = i + times[i + 1..].partition_point(|&t| t - times[i] <= reach);
             let window = first..last + 1;
             let m = window.len() as f64;
             let t_mean = times[window.clone()].iter().sum::<f64>() / m;

@@ -20,9 +20,6 @@ pub(super) struct ContactScratch {
     surface_nodes: Vec<u32>,
     x0: Vec<Vector3<f64>>,
     x1: Vec<Vector3<f64>>,
-    /// The nodes the last step's contact moved: the only ones whose `force`,
-    /// `friction_force` and `position_surplus` are not zero.
-    moved: Vec<u32>,
     /// Contact force on each node over the step, `m dv (1/h + alpha/2)` with `h` the velocity
     /// update's step and `alpha` the mass-proportional damping (N).
     pub(super) force: Vec<Vector3<f64>>,
@@ -61,7 +58,6 @@ impl ContactScratch {
             beta_0: problem.contact.iter().map(|p| p.beta_0).fold(0.0, f64::max),
             x0: vec![Vector3::zeros(); n],
             x1: vec![Vector3::zeros(); n],
-            moved: Vec::new(),
             force: vec![Vector3::zeros(); n],
             tangential_dx: vec![Vector3::zeros(); n],
             friction_force: vec![Vector3::zeros(); n],
@@ -102,7 +98,9 @@ impl ContactScratch {
             let i = i as usize;
             self.x0[i] = model.reference[i] + u[i];
         }
-        for &i in &self.moved {
+        // Until `resolve` runs, the phase reports the nodes the last step moved: the only ones
+        // whose force, friction force and surplus are not zero.
+        for &i in self.phase.touched_nodes() {
             let i = i as usize;
             self.force[i] = Vector3::zeros();
             self.friction_force[i] = Vector3::zeros();
@@ -125,9 +123,7 @@ impl ContactScratch {
         let force_per_dx = velocity_share / dt * force_per_dv;
         // Only the nodes of solved constraints moved: elsewhere `x1` is the prediction, and the
         // correction, its force and its surplus are zero.
-        self.moved.clear();
-        self.moved.extend_from_slice(self.phase.touched_nodes());
-        for &i in &self.moved {
+        for &i in self.phase.touched_nodes() {
             let i = i as usize;
             let dx = self.x1[i] - predicted_position(model, u, v_next, dt, i);
             let dv = dx * (velocity_share / dt);
