@@ -45,16 +45,10 @@ impl RunObserver for ColumnProfile {
     }
 
     fn field_frame(&mut self, frame: &FieldFrame) -> impact_solver::error::Result<Option<PathBuf>> {
-        let field = |name: &str| {
-            frame
-                .cell_data
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|f| &f.1)
-        };
-        let (Some(FieldData::SymmetricTensor(sigma)), Some(FieldData::Scalar(crack))) =
-            (field("cauchy_stress"), field("crack_indicator"))
-        else {
+        let (Some(FieldData::SymmetricTensor(sigma)), Some(FieldData::Scalar(crack))) = (
+            frame.cell_field("cauchy_stress"),
+            frame.cell_field("crack_indicator"),
+        ) else {
             return Ok(None);
         };
         let empty = Layer {

@@ -40,16 +40,10 @@ impl RunObserver for ElementHistory {
         if frame.time < self.from {
             return Ok(None);
         }
-        let field = |name: &str| {
-            frame
-                .cell_data
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|f| &f.1)
-        };
-        let (Some(FieldData::SymmetricTensor(strain)), Some(FieldData::SymmetricTensor(sigma))) =
-            (field("green_lagrange_strain"), field("cauchy_stress"))
-        else {
+        let (Some(FieldData::SymmetricTensor(strain)), Some(FieldData::SymmetricTensor(sigma))) = (
+            frame.cell_field("green_lagrange_strain"),
+            frame.cell_field("cauchy_stress"),
+        ) else {
             return Ok(None);
         };
         let e = strain[self.element];

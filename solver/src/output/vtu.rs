@@ -65,6 +65,16 @@ pub struct FieldFrame<'a> {
     pub cell_data: Vec<(String, FieldData)>,
 }
 
+impl FieldFrame<'_> {
+    /// The cell field called `name`, if the frame has one.
+    pub fn cell_field(&self, name: &str) -> Option<&FieldData> {
+        self.cell_data
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, field)| field)
+    }
+}
+
 /// Writes one frame as a `.vtu` file, creating parent directories.
 ///
 /// The frame is checked first, so a malformed frame (a field of the wrong length, a tet
@@ -348,7 +358,28 @@ impl PvdWriter {
 
 #[cfg(test)]
 mod tests {
-    use super::base64;
+    use super::{base64, FieldData, FieldFrame};
+
+    #[test]
+    fn cell_fields_are_found_by_name() {
+        let frame = FieldFrame {
+            time: 0.0,
+            points: &[],
+            tets: &[],
+            point_data: vec![("displacement".into(), FieldData::Scalar(vec![1.0]))],
+            cell_data: vec![
+                ("body".into(), FieldData::Int(vec![3])),
+                ("crack_indicator".into(), FieldData::Scalar(vec![0.5])),
+            ],
+        };
+        assert!(matches!(
+            frame.cell_field("crack_indicator"),
+            Some(FieldData::Scalar(v)) if v == &[0.5]
+        ));
+        assert!(matches!(frame.cell_field("body"), Some(FieldData::Int(v)) if v == &[3]));
+        // Point fields are not cell fields.
+        assert!(frame.cell_field("displacement").is_none());
+    }
 
     #[test]
     fn base64_matches_rfc_4648_vectors() {
