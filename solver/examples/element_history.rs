@@ -16,7 +16,7 @@
 
 use std::path::{Path, PathBuf};
 
-use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
+use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::microplane::volumetric::{
     dilatational_strain, volume_ratio_squared_minus_one,
 };
@@ -91,13 +91,17 @@ fn main() {
     let every: f64 = args[3].parse().unwrap();
     let element: usize = args[4].parse().unwrap();
     let from: f64 = args.get(5).map_or(0.0, |s| s.parse().unwrap());
-    let problem = build_problem(&scene).unwrap();
-    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+    let Analysis::Explicit(scene_settings) = &scene.analysis else {
         panic!("an explicit analysis is needed")
     };
-    settings.end_time = end;
-    settings.field_interval = Some(every);
-    settings.snapshot_interval = None;
+    // The frames this diagnostic reads, and no snapshots.
+    let settings = ExplicitSettings {
+        end_time: end,
+        field_interval: Some(every),
+        snapshot_interval: None,
+        ..scene_settings.clone()
+    };
+    let problem = build_problem(&scene).unwrap();
     println!("element {element} of `{}`", args[1]);
     let mut history = ElementHistory { element, from };
     let mut solver = ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap();
