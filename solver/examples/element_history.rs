@@ -17,13 +17,15 @@
 use std::path::{Path, PathBuf};
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
+use impact_solver::kinematics::matrix_from_voigt;
 use impact_solver::material::microplane::volumetric::{
     dilatational_strain, volume_ratio_squared_minus_one,
 };
+use impact_solver::material::microplane::{principal_values, sym};
 use impact_solver::output::observer::RunObserver;
 use impact_solver::output::vtu::{FieldData, FieldFrame};
+use impact_solver::remesh::von_mises;
 use impact_solver::scene::{build_problem, Analysis, Scene};
-use nalgebra::{Matrix3, SymmetricEigen};
 
 /// Prints one element's deformation and stress at every field frame.
 struct ElementHistory {
@@ -46,32 +48,25 @@ impl RunObserver for ElementHistory {
         ) else {
             return Ok(None);
         };
-        let e = strain[self.element];
-        let s = sigma[self.element];
-        // Tensor shears, [11, 22, 33, 23, 13, 12].
-        let tensor =
-            |v: [f64; 6]| Matrix3::new(v[0], v[5], v[4], v[5], v[1], v[3], v[4], v[3], v[2]);
-        let mut stretches: Vec<f64> = SymmetricEigen::new(tensor(e))
-            .eigenvalues
-            .iter()
-            .map(|l| (1.0 + 2.0 * l).max(0.0).sqrt())
-            .collect();
-        stretches.sort_by(f64::total_cmp);
+        // The frame's fields are in Voigt order [xx, yy, zz, xy, yz, xz]; the microplane
+        // model's functions read its own order [11, 22, 33, 23, 13, 12].
+        let e = sym(&matrix_from_voigt(&strain[self.element]));
+        let s = &sigma[self.element];
+        // The principal stretches from the principal Green-Lagrange strains (largest first).
+        let stretches = principal_values(&e).map(|l| (1.0 + 2.0 * l).max(0.0).sqrt());
         let j = (1.0 + volume_ratio_squared_minus_one(&e)).max(0.0).sqrt();
         let dilatational = dilatational_strain(&e).unwrap_or(f64::NAN);
         let pressure = -(s[0] + s[1] + s[2]) / 3.0;
-        let deviator = tensor(s) + Matrix3::identity() * pressure;
-        let von_mises = (1.5 * deviator.component_mul(&deviator).sum()).sqrt();
         println!(
             "{:8.4} ms  J {j:.4}  trE/3 {:+.4}  e_V(J) {dilatational:+.4}  stretches {:.3} {:.3} \
              {:.3}  p {:+8.2} MPa  q {:7.2} MPa",
             frame.time * 1e3,
             (e[0] + e[1] + e[2]) / 3.0,
-            stretches[0],
-            stretches[1],
             stretches[2],
+            stretches[1],
+            stretches[0],
             pressure / 1e6,
-            von_mises / 1e6,
+            von_mises(s) / 1e6,
         );
         Ok(None)
     }

@@ -161,6 +161,13 @@ pub fn principal_values(a: &Matrix3<f64>) -> Vector3<f64> {
     v
 }
 
+/// The symmetric matrix of Voigt order `[xx, yy, zz, xy, yz, xz]`, the inverse of [`voigt`] (the
+/// order of the stress and strain fields of a frame).
+#[inline]
+pub fn matrix_from_voigt(v: &[f64; 6]) -> Matrix3<f64> {
+    Matrix3::new(v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2])
+}
+
 /// Symmetric tensor in Voigt order `[xx, yy, zz, xy, yz, xz]`.
 #[inline]
 pub fn voigt(a: &Matrix3<f64>) -> [f64; 6] {
@@ -172,4 +179,28 @@ pub fn voigt(a: &Matrix3<f64>) -> [f64; 6] {
         a[(1, 2)],
         a[(0, 2)],
     ]
+}
+
+#[cfg(test)]
+mod voigt_tests {
+    use super::{matrix_from_voigt, voigt};
+
+    /// `[xx, yy, zz, xy, yz, xz]` lands where its names say, and `voigt` reads it back.
+    #[test]
+    fn matrix_from_voigt_places_each_component_and_inverts_voigt() {
+        let v = [1.0, 2.0, 3.0, 12.0, 23.0, 13.0];
+        let m = matrix_from_voigt(&v);
+        for (i, j, value) in [
+            (0, 0, 1.0),
+            (1, 1, 2.0),
+            (2, 2, 3.0),
+            (0, 1, 12.0),
+            (1, 2, 23.0),
+            (0, 2, 13.0),
+        ] {
+            assert_eq!(m[(i, j)], value);
+            assert_eq!(m[(j, i)], value);
+        }
+        assert_eq!(voigt(&m), v);
+    }
 }

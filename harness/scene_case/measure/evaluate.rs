@@ -5,10 +5,11 @@ use impact_solver::model::Problem;
 use impact_solver::Vector3;
 use nalgebra::Matrix3;
 
-use super::field::{boundary_node_flags, element_stress_in_box, matrix_from_voigt, max_abs};
+use super::field::{boundary_node_flags, element_stress_in_box, max_abs};
 use super::{FieldQuantity, Measure, NodeScope};
 use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
 use impact_solver::analysis::Execution;
+use impact_solver::kinematics::matrix_from_voigt;
 
 impl Measure {
     /// Evaluates a per-run measure.

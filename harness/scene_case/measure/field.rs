@@ -19,10 +19,6 @@ pub(super) fn boundary_node_flags(problem: &Problem) -> Vec<bool> {
     flags
 }
 
-pub(super) fn matrix_from_voigt(v: &[f64; 6]) -> Matrix3<f64> {
-    Matrix3::new(v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2])
-}
-
 pub(super) fn max_abs(m: &Matrix3<f64>) -> f64 {
     m.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
