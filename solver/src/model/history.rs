@@ -53,9 +53,11 @@ impl MaterialHistory {
 
 impl Model {
     /// The share of the element updates of bodies whose material has a fast path (the
-    /// microplane model's elastic path) that took it, over a run of `updates` updates per
-    /// element; `None` when no body has such a path.
-    pub fn fast_update_share(&self, history: &MaterialHistory, updates: usize) -> Option<f64> {
+    /// microplane model's elastic path) that took it, over a run of `steps` steps: `steps + 1`
+    /// updates per element, the forces at the start and after each step. `None` when no body
+    /// has such a path.
+    pub fn fast_update_share(&self, history: &MaterialHistory, steps: usize) -> Option<f64> {
+        let updates = steps + 1;
         let (mut fast, mut elements) = (0.0, 0usize);
         for (body, h) in self.bodies.iter().zip(&history.bodies) {
             let Some(h) = h else { continue };
@@ -66,7 +68,7 @@ impl Model {
                 }
             }
         }
-        (elements > 0 && updates > 0).then(|| fast / (elements as f64 * updates as f64))
+        (elements > 0).then(|| fast / (elements as f64 * updates as f64))
     }
 
     /// A virgin history for every body whose material has one.
