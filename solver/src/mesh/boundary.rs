@@ -1,7 +1,5 @@
-//! Boundary faces and nodes by hashing sorted face keys: linear in the number of elements,
+//! Boundary faces and nodes by sorting face keys: `O(n log n)` in the number of elements,
 //! instead of the pairwise face comparison of thesis Box 7.1.
-
-use std::collections::HashMap;
 
 use super::{Mesh, TET_FACES};
 
@@ -33,27 +31,39 @@ pub fn face_key(face: [u32; 3]) -> [u32; 3] {
 /// Boundary faces of the elements `tets` (a whole mesh, or one body's range of a model);
 /// `BoundaryFace::element` indexes `tets`.
 pub fn boundary_faces_of(tets: &[[u32; 4]]) -> Vec<BoundaryFace> {
-    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(tets.len() * 2);
-    let key = face_key;
-    for tet in tets {
-        for face in TET_FACES {
-            *count.entry(key(face.map(|i| tet[i]))).or_insert(0) += 1;
-        }
-    }
-    let mut faces = Vec::new();
+    // Every face as (key, slot = 4 e + k), sorted by key: a face held by one element has a key
+    // that neither neighbour in the order shares. Sorting keeps no hash table (a remeshing
+    // calls this on the whole body several times; SipHash of 4 faces per element cost more).
+    let mut faces: Vec<([u32; 3], u32)> = Vec::with_capacity(4 * tets.len());
     for (e, tet) in tets.iter().enumerate() {
         for (k, face) in TET_FACES.iter().enumerate() {
-            let nodes = face.map(|i| tet[i]);
-            if count[&key(nodes)] == 1 {
-                faces.push(BoundaryFace {
-                    nodes,
-                    element: e as u32,
-                    local_face: k as u8,
-                });
-            }
+            faces.push((face_key(face.map(|i| tet[i])), (4 * e + k) as u32));
         }
     }
-    faces
+    faces.sort_unstable();
+    let mut single = vec![false; faces.len()];
+    for i in 0..faces.len() {
+        let key = faces[i].0;
+        let shared =
+            (i > 0 && faces[i - 1].0 == key) || (i + 1 < faces.len() && faces[i + 1].0 == key);
+        if !shared {
+            single[faces[i].1 as usize] = true;
+        }
+    }
+    // In element order, as before (the order callers rely on for determinism).
+    single
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| **s)
+        .map(|(slot, _)| {
+            let (e, k) = (slot / 4, slot % 4);
+            BoundaryFace {
+                nodes: TET_FACES[k].map(|i| tets[e][i]),
+                element: e as u32,
+                local_face: k as u8,
+            }
+        })
+        .collect()
 }
 
 /// Sorted, unique node ids of the boundary faces.
