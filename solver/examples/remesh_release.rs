@@ -160,7 +160,7 @@ fn main() {
         ("tip-split", at_tip, 0.8e-3, &subdivision),
     ] {
         let region = near(centre, radius);
-        let remeshed = remesh_problem(&problem, &state, &region, options).unwrap();
+        let remeshed = remesh_problem(&problem, &state, &region, options, 0.0).unwrap();
         println!(
             "{label}: {} elements remeshed; {}",
             region.len(),

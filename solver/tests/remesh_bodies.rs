@@ -65,7 +65,7 @@ fn region_near(
 }
 
 fn remesh(problem: &Problem, state: &RunState, region: &[usize]) -> Remeshed {
-    let r = remesh_problem(problem, state, region, &MesherOptions::default()).unwrap();
+    let r = remesh_problem(problem, state, region, &MesherOptions::default(), 0.0).unwrap();
     assert!(
         r.problem.model.element_count() > problem.model.element_count(),
         "the region was refined"

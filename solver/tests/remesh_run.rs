@@ -45,7 +45,7 @@ fn region_near(problem: &Problem, center: Vector3<f64>, radius: f64) -> Vec<usiz
 }
 
 fn remesh(problem: &Problem, state: &RunState, region: &[usize]) -> Remeshed {
-    let r = remesh_problem(problem, state, region, &MesherOptions::default()).unwrap();
+    let r = remesh_problem(problem, state, region, &MesherOptions::default(), 0.0).unwrap();
     assert!(
         r.problem.model.element_count() > problem.model.element_count(),
         "the region was refined"
@@ -437,4 +437,90 @@ fn the_current_critical_step_is_that_of_the_deformed_mesh() {
     let current = p.model.current_critical_time_step(&u);
     assert_eq!(current, built.critical_time_step());
     assert!(current.0 < 0.6 * p.model.critical_time_step().0);
+}
+
+/// Selective mass scaling at a remeshing (`RemeshSettings::mass_scaling_step`): the new mesh's
+/// elements whose stable step falls below the floor get the mass that brings it to the floor,
+/// and only they; the body's momentum is kept, so a rigid motion slows by `M_old / M_new` and
+/// loses the kinetic energy of a perfectly inelastic accretion, which the record books; the
+/// motion stays rigid after (the added mass carries no force).
+#[test]
+fn mass_scaling_lifts_the_stable_step_to_its_floor_and_keeps_the_momentum() {
+    let size = [1.0; 3];
+    let mut p = problem(
+        box_body(size, [4, 4, 4], 0.2, 7),
+        MaterialModel::SaintVenantKirchhoff(STEEL),
+    );
+    let v0 = Vector3::new(3.0, -2.0, 1.5);
+    p.initial_velocity = vec![v0; p.model.node_count()];
+    let dt = 0.5 * p.model.critical_time_step().0;
+    let state = run(&p, dt, None, 20);
+    let region = region_near(&p, Vector3::repeat(0.5), 0.2);
+    let plain = remesh(&p, &state, &region);
+    let refined_step = plain.problem.model.critical_time_step().0;
+    // A floor above the refined mesh's limit, below the old mesh's: the children are scaled.
+    let floor = 1.5 * refined_step;
+    assert!(floor < p.model.critical_time_step().0);
+    let r = remesh_problem(&p, &state, &region, &MesherOptions::default(), floor).unwrap();
+    let m = &r.problem.model;
+    let rec = r.record;
+    // The same mesh, more mass, exactly what the record says was added.
+    assert_eq!(m.tets, plain.problem.model.tets);
+    assert!(rec.added_mass > 0.0);
+    let physical: f64 = plain.problem.model.mass.iter().sum();
+    let total: f64 = m.mass.iter().sum();
+    assert!(((total - physical) - rec.added_mass).abs() < 1e-12 * physical);
+    assert!(((rec.after.mass - rec.before.mass) - rec.added_mass).abs() < 1e-12 * physical);
+    // Every element now steps at the floor or above; the scaled ones exactly at it.
+    let (limit, _) = m.critical_time_step();
+    assert!(
+        (limit / floor - 1.0).abs() < 1e-12,
+        "{limit:e} against {floor:e}"
+    );
+    let scale = m.mass_scale.as_ref().unwrap();
+    let c = STEEL.dilatational_wave_speed();
+    for (e, s) in scale.iter().enumerate() {
+        let own = m.min_altitude[e] / c;
+        if *s > 1.0 {
+            assert!(own < floor);
+            assert!((m.min_altitude[e] * s.sqrt() / c / floor - 1.0).abs() < 1e-12);
+        } else {
+            assert!(own >= floor, "element {e} left below the floor");
+        }
+    }
+    // Nodes of unscaled elements only keep their masses bitwise.
+    let mut touched = vec![false; m.node_count()];
+    for (tet, s) in m.tets.iter().zip(scale) {
+        if *s > 1.0 {
+            tet.iter().for_each(|&n| touched[n as usize] = true);
+        }
+    }
+    let untouched = (0..m.node_count()).filter(|&n| !touched[n]).count();
+    assert!(untouched > 0);
+    for n in (0..m.node_count()).filter(|&n| !touched[n]) {
+        assert_eq!(m.mass[n], plain.problem.model.mass[n], "node {n}");
+    }
+    // Momentum kept: the rigid motion slows by M_old / M_new, with the inelastic loss booked.
+    let p_old = rec.before.momentum.norm();
+    assert!(rec.momentum_jump().norm() / p_old < 1e-12, "{rec:?}");
+    let ratio = rec.before.mass / rec.after.mass;
+    for v in r.state.v_full.iter().chain(&r.state.v_half) {
+        assert!((v - ratio * v0).norm() / v0.norm() < 1e-12, "{v}");
+    }
+    let expected = 0.5 * rec.before.mass * (ratio - 1.0) * v0.norm_squared();
+    assert!(
+        (rec.kinetic_jump() / expected - 1.0).abs() < 1e-9,
+        "{} against {expected}",
+        rec.kinetic_jump()
+    );
+    assert_eq!(r.state.energies.remesh_work, rec.total_energy_jump());
+    // The run goes on at the floor's step, still rigid, its balance closed.
+    let after = run(&r.problem, 0.5 * limit, Some(r.state), 50);
+    for v in &after.v_full {
+        assert!(
+            (v - ratio * v0).norm() / v0.norm() < 1e-12,
+            "{v} after 50 steps"
+        );
+    }
+    assert!(after.energies.relative_error().abs() < 1e-12);
 }

@@ -35,6 +35,9 @@ pub struct RemeshRow {
     /// Norm of the momentum jump (kg m/s).
     #[serde(deserialize_with = "crate::results::lenient::f64")]
     pub momentum_jump: f64,
+    /// Mass that selective mass scaling put on the new mesh's nodes (kg; 0 without it).
+    #[serde(default, deserialize_with = "crate::results::lenient::f64")]
+    pub added_mass: f64,
 }
 
 /// The stress near the tip at one state (a row of `<stem>_near_tip.csv`; see
@@ -134,6 +137,7 @@ pub fn read_remeshings(path: &Path) -> Result<Vec<RemeshRow>, String> {
             stored_jump: r[c("stored_after")] - r[c("stored_before")],
             total_energy_jump: r[c("total_energy_jump")],
             momentum_jump: r[c("momentum_jump")],
+            added_mass: r[c("added_mass")],
         })
         .collect())
 }

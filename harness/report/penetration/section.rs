@@ -246,6 +246,7 @@ fn remeshing_table(rows: &[RemeshRow]) -> String {
                 number(r.stored_jump),
                 number(r.total_energy_jump),
                 number(r.momentum_jump),
+                number(r.added_mass),
             ])
         })
         .collect();
@@ -259,6 +260,7 @@ fn remeshing_table(rows: &[RemeshRow]) -> String {
             "stored jump (J)",
             "total energy jump (J)",
             "|momentum jump| (kg m/s)",
+            "added mass (kg)",
         ]),
         &body,
     )

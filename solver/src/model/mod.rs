@@ -145,6 +145,10 @@ pub struct Model {
     /// The deformation and displacement carried from before a remeshing ([`CarriedState`]);
     /// `None` for a model that was never remeshed (`F_0 = I`, nothing computed).
     pub carried: Option<CarriedState>,
+    /// Per element, the factor `s_e >= 1` by which selective mass scaling raised its density
+    /// (its mass is in [`Self::mass`]; `crate::remesh::mass_scale_factors`), which lengthens
+    /// its stable step by `sqrt(s_e)`; `None`: no element is scaled.
+    pub mass_scale: Option<Vec<f64>>,
     assembler: ForceAssembler,
 }
 
@@ -266,6 +270,7 @@ impl Model {
             element_body,
             crack_indicator: CrackIndicator::default(),
             carried: None,
+            mass_scale: None,
             assembler,
         })
     }
@@ -291,11 +296,13 @@ impl Model {
     }
 
     /// Critical time step `dt_cr = min_e L_e / c_e` with `L_e` the smallest altitude and `c_e`
-    /// the dilatational wave speed (FORMULATION 2), and the element that sets it.
+    /// the dilatational wave speed (FORMULATION 2), and the element that sets it. An element
+    /// whose density mass scaling raised by `s_e` ([`Self::mass_scale`]) has `c_e / sqrt(s_e)`.
     pub fn critical_time_step(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
         for (e, &l) in self.min_altitude.iter().enumerate() {
-            let dt = l / self.material_of(e).constants().dilatational_wave_speed();
+            let dt = self.scaled_length(e, l)
+                / self.material_of(e).constants().dilatational_wave_speed();
             if dt < best.0 {
                 best = (dt, e);
             }
@@ -307,16 +314,34 @@ impl Model {
     /// smallest current altitude over the dilatational wave speed. Elements that a penetrator
     /// flattens bring it down well below [`Self::critical_time_step`] of the reference.
     pub fn current_critical_time_step(&self, u: &[Vector3<f64>]) -> (f64, usize) {
+        use rayon::prelude::*;
+        // Per element in parallel (a remeshing run asks every few steps), then the first
+        // smallest in element order, as a serial scan finds it.
+        let steps: Vec<f64> = (0..self.tets.len())
+            .into_par_iter()
+            .map(|e| {
+                let x = self.tets[e].map(|n| self.reference[n as usize] + u[n as usize]);
+                let l = crate::mesh::element_quality(&x).min_altitude;
+                self.scaled_length(e, l) / self.material_of(e).constants().dilatational_wave_speed()
+            })
+            .collect();
         let mut best = (f64::INFINITY, 0);
-        for (e, tet) in self.tets.iter().enumerate() {
-            let x = tet.map(|n| self.reference[n as usize] + u[n as usize]);
-            let l = crate::mesh::element_quality(&x).min_altitude;
-            let dt = l / self.material_of(e).constants().dilatational_wave_speed();
+        for (e, &dt) in steps.iter().enumerate() {
             if dt < best.0 {
                 best = (dt, e);
             }
         }
         best
+    }
+
+    /// The length `l sqrt(s_e)` that sets element `e`'s stable step with its mass scale `s_e`
+    /// (`l` itself where nothing is scaled, bitwise).
+    #[inline]
+    fn scaled_length(&self, e: usize, l: f64) -> f64 {
+        match &self.mass_scale {
+            Some(s) if s[e] != 1.0 => l * s[e].sqrt(),
+            _ => l,
+        }
     }
 
     /// Displacements of element `e`'s nodes.

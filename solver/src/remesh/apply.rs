@@ -14,9 +14,10 @@ use nalgebra::{Matrix3, Vector3};
 use std::sync::Arc;
 
 use super::contact_surface::separate_new_surface_nodes;
-use super::locate::{centroids, Locator};
+use super::locate::{centroids, Location, Locator};
+use super::mass_scaling::{add_scaled_mass, mass_scale_factors};
 use super::mesh_check::{check_remeshed, RemeshCheck};
-use super::mesher::{remesh_region_keeping_edges, MesherOptions};
+use super::mesher::{remesh_region_keeping_edges, MesherOptions, RemeshedRegion};
 use super::record::{momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
 use super::transfer::{element_volumes, shape_function_transfer};
@@ -167,6 +168,51 @@ fn remeshed_history(
     }
 }
 
+/// Where each node of the new mesh `new` lies in the old mesh `tets` over `x`: a kept node
+/// sits on its old node (bit for bit), so it gets that node's vertex of the first old element
+/// holding it, barycentric 1 there and 0 elsewhere; the other nodes are searched with
+/// `locator`, and one farther than `max_distance` outside the old mesh is an error
+/// ([`Locator::locate_all`]). Searching only the region's nodes keeps a remeshing's cost with
+/// the region, not the body.
+fn locate_new_nodes(
+    locator: &Locator,
+    x: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    new: &RemeshedRegion,
+    max_distance: f64,
+) -> Result<Vec<Location>> {
+    let mut holder = vec![None; x.len()];
+    for (e, tet) in tets.iter().enumerate() {
+        for (k, &n) in tet.iter().enumerate() {
+            holder[n as usize].get_or_insert((e, k));
+        }
+    }
+    let mut at_old_node: Vec<Option<Location>> = vec![None; new.nodes.len()];
+    for (o, kept) in new.kept_nodes.iter().enumerate() {
+        if let (Some(k), Some((e, i))) = (kept, holder[o]) {
+            let mut barycentric = [0.0; 4];
+            barycentric[i] = 1.0;
+            at_old_node[*k as usize] = Some(Location {
+                element: e,
+                barycentric,
+                distance: 0.0,
+            });
+        }
+    }
+    let searched: Vec<usize> = (0..new.nodes.len())
+        .filter(|&n| at_old_node[n].is_none())
+        .collect();
+    let points: Vec<Vector3<f64>> = searched.iter().map(|&n| new.nodes[n]).collect();
+    let found = locator.locate_all(&points, max_distance)?;
+    for (n, l) in searched.into_iter().zip(found) {
+        at_old_node[n] = Some(l);
+    }
+    Ok(at_old_node
+        .into_iter()
+        .map(|l| l.expect("every node is kept or searched"))
+        .collect())
+}
+
 /// Remeshes the elements `region` (all of one body) of `problem` at the running state `state`,
 /// and transfers the fields (module `remesh` for which field goes through which operator). The
 /// other bodies are copied: their nodes, elements, masses and histories unchanged, their
@@ -195,12 +241,17 @@ fn remeshed_history(
 ///   run's internal work, and what the transfer changes of it is not measured.
 ///
 /// The stable time step of the new mesh is computed when the run resumes (the new model's
-/// smallest altitudes, in the current configuration).
+/// smallest altitudes, in the current configuration). With `critical_step` > 0 (s), the
+/// remeshed body's elements whose stable step falls below it get mass on their nodes that
+/// brings it up to `critical_step` (selective mass scaling, `mass_scaling.rs`): in the new
+/// model's nodal masses and [`Model::mass_scale`], before the momentum is restored, so the
+/// record's energy and momentum jumps include it; 0 scales nothing.
 pub fn remesh_problem(
     problem: &Problem,
     state: &RunState,
     region: &[usize],
     options: &MesherOptions,
+    critical_step: f64,
 ) -> Result<Remeshed> {
     let model = &problem.model;
     let b = region_body(model, region)?;
@@ -264,11 +315,16 @@ pub fn remesh_problem(
         .fold(0.0_f64, |m, p| m.max(p.amax()))
         .max(f64::MIN_POSITIVE);
     let locator = Locator::new(x, &local_tets)?;
-    let locations = locator.locate_all(&new.nodes, 1e-9 * size)?;
+    let locations = locate_new_nodes(&locator, x, &local_tets, &new, 1e-9 * size)?;
     // The old element each new one lies in (its centroid's): the parent of a refined element.
+    // A copied element is its own parent (its centroid lies in it); only new ones are searched.
     let parents: Vec<usize> = centroids(&new.nodes, &new.tets)
         .iter()
-        .map(|c| locator.locate(c).element)
+        .zip(&new.element_origin)
+        .map(|(c, origin)| match origin {
+            Some(o) => *o as usize,
+            None => locator.locate(c).element,
+        })
         .collect();
     let separation = separate_new_surface_nodes(
         model,
@@ -363,6 +419,18 @@ pub fn remesh_problem(
             body_mass[n as usize] += 0.25 * m;
         }
     }
+    let body_scale = mass_scale_factors(
+        &new.nodes,
+        &new.tets,
+        body.material.constants().dilatational_wave_speed(),
+        critical_step,
+    );
+    let added_mass = add_scaled_mass(
+        &mut body_mass,
+        &new.tets,
+        &element_mass[splice.new_elements()],
+        &body_scale,
+    );
     let mut mass = Vec::with_capacity(splice.node_count());
     mass.extend_from_slice(&model.mass[..nodes.start]);
     mass.extend(body_mass);
@@ -448,6 +516,11 @@ pub fn remesh_problem(
     let mut new_model = Model::new(parts)?;
     new_model.crack_indicator = model.crack_indicator;
     new_model.mass = mass;
+    if added_mass > 0.0 {
+        let mut scale = vec![1.0; new_model.element_count()];
+        scale[new_model.bodies[b].elements.clone()].copy_from_slice(&body_scale);
+        new_model.mass_scale = Some(scale);
+    }
     new_model.carried = Some(CarriedState::new(new_f, displacement, element_mass)?);
     let constraints = problem
         .constraints
@@ -502,6 +575,7 @@ pub fn remesh_problem(
         peeled: new.peeled.len(),
         surface_collapses: new.surface_collapses,
         surface_volume_change: new.surface_volume_change,
+        added_mass,
     };
     let mut energies = state.energies;
     energies.internal_work += record.stored_jump();

@@ -57,6 +57,7 @@ mod contact_surface;
 mod distortion;
 mod flip;
 mod locate;
+mod mass_scaling;
 mod mesh_check;
 mod mesher;
 mod near_tip;
@@ -77,6 +78,7 @@ pub use distortion::{
     COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
+pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use mesher::{
     grow_region, mean_ratio, remesh_region, remesh_region_keeping_edges, MesherOptions,

@@ -208,6 +208,9 @@ pub struct RemeshRecord {
     pub surface_collapses: usize,
     /// The body's volume change by those collapses (m^3, after less before).
     pub surface_volume_change: f64,
+    /// The mass selective mass scaling put on the new mesh's nodes (kg; in `after.mass`, not
+    /// in the body's physical mass), `super::mass_scale_factors`; 0 without it.
+    pub added_mass: f64,
 }
 
 impl RemeshRecord {
@@ -238,7 +241,8 @@ impl RemeshRecord {
              worst distortion {:.3} (element {}) -> {:.3} (element {}), mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
-             inside), {} boundary slivers peeled, {} surface collapses (volume change {:.3e} m^3)",
+             inside), {} boundary slivers peeled, {} surface collapses (volume change {:.3e} m^3), \
+             added mass {:.3e} kg",
             self.time,
             self.before.elements,
             self.after.elements,
@@ -263,6 +267,7 @@ impl RemeshRecord {
             self.peeled,
             self.surface_collapses,
             self.surface_volume_change,
+            self.added_mass,
         )
     }
 }

@@ -9,6 +9,7 @@
 use std::time::Instant;
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::apply::remesh_problem;
@@ -64,6 +65,12 @@ pub struct RemeshSettings {
     /// Growth of the worst collapse ratio past the last remeshing's that triggers the next.
     #[serde(default = "default_regrowth")]
     pub regrowth: f64,
+    /// The explicit step (s) below which no element of the remeshed body may bring it after a
+    /// remeshing: elements whose stable step would be shorter get the mass that lengthens it
+    /// to this over `safety` (selective mass scaling, `mass_scaling.rs`; each remeshing's
+    /// `added_mass`); 0, the default, adds no mass.
+    #[serde(default)]
+    pub mass_scaling_step: f64,
     /// Pictures of the mesh in a plane at the start, after each remeshing and at the end
     /// ([`super::SectionSpec`]); none: no pictures.
     #[serde(default)]
@@ -124,8 +131,18 @@ impl RemeshSettings {
                 ),
             });
         }
+        if !(self.mass_scaling_step >= 0.0 && self.mass_scaling_step.is_finite()) {
+            return Err(SolverError::InvalidScene {
+                entity: "analysis.explicit.remeshing.mass_scaling_step".to_string(),
+                message: format!(
+                    "must be zero (no mass scaling) or a positive time step in s, got {}",
+                    self.mass_scaling_step
+                ),
+            });
+        }
         Ok(RemeshPolicy {
             body,
+            mass_scaling_step: self.mass_scaling_step,
             check_every: self.check_every.max(1),
             collapse_limit: self.collapse_limit,
             layers: self.layers,
@@ -163,6 +180,9 @@ pub struct RemeshPolicy {
     /// How much worse than the remeshed body's worst element right after a remeshing an
     /// element must become before the next one (see [`RemeshPolicy::threshold_after`]).
     pub regrowth: f64,
+    /// The explicit step (s) selective mass scaling keeps after each remeshing; 0: none
+    /// ([`RemeshSettings::mass_scaling_step`]).
+    pub mass_scaling_step: f64,
     /// The mesher's settings.
     pub mesher: MesherOptions,
 }
@@ -179,6 +199,7 @@ impl RemeshPolicy {
             min_volume: 0.0,
             max_remeshings: 1000,
             regrowth: 1.25,
+            mass_scaling_step: 0.0,
             mesher: MesherOptions::default(),
         }
     }
@@ -203,9 +224,11 @@ impl RemeshPolicy {
         let Some(body) = m.bodies.get(self.body) else {
             return Vec::new();
         };
+        // Every element, every few steps: in parallel (a collect keeps the order).
         let distorted: Vec<usize> = body
             .elements
             .clone()
+            .into_par_iter()
             .filter(|&e| {
                 let corners = m.tets[e].map(|n| x[n as usize]);
                 distortion(&corners) > threshold
@@ -383,7 +406,9 @@ pub fn run_remeshing_watched(
                 ),
             });
         }
-        let remeshed = match remesh_problem(current, &now, &region, &policy.mesher) {
+        // The stable limit that gives the step `mass_scaling_step` at the run's safety.
+        let critical_step = policy.mass_scaling_step / settings.safety;
+        let remeshed = match remesh_problem(current, &now, &region, &policy.mesher, critical_step) {
             Ok(r) => r,
             Err(e) => {
                 let _ = set.finish();
