@@ -472,6 +472,7 @@ fn record_of_a_uniform_state_shows_no_jump() {
         surface_collapses: 0,
         surface_volume_change: 0.0,
         added_mass: 0.0,
+        peeled_volume: 0.0,
     };
     println!("{}", record.summary());
     assert_eq!(record.before.elements, old.tets.len());

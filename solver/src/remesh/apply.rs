@@ -23,6 +23,7 @@ use super::splice::Splice;
 use super::transfer::{element_volumes, shape_function_transfer};
 use crate::dynamics::RunState;
 use crate::error::{Result, SolverError};
+use crate::kinematics::signed_volume;
 use crate::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
@@ -573,6 +574,11 @@ pub fn remesh_problem(
         velocity_shift: shift,
         separation,
         peeled: new.peeled.len(),
+        peeled_volume: new
+            .peeled
+            .iter()
+            .map(|(corners, _)| signed_volume(corners).abs())
+            .sum(),
         surface_collapses: new.surface_collapses,
         surface_volume_change: new.surface_volume_change,
         added_mass,

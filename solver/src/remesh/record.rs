@@ -204,6 +204,9 @@ pub struct RemeshRecord {
     pub separation: super::SurfaceSeparation,
     /// Boundary slivers the remesher removed (`peel.rs`).
     pub peeled: usize,
+    /// Their volume (m^3): material taken out of the body (its mass stays, on the region's
+    /// other new elements).
+    pub peeled_volume: f64,
     /// Edge collapses that merged a node of a curved surface into a neighbour.
     pub surface_collapses: usize,
     /// The body's volume change by those collapses (m^3, after less before).
@@ -241,7 +244,7 @@ impl RemeshRecord {
              worst distortion {:.3} (element {}) -> {:.3} (element {}), mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
-             inside), {} boundary slivers peeled, {} surface collapses (volume change {:.3e} m^3), \
+             inside), {} boundary slivers peeled ({:.3e} m^3), {} surface collapses (volume change {:.3e} m^3), \
              added mass {:.3e} kg",
             self.time,
             self.before.elements,
@@ -265,6 +268,7 @@ impl RemeshRecord {
             self.separation.largest_depth,
             self.separation.left_inside,
             self.peeled,
+            self.peeled_volume,
             self.surface_collapses,
             self.surface_volume_change,
             self.added_mass,

@@ -63,13 +63,13 @@ pub const REMESHING_CSV_HEADER: &str = "time,elements_before,elements_after,\
 worst_collapse_before,worst_collapse_after,kinetic_before,kinetic_after,stored_before,\
 stored_after,total_energy_jump,momentum_jump,velocity_shift,surface_nodes_moved,\
 largest_surface_move,worst_distortion_before,worst_distortion_after,\
-worst_distortion_element_before,worst_distortion_element_after,added_mass";
+worst_distortion_element_before,worst_distortion_element_after,added_mass,peeled_volume";
 
 /// One row of `<stem>_remeshing.csv` (the columns of [`REMESHING_CSV_HEADER`]), without the
 /// line end; floats in Rust's shortest round-trip exponent form.
 pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
     format!(
-        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e}",
+        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e},{:e}",
         r.time,
         r.before.elements,
         r.after.elements,
@@ -89,6 +89,7 @@ pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
         r.before.worst_distortion_element,
         r.after.worst_distortion_element,
         r.added_mass,
+        r.peeled_volume,
     )
 }
 
