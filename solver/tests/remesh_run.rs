@@ -63,14 +63,11 @@ fn largest_force(problem: &Problem, u: &[Vector3<f64>], free: impl Fn(usize) -> 
         .fold(0.0, f64::max)
 }
 
-/// (a) A box of Saint-Venant-Kirchhoff steel moving rigidly, remeshed mid-run over a region
-/// around its centre: velocities stay uniform, momentum and kinetic energy are kept to 1e-12,
-/// no stress appears, and the run goes on with the rigid motion.
-#[test]
-fn rigidly_moving_box_is_unchanged_by_a_remeshing() {
-    let size = [1.0; 3];
+/// A box of Saint-Venant-Kirchhoff steel moving rigidly at `v0`, after 20 steps, and the
+/// region around its centre to remesh: `(problem, v0, state, region)`.
+fn rigidly_moving_box() -> (Problem, Vector3<f64>, RunState, Vec<usize>) {
     let mut p = problem(
-        box_body(size, [4, 4, 4], 0.2, 7),
+        box_body([1.0; 3], [4, 4, 4], 0.2, 7),
         MaterialModel::SaintVenantKirchhoff(STEEL),
     );
     let v0 = Vector3::new(3.0, -2.0, 1.5);
@@ -78,6 +75,15 @@ fn rigidly_moving_box_is_unchanged_by_a_remeshing() {
     let dt = 0.5 * p.model.critical_time_step().0;
     let state = run(&p, dt, None, 20);
     let region = region_near(&p, Vector3::repeat(0.5), 0.2);
+    (p, v0, state, region)
+}
+
+/// (a) A box of Saint-Venant-Kirchhoff steel moving rigidly, remeshed mid-run over a region
+/// around its centre: velocities stay uniform, momentum and kinetic energy are kept to 1e-12,
+/// no stress appears, and the run goes on with the rigid motion.
+#[test]
+fn rigidly_moving_box_is_unchanged_by_a_remeshing() {
+    let (p, v0, state, region) = rigidly_moving_box();
     let r = remesh(&p, &state, &region);
     let rec = r.record;
     let p_old = rec.before.momentum.norm();
@@ -446,16 +452,7 @@ fn the_current_critical_step_is_that_of_the_deformed_mesh() {
 /// motion stays rigid after (the added mass carries no force).
 #[test]
 fn mass_scaling_lifts_the_stable_step_to_its_floor_and_keeps_the_momentum() {
-    let size = [1.0; 3];
-    let mut p = problem(
-        box_body(size, [4, 4, 4], 0.2, 7),
-        MaterialModel::SaintVenantKirchhoff(STEEL),
-    );
-    let v0 = Vector3::new(3.0, -2.0, 1.5);
-    p.initial_velocity = vec![v0; p.model.node_count()];
-    let dt = 0.5 * p.model.critical_time_step().0;
-    let state = run(&p, dt, None, 20);
-    let region = region_near(&p, Vector3::repeat(0.5), 0.2);
+    let (p, v0, state, region) = rigidly_moving_box();
     let plain = remesh(&p, &state, &region);
     let refined_step = plain.problem.model.critical_time_step().0;
     // A floor above the refined mesh's limit, below the old mesh's: the children are scaled.
