@@ -373,7 +373,10 @@ pub fn run_remeshing_watched(
                 }
                 if adapt {
                     let (limit, _) = m.current_critical_time_step(&s.u);
-                    if s.time_step() > trigger * limit {
+                    // An element turned inside out since the last step has a negative
+                    // altitude: the next step's forces stop the run on it, naming the element
+                    // (a step from it would be negative, and the error would blame the step).
+                    if limit > 0.0 && s.time_step() > trigger * limit {
                         pause = Pause::TimeStep(settings.safety * limit);
                         return true;
                     }
