@@ -14,10 +14,10 @@ use nalgebra::{Matrix3, Vector3};
 use std::sync::Arc;
 
 use super::contact_surface::separate_new_surface_nodes;
-use super::locate::{centroids, Location, Locator};
+use super::locate::{centroids, Locator};
 use super::mass_scaling::{add_scaled_mass, mass_scale_factors};
 use super::mesh_check::{check_remeshed, RemeshCheck};
-use super::mesher::{remesh_region_keeping_edges, MesherOptions, RemeshedRegion};
+use super::mesher::{remesh_region_keeping_edges, MesherOptions};
 use super::record::{momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
 use super::transfer::{element_volumes, shape_function_transfer};
@@ -169,51 +169,6 @@ fn remeshed_history(
     }
 }
 
-/// Where each node of the new mesh `new` lies in the old mesh `tets` over `x`: a kept node
-/// sits on its old node (bit for bit), so it gets that node's vertex of the first old element
-/// holding it, barycentric 1 there and 0 elsewhere; the other nodes are searched with
-/// `locator`, and one farther than `max_distance` outside the old mesh is an error
-/// ([`Locator::locate_all`]). Searching only the region's nodes keeps a remeshing's cost with
-/// the region, not the body.
-fn locate_new_nodes(
-    locator: &Locator,
-    x: &[Vector3<f64>],
-    tets: &[[u32; 4]],
-    new: &RemeshedRegion,
-    max_distance: f64,
-) -> Result<Vec<Location>> {
-    let mut holder = vec![None; x.len()];
-    for (e, tet) in tets.iter().enumerate() {
-        for (k, &n) in tet.iter().enumerate() {
-            holder[n as usize].get_or_insert((e, k));
-        }
-    }
-    let mut at_old_node: Vec<Option<Location>> = vec![None; new.nodes.len()];
-    for (o, kept) in new.kept_nodes.iter().enumerate() {
-        if let (Some(k), Some((e, i))) = (kept, holder[o]) {
-            let mut barycentric = [0.0; 4];
-            barycentric[i] = 1.0;
-            at_old_node[*k as usize] = Some(Location {
-                element: e,
-                barycentric,
-                distance: 0.0,
-            });
-        }
-    }
-    let searched: Vec<usize> = (0..new.nodes.len())
-        .filter(|&n| at_old_node[n].is_none())
-        .collect();
-    let points: Vec<Vector3<f64>> = searched.iter().map(|&n| new.nodes[n]).collect();
-    let found = locator.locate_all(&points, max_distance)?;
-    for (n, l) in searched.into_iter().zip(found) {
-        at_old_node[n] = Some(l);
-    }
-    Ok(at_old_node
-        .into_iter()
-        .map(|l| l.expect("every node is kept or searched"))
-        .collect())
-}
-
 /// Remeshes the elements `region` (all of one body) of `problem` at the running state `state`,
 /// and transfers the fields (module `remesh` for which field goes through which operator). The
 /// other bodies are copied: their nodes, elements, masses and histories unchanged, their
@@ -316,7 +271,7 @@ pub fn remesh_problem(
         .fold(0.0_f64, |m, p| m.max(p.amax()))
         .max(f64::MIN_POSITIVE);
     let locator = Locator::new(x, &local_tets)?;
-    let locations = locate_new_nodes(&locator, x, &local_tets, &new, 1e-9 * size)?;
+    let locations = locator.locate_remeshed_nodes(&local_tets, &new, 1e-9 * size)?;
     // The old element each new one lies in (its centroid's): the parent of a refined element.
     // A copied element is its own parent (its centroid lies in it); only new ones are searched.
     let parents: Vec<usize> = centroids(&new.nodes, &new.tets)

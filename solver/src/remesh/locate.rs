@@ -9,6 +9,7 @@
 use nalgebra::Vector3;
 
 use super::box_tree::BoxTree;
+use super::mesher::RemeshedRegion;
 use crate::contact::broad_phase::Aabb;
 use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
@@ -156,20 +157,63 @@ impl<'a> Locator<'a> {
         points
             .iter()
             .enumerate()
-            .map(|(i, p)| {
-                let l = self.locate(p);
-                if l.distance > max_distance {
-                    return Err(SolverError::Remesh {
-                        entity: format!("new point {i} at {:?}", p.as_slice()),
-                        message: format!(
-                            "lies {:.3e} m outside the old mesh (nearest old element {}), more \
-                             than the {max_distance:.3e} m allowed: the new mesh must fill the \
-                             old mesh's current domain",
-                            l.distance, l.element
-                        ),
-                    });
-                }
-                Ok(l)
+            .map(|(i, p)| self.locate_within(i, p, max_distance))
+            .collect()
+    }
+
+    /// [`Self::locate`] of the new point `i` at `p`, or the error of [`Self::locate_all`].
+    fn locate_within(&self, i: usize, p: &Vector3<f64>, max_distance: f64) -> Result<Location> {
+        let l = self.locate(p);
+        if l.distance > max_distance {
+            return Err(SolverError::Remesh {
+                entity: format!("new point {i} at {:?}", p.as_slice()),
+                message: format!(
+                    "lies {:.3e} m outside the old mesh (nearest old element {}), more than the \
+                     {max_distance:.3e} m allowed: the new mesh must fill the old mesh's current \
+                     domain",
+                    l.distance, l.element
+                ),
+            });
+        }
+        Ok(l)
+    }
+
+    /// Where each node of the remeshed mesh `new` lies in this old mesh, whose elements are
+    /// `tets`: a kept node sits on its old node (bit for bit), so it gets that node's vertex of
+    /// the first old element holding it, barycentric 1 there and 0 elsewhere; the other nodes
+    /// are searched, with the error of [`Self::locate_all`] (naming the node) for one farther
+    /// than `max_distance` outside. Searching only the region's nodes keeps a remeshing's cost
+    /// with the region, not the body.
+    pub(super) fn locate_remeshed_nodes(
+        &self,
+        tets: &[[u32; 4]],
+        new: &RemeshedRegion,
+        max_distance: f64,
+    ) -> Result<Vec<Location>> {
+        let mut holder = vec![None; new.kept_nodes.len()];
+        for (e, tet) in tets.iter().enumerate() {
+            for (k, &n) in tet.iter().enumerate() {
+                holder[n as usize].get_or_insert((e, k));
+            }
+        }
+        let mut at_old_node: Vec<Option<Location>> = vec![None; new.nodes.len()];
+        for (o, kept) in new.kept_nodes.iter().enumerate() {
+            if let (Some(k), Some((e, i))) = (kept, holder[o]) {
+                let mut barycentric = [0.0; 4];
+                barycentric[i] = 1.0;
+                at_old_node[*k as usize] = Some(Location {
+                    element: e,
+                    barycentric,
+                    distance: 0.0,
+                });
+            }
+        }
+        at_old_node
+            .into_iter()
+            .enumerate()
+            .map(|(n, l)| match l {
+                Some(l) => Ok(l),
+                None => self.locate_within(n, &new.nodes[n], max_distance),
             })
             .collect()
     }
