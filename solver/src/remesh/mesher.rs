@@ -37,9 +37,11 @@
 //!    rejects slivers), so no element ever inverts and a node's worst element only improves.
 //!    Nodes on the region's interface do not move. Nodes on the outer boundary slide within the
 //!    axis-aligned planes their boundary faces lie in (symmetry planes, undeformed flat faces;
-//!    along the line where two such planes meet), which keeps the boundary's shape exactly;
-//!    those on a curved or deformed surface do not move. Sweeps run in node order until nothing
-//!    moves: the result is deterministic.
+//!    along the line where two such planes meet), which keeps the boundary's shape exactly.
+//!    Those on a curved or deformed surface slide on the old surface (projected onto their old
+//!    faces) where it moves by at most [`MesherOptions::surface_deviation`], and do not move
+//!    where that is 0 (`SurfaceSlide` in `smoothing.rs`). Sweeps run in node order until
+//!    nothing moves: the result is deterministic.
 //!
 //! 4. **Edge collapse** (`collapse.rs`). Where smoothing cannot separate the ends of a short
 //!    edge (every placement that lengthens it flattens a neighbour), the edge is merged into
@@ -79,7 +81,9 @@ use nalgebra::Vector3;
 use super::collapse::{collapse_short_edges, CollapseLimits, Removable};
 use super::flip::flip_slivers;
 use super::peel::{peel_boundary_slivers, PeeledElement};
-use super::smoothing::{boundary_nodes, smooth};
+use super::smoothing::{
+    boundary_nodes, smooth, smooth_on_surface, volume_and_boundary_area, SurfaceSlide,
+};
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
@@ -109,10 +113,10 @@ pub struct MesherOptions {
     /// halves the elements there, and the explicit step with them (thesis 8.5 bounds the same
     /// shrinking with a smallest volume `V_min`).
     pub min_edge: f64,
-    /// How far (m) an edge collapse may move a curved part of the outer boundary: a node there
-    /// may merge along the surface into a neighbour where the boundary faces that take it in
-    /// its place pass within this distance of it (step 4 of the method). 0: the boundary's
-    /// curved parts keep every node (their shape exactly).
+    /// How far (m) the remesher may move a curved part of the outer boundary: a node there
+    /// may slide on the old surface (step 3), or merge along it into a neighbour (step 4), where
+    /// the boundary faces that take it in its place pass within this distance of where it was.
+    /// 0: the boundary's curved parts keep every node where it is (their shape exactly).
     pub surface_deviation: f64,
     /// Whether the elements the steps above leave collapsed (quality below 0.1, a collapse
     /// ratio of 10) may be removed wherever they are (step 6), inside the body or on its
@@ -179,10 +183,10 @@ pub struct RemeshedRegion {
     /// Edge collapses that removed a node of a curved boundary (step 4,
     /// [`MesherOptions::surface_deviation`]).
     pub surface_collapses: usize,
-    /// The region's volume change by those collapses (m^3, after less before); the other
-    /// collapses keep the volume to round-off.
+    /// The region's volume change by those collapses and by the nodes that slid on a curved
+    /// surface (step 3) (m^3, after less before); the other moves keep the volume to round-off.
     pub surface_volume_change: f64,
-    /// The outer boundary's area change by those collapses (m^2, after less before).
+    /// The outer boundary's area change by those collapses and slides (m^2, after less before).
     pub surface_area_change: f64,
     /// Collapsed boundary elements removed from the region (step 6, `peel.rs`), by their
     /// corners, each with the faces that were on the outer boundary: the region's volume and
@@ -473,17 +477,35 @@ pub fn remesh_region_keeping_edges(
     };
     let boundary = boundary_nodes(&nodes, &out_tets[first_region_element..], &pinned);
     free.extend(boundary.sliding);
-    smooth(
-        &mut nodes,
-        &out_tets[first_region_element..],
-        &free,
-        options.smoothing_sweeps,
+    // Nodes on a curved part of the boundary slide on it, moving it by at most the surface
+    // deviation; the volume and area that changes is booked with the surface collapses'.
+    let region_tets = &out_tets[first_region_element..];
+    let slide = SurfaceSlide::new(
+        &nodes,
+        region_tets,
+        &boundary.surface,
+        options.surface_deviation,
     );
+    let with_surface: Vec<(u32, [bool; 3])> = free
+        .iter()
+        .copied()
+        .chain(slide.movable(&boundary.surface))
+        .collect();
+    let (volume_before, area_before) = volume_and_boundary_area(&nodes, region_tets);
+    smooth_on_surface(
+        &mut nodes,
+        region_tets,
+        &with_surface,
+        options.smoothing_sweeps,
+        &slide,
+    );
+    let (volume_after, area_after) = volume_and_boundary_area(&nodes, region_tets);
     let mut merged_nodes = Vec::new();
-    let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) = (0, 0.0, 0.0);
+    let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) =
+        (0, volume_after - volume_before, area_after - area_before);
     if options.collapse_passes > 0 {
         let mut removable = vec![Removable::Never; nodes.len()];
-        // Smoothing moved only free nodes, within their planes: the surface nodes are as found.
+        // Surface nodes that slid are on the old surface: a collapse measures from there.
         for &(n, axes) in &boundary.surface {
             removable[n as usize] = Removable::Surface(axes);
         }
@@ -503,8 +525,8 @@ pub fn remesh_region_keeping_edges(
             },
         );
         surface_collapses = collapses.surface;
-        surface_volume_change = collapses.volume_change;
-        surface_area_change = collapses.area_change;
+        surface_volume_change += collapses.volume_change;
+        surface_area_change += collapses.area_change;
         let left = collapses.tets;
         if collapses.count > 0 {
             let (mut tets_left, mut origin_left) = (Vec::new(), Vec::new());

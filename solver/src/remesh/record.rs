@@ -209,7 +209,8 @@ pub struct RemeshRecord {
     pub peeled_volume: f64,
     /// Edge collapses that merged a node of a curved surface into a neighbour.
     pub surface_collapses: usize,
-    /// The body's volume change by those collapses (m^3, after less before).
+    /// The body's volume change by those collapses and by nodes that slid on a curved surface
+    /// (m^3, after less before).
     pub surface_volume_change: f64,
     /// The mass selective mass scaling put on the new mesh's nodes (kg; in `after.mass`, not
     /// in the body's physical mass), `super::mass_scale_factors`; 0 without it.

@@ -7,6 +7,8 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use nalgebra::Vector3;
 
 use super::mesher::shape_quality;
+use crate::contact::geometry::{closest_point_on_triangle, point_triangle_distance};
+use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
 
 /// How far apart (m) two coordinates may be and still put their nodes in one axis plane: a few
@@ -27,7 +29,8 @@ pub(super) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
 /// in such planes may move along the axes none of those planes fixes: in its plane, or along the line where two
 /// planes meet (the axis of a quarter model). It stays in the union of its faces as long as none
 /// of its elements inverts, which the smoothing ensures, so the boundary keeps its shape
-/// exactly. A node with a face in no axis plane (a curved or deformed surface) does not move.
+/// exactly. A node with a face in no axis plane (a curved or deformed surface) moves only on
+/// that surface, within a bound ([`SurfaceSlide`]).
 /// Without this, an element whose nodes all lie on symmetry planes (at the axis under a
 /// penetrator) could not be reshaped: refinement alone gives children as flat as itself.
 pub(super) fn boundary_nodes(
@@ -110,6 +113,18 @@ pub(super) fn smooth(
     movable: &[(u32, [bool; 3])],
     sweeps: usize,
 ) {
+    smooth_on_surface(nodes, tets, movable, sweeps, &SurfaceSlide::default());
+}
+
+/// [`smooth`], with the nodes of `slide` also moving, on the old surface around them
+/// ([`SurfaceSlide`]); their flags in `movable` hold the axes their symmetry planes fix.
+pub(super) fn smooth_on_surface(
+    nodes: &mut [Vector3<f64>],
+    tets: &[[u32; 4]],
+    movable: &[(u32, [bool; 3])],
+    sweeps: usize,
+    slide: &SurfaceSlide,
+) {
     let mut incident: BTreeMap<u32, Vec<usize>> =
         movable.iter().map(|&(n, _)| (n, vec![])).collect();
     for (t, tet) in tets.iter().enumerate() {
@@ -169,9 +184,16 @@ pub(super) fn smooth(
             }
             for candidate in candidates {
                 // A sliding node keeps its held coordinates bit for bit.
+                let candidate = match slide.nodes.get(&n) {
+                    Some(on) => on.project(&candidate),
+                    None => candidate,
+                };
                 let candidate =
                     Vector3::from_fn(|k, _| if free[k] { candidate[k] } else { current[k] });
                 nodes[n as usize] = candidate;
+                if !slide.within(n, nodes) {
+                    continue;
+                }
                 let q = worst(nodes, list);
                 if q > best.0 {
                     best = (q, candidate);
@@ -183,5 +205,304 @@ pub(super) fn smooth(
         if !moved {
             break;
         }
+    }
+}
+
+/// The nodes on a curved part of the outer boundary that the smoothing may slide along it (the
+/// cavity around a penetrator's nose), and how far the surface may move.
+///
+/// Such a node is held in its place by the surface's shape alone, and a cavity wall whose nodes
+/// cannot move keeps its collapsed elements: the remesher then peels or erodes them, and the
+/// cavity grows away from the penetrator. Here a node's candidate place is projected onto its
+/// old fan of boundary faces (the closest point on them, Ericson 2005, 5.1.5: the node stays on
+/// the old surface), with the coordinates its symmetry planes fix kept, and taken only where
+/// each old place `x_0` stays within `deviation` of the node's new faces in no axis plane
+/// (`min_f dist(x_0, f) <= deviation`). Both surfaces are piecewise flat through the same
+/// neighbours, so they are furthest apart at the old or the new place of the node: the first is
+/// the bound, the second lies on the old surface. Neighbours that both slide may each use the
+/// bound, so the surface moves by about it (the same bound as a surface collapse's,
+/// [`super::mesher::MesherOptions::surface_deviation`]); the volume and area it changes are
+/// recorded with the collapses'. This is how mesh improvers treat a boundary vertex on a curved
+/// surface (Freitag & Ollivier-Gooch 1997, 4.2: boundary vertices smoothed within the boundary).
+#[derive(Debug, Default)]
+pub(super) struct SurfaceSlide {
+    nodes: BTreeMap<u32, SurfaceNode>,
+    deviation: f64,
+}
+
+/// A node of a [`SurfaceSlide`]: where it was, the old faces around it, and its faces in no axis
+/// plane (by node ids; the smoothing changes no connectivity).
+#[derive(Debug)]
+struct SurfaceNode {
+    origin: Vector3<f64>,
+    fan: Vec<[Vector3<f64>; 3]>,
+    curved: Vec<[u32; 3]>,
+    /// For a node on a symmetry plane (where the surface meets it), the old edges from it of its
+    /// faces in no axis plane that lie in the same planes (the seam): it slides along them, and
+    /// the planes keep their shape.
+    seam: Option<Vec<[Vector3<f64>; 2]>>,
+}
+
+impl SurfaceNode {
+    /// The point of the old fan nearest `p` (the first on a tie, in face order), or of the
+    /// old seam for a node on a symmetry plane.
+    fn project(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        let mut best = (f64::INFINITY, self.origin);
+        if let Some(seam) = &self.seam {
+            for [a, b] in seam {
+                let ab = b - a;
+                let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+                let q = a + t * ab;
+                let d = (q - p).norm_squared();
+                if d < best.0 {
+                    best = (d, q);
+                }
+            }
+            return best.1;
+        }
+        for [a, b, c] in &self.fan {
+            let q = closest_point_on_triangle(p, a, b, c);
+            let d = (q - p).norm_squared();
+            if d < best.0 {
+                best = (d, q);
+            }
+        }
+        best.1
+    }
+}
+
+impl SurfaceSlide {
+    /// The nodes `surface` (from [`boundary_nodes`]) over the region `tets` with coordinates
+    /// `nodes`, the surface moving by at most `deviation` (m); none for a deviation of 0.
+    pub(super) fn new(
+        nodes: &[Vector3<f64>],
+        tets: &[[u32; 4]],
+        surface: &[(u32, [bool; 3])],
+        deviation: f64,
+    ) -> Self {
+        let mut slide = Self {
+            nodes: BTreeMap::new(),
+            deviation,
+        };
+        if !(deviation > 0.0) {
+            return slide;
+        }
+        for &(n, held) in surface {
+            slide.nodes.insert(
+                n,
+                SurfaceNode {
+                    origin: nodes[n as usize],
+                    fan: vec![],
+                    curved: vec![],
+                    seam: held.contains(&true).then(Vec::new),
+                },
+            );
+        }
+        let held: BTreeMap<u32, [bool; 3]> = surface.iter().copied().collect();
+        let tolerance = plane_tolerance(nodes);
+        for face in region_boundary_faces(tets) {
+            let corners = face.map(|n| nodes[n as usize]);
+            let in_plane = (0..3).any(|k| {
+                let lo = corners.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
+                let hi = corners
+                    .iter()
+                    .map(|p| p[k])
+                    .fold(f64::NEG_INFINITY, f64::max);
+                hi - lo <= tolerance
+            });
+            for (i, n) in face.into_iter().enumerate() {
+                let Some(on) = slide.nodes.get_mut(&n) else {
+                    continue;
+                };
+                on.fan.push(corners);
+                if !in_plane {
+                    on.curved.push(face);
+                }
+                if let (Some(seam), false) = (&mut on.seam, in_plane) {
+                    for m in [face[(i + 1) % 3], face[(i + 2) % 3]] {
+                        let other = nodes[m as usize];
+                        let same = (0..3)
+                            .all(|k| !held[&n][k] || (other[k] - on.origin[k]).abs() <= tolerance);
+                        if same && !seam.contains(&[on.origin, other]) {
+                            seam.push([on.origin, other]);
+                        }
+                    }
+                }
+            }
+        }
+        slide
+    }
+
+    /// Whether node `n`, placed in `nodes`, keeps the surface within the deviation of its old
+    /// place (true for a node that does not slide on a surface).
+    fn within(&self, n: u32, nodes: &[Vector3<f64>]) -> bool {
+        let Some(on) = self.nodes.get(&n) else {
+            return true;
+        };
+        on.curved
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|m| nodes[m as usize]);
+                point_triangle_distance(&on.origin, &a, &b, &c)
+            })
+            .fold(f64::INFINITY, f64::min)
+            <= self.deviation
+    }
+
+    /// The nodes that slide, with the axes their symmetry planes leave free (for [`smooth`]).
+    pub(super) fn movable(&self, surface: &[(u32, [bool; 3])]) -> Vec<(u32, [bool; 3])> {
+        surface
+            .iter()
+            .filter(|(n, _)| self.nodes.contains_key(n))
+            .map(|&(n, held)| (n, held.map(|h| !h)))
+            .collect()
+    }
+}
+
+/// The faces that one element of `tets` alone holds (the region's outer boundary and its
+/// interface with the rest), each in its element's orientation, in element order.
+pub(super) fn region_boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
+    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * tets.len());
+    for tet in tets {
+        for f in TET_FACES {
+            *count.entry(face_key(f.map(|i| tet[i]))).or_insert(0) += 1;
+        }
+    }
+    tets.iter()
+        .flat_map(|tet| TET_FACES.map(|f| f.map(|i| tet[i])))
+        .filter(|face| count[&face_key(*face)] == 1)
+        .collect()
+}
+
+/// The volume of `tets` and the area of the faces one of them alone holds (m^3, m^2).
+pub(super) fn volume_and_boundary_area(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> (f64, f64) {
+    let volume = tets
+        .iter()
+        .map(|t| signed_volume(&t.map(|n| nodes[n as usize])))
+        .sum();
+    let area = region_boundary_faces(tets)
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|n| nodes[n as usize]);
+            0.5 * (b - a).cross(&(c - a)).norm()
+        })
+        .sum();
+    (volume, area)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A node `s` on a bent surface `z = -0.1 x^2`, pushed 0.7 of the way to its ring node at
+    /// x = 1, over four elements down to an apex below: the ring and the apex are held. Returns
+    /// the nodes, the elements (positively oriented) and `s`.
+    fn pushed_surface_node() -> (Vec<Vector3<f64>>, Vec<[u32; 4]>, u32) {
+        let z = |x: f64| -0.1 * x * x;
+        let mut nodes = vec![Vector3::new(0.7, 0.0, z(0.7))];
+        for (x, y) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
+            nodes.push(Vector3::new(x, y, z(x)));
+        }
+        nodes.push(Vector3::new(0.0, 0.0, -1.0));
+        let tets = (1..5u32)
+            .map(|i| {
+                let mut t = [0, i, i % 4 + 1, 5];
+                if signed_volume(&t.map(|n| nodes[n as usize])) < 0.0 {
+                    t.swap(1, 2);
+                }
+                t
+            })
+            .collect();
+        (nodes, tets, 0)
+    }
+
+    fn worst(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> f64 {
+        tets.iter()
+            .map(|t| shape_quality(&t.map(|n| nodes[n as usize])))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn a_surface_node_slides_on_the_old_surface_within_the_deviation() {
+        let (old, tets, s) = pushed_surface_node();
+        let fan: Vec<[Vector3<f64>; 3]> = region_boundary_faces(&tets)
+            .into_iter()
+            .filter(|f| f.contains(&s))
+            .map(|f| f.map(|n| old[n as usize]))
+            .collect();
+        assert_eq!(fan.len(), 4);
+        for deviation in [1e-2, 0.05, 1.0] {
+            let surface = [(s, [false; 3])];
+            let slide = SurfaceSlide::new(&old, &tets, &surface, deviation);
+            let mut nodes = old.clone();
+            smooth_on_surface(&mut nodes, &tets, &slide.movable(&surface), 100, &slide);
+            let p = nodes[s as usize];
+            assert!(
+                p != old[s as usize],
+                "deviation {deviation}: the node did not move"
+            );
+            assert!(worst(&nodes, &tets) > worst(&old, &tets));
+            // On the old surface, to round-off.
+            let off = fan
+                .iter()
+                .map(|[a, b, c]| point_triangle_distance(&p, a, b, c))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                off < 1e-15,
+                "deviation {deviation}: {off:e} off the old surface"
+            );
+            // The new surface passes within the deviation of the old place.
+            let gap = region_boundary_faces(&tets)
+                .into_iter()
+                .filter(|f| f.contains(&s))
+                .map(|f| {
+                    let [a, b, c] = f.map(|n| nodes[n as usize]);
+                    point_triangle_distance(&old[s as usize], &a, &b, &c)
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(gap <= deviation, "deviation {deviation}: gap {gap:e}");
+        }
+        // The bound binds: the smaller one stops the node earlier.
+        let place = |deviation: f64| {
+            let surface = [(s, [false; 3])];
+            let slide = SurfaceSlide::new(&old, &tets, &surface, deviation);
+            let mut nodes = old.clone();
+            smooth_on_surface(&mut nodes, &tets, &slide.movable(&surface), 100, &slide);
+            nodes[s as usize]
+        };
+        assert!(place(1e-2)[0] > place(1.0)[0]);
+    }
+
+    #[test]
+    fn without_a_deviation_a_surface_node_stays() {
+        let (old, tets, s) = pushed_surface_node();
+        let surface = [(s, [false; 3])];
+        let slide = SurfaceSlide::new(&old, &tets, &surface, 0.0);
+        assert!(slide.movable(&surface).is_empty());
+        let mut nodes = old.clone();
+        smooth_on_surface(&mut nodes, &tets, &slide.movable(&surface), 100, &slide);
+        assert_eq!(nodes, old);
+    }
+
+    #[test]
+    fn a_node_on_a_symmetry_plane_slides_along_its_seam() {
+        // The same surface cut by the plane y = 0: the node and the ring nodes at x = +-1 lie
+        // on it, the node held in y. It slides along the seam, in the plane bit for bit.
+        let (old, tets, s) = pushed_surface_node();
+        let keep: Vec<[u32; 4]> = tets
+            .into_iter()
+            .filter(|t| t.iter().all(|&n| old[n as usize][1] >= 0.0))
+            .collect();
+        assert_eq!(keep.len(), 2);
+        let surface = [(s, [false, true, false])];
+        let slide = SurfaceSlide::new(&old, &keep, &surface, 1.0);
+        let mut nodes = old.clone();
+        smooth_on_surface(&mut nodes, &keep, &slide.movable(&surface), 100, &slide);
+        let p = nodes[s as usize];
+        assert!(p[0] < 0.7 && p[1] == 0.0, "{p:?}");
+        // On the old seam, the chord from the node's old place to the ring node at x = -1.
+        let (a, b) = (old[s as usize], old[3]);
+        let t = (p - a).dot(&(b - a)) / (b - a).norm_squared();
+        assert!((a + t * (b - a) - p).norm() < 1e-15 && (0.0..=1.0).contains(&t));
     }
 }
