@@ -270,8 +270,14 @@ pub fn remesh_problem(
         .iter()
         .fold(0.0_f64, |m, p| m.max(p.amax()))
         .max(f64::MIN_POSITIVE);
+    // The remesher may move a curved part of the surface by up to `surface_deviation`, outward
+    // too (a node sliding on the old surface bends the faces around it off it), and an inner
+    // node smoothed next to it may follow: such a node lies that far outside the old mesh at
+    // most, and takes the fields of the nearest old element, extrapolated over that distance
+    // (1.2 um in the nail run at 63 us, where this stopped the run).
     let locator = Locator::new(x, &local_tets)?;
-    let locations = locator.locate_remeshed_nodes(&local_tets, &new, 1e-9 * size)?;
+    let outside = (1e-9 * size).max(options.surface_deviation);
+    let locations = locator.locate_remeshed_nodes(&local_tets, &new, outside)?;
     // The old element each new one lies in (its centroid's): the parent of a refined element.
     // A copied element is its own parent (its centroid lies in it); only new ones are searched.
     let parents: Vec<usize> = centroids(&new.nodes, &new.tets)
