@@ -150,6 +150,20 @@ pub(super) fn smooth_on_surface(
             .map(|&t| shape_quality(&tets[t].map(|n| nodes[n as usize])))
             .fold(f64::INFINITY, f64::min)
     };
+    // The worst quality of the elements `list` if it is above `floor`, else `None`: the
+    // first element at or below `floor` ends the count, as the candidate cannot be taken then
+    // (the same choice as comparing the full minimum, at a fraction of the quality evaluations).
+    let worst_above = |nodes: &[Vector3<f64>], list: &[usize], floor: f64| {
+        let mut lowest = f64::INFINITY;
+        for &t in list {
+            let q = shape_quality(&tets[t].map(|n| nodes[n as usize]));
+            if q <= floor {
+                return None;
+            }
+            lowest = lowest.min(q);
+        }
+        (lowest > floor).then_some(lowest)
+    };
     for _ in 0..sweeps {
         let mut moved = false;
         for &(n, free) in movable {
@@ -194,8 +208,7 @@ pub(super) fn smooth_on_surface(
                 if !slide.within(n, nodes) {
                     continue;
                 }
-                let q = worst(nodes, list);
-                if q > best.0 {
+                if let Some(q) = worst_above(nodes, list, best.0) {
                     best = (q, candidate);
                 }
             }
