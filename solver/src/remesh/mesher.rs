@@ -491,7 +491,15 @@ pub fn remesh_region_keeping_edges(
         .copied()
         .chain(slide.movable(&boundary.surface))
         .collect();
-    let (volume_before, area_before) = volume_and_boundary_area(&nodes, region_tets);
+    // Without sliding nodes the smoothing keeps the volume and the boundary (no sums needed).
+    let measure = |nodes: &[Vector3<f64>]| {
+        if slide.is_empty() {
+            (0.0, 0.0)
+        } else {
+            volume_and_boundary_area(nodes, region_tets)
+        }
+    };
+    let (volume_before, area_before) = measure(&nodes);
     smooth_on_surface(
         &mut nodes,
         region_tets,
@@ -499,7 +507,7 @@ pub fn remesh_region_keeping_edges(
         options.smoothing_sweeps,
         &slide,
     );
-    let (volume_after, area_after) = volume_and_boundary_area(&nodes, region_tets);
+    let (volume_after, area_after) = measure(&nodes);
     let mut merged_nodes = Vec::new();
     let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) =
         (0, volume_after - volume_before, area_after - area_before);

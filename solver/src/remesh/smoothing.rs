@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 use super::mesher::shape_quality;
 use crate::contact::geometry::{closest_point_on_triangle, point_triangle_distance};
 use crate::kinematics::signed_volume;
-use crate::mesh::{face_key, TET_FACES};
+use crate::mesh::{boundary_faces_of, face_key, TET_FACES};
 
 /// How far apart (m) two coordinates may be and still put their nodes in one axis plane: a few
 /// round-offs of the largest coordinate. A node placed on a symmetry plane by a projection (a
@@ -84,11 +84,7 @@ fn boundary_planes(
             if count[&face_key(face)] != 1 {
                 continue;
             }
-            let [a, b, c] = face.map(|n| nodes[n as usize]);
-            let plane = (0..3).find(|&k| {
-                let (lo, hi) = (a[k].min(b[k]).min(c[k]), a[k].max(b[k]).max(c[k]));
-                hi - lo <= tolerance
-            });
+            let plane = axis_plane(&face.map(|n| nodes[n as usize]), tolerance);
             for n in face {
                 if pinned[n as usize] {
                     continue;
@@ -102,6 +98,15 @@ fn boundary_planes(
         }
     }
     planes
+}
+
+/// The axis `k` whose plane `x_k = const` holds the triangle `[a, b, c]` (its three `k`
+/// coordinates within `tolerance`), the first if several.
+fn axis_plane([a, b, c]: &[Vector3<f64>; 3], tolerance: f64) -> Option<usize> {
+    (0..3).find(|&k| {
+        let (lo, hi) = (a[k].min(b[k]).min(c[k]), a[k].max(b[k]).max(c[k]));
+        hi - lo <= tolerance
+    })
 }
 
 /// Constrained Laplacian smoothing of the nodes `movable` over the elements `tets` (step 3 of
@@ -250,6 +255,8 @@ struct SurfaceNode {
     origin: Vector3<f64>,
     fan: Vec<[Vector3<f64>; 3]>,
     curved: Vec<[u32; 3]>,
+    /// The axes its symmetry planes fix.
+    held: [bool; 3],
     /// For a node on a symmetry plane (where the surface meets it), the old edges from it of its
     /// faces in no axis plane that lie in the same planes (the seam): it slides along them, and
     /// the planes keep their shape.
@@ -307,22 +314,15 @@ impl SurfaceSlide {
                     origin: nodes[n as usize],
                     fan: vec![],
                     curved: vec![],
+                    held,
                     seam: held.contains(&true).then(Vec::new),
                 },
             );
         }
-        let held: BTreeMap<u32, [bool; 3]> = surface.iter().copied().collect();
         let tolerance = plane_tolerance(nodes);
         for face in region_boundary_faces(tets) {
             let corners = face.map(|n| nodes[n as usize]);
-            let in_plane = (0..3).any(|k| {
-                let lo = corners.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
-                let hi = corners
-                    .iter()
-                    .map(|p| p[k])
-                    .fold(f64::NEG_INFINITY, f64::max);
-                hi - lo <= tolerance
-            });
+            let in_plane = axis_plane(&corners, tolerance).is_some();
             for (i, n) in face.into_iter().enumerate() {
                 let Some(on) = slide.nodes.get_mut(&n) else {
                     continue;
@@ -335,7 +335,7 @@ impl SurfaceSlide {
                     for m in [face[(i + 1) % 3], face[(i + 2) % 3]] {
                         let other = nodes[m as usize];
                         let same = (0..3)
-                            .all(|k| !held[&n][k] || (other[k] - on.origin[k]).abs() <= tolerance);
+                            .all(|k| !on.held[k] || (other[k] - on.origin[k]).abs() <= tolerance);
                         if same && !seam.contains(&[on.origin, other]) {
                             seam.push([on.origin, other]);
                         }
@@ -362,6 +362,11 @@ impl SurfaceSlide {
             <= self.deviation
     }
 
+    /// Whether no node slides (a deviation of 0, or no node on a curved surface).
+    pub(super) fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
     /// The nodes that slide, with the axes their symmetry planes leave free (for [`smooth`]).
     pub(super) fn movable(&self, surface: &[(u32, [bool; 3])]) -> Vec<(u32, [bool; 3])> {
         surface
@@ -375,15 +380,9 @@ impl SurfaceSlide {
 /// The faces that one element of `tets` alone holds (the region's outer boundary and its
 /// interface with the rest), each in its element's orientation, in element order.
 pub(super) fn region_boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
-    let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * tets.len());
-    for tet in tets {
-        for f in TET_FACES {
-            *count.entry(face_key(f.map(|i| tet[i]))).or_insert(0) += 1;
-        }
-    }
-    tets.iter()
-        .flat_map(|tet| TET_FACES.map(|f| f.map(|i| tet[i])))
-        .filter(|face| count[&face_key(*face)] == 1)
+    boundary_faces_of(tets)
+        .into_iter()
+        .map(|f| f.nodes)
         .collect()
 }
 
