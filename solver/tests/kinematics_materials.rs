@@ -54,7 +54,7 @@ fn element_quality_of_the_cube_corner_tetrahedron() {
     assert!((q.volume - 1.0 / 6.0).abs() < 1e-15);
     // Largest face is the slanted one, area sqrt(3)/2: altitude 3 V / A = 1/sqrt(3).
     assert!((q.min_altitude - 1.0 / 3f64.sqrt()).abs() < 1e-15);
-    assert!((q.volume_size - 1.0).abs() < 1e-15);
+    assert!((q.volume_size() - 1.0).abs() < 1e-15);
     assert!((q.edge_ratio - 2f64.sqrt()).abs() < 1e-15);
 }
 
