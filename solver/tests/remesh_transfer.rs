@@ -464,6 +464,7 @@ fn record_of_a_uniform_state_shows_no_jump() {
     );
     let record = RemeshRecord {
         time: 1.25e-4,
+        region_elements: old.tets.len(),
         before,
         after,
         velocity_shift: shift,

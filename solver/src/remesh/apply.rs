@@ -518,6 +518,7 @@ pub fn remesh_problem(
     let stored_after = new_model.stored_energy(&back(&zero, &du_prev));
     let record = RemeshRecord {
         time: state.time,
+        region_elements: region.len(),
         before: MeshState::measure(
             &x_all,
             &model.tets,

@@ -194,6 +194,8 @@ impl MeshState {
 pub struct RemeshRecord {
     /// Time of the remeshing (s).
     pub time: f64,
+    /// Elements of the old mesh that were remeshed (the refinement region).
+    pub region_elements: usize,
     /// The old mesh at that time.
     pub before: MeshState,
     /// The new mesh after the transfer.
@@ -241,13 +243,14 @@ impl RemeshRecord {
     /// One line for a run's log.
     pub fn summary(&self) -> String {
         format!(
-            "remeshing at t = {:.6e} s: {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
+            "remeshing at t = {:.6e} s: {} elements remeshed, {} -> {} elements, worst collapse ratio {:.3} -> {:.3}, \
              worst distortion {:.3} (element {}) -> {:.3} (element {}), mass {:.6e} -> {:.6e} kg, kinetic {:.6e} -> {:.6e} J, stored {:.6e} -> {:.6e} J, \
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
              inside), {} boundary slivers peeled ({:.3e} m^3), {} surface collapses (volume change {:.3e} m^3), \
              added mass {:.3e} kg",
             self.time,
+            self.region_elements,
             self.before.elements,
             self.after.elements,
             self.before.worst_collapse_ratio,

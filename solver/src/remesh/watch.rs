@@ -58,18 +58,20 @@ impl RemeshWatch for Watches<'_> {
 /// before and after; the jump in total energy (J); the norm of the momentum jump (kg m/s) and
 /// of the uniform velocity shift that restored it (m/s); the new surface nodes moved out of a
 /// contact partner and the largest move (m); the largest distortion the run watches before and
-/// after and its element in each mesh.
+/// after and its element in each mesh; the mass selective mass scaling added (kg); the volume
+/// peeled (m^3); the elements of the old mesh remeshed.
 pub const REMESHING_CSV_HEADER: &str = "time,elements_before,elements_after,\
 worst_collapse_before,worst_collapse_after,kinetic_before,kinetic_after,stored_before,\
 stored_after,total_energy_jump,momentum_jump,velocity_shift,surface_nodes_moved,\
 largest_surface_move,worst_distortion_before,worst_distortion_after,\
-worst_distortion_element_before,worst_distortion_element_after,added_mass,peeled_volume";
+worst_distortion_element_before,worst_distortion_element_after,added_mass,peeled_volume,\
+region_elements";
 
 /// One row of `<stem>_remeshing.csv` (the columns of [`REMESHING_CSV_HEADER`]), without the
 /// line end; floats in Rust's shortest round-trip exponent form.
 pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
     format!(
-        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e},{:e}",
+        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e},{:e},{}",
         r.time,
         r.before.elements,
         r.after.elements,
@@ -90,6 +92,7 @@ pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
         r.after.worst_distortion_element,
         r.added_mass,
         r.peeled_volume,
+        r.region_elements,
     )
 }
 
