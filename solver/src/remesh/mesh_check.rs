@@ -263,15 +263,27 @@ pub fn check_remeshed(
     // A node that slid stays on the old boundary (on one of its faces, to round-off of the
     // coordinates), so the boundary keeps its shape.
     let extent = x.iter().map(|p| p.amax()).fold(f64::MIN_POSITIVE, f64::max);
-    for &(o, m) in &new.slid_nodes {
-        let p = xn[m as usize];
-        let distance = old_faces
-            .iter()
+    let distance_to = |p: &Vector3<f64>, faces: &mut dyn Iterator<Item = &BoundaryFace>| {
+        faces
             .map(|f| {
                 let [a, b, c] = f.nodes.map(|i| x[i as usize]);
-                (closest_point_on_triangle(&p, &a, &b, &c) - p).norm()
+                (closest_point_on_triangle(p, &a, &b, &c) - p).norm()
             })
-            .fold(f64::INFINITY, f64::min);
+            .fold(f64::INFINITY, f64::min)
+    };
+    // A node moves only inside the region (its elements are all new), so it is found on the
+    // region's old faces; the whole boundary is searched only where it is not (the same
+    // verdict; searching every face for every node was a third of a late nail run's CPU).
+    let region_old_faces: Vec<&BoundaryFace> = old_faces
+        .iter()
+        .filter(|f| in_region[f.element as usize])
+        .collect();
+    for &(o, m) in &new.slid_nodes {
+        let p = xn[m as usize];
+        let mut distance = distance_to(&p, &mut region_old_faces.iter().copied());
+        if !(distance <= REMESH_TOLERANCE * extent) {
+            distance = distance_to(&p, &mut old_faces.iter());
+        }
         if !(distance <= REMESH_TOLERANCE * extent) {
             return Err(fail(format!(
                 "old boundary node {o} slid off the old boundary (by {distance:.3e} m)"
