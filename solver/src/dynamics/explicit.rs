@@ -111,6 +111,18 @@ impl<'p> ExplicitSolver<'p> {
         settings: ExplicitSettings,
         output: OutputSettings,
     ) -> Result<Self> {
+        let history = problem.model.initial_history();
+        Self::with_history(problem, settings, output, history)
+    }
+
+    /// [`Self::new`] with the material histories `history` (a resumed run's, which the model's
+    /// initial ones would only be built to be replaced by).
+    fn with_history(
+        problem: &'p Problem,
+        settings: ExplicitSettings,
+        output: OutputSettings,
+        history: MaterialHistory,
+    ) -> Result<Self> {
         let model = &problem.model;
         if !(settings.end_time > 0.0) && settings.max_steps.is_none() {
             return Err(SolverError::InvalidScene {
@@ -169,7 +181,7 @@ impl<'p> ExplicitSolver<'p> {
             du_prev: vec![Vector3::zeros(); n],
             v_next: vec![Vector3::zeros(); n],
             contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
-            history: model.initial_history(),
+            history,
             history_node: if model.has_history() {
                 let mut flags = vec![false; n];
                 // The nodes of the history bodies' elements (a material region owns no nodes

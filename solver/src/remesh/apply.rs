@@ -27,7 +27,8 @@ use crate::kinematics::signed_volume;
 use crate::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
-    BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialSource, Model, Probe, Problem,
+    BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialHistory, MaterialSource, Model,
+    Probe, Problem,
 };
 
 /// What [`remesh_problem`] returns: the problem and state the run goes on with, the record of
@@ -340,7 +341,7 @@ pub fn remesh_problem(
     let old_rho: Vec<f64> = (0..local_tets.len())
         .map(|e| old_element_mass[elements.start + e] / old_volumes[e])
         .collect();
-    let history = state.history.bodies.get(b).cloned().flatten();
+    let history = state.history.bodies.get(b).and_then(Option::as_ref);
     // F and the history of a new element are those of its parent (the old element holding its
     // centroid), so a field constant per element, as F and the history are, is carried exactly
     // where the region is refined: the stored energy of a refined element is its parent's.
@@ -397,8 +398,14 @@ pub fn remesh_problem(
     mass.extend_from_slice(&model.mass[..nodes.start]);
     mass.extend(body_mass);
     mass.extend_from_slice(&model.mass[nodes.end..]);
-    let mut histories = state.history.clone();
-    if let Some(h) = &history {
+    // The other bodies' histories are copied; the remeshed body's is built below (not copied
+    // first: a microplane body's history is the largest thing a remeshing moves).
+    let mut histories = MaterialHistory {
+        bodies: (state.history.bodies.iter().enumerate())
+            .map(|(i, h)| if i == b { None } else { h.clone() })
+            .collect(),
+    };
+    if let Some(h) = history {
         let cauchy: Vec<f64> = h.cauchy.iter().flatten().copied().collect();
         let cauchy = t1(&cauchy, 6)?;
         histories.bodies[b] = Some(remeshed_history(h, &new.element_origin, &parents, &cauchy));

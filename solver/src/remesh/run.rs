@@ -385,7 +385,7 @@ pub fn run_remeshing_watched(
             })?;
             let summary = (end == SegmentEnd::Finished)
                 .then(|| solver.summary(&schedule, started, Recorder::default(), Vec::new()));
-            (end, solver.state(), pause, summary)
+            (end, solver.into_state(), pause, summary)
         };
         if let (SegmentEnd::Finished, Some(summary)) = (end, summary) {
             break (summary, now);

@@ -61,6 +61,25 @@ impl<'p> ExplicitSolver<'p> {
         }
     }
 
+    /// [`Self::state`], moving the fields out instead of copying them (a remeshing run ends a
+    /// segment so at each remeshing, and a microplane body's history is large).
+    pub fn into_state(self) -> RunState {
+        RunState {
+            u: self.u,
+            v_half: self.v_half,
+            v_full: self.v_full,
+            du_prev: self.du_prev,
+            step: self.step,
+            time_step: self.dt,
+            time: self.time,
+            energies: self.energies,
+            pending: self.pending,
+            history: self.history,
+            phases: self.phases,
+            contact_totals: self.contact_totals,
+        }
+    }
+
     /// A solver that goes on from `state` over `problem` (the problem a remeshing built): the
     /// time step from `settings` and the new mesh's stable limit, as [`Self::new`] checks it,
     /// and the next step a full one (`state.step > 0`). Drive it with [`Self::step`]; its
@@ -109,7 +128,7 @@ impl<'p> ExplicitSolver<'p> {
                 ),
             });
         }
-        let mut solver = Self::new(problem, settings, output)?;
+        let mut solver = Self::with_history(problem, settings, output, state.history)?;
         solver.u = state.u;
         solver.v_half = state.v_half;
         solver.v_full = state.v_full;
@@ -120,7 +139,6 @@ impl<'p> ExplicitSolver<'p> {
         solver.time_origin = state.time;
         solver.energies = state.energies;
         solver.pending = state.pending;
-        solver.history = state.history;
         solver.phases = state.phases;
         solver.contact_totals = state.contact_totals;
         // Bitwise the same run when the step does not change.
