@@ -251,7 +251,7 @@ fn the_remeshing_csv_reads_by_its_header_and_bad_files_are_errors() {
     fs::write(
         &path,
         format!(
-            "{REMESHING_CSV_HEADER}\n1e-5,10,20,12.5,4,3,2.5,1,NaN,0.25,1e-9,2e-8,0,0e0,22.5,9.9,7,3,2.5e-6,0\n"
+            "{REMESHING_CSV_HEADER}\n1e-5,10,20,12.5,4,3,2.5,1,NaN,0.25,1e-9,2e-8,0,0e0,22.5,9.9,7,3,2.5e-6,0,12\n"
         ),
     )
     .unwrap();
