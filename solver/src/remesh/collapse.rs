@@ -28,7 +28,7 @@ use nalgebra::Vector3;
 
 use std::collections::{BTreeMap, BTreeSet, HashSet};
 
-use super::mesher::shape_quality;
+use super::quality::shape_quality;
 use crate::kinematics::signed_volume;
 use crate::mesh::{face_key, TET_FACES};
 

@@ -15,8 +15,8 @@ use std::collections::HashMap;
 use nalgebra::Vector3;
 
 use super::locate::Locator;
-use super::mesher::shape_quality;
 use super::peel::PEEL_QUALITY;
+use super::quality::shape_quality;
 use crate::contact::geometry::closest_point_on_triangle;
 use crate::mesh::boundary_faces_of;
 use crate::model::Model;

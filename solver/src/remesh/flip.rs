@@ -12,7 +12,7 @@
 
 use nalgebra::Vector3;
 
-use super::mesher::shape_quality;
+use super::quality::shape_quality;
 use crate::kinematics::signed_volume;
 
 /// Relative difference of volumes within which new elements tile the old ones (round-off of

@@ -146,7 +146,7 @@ pub const COLLAPSE_PASSES: usize = 10;
 /// Default number of flip passes (an upper bound: passes stop when none flips).
 pub const FLIP_PASSES: usize = 10;
 
-/// The quality ([`shape_quality`]) below which an element tries to collapse its short edges:
+/// The quality ([`super::quality::shape_quality`]) below which an element tries to collapse its short edges:
 /// a collapse ratio of 4, well under the remeshing limit 10 (8.1).
 const COLLAPSE_TARGET: f64 = 0.25;
 
@@ -238,59 +238,6 @@ pub fn grow_region(tets: &[[u32; 4]], region: &[usize], layers: usize) -> Vec<us
         }
     }
     set.into_iter().collect()
-}
-
-/// The mean-ratio quality `eta = 12 (3V)^(2/3) / sum l^2` of a tetrahedron (Liu & Joe 1994): 1
-/// for the regular tetrahedron, tending to 0 as it flattens; -1 for a volume that is not
-/// positive, so that an inverted element is always the worst.
-pub fn mean_ratio(x: &[Vector3<f64>; 4]) -> f64 {
-    let v = signed_volume(x);
-    if !(v > 0.0) {
-        return -1.0;
-    }
-    let sum: f64 = TET_EDGES
-        .iter()
-        .map(|[i, j]| (x[*j] - x[*i]).norm_squared())
-        .sum();
-    12.0 * (3.0 * v).powf(2.0 / 3.0) / sum
-}
-
-/// The quality the smoothing raises: `min(1 / chi, eta)`, the inverse collapse ratio (8.1) that
-/// the distortion check reads, bounded by the mean ratio so that a sliver (four nearly coplanar
-/// nodes with edges of similar length, `chi` near 1 but no volume) is also poor. 1 for the
-/// regular tetrahedron; -1 when inverted.
-pub(super) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
-    let eta = mean_ratio(x);
-    if eta < 0.0 {
-        return eta;
-    }
-    let (chi, altitude) = super::distortion::edge_and_altitude_ratios(x);
-    eta.min(1.0 / chi).min(1.0 / altitude)
-}
-
-/// `shape_quality(x).min(cap)`, bit for bit, without the power of the mean ratio where the
-/// cube of the comparison already shows it above the rest: `eta >= b` is
-/// `1728 (3V)^2 >= (b sum l^2)^3`, taken here with a margin of 1e-9 (far above the round-off of
-/// either side). The smoothing asks this for every element around every candidate place, and
-/// the power was a sixth of a nail run's CPU.
-pub(super) fn shape_quality_capped(x: &[Vector3<f64>; 4], cap: f64) -> f64 {
-    let v = signed_volume(x);
-    if !(v > 0.0) {
-        return (-1.0f64).min(cap);
-    }
-    let (chi, altitude) = super::distortion::edge_and_altitude_ratios(x);
-    let bound = (1.0 / chi).min(1.0 / altitude).min(cap);
-    let sum: f64 = TET_EDGES
-        .iter()
-        .map(|[i, j]| (x[*j] - x[*i]).norm_squared())
-        .sum();
-    if bound > 0.0 && 1728.0 * (3.0 * v).powi(2) > (bound * (1.0 + 1e-9) * sum).powi(3) {
-        return bound;
-    }
-    (12.0 * (3.0 * v).powf(2.0 / 3.0) / sum)
-        .min(1.0 / chi)
-        .min(1.0 / altitude)
-        .min(cap)
 }
 
 /// Replaces the elements `region` (indices into `tets`) of the mesh with current coordinates

@@ -62,6 +62,7 @@ mod mesh_check;
 mod mesher;
 mod near_tip;
 mod peel;
+mod quality;
 mod record;
 mod run;
 mod section;
@@ -81,13 +82,14 @@ pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE}
 pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use mesher::{
-    grow_region, mean_ratio, remesh_region, remesh_region_keeping_edges, MesherOptions,
-    RemeshedRegion, COLLAPSE_PASSES, FLIP_PASSES, SMOOTHING_SWEEPS,
+    grow_region, remesh_region, remesh_region_keeping_edges, MesherOptions, RemeshedRegion,
+    COLLAPSE_PASSES, FLIP_PASSES, SMOOTHING_SWEEPS,
 };
 pub use near_tip::{
     measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,
 };
 pub use peel::PeeledElement;
+pub use quality::mean_ratio;
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,

@@ -25,7 +25,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
-use super::mesher::shape_quality;
+use super::quality::shape_quality;
 use crate::mesh::{face_key, TET_FACES};
 
 /// The quality ([`shape_quality`]) below which a boundary element is peeled: a collapse ratio or

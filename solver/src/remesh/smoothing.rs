@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
-use super::mesher::shape_quality_capped;
+use super::quality::shape_quality_capped;
 use crate::contact::geometry::{closest_point_on_triangle, point_triangle_distance};
 use crate::kinematics::signed_volume;
 use crate::mesh::{boundary_faces_of, face_key, TET_FACES};
@@ -111,7 +111,8 @@ fn axis_plane([a, b, c]: &[Vector3<f64>; 3], tolerance: f64) -> Option<usize> {
 
 /// Constrained Laplacian smoothing of the nodes `movable` over the elements `tets` (step 3 of
 /// the method): a move is taken only if it raises the worst quality of the node's elements.
-/// Each node moves only along the axes its flags free (all three inside the region).
+/// Each node moves only along the axes its flags free (all three inside the region); each is
+/// listed once.
 pub(super) fn smooth(
     nodes: &mut [Vector3<f64>],
     tets: &[[u32; 4]],
@@ -178,13 +179,12 @@ pub(super) fn smooth_on_surface(
         .enumerate()
         .map(|(i, &(n, _))| (n, i))
         .collect();
+    debug_assert_eq!(index.len(), movable.len(), "a movable node is listed twice");
     let mut stale = vec![true; movable.len()];
-    // A node listed twice is looked at twice a sweep, as before.
-    let skip = index.len() == movable.len();
     for _ in 0..sweeps {
         let mut moved = false;
         for (i, &(n, free)) in movable.iter().enumerate() {
-            if !std::mem::replace(&mut stale[i], false) && skip {
+            if !std::mem::replace(&mut stale[i], false) {
                 continue;
             }
             let list = &incident[&n];
@@ -427,7 +427,7 @@ pub(super) fn volume_and_boundary_area(nodes: &[Vector3<f64>], tets: &[[u32; 4]]
 
 #[cfg(test)]
 mod tests {
-    use super::super::mesher::{mean_ratio, shape_quality};
+    use super::super::quality::{mean_ratio, shape_quality};
     use super::*;
 
     /// The capped quality is the quality's minimum with the cap, bit for bit, for elements from
