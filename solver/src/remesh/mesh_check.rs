@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use nalgebra::Vector3;
 
 use super::distortion::collapse_ratio;
+use super::fragments::{loose_fragments, shares_a_node};
 use super::mesher::RemeshedRegion;
 use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
@@ -198,6 +199,40 @@ pub fn check_remeshed(
         return Err(fail(format!(
             "face {face:?} is held by {} elements: not conforming",
             count[&face]
+        )));
+    }
+    // No new element hangs on the body by nodes or edges only, in a loose fragment
+    // (`fragments.rs`): a node one held looked like a surface node to it and an inner node to
+    // the rest (nail run, 143 us).
+    let first = new.first_region_element;
+    let mut holders: HashMap<[u32; 3], Vec<usize>> = new.tets[first..]
+        .iter()
+        .flat_map(|tet| TET_FACES.map(|f| (face_key(f.map(|i| tet[i])), Vec::new())))
+        .collect();
+    for (e, tet) in new.tets.iter().enumerate() {
+        for f in TET_FACES {
+            if let Some(list) = holders.get_mut(&face_key(f.map(|i| tet[i]))) {
+                list.push(e);
+            }
+        }
+    }
+    let candidates: Vec<usize> = (first..new.tets.len()).collect();
+    let mut face_neighbours = |e: usize| -> Vec<usize> {
+        TET_FACES
+            .iter()
+            .flat_map(|f| &holders[&face_key(f.map(|i| new.tets[e][i]))])
+            .copied()
+            .filter(|&o| o != e)
+            .collect()
+    };
+    let mut uses = vec![0usize; xn.len()];
+    for n in new.tets.iter().flatten() {
+        uses[*n as usize] += 1;
+    }
+    let hangs = |piece: &[usize]| shares_a_node(&new.tets, piece, &|n| uses[n as usize]);
+    if let Some(piece) = loose_fragments(&candidates, &mut face_neighbours, &hangs).first() {
+        return Err(fail(format!(
+            "new elements {piece:?} hang on the body by nodes or edges only (a loose fragment)"
         )));
     }
     let region_faces: std::collections::HashSet<[u32; 3]> = region

@@ -56,6 +56,7 @@ mod collapse;
 mod contact_surface;
 mod distortion;
 mod flip;
+mod fragments;
 mod locate;
 mod mass_scaling;
 mod mesh_check;

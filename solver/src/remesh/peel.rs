@@ -21,10 +21,11 @@
 //! one edge lies on the other part, and the nail run stalled on them (at 41.1 us without
 //! erosion of such membranes, with the stable step at 3.5e-11 s).
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use nalgebra::Vector3;
 
+use super::fragments::{loose_fragments, shares_a_node};
 use super::quality::shape_quality;
 use crate::mesh::{face_key, TET_FACES};
 
@@ -130,7 +131,8 @@ fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> boo
 /// element), whose other faces are held by region elements and whose removal leaves the
 /// boundary a manifold ([`keeps_manifold`]), repeatedly up to `passes` times: a layer of
 /// collapsed elements on the surface is peeled from the outside in. With `erode`, every
-/// collapsed element whose faces are held by region elements or none goes (module's erosion).
+/// collapsed element whose faces are held by region elements or none goes (module's erosion),
+/// and then every loose fragment of region elements it left ([`loose_fragments`]).
 /// Returns the kept elements' indices and the peeled elements, in the order removed.
 /// Deterministic.
 pub(super) fn peel_boundary_slivers(
@@ -209,7 +211,60 @@ pub(super) fn peel_boundary_slivers(
             break;
         }
     }
+    if erode {
+        erode_loose_fragments(nodes, tets, first, &holders, &mut alive, &mut peeled);
+    }
     ((0..tets.len()).filter(|&e| alive[e]).collect(), peeled)
+}
+
+/// Erodes every loose fragment ([`loose_fragments`]) of alive region elements (`k >= first`),
+/// adding them to `peeled`: erosion leaves them hanging on the body by nodes or edges.
+fn erode_loose_fragments(
+    nodes: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    first: usize,
+    holders: &HashMap<[u32; 3], Vec<usize>>,
+    alive: &mut [bool],
+    peeled: &mut Vec<PeeledElement>,
+) {
+    let candidates: Vec<usize> = (first..tets.len()).filter(|&e| alive[e]).collect();
+    let fragments = {
+        let alive = &*alive;
+        let mut face_neighbours = |e: usize| -> Vec<usize> {
+            TET_FACES
+                .iter()
+                .flat_map(|f| &holders[&face_key(f.map(|i| tets[e][i]))])
+                .copied()
+                .filter(|&o| o != e && alive[o])
+                .collect()
+        };
+        // Every element holding a node of a region element holds a face in `holders`.
+        let mut uses: HashMap<u32, usize> = HashMap::new();
+        let mut counted: HashSet<usize> = HashSet::new();
+        for list in holders.values() {
+            for &e in list {
+                if alive[e] && counted.insert(e) {
+                    for n in tets[e] {
+                        *uses.entry(n).or_default() += 1;
+                    }
+                }
+            }
+        }
+        let hangs = |piece: &[usize]| shares_a_node(tets, piece, &|n| uses[&n]);
+        loose_fragments(&candidates, &mut face_neighbours, &hangs)
+    };
+    // Each element's faces are outer but for those it shares with the fragment's elements not
+    // yet gone.
+    for e in fragments.into_iter().flatten() {
+        let tet = tets[e];
+        let outer = TET_FACES.map(|f| {
+            holders[&face_key(f.map(|i| tet[i]))]
+                .iter()
+                .all(|&o| o == e || !alive[o])
+        });
+        alive[e] = false;
+        peeled.push((tet.map(|n| nodes[n as usize]), outer));
+    }
 }
 
 #[cfg(test)]
@@ -482,5 +537,54 @@ mod tests {
         let left: Vec<[u32; 4]> = kept.iter().map(|&k| mesh.tets[k]).collect();
         assert_eq!(left.len() + peeled.len(), mesh.tets.len());
         assert!(boundary_edge_uses(&left).values().all(|&c| c % 2 == 0));
+    }
+
+    #[test]
+    fn erosion_takes_the_element_it_leaves_hanging_by_an_edge() {
+        // On a face a b c of the box's top, a flat element a b c p (p just above the face's
+        // centre), and on its face a b p a well-shaped element a b p q: once the flat one erodes,
+        // that one hangs on the box by the edge a-b (a loose fragment) and goes too, its four
+        // faces all outer; the box stays whole.
+        let mesh = unit_box();
+        let mut x = mesh.nodes.clone();
+        let top = *mesh
+            .tets
+            .iter()
+            .find(|t| {
+                t.iter()
+                    .filter(|&&n| (x[n as usize].z - 1.0).abs() < 1e-9)
+                    .count()
+                    == 3
+            })
+            .unwrap();
+        let [a, b, c] = {
+            let on: Vec<u32> = top
+                .iter()
+                .copied()
+                .filter(|&n| (x[n as usize].z - 1.0).abs() < 1e-9)
+                .collect();
+            [on[0], on[1], on[2]]
+        };
+        let centre = (x[a as usize] + x[b as usize] + x[c as usize]) / 3.0;
+        x.push(centre + Vector3::new(0.0, 0.0, 0.01));
+        x.push(0.5 * (x[a as usize] + x[b as usize]) + Vector3::new(0.0, 0.0, 0.3));
+        let (p, q) = (x.len() as u32 - 2, x.len() as u32 - 1);
+        let mut tets = mesh.tets.clone();
+        tets.push(oriented(&x, [a, b, c, p]));
+        tets.push(oriented(&x, [a, b, p, q]));
+        let n = mesh.tets.len();
+        assert!(shape_quality(&tets[n].map(|k| x[k as usize])) < PEEL_QUALITY);
+        assert!(shape_quality(&tets[n + 1].map(|k| x[k as usize])) > PEEL_QUALITY);
+        let (kept, peeled) = peel_boundary_slivers(&x, &tets, 0, 10, true);
+        assert_eq!(kept, (0..n).collect::<Vec<_>>());
+        assert_eq!(peeled.len(), 2);
+        assert_eq!(peeled[1], (tets[n + 1].map(|k| x[k as usize]), [true; 4]));
+        // The well-shaped element with the box but not the flat one: joined by a face, it stays.
+        let joined = [&mesh.tets[..], &[oriented(&x, [a, b, c, q])]].concat();
+        let (kept, _) = peel_boundary_slivers(&x, &joined, 0, 10, true);
+        assert_eq!(kept.len(), n + 1);
+        // Alone, it is a body of its own, not a fragment.
+        let (kept, _) = peel_boundary_slivers(&x, &tets[n + 1..], 0, 10, true);
+        assert_eq!(kept, vec![0]);
     }
 }
