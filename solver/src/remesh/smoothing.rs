@@ -225,11 +225,12 @@ pub(super) fn smooth_on_surface(
                 let candidate =
                     Vector3::from_fn(|k, _| if free[k] { candidate[k] } else { current[k] });
                 nodes[n as usize] = candidate;
-                if !slide.within(n, nodes) {
-                    continue;
-                }
+                // The quality first: it rejects most candidates after an element or two, and
+                // the surface's deviation is asked only of those it would take.
                 if let Some(q) = worst_above(nodes, list, best.0) {
-                    best = (q, candidate);
+                    if slide.within(n, nodes) {
+                        best = (q, candidate);
+                    }
                 }
             }
             nodes[n as usize] = best.1;
