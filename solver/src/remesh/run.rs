@@ -55,8 +55,8 @@ pub struct RemeshSettings {
     /// Whether the elements the remesher leaves collapsed may be eroded wherever they are,
     /// whatever the surface's shape after (the body's mass kept), not only peeled from the
     /// surface where it stays a manifold; a triggered remeshing then takes every element past
-    /// the limit that has changed since the last remeshing left it
-    /// ([`RemeshPolicy::offer_threshold`]). See [`MesherOptions::erode`].
+    /// the limit. See
+    /// [`MesherOptions::erode`].
     #[serde(default)]
     pub erode: bool,
     /// Largest number of remeshings.
@@ -216,15 +216,10 @@ impl RemeshPolicy {
     }
 
     /// The elements to remesh at the current coordinates `x` of `problem`: the body's elements
-    /// `e` whose distortion ([`super::distortion`]) passes `threshold(e)` (the limit, or
-    /// [`Self::threshold_after`]) and whose volume exceeds `min_volume`, grown by `layers`
-    /// within the body; empty when none.
-    pub fn region(
-        &self,
-        problem: &Problem,
-        x: &[Vector3<f64>],
-        threshold: &(dyn Fn(usize) -> f64 + Sync),
-    ) -> Vec<usize> {
+    /// whose distortion ([`super::distortion`]) passes `threshold` (the limit, or
+    /// [`Self::threshold_after`]) and
+    /// whose volume exceeds `min_volume`, grown by `layers` within the body; empty when none.
+    pub fn region(&self, problem: &Problem, x: &[Vector3<f64>], threshold: f64) -> Vec<usize> {
         let m = &problem.model;
         let Some(body) = m.bodies.get(self.body) else {
             return Vec::new();
@@ -236,7 +231,7 @@ impl RemeshPolicy {
             .into_par_iter()
             .filter(|&e| {
                 let corners = m.tets[e].map(|n| x[n as usize]);
-                distortion(&corners) > threshold(e)
+                distortion(&corners) > threshold
                     && crate::kinematics::signed_volume(&corners) > self.min_volume
             })
             .collect();
@@ -247,16 +242,6 @@ impl RemeshPolicy {
             .into_iter()
             .filter(|e| body.elements.contains(e))
             .collect()
-    }
-
-    /// The distortion past which an element is offered to a triggered remeshing with erosion:
-    /// the limit, or `regrowth` times the distortion the last remeshing left it with (`left`,
-    /// 0 for an element it left under the limit). An element the remesher could not cure, and
-    /// which has not changed since, would come out of the same remeshing the same way: offering
-    /// every element past the limit remeshed the whole cavity wall each time (8 700 elements a
-    /// remeshing by 140 us in the nail run) to change a few near the nose.
-    pub fn offer_threshold(&self, left: f64) -> f64 {
-        self.collapse_limit.max(self.regrowth * left)
     }
 }
 
@@ -270,21 +255,14 @@ enum Pause {
     TimeStep(f64),
 }
 
-/// The distortion of each element of the model that the last remeshing left past the limit
-/// `limit` of body `body`'s elements, 0 for the others and for other bodies' elements, and the
-/// largest distortion of the body's elements (on the model's reference, which after a
-/// remeshing is the current configuration).
-fn left_distortions(model: &crate::model::Model, body: usize, limit: f64) -> (Vec<f64>, f64) {
-    let mut left = vec![0.0; model.tets.len()];
-    let mut worst = 0.0f64;
-    for e in model.bodies[body].elements.clone() {
-        let d = distortion(&model.tets[e].map(|n| model.reference[n as usize]));
-        worst = worst.max(d);
-        if d > limit {
-            left[e] = d;
-        }
-    }
-    (left, worst)
+/// The largest distortion of the elements of body `body` (on the model's reference, which after
+/// a remeshing is the current configuration).
+fn worst_distortion(model: &crate::model::Model, body: usize) -> f64 {
+    model.bodies[body]
+        .elements
+        .clone()
+        .map(|e| distortion(&model.tets[e].map(|n| model.reference[n as usize])))
+        .fold(0.0, f64::max)
 }
 
 /// A run with remeshing: its summary (as [`ExplicitSolver::run_with`]'s, over the whole run),
@@ -349,8 +327,6 @@ pub fn run_remeshing_watched(
     let mut records: Vec<RemeshRecord> = Vec::new();
     let every = policy.check_every.max(1);
     let mut threshold = policy.collapse_limit;
-    // What the last remeshing left past the limit, element by element (none before the first).
-    let mut left = vec![0.0; problem.model.tets.len()];
     // The time step: the settings' own, or `safety` times the stable limit, shrunk where the
     // current limit falls (elements flattened under a penetrator): when the step passes
     // halfway from `safety` to 1 times the current limit, the run pauses and goes on with
@@ -382,14 +358,14 @@ pub fn run_remeshing_watched(
                 let m = &problem.model;
                 let x: Vec<Vector3<f64>> =
                     m.reference.iter().zip(&s.u).map(|(x, u)| x + u).collect();
-                let region = policy.region(problem, &x, &|_| threshold);
+                let region = policy.region(problem, &x, threshold);
                 if !region.is_empty() {
-                    // With erosion, every element past its offer threshold is offered to the
-                    // remesher (the regrowth threshold only decides when): one the last
-                    // remeshing left collapsed, below the threshold, would otherwise stay
-                    // outside the region and never be reshaped or eroded once it changes.
+                    // With erosion, every element past the limit is offered to the remesher
+                    // (the regrowth threshold only decides when): one the last remeshing left
+                    // collapsed, below the threshold, would otherwise stay outside the region
+                    // and never be reshaped or eroded.
                     pause = Pause::Remesh(if policy.mesher.erode {
-                        policy.region(problem, &x, &|e| policy.offer_threshold(left[e]))
+                        policy.region(problem, &x, policy.collapse_limit)
                     } else {
                         region
                     });
@@ -442,10 +418,7 @@ pub fn run_remeshing_watched(
                 return Err(e);
             }
         };
-        let worst;
-        (left, worst) =
-            left_distortions(&remeshed.problem.model, policy.body, policy.collapse_limit);
-        threshold = policy.threshold_after(worst);
+        threshold = policy.threshold_after(worst_distortion(&remeshed.problem.model, policy.body));
         on_remesh(&remeshed.record);
         records.push(remeshed.record);
         owned = Some(remeshed.problem);
@@ -472,20 +445,4 @@ pub fn run_remeshing_watched(
         state: last_state,
         records,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn an_element_left_past_the_limit_is_offered_again_only_once_it_grows() {
-        let policy = RemeshPolicy::new(0);
-        // Left under the limit (or never remeshed): offered past the limit.
-        assert_eq!(policy.offer_threshold(0.0), policy.collapse_limit);
-        // Left at 16: offered past 20, as the run's trigger would be with it the worst.
-        assert_eq!(policy.offer_threshold(16.0), policy.regrowth * 16.0);
-        assert_eq!(policy.offer_threshold(16.0), policy.threshold_after(16.0));
-        assert!(policy.offer_threshold(16.0) > 16.0);
-    }
 }
