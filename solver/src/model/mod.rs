@@ -297,11 +297,13 @@ impl Model {
 
     /// Critical time step `dt_cr = min_e L_e / c_e` with `L_e` the smallest altitude and `c_e`
     /// the dilatational wave speed (FORMULATION 2), and the element that sets it. An element
-    /// whose density mass scaling raised by `s_e` ([`Self::mass_scale`]) has `c_e / sqrt(s_e)`.
+    /// whose density mass scaling raised by `s_e` ([`Self::mass_scale`]) has `c_e / sqrt(s_e)`;
+    /// one lighter than its material's density has its own wave speed
+    /// ([`Self::stable_length`]).
     pub fn critical_time_step(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
         for (e, &l) in self.min_altitude.iter().enumerate() {
-            let dt = self.scaled_length(e, l)
+            let dt = self.stable_length(e, l, self.volume[e])
                 / self.material_of(e).constants().dilatational_wave_speed();
             if dt < best.0 {
                 best = (dt, e);
@@ -311,8 +313,9 @@ impl Model {
     }
 
     /// The stable limit in the configuration `X + u` (s) and the element that sets it: the
-    /// smallest current altitude over the dilatational wave speed. Elements that a penetrator
-    /// flattens bring it down well below [`Self::critical_time_step`] of the reference.
+    /// smallest current altitude over the dilatational wave speed at the element's current
+    /// density. Elements that a penetrator flattens, and the dilated ones a remeshing leaves
+    /// light, bring it down well below [`Self::critical_time_step`] of the reference.
     pub fn current_critical_time_step(&self, u: &[Vector3<f64>]) -> (f64, usize) {
         use rayon::prelude::*;
         // Per element in parallel (a remeshing run asks every few steps), then the first
@@ -321,8 +324,9 @@ impl Model {
             .into_par_iter()
             .map(|e| {
                 let x = self.tets[e].map(|n| self.reference[n as usize] + u[n as usize]);
-                let l = crate::mesh::element_quality(&x).min_altitude;
-                self.scaled_length(e, l) / self.material_of(e).constants().dilatational_wave_speed()
+                let q = crate::mesh::element_quality(&x);
+                self.stable_length(e, q.min_altitude, q.volume)
+                    / self.material_of(e).constants().dilatational_wave_speed()
             })
             .collect();
         let mut best = (f64::INFINITY, 0);
@@ -334,13 +338,31 @@ impl Model {
         best
     }
 
-    /// The length `l sqrt(s_e)` that sets element `e`'s stable step with its mass scale `s_e`
-    /// (`l` itself where nothing is scaled, bitwise).
+    /// The length `l sqrt(s_e r_e)` that sets element `e`'s stable step `l sqrt(s_e r_e) / c`,
+    /// with `c` its material's nominal wave speed, `s_e` its mass scale and
+    /// `r_e = min(1, m_e / (rho_0 v))` ([`light_density_ratio`]) at the element's `volume`
+    /// `v` (`l` itself where both are 1, bitwise).
+    ///
+    /// The wave speed `sqrt(M / rho)` is taken at the element's current density `m_e / v`
+    /// (Belytschko, Liu & Moran 2000, sec. 6.3: the element's eigenvalue bound in the current
+    /// configuration). A remeshing gives a new element its parent's current density
+    /// (`crate::remesh`), and the concrete the nail tears open at the cavity wall has dilated
+    /// to a hundredth of `rho_0`: its step is a tenth of the nominal estimate, and a step
+    /// between the two throws its nodes (issue 21). A denser element keeps the nominal
+    /// estimate: compacted concrete stiffens, so its speed is not taken to fall.
     #[inline]
-    fn scaled_length(&self, e: usize, l: f64) -> f64 {
-        match &self.mass_scale {
-            Some(s) if s[e] != 1.0 => l * s[e].sqrt(),
-            _ => l,
+    fn stable_length(&self, e: usize, l: f64, volume: f64) -> f64 {
+        let scale = self.mass_scale.as_ref().map_or(1.0, |s| s[e]);
+        let rho_0 = self.material_of(e).constants().density;
+        let mass = match &self.carried {
+            Some(c) => c.element_mass[e],
+            None => rho_0 * self.volume[e],
+        };
+        let factor = scale * light_density_ratio(mass, rho_0, volume);
+        if factor == 1.0 {
+            l
+        } else {
+            l * factor.sqrt()
         }
     }
 
@@ -535,5 +557,17 @@ impl Model {
             + per_node * self.node_count()
             + self.assembler.heap_bytes()) as f64
             / self.element_count().max(1) as f64
+    }
+}
+
+/// `min(1, m / (rho_0 v))`: the density of an element of mass `m` and volume `v` over its
+/// material's `rho_0`, where it is lighter (1 otherwise, exactly when `m = rho_0 v`).
+/// It scales the element's stable step by its square root ([`Model::critical_time_step`]).
+pub fn light_density_ratio(mass: f64, rho_0: f64, volume: f64) -> f64 {
+    let reference = rho_0 * volume;
+    if mass < reference {
+        mass / reference
+    } else {
+        1.0
     }
 }

@@ -27,8 +27,8 @@ use crate::kinematics::signed_volume;
 use crate::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
-    BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialHistory, MaterialSource, Model,
-    Probe, Problem,
+    light_density_ratio, BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialHistory,
+    MaterialSource, Model, Probe, Problem,
 };
 
 /// What [`remesh_problem`] returns: the problem and state the run goes on with, the record of
@@ -382,9 +382,15 @@ pub fn remesh_problem(
             body_mass[n as usize] += 0.25 * m;
         }
     }
+    let rho_0 = body.material.constants().density;
+    let lightness: Vec<f64> = (element_mass[splice.new_elements()].iter())
+        .zip(&new_volumes)
+        .map(|(&m, &v)| light_density_ratio(m, rho_0, v))
+        .collect();
     let body_scale = mass_scale_factors(
         &new.nodes,
         &new.tets,
+        &lightness,
         body.material.constants().dilatational_wave_speed(),
         critical_step,
     );

@@ -2,9 +2,10 @@
 //! stable step falls below a floor, so that the explicit step is not set by a few elements the
 //! remesher leaves thin (issue 21).
 //!
-//! The stable step of element `e` is `dt_e = l_e / c` (FORMULATION 2: `l_e` its smallest
-//! altitude, `c` the dilatational wave speed `sqrt(M / rho)`). Raising the element's density by
-//! a factor `s_e` lowers its wave speed by `sqrt(s_e)`; with
+//! The stable step of element `e` is `dt_e = l_e sqrt(r_e) / c` (FORMULATION 2: `l_e` its
+//! smallest altitude, `c` the dilatational wave speed `sqrt(M / rho_0)`, `r_e <= 1` the
+//! element's density over `rho_0` where it is lighter, `crate::model::light_density_ratio`).
+//! Raising the element's density by a factor `s_e` lowers its wave speed by `sqrt(s_e)`; with
 //!
 //! `s_e = max(1, (dt_min / dt_e)^2)`
 //!
@@ -25,11 +26,13 @@ use nalgebra::Vector3;
 use crate::mesh::element_quality;
 
 /// The density factor `s_e >= 1` of each element of `tets` over `nodes` that brings its stable
-/// step `l_e / wave_speed` up to `critical_step` (s); 1 for an element already at or above it,
-/// and for every element when `critical_step` is 0.
+/// step `l_e sqrt(r_e) / wave_speed` up to `critical_step` (s), with `r_e` the element's entry
+/// of `light_density_ratio`; 1 for an element already at or above it, and for every element
+/// when `critical_step` is 0.
 pub fn mass_scale_factors(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
+    light_density_ratio: &[f64],
     wave_speed: f64,
     critical_step: f64,
 ) -> Vec<f64> {
@@ -37,9 +40,10 @@ pub fn mass_scale_factors(
         return vec![1.0; tets.len()];
     }
     tets.iter()
-        .map(|tet| {
+        .zip(light_density_ratio)
+        .map(|(tet, r)| {
             let l = element_quality(&tet.map(|n| nodes[n as usize])).min_altitude;
-            let dt = l / wave_speed;
+            let dt = l * r.sqrt() / wave_speed;
             if dt < critical_step {
                 (critical_step / dt).powi(2)
             } else {
@@ -95,7 +99,7 @@ mod tests {
         let l_regular = (2.0f64 / 3.0).sqrt();
         // A floor between the two elements' steps: only the flat one is scaled.
         let floor = 0.5 * l_regular / c;
-        let s = mass_scale_factors(&nodes, &tets, c, floor);
+        let s = mass_scale_factors(&nodes, &tets, &[1.0, 1.0], c, floor);
         assert_eq!(s[0], 1.0);
         let l_flat = element_quality(&tets[1].map(|n| nodes[n as usize])).min_altitude;
         assert!(l_flat < 0.011 && l_flat > 0.009, "{l_flat}");
@@ -106,7 +110,10 @@ mod tests {
             "{scaled_step} {floor}"
         );
         // No floor: nothing is scaled.
-        assert_eq!(mass_scale_factors(&nodes, &tets, c, 0.0), vec![1.0, 1.0]);
+        assert_eq!(
+            mass_scale_factors(&nodes, &tets, &[1.0, 1.0], c, 0.0),
+            vec![1.0, 1.0]
+        );
     }
 
     #[test]
