@@ -142,6 +142,7 @@ fn main() {
         min_edge: remeshing.min_edge,
         surface_deviation: remeshing.surface_deviation,
         erode: remeshing.erode,
+        erode_stretch: remeshing.erode_stretch,
         ..MesherOptions::default()
     };
     let subdivision = MesherOptions {
@@ -151,6 +152,7 @@ fn main() {
         min_edge: remeshing.min_edge,
         surface_deviation: 0.0,
         erode: false,
+        erode_stretch: 0.0,
     };
     go("none", &problem, &settings, state.clone());
     let at_tip = tip + Vector3::new(0.2e-3, -0.3e-3, 0.2e-3);

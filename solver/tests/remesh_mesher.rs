@@ -151,6 +151,7 @@ fn collapsed_element_comes_out_well_shaped_and_conforming() {
         min_edge: 0.0,
         surface_deviation: 0.0,
         erode: false,
+        erode_stretch: 0.0,
     };
     let raw = remesh_region(&mesh.nodes, &mesh.tets, &region, &split).unwrap();
     let raw_check = check_remeshed(&mesh.nodes, &mesh.tets, &region, &raw).unwrap();

@@ -248,8 +248,33 @@ pub fn remesh_problem(
         let mid = 0.5 * (x[a as usize] + x[c as usize]);
         partners.iter().any(|(_, l)| l.holds_strictly(&mid))
     };
-    let mut new =
-        remesh_region_keeping_edges(x, &local_tets, &local_region, options, &inside_partner)?;
+    let locator = Locator::new(x, &local_tets)?;
+    // Failed material (`MesherOptions::erode_stretch`): the old elements whose carried
+    // deformation stretches past the limit; a region element lying in one is eroded.
+    let torn: Vec<bool> = if options.erode && options.erode_stretch > 0.0 {
+        elements
+            .clone()
+            .map(|e| {
+                largest_stretch(&model.deformation_gradient(e, &state.u)) > options.erode_stretch
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let failed = |corners: &[Vector3<f64>; 4]| {
+        !torn.is_empty() && {
+            let c = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+            torn[locator.locate(&c).element]
+        }
+    };
+    let mut new = remesh_region_keeping_edges(
+        x,
+        &local_tets,
+        &local_region,
+        options,
+        &inside_partner,
+        &failed,
+    )?;
     let mut on_boundary = vec![false; new.nodes.len()];
     for f in boundary_faces_of(&new.tets) {
         for n in f.nodes {
@@ -276,7 +301,6 @@ pub fn remesh_problem(
     // node smoothed next to it may follow: such a node lies that far outside the old mesh at
     // most, and takes the fields of the nearest old element, extrapolated over that distance
     // (1.2 um in the nail run at 63 us, where this stopped the run).
-    let locator = Locator::new(x, &local_tets)?;
     let outside = (1e-9 * size).max(options.surface_deviation);
     let locations = locator.locate_remeshed_nodes(&local_tets, &new, outside)?;
     // The old element each new one lies in (its centroid's): the parent of a refined element.
@@ -588,4 +612,14 @@ pub fn remesh_problem(
         record,
         check,
     })
+}
+
+/// The largest principal stretch of `f`: the square root of the largest eigenvalue of
+/// `C = F^T F`.
+pub fn largest_stretch(f: &Matrix3<f64>) -> f64 {
+    (f.transpose() * f)
+        .symmetric_eigenvalues()
+        .max()
+        .max(0.0)
+        .sqrt()
 }

@@ -80,7 +80,7 @@ use nalgebra::Vector3;
 
 use super::collapse::{collapse_short_edges, CollapseLimits, Removable};
 use super::flip::flip_slivers;
-use super::peel::{peel_boundary_slivers, PeeledElement};
+use super::peel::{peel_failed_and_slivers, PeeledElement};
 use super::smoothing::{
     boundary_nodes, smooth, smooth_on_surface, volume_and_boundary_area, SurfaceSlide,
 };
@@ -125,6 +125,11 @@ pub struct MesherOptions {
     /// elements (LS-DYNA's `*MAT_ADD_EROSION`), with the body's mass kept. false: only
     /// peeling from the surface, where it stays a manifold.
     pub erode: bool,
+    /// With [`Self::erode`], the largest principal stretch of the carried deformation past
+    /// which a region element is eroded as failed material, whatever its shape (an element
+    /// whose centroid lies in such an old element); 0: none is (only the collapsed ones go).
+    /// The remesher itself knows no deformation: `remesh_problem` asks it through `failed`.
+    pub erode_stretch: f64,
 }
 
 impl Default for MesherOptions {
@@ -136,6 +141,7 @@ impl Default for MesherOptions {
             min_edge: 0.0,
             surface_deviation: 0.0,
             erode: false,
+            erode_stretch: 0.0,
         }
     }
 }
@@ -253,19 +259,22 @@ pub fn remesh_region(
     region: &[usize],
     options: &MesherOptions,
 ) -> Result<RemeshedRegion> {
-    remesh_region_keeping_edges(x, tets, region, options, &|_, _| false)
+    remesh_region_keeping_edges(x, tets, region, options, &|_, _| false, &|_| false)
 }
 
 /// [`remesh_region`] with the edges for which `keep_edge(a, b)` holds left unsplit: a boundary
 /// edge whose midpoint would lie inside a contact partner (a chord of the cavity around a
 /// penetrator's curved nose, whose midpoint lies inside the nose by the sagitta `L^2 / 8R`:
-/// 46 um under the nail's tip, where moving such nodes out inverted an element).
+/// 46 um under the nail's tip, where moving such nodes out inverted an element). With
+/// [`MesherOptions::erode`], a region element at whose corners `failed` holds is eroded in
+/// step 6 as a collapsed one is (failed material, [`MesherOptions::erode_stretch`]).
 pub fn remesh_region_keeping_edges(
     x: &[Vector3<f64>],
     tets: &[[u32; 4]],
     region: &[usize],
     options: &MesherOptions,
     keep_edge: &dyn Fn(u32, u32) -> bool,
+    failed: &dyn Fn(&[Vector3<f64>; 4]) -> bool,
 ) -> Result<RemeshedRegion> {
     let region: Vec<usize> = region
         .iter()
@@ -579,12 +588,13 @@ pub fn remesh_region_keeping_edges(
         }
         // A region element copied unchanged may be peeled too: an unsplit one (its edges too
         // short, or kept where a contact partner lies across them) is as collapsed as it came.
-        let (kept, removed) = peel_boundary_slivers(
+        let (kept, removed) = peel_failed_and_slivers(
             &nodes,
             &out_tets,
             first_region_element,
             options.flip_passes,
             options.erode,
+            failed,
         );
         if !removed.is_empty() {
             out_tets = kept.iter().map(|&e| out_tets[e]).collect();

@@ -135,12 +135,27 @@ fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> boo
 /// and then every loose fragment of region elements it left ([`loose_fragments`]).
 /// Returns the kept elements' indices and the peeled elements, in the order removed.
 /// Deterministic.
+#[cfg(test)]
 pub(super) fn peel_boundary_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     first: usize,
     passes: usize,
     erode: bool,
+) -> (Vec<usize>, Vec<PeeledElement>) {
+    peel_failed_and_slivers(nodes, tets, first, passes, erode, &|_| false)
+}
+
+/// [`peel_boundary_slivers`], where with `erode` a region element at whose corners `failed`
+/// holds is taken as a collapsed one is, whatever its shape (failed material:
+/// `MesherOptions::erode_stretch`).
+pub(super) fn peel_failed_and_slivers(
+    nodes: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    first: usize,
+    passes: usize,
+    erode: bool,
+    failed: &dyn Fn(&[Vector3<f64>; 4]) -> bool,
 ) -> (Vec<usize>, Vec<PeeledElement>) {
     // Only faces with a node of the region are ever asked about (the region's faces, and the
     // boundary faces around its nodes), and every element holding one has that node: the
@@ -179,7 +194,8 @@ pub(super) fn peel_boundary_slivers(
                 continue;
             }
             let tet = tets[e];
-            if shape_quality(&tet.map(|n| nodes[n as usize])) >= PEEL_QUALITY {
+            let corners = tet.map(|n| nodes[n as usize]);
+            if shape_quality(&corners) >= PEEL_QUALITY && !(erode && failed(&corners)) {
                 continue;
             }
             let mut outer = [false; 4];
@@ -536,6 +552,34 @@ mod tests {
         }
         let left: Vec<[u32; 4]> = kept.iter().map(|&k| mesh.tets[k]).collect();
         assert_eq!(left.len() + peeled.len(), mesh.tets.len());
+        assert!(boundary_edge_uses(&left).values().all(|&c| c % 2 == 0));
+    }
+
+    #[test]
+    fn erosion_takes_a_well_shaped_element_of_failed_material_and_peeling_does_not() {
+        let mesh = unit_box();
+        let x = mesh.nodes.clone();
+        let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
+        // An inner element, undistorted: failed material by its centroid.
+        let e = mesh
+            .tets
+            .iter()
+            .position(|t| t.iter().all(|&n| inside(&x[n as usize])))
+            .unwrap();
+        let corners = mesh.tets[e].map(|n| x[n as usize]);
+        assert!(shape_quality(&corners) >= PEEL_QUALITY);
+        let centre = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+        let failed =
+            |c: &[Vector3<f64>; 4]| (0.25 * (c[0] + c[1] + c[2] + c[3]) - centre).norm() < 1e-12;
+        // Without erosion nothing goes; with it, that element and no other well-shaped one.
+        let (kept, peeled) = peel_failed_and_slivers(&x, &mesh.tets, 0, 10, false, &failed);
+        assert!(peeled.is_empty() && kept.len() == mesh.tets.len());
+        let (kept, peeled) = peel_failed_and_slivers(&x, &mesh.tets, 0, 10, true, &failed);
+        assert_eq!(peeled.len(), 1, "{peeled:?}");
+        assert_eq!(peeled[0].0, corners);
+        // An inner element: no face of it was on the surface.
+        assert_eq!(peeled[0].1, [false; 4]);
+        let left: Vec<[u32; 4]> = kept.iter().map(|&k| mesh.tets[k]).collect();
         assert!(boundary_edge_uses(&left).values().all(|&c| c % 2 == 0));
     }
 

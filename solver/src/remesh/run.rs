@@ -59,6 +59,11 @@ pub struct RemeshSettings {
     /// [`MesherOptions::erode`].
     #[serde(default)]
     pub erode: bool,
+    /// With `erode`, the largest principal stretch of an element's carried deformation past
+    /// which it is failed material: a triggered remeshing takes it, and erodes it whatever its
+    /// shape; 0, the default: none. See [`MesherOptions::erode_stretch`].
+    #[serde(default)]
+    pub erode_stretch: f64,
     /// Largest number of remeshings.
     #[serde(default = "default_max_remeshings")]
     pub max_remeshings: usize,
@@ -131,6 +136,15 @@ impl RemeshSettings {
                 ),
             });
         }
+        if !(self.erode_stretch == 0.0 || (self.erode && self.erode_stretch > 1.0)) {
+            return Err(SolverError::InvalidScene {
+                entity: "analysis.explicit.remeshing.erode_stretch".to_string(),
+                message: format!(
+                    "must be 0 (none) or, with `erode: true`, a stretch above 1, got {}",
+                    self.erode_stretch
+                ),
+            });
+        }
         if !(self.mass_scaling_step >= 0.0 && self.mass_scaling_step.is_finite()) {
             return Err(SolverError::InvalidScene {
                 entity: "analysis.explicit.remeshing.mass_scaling_step".to_string(),
@@ -153,6 +167,7 @@ impl RemeshSettings {
                 min_edge: self.min_edge,
                 surface_deviation: self.surface_deviation,
                 erode: self.erode,
+                erode_stretch: self.erode_stretch,
                 ..MesherOptions::default()
             },
         })
@@ -239,6 +254,35 @@ impl RemeshPolicy {
             return distorted;
         }
         grow_region(&m.tets, &distorted, self.layers)
+            .into_iter()
+            .filter(|e| body.elements.contains(e))
+            .collect()
+    }
+}
+
+impl RemeshPolicy {
+    /// The body's elements whose carried deformation stretches past
+    /// [`MesherOptions::erode_stretch`] (failed material), with `layers` layers around them;
+    /// none where it is 0 or erosion is off.
+    pub fn torn(&self, problem: &Problem, u: &[Vector3<f64>]) -> Vec<usize> {
+        let m = &problem.model;
+        let limit = self.mesher.erode_stretch;
+        let Some(body) = m.bodies.get(self.body) else {
+            return Vec::new();
+        };
+        if !(self.mesher.erode && limit > 0.0) {
+            return Vec::new();
+        }
+        let torn: Vec<usize> = body
+            .elements
+            .clone()
+            .into_par_iter()
+            .filter(|&e| super::apply::largest_stretch(&m.deformation_gradient(e, u)) > limit)
+            .collect();
+        if torn.is_empty() {
+            return torn;
+        }
+        grow_region(&m.tets, &torn, self.layers)
             .into_iter()
             .filter(|e| body.elements.contains(e))
             .collect()
@@ -365,7 +409,11 @@ pub fn run_remeshing_watched(
                     // collapsed, below the threshold, would otherwise stay outside the region
                     // and never be reshaped or eroded.
                     pause = Pause::Remesh(if policy.mesher.erode {
-                        policy.region(problem, &x, policy.collapse_limit)
+                        let mut offered = policy.region(problem, &x, policy.collapse_limit);
+                        offered.extend(policy.torn(problem, &s.u));
+                        offered.sort_unstable();
+                        offered.dedup();
+                        offered
                     } else {
                         region
                     });
