@@ -11,6 +11,8 @@ use impact_solver::SolverError;
 use crate::progress::fraction_bar;
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::distributed::Communicator;
+use impact_solver::dynamics::StopWhen;
+use impact_solver::scene::Analysis;
 
 /// Why a scene run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -85,6 +87,14 @@ impl fmt::Display for SceneReport {
     }
 }
 
+/// The explicit run's own end condition, if the analysis has one.
+fn explicit_stop(analysis: &Analysis) -> Option<&StopWhen> {
+    match analysis {
+        Analysis::Explicit(s) | Analysis::Release { explicit: s, .. } => s.stop_when.as_ref(),
+        Analysis::Static(_) => None,
+    }
+}
+
 /// Whether the YAML file at `path` is a catalogue case (top-level `id` and `scene`) rather than a
 /// scene: then `impact-vv scene` runs the case's scene as written (its variants and metrics are
 /// the catalogue's business, `impact-vv run`).
@@ -140,6 +150,12 @@ pub fn run_scene_file(
             s.max_relative_energy_error,
             s.mesh_stability_flags
         ));
+        if let (Some(t), Some(stop)) = (s.stopped_when_at, explicit_stop(&scene.analysis)) {
+            lines.push(format!(
+                "ended at t = {t:.4e} s, the first history row where `{}` reached {}",
+                stop.column, stop.level
+            ));
+        }
         lines.push(format!("time per phase: {}", s.phase_seconds.line()));
         if let Some(share) = run
             .material_history

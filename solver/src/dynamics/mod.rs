@@ -5,6 +5,7 @@ mod energy;
 mod explicit;
 mod report;
 mod settings;
+mod stop_when;
 
 pub use energy::EnergyLedger;
 pub use explicit::{ExplicitSolver, OutputSchedule, RunState, SegmentEnd};
@@ -12,3 +13,4 @@ pub use report::InstabilityReport;
 pub use settings::{
     ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary, Snapshot,
 };
+pub use stop_when::{StopProgress, StopWhen};

@@ -30,6 +30,10 @@ pub struct ExplicitSettings {
     /// Stop after this many steps even if `end_time` is not reached.
     #[serde(default)]
     pub max_steps: Option<usize>,
+    /// End the run, before `end_time`, at the first history row where a column reaches a level
+    /// (the nail's velocity reaching zero: it has stopped); `None` runs to `end_time`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop_when: Option<super::StopWhen>,
     /// Time between history records (s); `None` records about 500 instants.
     #[serde(default)]
     pub history_interval: Option<f64>,
@@ -78,6 +82,7 @@ impl ExplicitSettings {
             allow_unstable_time_step: false,
             damping: 0.0,
             max_steps: None,
+            stop_when: None,
             history_interval: None,
             field_interval: None,
             snapshot_interval: None,
@@ -220,6 +225,9 @@ pub struct RunSummary {
     pub snapshots: Vec<Snapshot>,
     /// Every file the observers wrote, in the order written.
     pub written: Vec<PathBuf>,
+    /// The time of the history row at which the run's `stop_when` column reached its level
+    /// (the run ended there); `None` for a run to its end time.
+    pub stopped_when_at: Option<f64>,
 }
 
 /// The displacement of every node, and the crack opening of every element, at one instant of a

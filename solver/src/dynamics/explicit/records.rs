@@ -40,7 +40,19 @@ impl<'p> ExplicitSolver<'p> {
                     .collect::<Vec<_>>()
                     .join(", ")
             },
-        ) + &self.history_plan()
+        ) + &self.stop_plan()
+            + &self.history_plan()
+    }
+
+    /// The run's own end before its end time (empty without `stop_when`).
+    fn stop_plan(&self) -> String {
+        match &self.settings.stop_when {
+            Some(stop) => format!(
+                "; the run ends earlier at the first history row where `{}` reaches {}",
+                stop.column, stop.level
+            ),
+            None => String::new(),
+        }
     }
 
     /// The bodies with history, their element sizes and the memory the history takes (empty

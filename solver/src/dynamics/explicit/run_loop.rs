@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use super::ExplicitSolver;
-use crate::dynamics::RunSummary;
+use crate::dynamics::{RunSummary, StopProgress};
 use crate::error::Result;
 use crate::output::{HistoryTable, ObserverSet, Recorder, RunObserver, SnapshotView};
 
@@ -31,6 +31,7 @@ pub struct OutputSchedule {
     max_abs_error: f64,
     flags: usize,
     steps: usize,
+    stop: StopProgress,
 }
 
 impl OutputSchedule {
@@ -92,6 +93,7 @@ impl<'p> ExplicitSolver<'p> {
                 .unwrap_or_else(|| HistoryTable::new(Vec::new())),
             snapshots: recorder.snapshots,
             written,
+            stopped_when_at: schedule.stop.reached_at(),
         }
     }
 
@@ -114,9 +116,13 @@ impl<'p> ExplicitSolver<'p> {
         let wants_fields = self.on_any_rank(set.wants_fields());
         let progress_every = (steps / 100).max(1);
         let resumed = self.step_origin > 0;
+        let stop_when = match &self.settings.stop_when {
+            Some(stop) => Some((stop.clone(), stop.column_index(&self.history_columns())?)),
+            None => None,
+        };
 
         for n in 0..=steps {
-            let last = n == steps;
+            let mut last = n == steps;
             let first = schedule.steps == 0;
             match self.advance() {
                 Ok(moved_too_far) => schedule.flags += moved_too_far as usize,
@@ -140,8 +146,19 @@ impl<'p> ExplicitSolver<'p> {
                 return Err(self.stop((reason, element), set));
             }
             if first || n == 0 || last || self.time >= schedule.next_history - 1e-9 * self.dt {
-                set.history_row(&self.history_row(&e))?;
+                let row = self.history_row(&e);
+                set.history_row(&row)?;
                 schedule.next_history += history_interval;
+                // A row that reaches the stop level makes this step the run's last: its field
+                // frame and snapshot are written as at the end time.
+                // Rank 0's row is the one written: its answer ends the run on every rank.
+                if let Some((stop, column)) = &stop_when {
+                    let mine = schedule.stop.reached(stop, row[*column]) && self.rank().0 == 0;
+                    if self.on_any_rank(mine) {
+                        schedule.stop.end(self.time);
+                        last = true;
+                    }
+                }
             }
             if wants_fields {
                 let due = match self.settings.field_interval {
