@@ -251,7 +251,7 @@ fn the_remeshing_csv_reads_by_its_header_and_bad_files_are_errors() {
     fs::write(
         &path,
         format!(
-            "{REMESHING_CSV_HEADER}\n1e-5,10,20,12.5,4,3,2.5,1,NaN,0.25,1e-9,2e-8,0,0e0,22.5,9.9,7,3,2.5e-6,0,12\n"
+            "{REMESHING_CSV_HEADER}\n1e-5,10,20,12.5,4,3,2.5,1,NaN,0.25,1e-9,2e-8,0,0e0,22.5,9.9,7,3,2.5e-6,0,12,0.125,1.05\n"
         ),
     )
     .unwrap();
@@ -264,6 +264,7 @@ fn the_remeshing_csv_reads_by_its_header_and_bad_files_are_errors() {
     assert!(r.stored_jump.is_nan());
     assert_eq!((r.total_energy_jump, r.momentum_jump), (0.25, 1e-9));
     assert_eq!(r.added_mass, 2.5e-6);
+    assert_eq!(r.kinetic_restored, 0.125);
 
     fs::write(&path, "time,elements\n1,2\n").unwrap();
     let e = read_remeshings(&path).unwrap_err();

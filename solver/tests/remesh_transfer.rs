@@ -474,6 +474,8 @@ fn record_of_a_uniform_state_shows_no_jump() {
         surface_volume_change: 0.0,
         added_mass: 0.0,
         peeled_volume: 0.0,
+        kinetic_restored: 0.0,
+        fluctuation_scale: 1.0,
     };
     println!("{}", record.summary());
     assert_eq!(record.before.elements, old.tets.len());

@@ -38,6 +38,10 @@ pub struct RemeshRow {
     /// Mass that selective mass scaling put on the new mesh's nodes (kg; 0 without it).
     #[serde(default, deserialize_with = "crate::results::lenient::f64")]
     pub added_mass: f64,
+    /// The kinetic energy the velocity transfer lost and the region's nodes were given back
+    /// (J; already in the jumps).
+    #[serde(default, deserialize_with = "crate::results::lenient::f64")]
+    pub kinetic_restored: f64,
 }
 
 /// The stress near the tip at one state (a row of `<stem>_near_tip.csv`; see
@@ -138,6 +142,7 @@ pub fn read_remeshings(path: &Path) -> Result<Vec<RemeshRow>, String> {
             total_energy_jump: r[c("total_energy_jump")],
             momentum_jump: r[c("momentum_jump")],
             added_mass: r[c("added_mass")],
+            kinetic_restored: r[c("kinetic_restored")],
         })
         .collect())
 }

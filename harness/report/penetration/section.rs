@@ -247,6 +247,7 @@ fn remeshing_table(rows: &[RemeshRow]) -> String {
                 number(r.total_energy_jump),
                 number(r.momentum_jump),
                 number(r.added_mass),
+                number(r.kinetic_restored),
             ])
         })
         .collect();
@@ -261,6 +262,7 @@ fn remeshing_table(rows: &[RemeshRow]) -> String {
             "total energy jump (J)",
             "|momentum jump| (kg m/s)",
             "added mass (kg)",
+            "kinetic energy given back (J)",
         ]),
         &body,
     )

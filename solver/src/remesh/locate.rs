@@ -248,10 +248,15 @@ impl CentroidSearch {
     }
 }
 
+/// The centroid of a tetrahedron's four corners.
+pub fn centroid(corners: &[Vector3<f64>; 4]) -> Vector3<f64> {
+    corners.iter().sum::<Vector3<f64>>() / 4.0
+}
+
 /// The centroid `(x_0 + x_1 + x_2 + x_3) / 4` of every element of `tets` over `nodes` (m).
 pub fn centroids(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> Vec<Vector3<f64>> {
     tets.iter()
-        .map(|t| t.iter().map(|&n| nodes[n as usize]).sum::<Vector3<f64>>() / 4.0)
+        .map(|t| centroid(&t.map(|n| nodes[n as usize])))
         .collect()
 }
 

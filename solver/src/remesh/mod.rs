@@ -57,6 +57,7 @@ mod contact_surface;
 mod distortion;
 mod flip;
 mod fragments;
+mod kinetic_energy;
 mod locate;
 mod mass_scaling;
 mod mesh_check;

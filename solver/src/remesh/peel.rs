@@ -287,6 +287,7 @@ fn erode_loose_fragments(
 mod tests {
     use super::*;
     use crate::kinematics::signed_volume;
+    use crate::remesh::locate::centroid;
 
     /// `t` positively oriented over `x`.
     fn oriented(x: &[Vector3<f64>], mut t: [u32; 4]) -> [u32; 4] {
@@ -456,6 +457,15 @@ mod tests {
         })
     }
 
+    /// The first element of `mesh` (a unit box) whose four nodes are all inside the box.
+    fn inner_element(mesh: &crate::mesh::Mesh) -> usize {
+        let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
+        mesh.tets
+            .iter()
+            .position(|t| t.iter().all(|&n| inside(&mesh.nodes[n as usize])))
+            .expect("a box of 2 or more divisions has an inner element")
+    }
+
     #[test]
     fn erosion_removes_a_membrane_between_two_surfaces_where_peeling_may_not() {
         let mesh = unit_box();
@@ -525,14 +535,9 @@ mod tests {
     fn erosion_removes_a_collapsed_element_inside_the_body_and_keeps_the_surface_closed() {
         let mesh = unit_box();
         let mut x = mesh.nodes.clone();
-        let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
         // An element with its four nodes inside, one of them moved 90 % of the way to the
         // plane of the opposite face.
-        let e = mesh
-            .tets
-            .iter()
-            .position(|t| t.iter().all(|&n| inside(&x[n as usize])))
-            .unwrap();
+        let e = inner_element(&mesh);
         let t = mesh.tets[e].map(|n| n as usize);
         let normal = (x[t[2]] - x[t[1]]).cross(&(x[t[3]] - x[t[1]])).normalize();
         let height = (x[t[0]] - x[t[1]]).dot(&normal);
@@ -559,18 +564,12 @@ mod tests {
     fn erosion_takes_a_well_shaped_element_of_failed_material_and_peeling_does_not() {
         let mesh = unit_box();
         let x = mesh.nodes.clone();
-        let inside = |p: &Vector3<f64>| p.iter().all(|&c| c > 1e-9 && c < 1.0 - 1e-9);
         // An inner element, undistorted: failed material by its centroid.
-        let e = mesh
-            .tets
-            .iter()
-            .position(|t| t.iter().all(|&n| inside(&x[n as usize])))
-            .unwrap();
+        let e = inner_element(&mesh);
         let corners = mesh.tets[e].map(|n| x[n as usize]);
         assert!(shape_quality(&corners) >= PEEL_QUALITY);
-        let centre = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
-        let failed =
-            |c: &[Vector3<f64>; 4]| (0.25 * (c[0] + c[1] + c[2] + c[3]) - centre).norm() < 1e-12;
+        let centre = centroid(&corners);
+        let failed = |c: &[Vector3<f64>; 4]| (centroid(c) - centre).norm() < 1e-12;
         // Without erosion nothing goes; with it, that element and no other well-shaped one.
         let (kept, peeled) = peel_failed_and_slivers(&x, &mesh.tets, 0, 10, false, &failed);
         assert!(peeled.is_empty() && kept.len() == mesh.tets.len());

@@ -217,6 +217,11 @@ pub struct RemeshRecord {
     /// The mass selective mass scaling put on the new mesh's nodes (kg; in `after.mass`, not
     /// in the body's physical mass), `super::mass_scale_factors`; 0 without it.
     pub added_mass: f64,
+    /// The kinetic energy (J) the velocity transfer lost and the region's nodes were given
+    /// back (negative: a surplus taken back), `super::kinetic_energy`; already in `after`.
+    pub kinetic_restored: f64,
+    /// The factor on the region's velocity fluctuations that gave it back (1: none).
+    pub fluctuation_scale: f64,
 }
 
 impl RemeshRecord {
@@ -248,7 +253,7 @@ impl RemeshRecord {
              total energy jump {:.3e} J, |momentum jump| {:.3e} kg m/s (velocity shift {:.3e} m/s), \
              {} new surface nodes moved out of a contact partner (by up to {:.3e} m; {} left \
              inside), {} boundary slivers peeled ({:.3e} m^3), {} surface collapses (volume change {:.3e} m^3), \
-             added mass {:.3e} kg",
+             added mass {:.3e} kg, kinetic energy restored {:.3e} J (fluctuations times {:.4})",
             self.time,
             self.region_elements,
             self.before.elements,
@@ -276,6 +281,8 @@ impl RemeshRecord {
             self.surface_collapses,
             self.surface_volume_change,
             self.added_mass,
+            self.kinetic_restored,
+            self.fluctuation_scale,
         )
     }
 }

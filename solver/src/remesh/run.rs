@@ -236,24 +236,35 @@ impl RemeshPolicy {
     /// whose volume exceeds `min_volume`, grown by `layers` within the body; empty when none.
     pub fn region(&self, problem: &Problem, x: &[Vector3<f64>], threshold: f64) -> Vec<usize> {
         let m = &problem.model;
+        self.grown_selection(problem, |e| {
+            let corners = m.tets[e].map(|n| x[n as usize]);
+            distortion(&corners) > threshold
+                && crate::kinematics::signed_volume(&corners) > self.min_volume
+        })
+    }
+
+    /// The body's elements for which `selected` holds, tested in parallel (every element, every
+    /// few steps; a collect keeps the order), grown by `layers` layers within the body; empty
+    /// when none holds.
+    fn grown_selection(
+        &self,
+        problem: &Problem,
+        selected: impl Fn(usize) -> bool + Sync,
+    ) -> Vec<usize> {
+        let m = &problem.model;
         let Some(body) = m.bodies.get(self.body) else {
             return Vec::new();
         };
-        // Every element, every few steps: in parallel (a collect keeps the order).
-        let distorted: Vec<usize> = body
+        let chosen: Vec<usize> = body
             .elements
             .clone()
             .into_par_iter()
-            .filter(|&e| {
-                let corners = m.tets[e].map(|n| x[n as usize]);
-                distortion(&corners) > threshold
-                    && crate::kinematics::signed_volume(&corners) > self.min_volume
-            })
+            .filter(|&e| selected(e))
             .collect();
-        if distorted.is_empty() {
-            return distorted;
+        if chosen.is_empty() {
+            return chosen;
         }
-        grow_region(&m.tets, &distorted, self.layers)
+        grow_region(&m.tets, &chosen, self.layers)
             .into_iter()
             .filter(|e| body.elements.contains(e))
             .collect()
@@ -265,27 +276,14 @@ impl RemeshPolicy {
     /// [`MesherOptions::erode_stretch`] (failed material), with `layers` layers around them;
     /// none where it is 0 or erosion is off.
     pub fn torn(&self, problem: &Problem, u: &[Vector3<f64>]) -> Vec<usize> {
-        let m = &problem.model;
         let limit = self.mesher.erode_stretch;
-        let Some(body) = m.bodies.get(self.body) else {
-            return Vec::new();
-        };
         if !(self.mesher.erode && limit > 0.0) {
             return Vec::new();
         }
-        let torn: Vec<usize> = body
-            .elements
-            .clone()
-            .into_par_iter()
-            .filter(|&e| super::apply::largest_stretch(&m.deformation_gradient(e, u)) > limit)
-            .collect();
-        if torn.is_empty() {
-            return torn;
-        }
-        grow_region(&m.tets, &torn, self.layers)
-            .into_iter()
-            .filter(|e| body.elements.contains(e))
-            .collect()
+        let m = &problem.model;
+        self.grown_selection(problem, |e| {
+            super::apply::largest_stretch(&m.deformation_gradient(e, u)) > limit
+        })
     }
 }
 

@@ -59,19 +59,20 @@ impl RemeshWatch for Watches<'_> {
 /// of the uniform velocity shift that restored it (m/s); the new surface nodes moved out of a
 /// contact partner and the largest move (m); the largest distortion the run watches before and
 /// after and its element in each mesh; the mass selective mass scaling added (kg); the volume
-/// peeled (m^3); the elements of the old mesh remeshed.
+/// peeled (m^3); the elements of the old mesh remeshed; the kinetic energy the transfer lost
+/// and the region's nodes were given back (J) and the factor on their velocity fluctuations.
 pub const REMESHING_CSV_HEADER: &str = "time,elements_before,elements_after,\
 worst_collapse_before,worst_collapse_after,kinetic_before,kinetic_after,stored_before,\
 stored_after,total_energy_jump,momentum_jump,velocity_shift,surface_nodes_moved,\
 largest_surface_move,worst_distortion_before,worst_distortion_after,\
 worst_distortion_element_before,worst_distortion_element_after,added_mass,peeled_volume,\
-region_elements";
+region_elements,kinetic_restored,fluctuation_scale";
 
 /// One row of `<stem>_remeshing.csv` (the columns of [`REMESHING_CSV_HEADER`]), without the
 /// line end; floats in Rust's shortest round-trip exponent form.
 pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
     format!(
-        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e},{:e},{}",
+        "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{},{},{:e},{:e},{},{:e},{:e}",
         r.time,
         r.before.elements,
         r.after.elements,
@@ -93,6 +94,8 @@ pub fn remeshing_csv_row(r: &RemeshRecord) -> String {
         r.added_mass,
         r.peeled_volume,
         r.region_elements,
+        r.kinetic_restored,
+        r.fluctuation_scale,
     )
 }
 
