@@ -19,7 +19,7 @@ use super::locate::{centroid, centroids, Locator};
 use super::mass_scaling::{add_scaled_mass, mass_scale_factors};
 use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region_keeping_edges, MesherOptions};
-use super::record::{momentum, MeshState, RemeshRecord};
+use super::record::{kinetic_energy, momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
 use super::transfer::{element_volumes, shape_function_transfer};
 use crate::dynamics::RunState;
@@ -470,15 +470,9 @@ pub fn remesh_problem(
         .filter(|&n| in_region[n])
         .map(|n| body_range.start + n)
         .collect();
-    let kinetic = |v: &[Vector3<f64>], m: &[f64]| -> f64 {
-        v.iter()
-            .zip(m)
-            .map(|(v, m)| 0.5 * m * v.norm_squared())
-            .sum()
-    };
     let body_kinetic_deficit = |old: &[Vector3<f64>], new_v: &[Vector3<f64>]| {
-        kinetic(&old[nodes.clone()], &model.mass[nodes.clone()])
-            - kinetic(&new_v[body_range.clone()], &mass[body_range.clone()])
+        kinetic_energy(&model.mass[nodes.clone()], &old[nodes.clone()])
+            - kinetic_energy(&mass[body_range.clone()], &new_v[body_range.clone()])
     };
     let full_deficit = body_kinetic_deficit(&state.v_full, &v_full);
     let restored = restore_kinetic_energy(

@@ -1,23 +1,26 @@
-//! The kinetic energy a remeshing's velocity transfer loses, given back to the new nodes.
+//! The kinetic energy a remeshing's velocity transfer loses, given back to the region's nodes.
 //!
 //! T3 (8.10) interpolates the velocity at a new node from the old element that holds it: an
 //! average of the old nodes' velocities, whose kinetic energy is less than the average of
 //! theirs (the interpolated field is smoother than the one it samples). Where the velocity
 //! varies steeply over an element, as in the concrete the nail drags along, the new nodes of a
 //! region carry 20 % less kinetic energy than the nodes they replace, and the nail run lost
-//! 2.6 % of its energy over 233 remeshings that way (README, "The nail run to its stop").
+//! 2.6 % of its energy over 233 remeshings that way (README, "The nail run to its stop, in the
+//! nightly tier").
 //! A remap conserves mass, momentum and energy (the conservative remap of ALE codes; DeBar's
 //! fix puts the kinetic energy the momentum remap loses into internal energy, which concrete
-//! without a thermal state has no place for). Here the new nodes' velocity fluctuations about
-//! their mean are scaled: `v_i <- v_mean + s (v_i - v_mean)`. Their momentum is unchanged
-//! (the fluctuations weigh nothing in it), and `s` makes the body's kinetic energy what it was.
+//! without a thermal state has no place for). Here the velocity fluctuations of the nodes of
+//! the region's new elements (the new nodes, and the kept ones whose masses those elements
+//! changed) about their mean are scaled: `v_i <- v_mean + s (v_i - v_mean)`. Their momentum is
+//! unchanged (the fluctuations weigh nothing in it), and `s` makes the body's kinetic energy
+//! what it was.
 
 use nalgebra::Vector3;
 
 /// What [`restore_kinetic_energy`] did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KineticRestore {
-    /// The factor on the new nodes' velocity fluctuations (1: nothing changed).
+    /// The factor on the nodes' velocity fluctuations (1: nothing changed).
     pub scale: f64,
     /// The part of `deficit` (J) left unrestored: the fluctuations could not give it within
     /// `max_scale`, or there were none.

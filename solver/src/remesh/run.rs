@@ -269,9 +269,7 @@ impl RemeshPolicy {
             .filter(|e| body.elements.contains(e))
             .collect()
     }
-}
 
-impl RemeshPolicy {
     /// The body's elements whose carried deformation stretches past
     /// [`MesherOptions::erode_stretch`] (failed material), with `layers` layers around them;
     /// none where it is 0 or erosion is off.
