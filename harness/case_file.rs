@@ -64,6 +64,7 @@ fn read<'k>(
         message,
     };
     let text = std::fs::read_to_string(path).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let text = impact_solver::scene::without_byte_order_mark(&text).to_string();
     let top = top_level_keys(&text);
     let given: Vec<&str> = keys
         .filter(|k| top.iter().any(|(key, _)| key == k))
@@ -105,7 +106,118 @@ fn read<'k>(
             return Err(fail(format!("metric `{}` appears twice", m.name)));
         }
     }
+    check_ranges(&spec).map_err(fail)?;
     Ok((spec, block))
+}
+
+/// The most ranks a variant may ask for: in the default build each is a thread of the harness.
+pub const MAX_RANKS: usize = 1024;
+
+/// The ranges of the common part's numbers, each error naming its key: the time limit, the
+/// sweep's levels, the variants' ranks and analyses, and the scene (`Scene::validate`).
+fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
+    let scene_error = |key: &str, e: impact_solver::SolverError| match e {
+        impact_solver::SolverError::InvalidScene { entity, message } => {
+            format!("{key}{entity}: {message}")
+        }
+        other => format!("{key}{other}"),
+    };
+    if let Some(limit) = spec.time_limit_s {
+        check_time_limit(limit).map_err(|m| format!("time_limit_s: {m}"))?;
+    }
+    if let Some(sweep) = &spec.sweep {
+        check_sweep(sweep)?;
+    }
+    if let Some(scene) = &spec.scene {
+        scene.validate().map_err(|e| scene_error("scene.", e))?;
+    }
+    for v in &spec.variants {
+        let key = format!("variant `{}`", v.name);
+        if let Some(analysis) = &v.analysis {
+            analysis
+                .validate()
+                .map_err(|e| scene_error(&format!("{key} "), e))?;
+        }
+        if let Some(n) = v.ranks {
+            if !(1..=MAX_RANKS).contains(&n) {
+                return Err(format!(
+                    "{key} ranks: must lie in 1 to {MAX_RANKS} (the ranks of a distributed run), \
+                     got {n}"
+                ));
+            }
+            let analysis = v
+                .analysis
+                .as_ref()
+                .or(spec.scene.as_ref().map(|s| &s.analysis));
+            let explicit_only = matches!(
+                analysis,
+                Some(impact_solver::scene::Analysis::Explicit(s)) if s.remeshing.is_none()
+            );
+            if n > 1 && !explicit_only {
+                return Err(format!(
+                    "{key} ranks: {n} ranks need an explicit analysis without remeshing; a \
+                     static, release or remeshing analysis runs on one rank: remove `ranks`"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A wall-time limit (s) must be positive and finite (`time_limit_s`, `--time-limit`).
+pub fn check_time_limit(limit: f64) -> Result<(), String> {
+    if limit > 0.0 && limit.is_finite() {
+        Ok(())
+    } else {
+        Err(format!(
+            "a wall-time limit must be a positive, finite number of seconds, got {limit}"
+        ))
+    }
+}
+
+/// Every level of a sweep must be a run: at least one level, factors and sizes positive and
+/// finite, divisions at least 1 and within the mesh limit.
+fn check_sweep(sweep: &Sweep) -> Result<(), String> {
+    let empty = |key: &str| format!("sweep.{key}: lists no level; give at least one, or no sweep");
+    match sweep {
+        Sweep::Mesh(levels) if levels.is_empty() => Err(empty("mesh")),
+        Sweep::TimeStepFactor(f) if f.is_empty() => Err(empty("time_step_factor")),
+        Sweep::MeshFiles(f) if f.is_empty() => Err(empty("mesh_files")),
+        Sweep::Mesh(levels) => levels.iter().enumerate().try_for_each(|(i, d)| {
+            let tets = d
+                .iter()
+                .try_fold(6usize, |n, &k| n.checked_mul(k))
+                .filter(|&t| t <= impact_solver::scene::MAX_ELEMENTS);
+            match tets {
+                Some(t) if t > 0 => Ok(()),
+                _ => Err(format!(
+                    "sweep.mesh[{i}]: {d:?} must be at least 1 per axis and make at most {} \
+                     tetrahedra",
+                    impact_solver::scene::MAX_ELEMENTS
+                )),
+            }
+        }),
+        Sweep::TimeStepFactor(factors) => factors.iter().enumerate().try_for_each(|(i, f)| {
+            if *f > 0.0 && f.is_finite() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "sweep.time_step_factor[{i}]: a factor on the stable step must be positive \
+                     and finite, got {f}"
+                ))
+            }
+        }),
+        Sweep::MeshFiles(levels) => levels.iter().enumerate().try_for_each(|(i, l)| {
+            if l.size > 0.0 && l.size.is_finite() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "sweep.mesh_files[{i}].size: must be a positive, finite length (m), got {}",
+                    l.size
+                ))
+            }
+        }),
+    }
 }
 
 /// Resolves the common part's paths (meshes, material files, measured curves, sweep meshes)
@@ -202,6 +314,14 @@ pub fn load_catalogue(
     dir: &Path,
     kinds: &Registry,
 ) -> Result<Vec<LoadedCase>, Vec<CatalogueError>> {
+    if !dir.is_dir() {
+        return Err(vec![CatalogueError {
+            path: dir.display().to_string(),
+            message: "no such catalogue folder; give the folder of the case files with \
+                      `--catalogue` (default `cases`, run from the repository root)"
+                .into(),
+        }]);
+    }
     let mut files = Vec::new();
     collect_yaml(dir, dir, &mut files);
     files.sort();

@@ -56,7 +56,7 @@ enum Command {
         #[arg(long, default_value = "reports")]
         reports: PathBuf,
         /// Wall-time limit per solver run (s), unless a case sets its own.
-        #[arg(long, default_value_t = 900.0)]
+        #[arg(long, default_value_t = 900.0, value_parser = parse_time_limit)]
         time_limit: f64,
         /// Run cases one after the other.
         #[arg(long)]
@@ -133,9 +133,15 @@ enum Command {
         result: PathBuf,
         #[arg(long)]
         out: Option<PathBuf>,
-        #[arg(long, default_value_t = 900.0)]
+        #[arg(long, default_value_t = 900.0, value_parser = parse_time_limit)]
         time_limit: f64,
     },
+}
+
+/// A wall-time limit in seconds: positive and finite.
+fn parse_time_limit(s: &str) -> Result<f64, String> {
+    let limit: f64 = s.parse().map_err(|e| format!("{e}"))?;
+    impact_vv::case_file::check_time_limit(limit).map(|()| limit)
 }
 
 fn parse_tier(s: &str) -> Result<Tier, String> {
@@ -195,6 +201,14 @@ fn case_files_outside(
     let mut outside = Vec::new();
     for pattern in patterns {
         let path = Path::new(pattern);
+        let names_yaml = path.extension().is_some_and(|e| e == "yaml" || e == "yml");
+        if names_yaml && !path.exists() {
+            eprintln!(
+                "error: {pattern}: no such case file (a case id is written without `.yaml`, as \
+                 `impact-vv list` prints it)"
+            );
+            return Err(ExitCode::from(2));
+        }
         let is_case_file =
             path.is_file() && path.extension().is_some_and(|e| e == "yaml" || e == "yml");
         if !is_case_file || canonical(path).is_some_and(|c| known.contains(&c)) {
@@ -503,6 +517,35 @@ fn tier_label(tier: Option<Tier>) -> &'static str {
     tier.map_or("selected", Tier::name)
 }
 
+/// Creates the run's folder `<reports>/<stamp>` and returns its id and path; when a run of the
+/// same second has it, `<stamp>-2`, `<stamp>-3`, ...: two runs into one reports folder never
+/// share a folder, whichever starts first.
+fn claim_run_dir(reports: &Path, stamp: &str) -> Result<(String, PathBuf), String> {
+    std::fs::create_dir_all(reports).map_err(|e| {
+        format!(
+            "cannot create the reports folder {}: {e}",
+            reports.display()
+        )
+    })?;
+    for k in 1..1000 {
+        let id = if k == 1 {
+            stamp.to_string()
+        } else {
+            format!("{stamp}-{k}")
+        };
+        let dir = reports.join(&id);
+        match std::fs::create_dir(&dir) {
+            Ok(()) => return Ok((id, dir)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(format!("cannot create {}: {e}", dir.display())),
+        }
+    }
+    Err(format!(
+        "{}: a thousand runs already started in second {stamp}",
+        reports.display()
+    ))
+}
+
 fn run(
     cases: Vec<LoadedCase>,
     tier: Option<Tier>,
@@ -510,8 +553,14 @@ fn run(
     time_limit: f64,
     parallel: bool,
 ) -> ExitCode {
-    let (date, run_id) = metadata::now();
-    let dir = reports.join(&run_id);
+    let (date, stamp) = metadata::now();
+    let (run_id, dir) = match claim_run_dir(reports, &stamp) {
+        Ok(claimed) => claimed,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
     let started = Instant::now();
     let threads = rayon::current_num_threads();
     eprintln!(
@@ -567,12 +616,21 @@ fn run(
             }
             bar.inc(1);
             bar.set_message(format!("{} {:?}", r.id, r.status));
-            let line = format!(
+            let label = if r.variant == "default" {
+                r.id.clone()
+            } else {
+                format!("{} [{}]", r.id, r.variant)
+            };
+            let mut line = format!(
                 "{:<8} {:<40} {:>8.2} s",
                 format!("{:?}", r.status).to_lowercase(),
-                r.id,
+                label,
                 r.wall_s
             );
+            // An error is the input's or the run's, and says which: print it where it shows.
+            if let (Status::Error, Some(message)) = (r.status, &r.message) {
+                line += &format!("\n         {message}");
+            }
             if bar.is_hidden() {
                 eprintln!("{line}");
             } else {

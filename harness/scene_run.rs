@@ -101,7 +101,12 @@ fn explicit_stop(analysis: &Analysis) -> Option<&StopWhen> {
 fn is_case_file(path: &Path) -> bool {
     std::fs::read_to_string(path)
         .ok()
-        .and_then(|text| serde_norway::from_str::<serde_norway::Value>(&text).ok())
+        .and_then(|text| {
+            serde_norway::from_str::<serde_norway::Value>(
+                impact_solver::scene::without_byte_order_mark(&text),
+            )
+            .ok()
+        })
         .is_some_and(|doc| doc.get("id").is_some() && doc.get("scene").is_some())
 }
 

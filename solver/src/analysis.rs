@@ -89,8 +89,31 @@ pub fn execute(
         return Err(SolverError::InvalidScene {
             entity: "analysis".into(),
             message: "only an explicit analysis without remeshing runs over several ranks; run \
-                      this scene without mpirun"
+                      this scene on one (without mpirun, or without a case variant's `ranks`)"
                 .into(),
+        });
+    }
+    if let Some(c) = options
+        .ranks
+        .filter(|c| c.size() > problem.model.tets.len())
+    {
+        return Err(SolverError::InvalidScene {
+            entity: "ranks".into(),
+            message: format!(
+                "{} ranks for {} elements: each rank needs at least one element; use at most {}",
+                c.size(),
+                problem.model.tets.len(),
+                problem.model.tets.len()
+            ),
+        });
+    }
+    if let Some(limit) = options
+        .time_limit_s
+        .filter(|t| !(*t > 0.0 && t.is_finite()))
+    {
+        return Err(SolverError::InvalidScene {
+            entity: "time limit".into(),
+            message: format!("must be a positive, finite number of seconds, got {limit}"),
         });
     }
     match analysis {

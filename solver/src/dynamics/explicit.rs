@@ -124,12 +124,7 @@ impl<'p> ExplicitSolver<'p> {
         history: MaterialHistory,
     ) -> Result<Self> {
         let model = &problem.model;
-        if !(settings.end_time > 0.0) && settings.max_steps.is_none() {
-            return Err(SolverError::InvalidScene {
-                entity: "analysis.explicit.end_time".into(),
-                message: format!("must be positive, got {}", settings.end_time),
-            });
-        }
+        settings.validate("analysis.explicit")?;
         let (dt_critical, critical_element) = model.critical_time_step();
         let dt = match settings.time_step {
             Some(dt) => {
@@ -147,7 +142,30 @@ impl<'p> ExplicitSolver<'p> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SolverError::InvalidScene {
                 entity: "analysis.explicit.time_step".into(),
-                message: format!("time step must be positive and finite, got {dt}"),
+                message: format!(
+                    "time step must be positive and finite, got {dt} (the stable estimate is \
+                     {dt_critical:e} s, set by element {critical_element}: check the material's \
+                     density and modulus)"
+                ),
+            });
+        }
+        // A stable step longer than the whole run is cut to the run's length: the run ends at
+        // `end_time`, not a step past it (a smaller step is as stable).
+        let dt = if settings.max_steps.is_none() {
+            dt.min(settings.end_time)
+        } else {
+            dt
+        };
+        let steps = settings.end_time / dt;
+        if settings.max_steps.is_none() && steps > super::settings::MAX_STEPS {
+            return Err(SolverError::InvalidScene {
+                entity: "analysis.explicit.end_time".into(),
+                message: format!(
+                    "{:e} s takes {steps:.3e} steps of {dt:.4e} s, more than the {:e} a run may \
+                     take; shorten end_time, or set max_steps",
+                    settings.end_time,
+                    super::settings::MAX_STEPS
+                ),
             });
         }
         let n = model.node_count();

@@ -94,6 +94,107 @@ impl ExplicitSettings {
     }
 }
 
+/// The most steps an explicit run may take without `max_steps`: at a microsecond a step on the
+/// smallest mesh, some 20 minutes. More comes from an `end_time` or a mesh far off what the
+/// scene meant (`end_time: 1e300`), and would run for ever.
+pub const MAX_STEPS: f64 = 1.0e9;
+
+impl ExplicitSettings {
+    /// Checks every setting's range, naming it under `key` (`analysis.explicit` or
+    /// `analysis.release.explicit`): times and intervals positive and finite, `safety` in
+    /// `(0, 1]` unless `allow_unstable_time_step` (above 1 the step exceeds the stable estimate,
+    /// which only a stability sweep asks for), intervals, damping and tolerances finite and not
+    /// negative,
+    /// and the remeshing keys (`RemeshSettings::validate`).
+    pub fn validate(&self, key: &str) -> crate::error::Result<()> {
+        let fail = |name: &str, message: String| crate::error::SolverError::InvalidScene {
+            entity: format!("{key}.{name}"),
+            message,
+        };
+        let positive = |name: &str, value: f64, unit: &str| {
+            if value > 0.0 && value.is_finite() {
+                Ok(())
+            } else {
+                Err(fail(
+                    name,
+                    format!("must be positive and finite ({unit}), got {value}"),
+                ))
+            }
+        };
+        if self.max_steps.is_none() || self.end_time != 0.0 {
+            positive("end_time", self.end_time, "s")?;
+        }
+        if self.max_steps == Some(0) {
+            return Err(fail("max_steps", "must be at least 1".into()));
+        }
+        if let Some(dt) = self.time_step {
+            positive("time_step", dt, "s")?;
+        }
+        positive("safety", self.safety, "a fraction of the stable step")?;
+        if self.safety > 1.0 && !self.allow_unstable_time_step {
+            return Err(fail(
+                "safety",
+                format!(
+                    "{} would take a step above the stable estimate, and the run would be                      unstable; use at most 1 (default 0.9), or set `allow_unstable_time_step:                      true` for a stability sweep",
+                    self.safety
+                ),
+            ));
+        }
+        if !(self.damping >= 0.0 && self.damping.is_finite()) {
+            return Err(fail(
+                "damping",
+                format!(
+                    "must be zero or positive and finite (1/s; a negative one feeds energy in),                      got {}",
+                    self.damping
+                ),
+            ));
+        }
+        for (name, value) in [
+            ("history_interval", self.history_interval),
+            ("field_interval", self.field_interval),
+            ("snapshot_interval", self.snapshot_interval),
+            (
+                "snapshot_refined.interval",
+                self.snapshot_refined.map(|r| r.interval),
+            ),
+            (
+                "snapshot_refined.until",
+                self.snapshot_refined.map(|r| r.until),
+            ),
+        ] {
+            // Zero records at every step.
+            if let Some(v) = value.filter(|v| !(*v >= 0.0 && v.is_finite())) {
+                return Err(fail(
+                    name,
+                    format!("must be zero (every step) or positive and finite (s), got {v}"),
+                ));
+            }
+        }
+        if let Some(stop) = &self.stop_when {
+            if !stop.level.is_finite() {
+                return Err(fail(
+                    "stop_when.level",
+                    format!("must be finite, got {}", stop.level),
+                ));
+            }
+        }
+        positive(
+            "instability_energy_tolerance",
+            self.instability_energy_tolerance,
+            "a fraction of the energy scale",
+        )?;
+        positive(
+            "mesh_stability_eta",
+            self.mesh_stability_eta,
+            "a fraction of the altitude",
+        )?;
+        if let Some(r) = &self.remeshing {
+            r.validate()?;
+        }
+        Ok(())
+    }
+}
+
 /// Snapshots every `interval` (s) until `until` (s): [`ExplicitSettings::snapshot_refined`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

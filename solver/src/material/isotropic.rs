@@ -11,16 +11,26 @@ use crate::kinematics::green_lagrange_from_h;
 /// What is wrong with a set of elastic constants, and the admissible range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConstantsError {
-    /// The density (kg/m^3) given, which is not positive (or not finite).
-    #[error("density must be positive, got {0}")]
+    /// The density (kg/m^3) given, which is not positive, not finite or above
+    /// [`MAX_DENSITY`].
+    #[error("density must be positive and at most {MAX_DENSITY:e} kg/m^3, got {0}")]
     Density(f64),
-    /// Young's modulus (Pa) given, which is not positive (or not finite).
-    #[error("youngs_modulus must be positive, got {0}")]
+    /// Young's modulus (Pa) given, which is not positive, not finite or above
+    /// [`MAX_YOUNGS_MODULUS`].
+    #[error("youngs_modulus must be positive and at most {MAX_YOUNGS_MODULUS:e} Pa, got {0}")]
     YoungsModulus(f64),
     /// Poisson's ratio given, outside `(-1, 0.5)` where the elastic energy is positive definite.
     #[error("poisson_ratio must lie in (-1, 0.5), got {0}")]
     PoissonRatio(f64),
 }
+
+/// The largest density accepted (kg/m^3): forty times osmium's 22 600. A larger one is a typo
+/// or a unit slip (g/m^3), and at `1e300` the wave speed underflows and the stable step
+/// overflows.
+pub const MAX_DENSITY: f64 = 1.0e6;
+
+/// The largest Young's modulus accepted (Pa): a hundred times diamond's 1.2e12.
+pub const MAX_YOUNGS_MODULUS: f64 = 1.0e14;
 
 /// Isotropic elastic constants, with the Lamé parameters of (2.121).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -53,10 +63,10 @@ impl IsotropicElastic {
 
     /// Checks the constants, naming the offending one and its admissible range.
     pub fn validate(&self) -> Result<(), ConstantsError> {
-        if !(self.density > 0.0 && self.density.is_finite()) {
+        if !(self.density > 0.0 && self.density <= MAX_DENSITY) {
             return Err(ConstantsError::Density(self.density));
         }
-        if !(self.youngs_modulus > 0.0 && self.youngs_modulus.is_finite()) {
+        if !(self.youngs_modulus > 0.0 && self.youngs_modulus <= MAX_YOUNGS_MODULUS) {
             return Err(ConstantsError::YoungsModulus(self.youngs_modulus));
         }
         if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {

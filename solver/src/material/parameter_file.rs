@@ -48,7 +48,8 @@ pub fn read_microplane_file(path: &Path) -> Result<MicroplaneParameters> {
         entity: format!("microplane parameter file `{}`", path.display()),
         message: format!("cannot read it: {e}"),
     })?;
-    Ok(MicroplaneFile::from_yaml(&text, &path.display().to_string())?.parameters)
+    let text = crate::scene::without_byte_order_mark(&text);
+    Ok(MicroplaneFile::from_yaml(text, &path.display().to_string())?.parameters)
 }
 
 #[cfg(test)]

@@ -205,10 +205,17 @@ pub struct Deadline {
 }
 
 impl Deadline {
-    /// `limit_s` seconds from now.
+    /// `limit_s` seconds from now. The readers refuse a limit that is not positive and finite;
+    /// one that gets here all the same is no limit when it is too large for a `Duration` or for
+    /// the clock, and is up at once when it is not positive.
     pub fn after(limit_s: f64) -> Self {
+        let now = Instant::now();
+        let at = Duration::try_from_secs_f64(limit_s.max(0.0))
+            .ok()
+            .and_then(|d| now.checked_add(d));
         Self {
-            at: Instant::now() + Duration::from_secs_f64(limit_s),
+            // `None`: beyond what the clock can count, so never reached.
+            at: at.unwrap_or(now + Duration::from_secs(100 * 365 * 86_400)),
             limit_s,
         }
     }

@@ -102,9 +102,68 @@ fn default_regrowth() -> f64 {
     1.25
 }
 
+/// The most steps `near_tip` may record about a remeshing: its buffer holds that many stress
+/// fields of the region, allocated when the run starts.
+pub const MAX_NEAR_TIP_STEPS: usize = 10_000;
+
 impl RemeshSettings {
+    /// Checks the ranges of the settings that need no mesh, naming the key: `regrowth` of at
+    /// least 1 (below it each remeshing lowers the threshold of the next below the worst element
+    /// it leaves, and the mesh grows about eightfold at every check), `check_every` of at least
+    /// 1, `min_edge` and `min_volume` zero or positive and finite, `collapse_limit` finite.
+    pub fn validate(&self) -> Result<()> {
+        let fail = |key: &str, message: String| SolverError::InvalidScene {
+            entity: format!("analysis.explicit.remeshing.{key}"),
+            message,
+        };
+        if !(self.regrowth >= 1.0 && self.regrowth.is_finite()) {
+            return Err(fail(
+                "regrowth",
+                format!(
+                    "must be at least 1 and finite (default 1.25): below 1 every remeshing \
+                     triggers the next at once; got {}",
+                    self.regrowth
+                ),
+            ));
+        }
+        if self.check_every == 0 {
+            return Err(fail("check_every", "counts steps: at least 1".into()));
+        }
+        for (key, value, unit) in [
+            ("min_edge", self.min_edge, "m"),
+            ("min_volume", self.min_volume, "m^3"),
+        ] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(fail(
+                    key,
+                    format!("must be zero (none) or positive and finite ({unit}), got {value}"),
+                ));
+            }
+        }
+        if !(self.collapse_limit > 1.0 && self.collapse_limit.is_finite()) {
+            return Err(fail(
+                "collapse_limit",
+                format!("must exceed 1 and be finite, got {}", self.collapse_limit),
+            ));
+        }
+        if let Some(near_tip) = &self.near_tip {
+            if near_tip.steps > MAX_NEAR_TIP_STEPS {
+                return Err(fail(
+                    "near_tip.steps",
+                    format!(
+                        "{} is more than the {MAX_NEAR_TIP_STEPS} steps recorded about a \
+                         remeshing",
+                        near_tip.steps
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The policy for `problem`: an unknown body is an error naming the known ones.
     pub fn policy(&self, problem: &Problem) -> Result<RemeshPolicy> {
+        self.validate()?;
         let names: Vec<&str> = problem
             .model
             .bodies
@@ -121,12 +180,6 @@ impl RemeshSettings {
                 ),
             }
         })?;
-        if !(self.collapse_limit > 1.0) {
-            return Err(SolverError::InvalidScene {
-                entity: "analysis.explicit.remeshing.collapse_limit".to_string(),
-                message: format!("must exceed 1, got {}", self.collapse_limit),
-            });
-        }
         if !(self.surface_deviation >= 0.0) {
             return Err(SolverError::InvalidScene {
                 entity: "analysis.explicit.remeshing.surface_deviation".to_string(),
@@ -157,7 +210,7 @@ impl RemeshSettings {
         Ok(RemeshPolicy {
             body,
             mass_scaling_step: self.mass_scaling_step,
-            check_every: self.check_every.max(1),
+            check_every: self.check_every,
             collapse_limit: self.collapse_limit,
             layers: self.layers,
             min_volume: self.min_volume,

@@ -46,8 +46,40 @@ fn dofs(components: &[Component]) -> [bool; 3] {
     d
 }
 
+/// The index of the scene body named `name`, which is also its index in the model (the regions
+/// come after the scene's bodies). A region's name is refused with the advice to name its
+/// body: a region owns no nodes, it shares its parent's, so a condition, load, probe or contact
+/// pair picks them from the parent with a selector.
+fn scene_body(scene: &Scene, entity: &str, name: &str) -> Result<usize> {
+    if let Some(b) = scene.bodies.iter().position(|b| b.name == name) {
+        return Ok(b);
+    }
+    match scene
+        .bodies
+        .iter()
+        .find(|b| b.regions.iter().any(|r| r.name == name))
+    {
+        Some(parent) => Err(invalid(
+            entity,
+            format!(
+                "`{name}` is a material region of body `{}`, which owns its nodes: write \
+                 `body: {}` and pick the region's nodes with a selector (a box, a plane)",
+                parent.name, parent.name
+            ),
+        )),
+        None => Err(invalid(
+            entity,
+            format!(
+                "no body named `{name}`; the bodies are {:?}",
+                scene.bodies.iter().map(|b| &b.name).collect::<Vec<_>>()
+            ),
+        )),
+    }
+}
+
 /// Builds the model and the conditions of `scene`.
 pub fn build_problem(scene: &Scene) -> Result<Problem> {
+    scene.validate()?;
     let mut bodies = Vec::new();
     let mut regions = Vec::new();
     let mut full_meshes = Vec::new();
@@ -175,15 +207,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
         }
     }
     let resolve = |entity: &str, body: &str, selector: &Selector| -> Result<Vec<u32>> {
-        let b = problem.model.body_index(body).ok_or_else(|| {
-            invalid(
-                entity,
-                format!(
-                    "no body named `{body}`; the bodies are {:?}",
-                    scene.bodies.iter().map(|b| &b.name).collect::<Vec<_>>()
-                ),
-            )
-        })?;
+        let b = scene_body(scene, entity, body)?;
         let range = problem.model.bodies[b].nodes.clone();
         let offset = range.start as u32;
         let nodes: Vec<u32> = match selector {
@@ -324,12 +348,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
     let mut contact = Vec::new();
     for c in &scene.contact {
         let entity = format!("contact `{}`", c.name);
-        let index = |name: &str| {
-            problem
-                .model
-                .body_index(name)
-                .ok_or_else(|| invalid(&entity, format!("no body named `{name}`")))
-        };
+        let index = |name: &str| scene_body(scene, &entity, name);
         let bodies = [index(&c.bodies[0])?, index(&c.bodies[1])?];
         if bodies[0] == bodies[1] {
             return Err(invalid(

@@ -4,6 +4,7 @@
 mod build;
 mod selector;
 mod solver_spec;
+mod validate;
 
 use std::path::{Path, PathBuf};
 
@@ -12,6 +13,7 @@ use serde::{Deserialize, Serialize};
 pub use build::build_problem;
 pub use selector::Selector;
 pub use solver_spec::ContactSolverSpec;
+pub use validate::{output_stem_problem, MAX_ELEMENTS};
 
 use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
@@ -534,13 +536,22 @@ impl Scene {
     /// Enums are written as single-key maps (`material: { linear_elastic: {...} }`) rather than
     /// YAML tags, which reads naturally and is what users of other YAML tools expect.
     pub fn from_yaml(text: &str, source: &str) -> Result<Self> {
-        let de = serde_norway::Deserializer::from_str(text);
-        serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|e| {
-            SolverError::InvalidScene {
-                entity: source.to_string(),
-                message: e.to_string(),
-            }
-        })
+        let de = serde_norway::Deserializer::from_str(without_byte_order_mark(text));
+        let scene: Self =
+            serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|e| {
+                SolverError::InvalidScene {
+                    entity: source.to_string(),
+                    message: e.to_string(),
+                }
+            })?;
+        scene.validate().map_err(|e| match e {
+            SolverError::InvalidScene { entity, message } => SolverError::InvalidScene {
+                entity: format!("{source}: {entity}"),
+                message,
+            },
+            other => other,
+        })?;
+        Ok(scene)
     }
 
     /// Reads and parses a scene file; relative mesh and material file paths are resolved against
@@ -566,8 +577,8 @@ impl Scene {
         };
         let text = std::fs::read_to_string(path)
             .map_err(|e| invalid(format!("cannot read the file: {e}")))?;
-        let document: serde_norway::Value =
-            serde_norway::from_str(&text).map_err(|e| invalid(e.to_string()))?;
+        let document: serde_norway::Value = serde_norway::from_str(without_byte_order_mark(&text))
+            .map_err(|e| invalid(e.to_string()))?;
         let entry = document
             .get(key)
             .ok_or_else(|| invalid(format!("the file has no `{key}` entry")))?;
@@ -602,4 +613,11 @@ impl Scene {
             }
         }
     }
+}
+
+/// `text` without the UTF-8 byte-order mark that Windows editors put before a file's first
+/// line: YAML does not expect it there, and the first key would read as `\u{feff}name`, so that
+/// every file would miss its first field.
+pub fn without_byte_order_mark(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
