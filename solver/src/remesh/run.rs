@@ -496,6 +496,15 @@ pub fn run_remeshing_watched(
             Pause::Remesh(region) => region,
             Pause::None => Vec::new(),
         };
+        // A signal that came during the last steps stops the run here rather than after a
+        // remeshing that may take seconds.
+        if let Some(crate::output::Halt::Interrupted) = set.poll(None) {
+            set.finish()?;
+            return Err(SolverError::Interrupted {
+                step: now.step,
+                time: now.time,
+            });
+        }
         if records.len() >= policy.max_remeshings {
             let _ = set.finish();
             return Err(SolverError::Remesh {
