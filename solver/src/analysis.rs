@@ -15,7 +15,7 @@ use crate::remesh::{
     Watches,
 };
 use crate::scene::Analysis;
-use crate::statics::{solve_static, solve_static_until, StaticSettings, StaticSolution};
+use crate::statics::{solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
@@ -126,7 +126,9 @@ pub fn execute(
             preload,
             explicit: settings,
         } => {
-            let loaded = solve_static(problem, preload)?;
+            // The preload stops on a signal as a static analysis does, and reports its load
+            // factor as progress; the explicit run then reports its own from 0.
+            let loaded = solve_static_until(problem, preload, progress, options.stop.as_deref())?;
             problem.loads.clear();
             let mut run = explicit(problem, settings, Some(&loaded.u), options, progress)?;
             run.plan = format!(

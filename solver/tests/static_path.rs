@@ -263,3 +263,75 @@ fn a_path_refuses_conjugate_gradients() {
     let message = solve_static(&problem, &settings).unwrap_err().to_string();
     assert!(message.contains("linear_solver: lu"), "{message}");
 }
+
+/// The crack band of `cases/fracture/band-in-prism-h50-long-opening-control.yaml` shrunk to one
+/// cell across (`divisions: [7, 1, 1]`, `max_cuts: 3`), its band's opening driven to 0.3 mm in
+/// `steps` load steps.
+fn shrunk_prism(steps: usize) -> (impact_solver::model::Problem, Analysis) {
+    let text = format!(
+        "name: prism
+bodies:
+  - name: prism
+    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.35, 0.1, 0.1], divisions: [7, 1, 1] }} }}
+    material: {{ linear_elastic: {{ density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.18 }} }}
+    regions:
+      - name: band
+        centroid_box: {{ min: [0.15, 0, 0], max: [0.2, 0.1, 0.1] }}
+        material: {{ microplane: {{ file: {file}, rate_effect: false }} }}
+boundary_conditions:
+  - {{ name: fixed_end, body: prism, nodes: {{ box: {{ min: [0, 0, 0], max: [0, 0.1, 0.1] }} }}, motion: {{ fixed: [x] }} }}
+  - {{ name: pin, body: prism, nodes: {{ box: {{ min: [0, 0, 0], max: [0, 0, 0] }} }}, motion: {{ fixed: [y, z] }} }}
+  - {{ name: pin_z, body: prism, nodes: {{ box: {{ min: [0, 0.1, 0], max: [0, 0.1, 0] }} }}, motion: {{ fixed: [z] }} }}
+  - {{ name: pulled_end, body: prism, nodes: {{ box: {{ min: [0.35, 0, 0], max: [0.35, 0.1, 0.1] }} }}, motion: {{ displacement: {{ components: [x], value: {{ constant: 0.0 }} }} }} }}
+probes:
+  - {{ name: band_left, body: prism, nodes: {{ box: {{ min: [0.15, 0, 0], max: [0.15, 0.1, 0.1] }} }}, quantity: displacement }}
+  - {{ name: band_right, body: prism, nodes: {{ box: {{ min: [0.2, 0, 0], max: [0.2, 0.1, 0.1] }} }}, quantity: displacement }}
+analysis:
+  static:
+    load_steps: {steps}
+    tolerance: 1.0e-6
+    max_iterations: 15
+    max_cuts: 3
+    opening_control: {{ condition: pulled_end, from: band_left, to: band_right, component: x, opening: {{ constant_rate: {{ rate: 3.0e-4, lead_in: 0 }} }} }}
+",
+        file = shipped_file().display(),
+    );
+    let scene = Scene::from_yaml(&text, "prism.yaml").unwrap();
+    (build_problem(&scene).unwrap(), scene.analysis)
+}
+
+/// The load factor at which the shrunk prism's path ends with `steps` load steps, and why.
+fn prism_end(steps: usize) -> (f64, Option<String>) {
+    let (problem, analysis) = shrunk_prism(steps);
+    let Analysis::Static(settings) = analysis else {
+        unreachable!()
+    };
+    let solution = solve_static(&problem, &settings).unwrap();
+    let time = solution.history.as_ref().unwrap().column("time").unwrap();
+    (*time.last().unwrap(), solution.stopped)
+}
+
+/// Under opening control the shrunk prism has no limit point: its path must end at the same
+/// load factor (1, or a genuine end) whatever the load steps. Fuzz finding O2, still open.
+/// Measured on fix/statics: ends 0.6008 (150 steps), 0.1813 (1000), 0.1815 (3000), 0.0223
+/// (10 000), each after a step that failed 15 Newton iterations four times. Not the residual's
+/// scale (the reaction norm, 2.6 kN at the stops, does not shrink with the step) and not the
+/// round-off of the forces: at 0.18 the load-point controlled tangent that the bordering
+/// factorises is nearly singular (`|K^-1 r| / |r|` 1e-6 m/N against 4e-10 elastic, a
+/// non-uniform mode of the softening band) and the iteration cycles between relative residuals
+/// 1e-6 and 1e-2; at 0.022 it contracts by 0.5 to 0.8 per iteration and then drifts back up
+/// (relative residual 9.7e-6, 2.2e-6, 6e-6): the forward-difference tangent is not the
+/// derivative along the correction.
+#[test]
+#[ignore = "fuzz finding O2 is open: the path ends at 0.60, 0.18 and 0.18 with 150, 1000 and 3000 steps"]
+fn an_opening_controlled_path_ends_where_it_ends_whatever_the_load_steps() {
+    let ends: Vec<(f64, Option<String>)> = [150, 1000, 3000].map(prism_end).into();
+    let reference = ends[0].0;
+    for (end, stopped) in &ends {
+        assert!(
+            (end / reference - 1.0).abs() < 0.01,
+            "ends {:?}; stopped: {stopped:?}",
+            ends.iter().map(|e| e.0).collect::<Vec<_>>()
+        );
+    }
+}

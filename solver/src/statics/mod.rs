@@ -7,6 +7,7 @@
 mod conjugate_gradient;
 mod opening_control;
 mod path;
+mod rigid_body;
 mod tangent;
 
 pub use opening_control::OpeningControl;
@@ -110,6 +111,50 @@ fn default_cuts() -> u32 {
     6
 }
 
+/// The most load steps a static analysis takes: ten million steps of even a one-element model
+/// run for minutes; more is a typo, not a loading.
+pub const MAX_LOAD_STEPS: usize = 10_000_000;
+
+impl StaticSettings {
+    /// Checks the settings before a solve: `load_steps` in `1..=`[`MAX_LOAD_STEPS`], a
+    /// positive finite `end_time`, a `tolerance` in `(0, 1)`.
+    pub fn check(&self) -> Result<()> {
+        let invalid = |key: &str, message: String| SolverError::InvalidScene {
+            entity: format!("static settings `{key}` (analysis.static or a release's preload)"),
+            message,
+        };
+        if !(1..=MAX_LOAD_STEPS).contains(&self.load_steps) {
+            return Err(invalid(
+                "load_steps",
+                format!(
+                    "load_steps = {} is outside 1..={MAX_LOAD_STEPS}; set the number of load \
+                     steps between 1 and {MAX_LOAD_STEPS}",
+                    self.load_steps
+                ),
+            ));
+        }
+        if !(self.end_time.is_finite() && self.end_time > 0.0) {
+            return Err(invalid(
+                "end_time",
+                format!(
+                    "end_time = {} must be a positive finite time (s)",
+                    self.end_time
+                ),
+            ));
+        }
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(invalid(
+                "tolerance",
+                format!(
+                    "tolerance = {} must lie between 0 and 1 (a relative residual)",
+                    self.tolerance
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for StaticSettings {
     fn default() -> Self {
         Self {
@@ -186,17 +231,19 @@ pub fn solve_static_with_progress(
     solve_static_until(problem, settings, progress, None)
 }
 
-/// [`solve_static_with_progress`] that a path of many load steps ([`path::solve_path`]) leaves
-/// with [`SolverError::Interrupted`] at the end of the step during which `stop` becomes true (a
-/// signal). A linear problem's few steps always finish.
+/// [`solve_static_with_progress`] that leaves with [`SolverError::Interrupted`] at the end of
+/// the load step during which `stop` becomes true (a signal), whether the problem is followed as
+/// a path or not: a linear problem's load steps can be many too.
 pub fn solve_static_until(
     problem: &Problem,
     settings: &StaticSettings,
     progress: &mut dyn FnMut(f64),
     stop: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<StaticSolution> {
+    settings.check()?;
     let model = &problem.model;
     let (equation, free) = free_equations(problem)?;
+    let free_pieces = rigid_body::free_pieces(problem, &problem.constraint_map());
     if model.has_history() || settings.opening_control.is_some() {
         if settings.linear_solver != LinearSolver::Lu {
             return Err(SolverError::InvalidScene {
@@ -206,7 +253,15 @@ pub fn solve_static_until(
                     .into(),
             });
         }
-        return path::solve_path(problem, settings, &equation, free, progress, stop);
+        return path::solve_path(
+            problem,
+            settings,
+            &equation,
+            free,
+            &free_pieces,
+            progress,
+            stop,
+        );
     }
     let n = model.node_count();
     let constraint_of = problem.constraint_map();
@@ -218,13 +273,14 @@ pub fn solve_static_until(
     let mut iterations = Vec::new();
     let mut residuals = Vec::new();
     let mut linear_iterations = Vec::new();
-    let steps = settings.load_steps.max(1);
+    let steps = settings.load_steps;
     for step in 1..=steps {
         let time = step as f64 / steps as f64 * settings.end_time;
         prescribe(problem, &constraint_of, time, &mut u);
         if !problem.external_forces(time, &mut f_ext) {
             f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
         }
+        rigid_body::check_loaded(&free_pieces, &f_ext)?;
         let mut converged = None;
         let mut last_residual = f64::INFINITY;
         let mut step_linear_iterations = 0;
@@ -294,6 +350,10 @@ pub fn solve_static_until(
                 residuals.push(last_residual);
                 if settings.linear_solver != LinearSolver::Lu {
                     linear_iterations.push(step_linear_iterations);
+                }
+                progress(step as f64 / steps as f64);
+                if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed)) {
+                    return Err(SolverError::Interrupted { step, time });
                 }
             }
             None => {

@@ -38,6 +38,7 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::opening_control::Control;
+use super::rigid_body::{check_loaded, FreePiece};
 use super::tangent::{forward_difference_tangents, solve_tangent};
 use super::{prescribe, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
@@ -52,6 +53,7 @@ pub(super) fn solve_path(
     settings: &StaticSettings,
     equation: &[[usize; 3]],
     free: usize,
+    free_pieces: &[FreePiece],
     progress: &mut dyn FnMut(f64),
     stop: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<StaticSolution> {
@@ -116,6 +118,7 @@ pub(super) fn solve_path(
             constraint_of: &constraint_of,
             control: control.as_ref(),
             committed: &committed,
+            free_pieces,
             lambda: target,
             predicted: predicted.as_deref(),
         };
@@ -205,6 +208,8 @@ struct Step<'a> {
     constraint_of: &'a [[Option<u16>; 3]],
     control: Option<&'a Control>,
     committed: &'a Committed,
+    /// The pieces of the mesh free to move as a rigid body, refused if loaded.
+    free_pieces: &'a [FreePiece],
     /// Where Newton starts, if not at the committed displacement (prescribed components are
     /// set anyway).
     predicted: Option<&'a [Vector3<f64>]>,
@@ -227,6 +232,7 @@ impl Step<'_> {
         if !problem.external_forces(time, &mut f_ext) {
             f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
         }
+        check_loaded(self.free_pieces, &f_ext)?;
         let mut last = f64::INFINITY;
         for iteration in 0..=self.settings.max_iterations {
             let Some((f_int, history)) = trial_forces(problem, &u, &self.committed.history) else {
