@@ -314,14 +314,6 @@ pub fn load_catalogue(
     dir: &Path,
     kinds: &Registry,
 ) -> Result<Vec<LoadedCase>, Vec<CatalogueError>> {
-    if !dir.is_dir() {
-        return Err(vec![CatalogueError {
-            path: dir.display().to_string(),
-            message: "no such catalogue folder; give the folder of the case files with \
-                      `--catalogue` (default `cases`, run from the repository root)"
-                .into(),
-        }]);
-    }
     let mut files = Vec::new();
     collect_yaml(dir, dir, &mut files);
     files.sort();

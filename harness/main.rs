@@ -156,8 +156,18 @@ fn parse_tier(s: &str) -> Result<Tier, String> {
     }
 }
 
-/// Loads the catalogue or prints every error (file and line) and gives exit status 2.
-fn catalogue(dir: &Path) -> Result<Vec<LoadedCase>, ExitCode> {
+/// Loads the catalogue or prints every error (file and line) and gives exit status 2. A missing
+/// folder is an error only when it is `needed`: a run of case files named on the command line
+/// needs none.
+fn catalogue(dir: &Path, needed: bool) -> Result<Vec<LoadedCase>, ExitCode> {
+    if needed && !dir.is_dir() {
+        eprintln!(
+            "error: {}: no such catalogue folder; give the folder of the case files with \
+             `--catalogue` (default `cases`, run from the repository root)",
+            dir.display()
+        );
+        return Err(ExitCode::from(2));
+    }
     load_catalogue(dir, &KINDS).map_err(|errors| {
         for e in &errors {
             eprintln!("error: {e}");
@@ -270,7 +280,7 @@ fn main() -> ExitCode {
             tier,
             catalogue: dir,
         } => {
-            let cases = match catalogue(&dir) {
+            let cases = match catalogue(&dir, true) {
                 Ok(c) => c,
                 Err(code) => return code,
             };
@@ -294,7 +304,8 @@ fn main() -> ExitCode {
             time_limit,
             serial,
         } => {
-            let cases = match catalogue(&dir) {
+            let names_files = patterns.iter().any(|p| Path::new(p).is_file());
+            let cases = match catalogue(&dir, !names_files) {
                 Ok(c) => c,
                 Err(code) => return code,
             };
@@ -407,7 +418,7 @@ fn main() -> ExitCode {
             patterns,
             catalogue: dir,
         } => {
-            let cases = match catalogue(&dir) {
+            let cases = match catalogue(&dir, true) {
                 Ok(c) => c,
                 Err(code) => return code,
             };

@@ -151,8 +151,18 @@ metrics:
 
 /// What replaces a number: the values the first campaign found to get through.
 const NUMBERS: [&str; 12] = [
-    ".nan", ".inf", "-.inf", "1e300", "-1e300", "0", "-1", "1e-300", "4294967296",
-    "9223372036854775808", "0.5", "3",
+    ".nan",
+    ".inf",
+    "-.inf",
+    "1e300",
+    "-1e300",
+    "0",
+    "-1",
+    "1e-300",
+    "4294967296",
+    "9223372036854775808",
+    "0.5",
+    "3",
 ];
 
 /// Every path (keys and indices) to a node of `v`.
@@ -254,8 +264,14 @@ fn mutate_text(text: &str, rng: &mut SplitMix64) -> Vec<u8> {
         1 => bytes[at] ^= 1 << (rng.next_u64() % 8),
         2 => bytes.splice(0..0, [0xEF, 0xBB, 0xBF]).for_each(drop),
         _ => {
-            let line_end = bytes[at..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |p| at + p + 1);
-            let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+            let line_end = bytes[at..]
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |p| at + p + 1);
+            let line_start = bytes[..at]
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |p| p + 1);
             let line = bytes[line_start..line_end].to_vec();
             bytes.splice(line_start..line_start, line).for_each(drop);
         }
@@ -269,23 +285,56 @@ fn mutate_mesh(text: &str, rng: &mut SplitMix64) -> Vec<u8> {
     let i = (rng.next_u64() as usize) % lines.len();
     let mut words: Vec<String> = lines[i].split(' ').map(String::from).collect();
     let w = (rng.next_u64() as usize) % words.len();
-    words[w] = ["0", "-1", "nan", "1e309", "4294967296", "18446744073709551615", "2", "7"]
-        [(rng.next_u64() % 8) as usize]
+    words[w] = [
+        "0",
+        "-1",
+        "nan",
+        "1e309",
+        "4294967296",
+        "18446744073709551615",
+        "2",
+        "7",
+    ][(rng.next_u64() % 8) as usize]
         .into();
     lines[i] = words.join(" ");
     (lines.join("\n") + "\n").into_bytes()
 }
 
-/// What one input did, or what is wrong with it.
-fn judge(dir: &Path, command: &str, input: &Path) -> Result<(), String> {
+/// The exit status of one input, or what is wrong with what it did.
+fn judge(dir: &Path, command: &str, input: &Path) -> Result<i32, String> {
     let out = dir.join("out");
     let input_s = input.to_str().unwrap();
     let args: Vec<&str> = match command {
-        "run" => vec!["run", input_s, "--reports", out.to_str().unwrap(), "--serial"],
-        "contact-compare" => vec!["contact-compare", input_s, "--out", out.to_str().unwrap(), "--time-limit", "2"],
+        "run" => vec![
+            "run",
+            input_s,
+            "--reports",
+            out.to_str().unwrap(),
+            "--serial",
+        ],
+        "contact-compare" => vec![
+            "contact-compare",
+            input_s,
+            "--out",
+            out.to_str().unwrap(),
+            "--time-limit",
+            "2",
+        ],
         // A mesh is read by the cube scene beside it.
-        "mesh" => vec!["scene", "cube.yaml", "--out", out.to_str().unwrap(), "--no-fields"],
-        _ => vec!["scene", input_s, "--out", out.to_str().unwrap(), "--no-fields"],
+        "mesh" => vec![
+            "scene",
+            "cube.yaml",
+            "--out",
+            out.to_str().unwrap(),
+            "--no-fields",
+        ],
+        _ => vec![
+            "scene",
+            input_s,
+            "--out",
+            out.to_str().unwrap(),
+            "--no-fields",
+        ],
     };
     let mut child = Command::new(env!("CARGO_BIN_EXE_impact-vv"))
         .args(&args)
@@ -308,7 +357,8 @@ fn judge(dir: &Path, command: &str, input: &Path) -> Result<(), String> {
         std::thread::sleep(Duration::from_millis(5));
     };
     let stderr = std::fs::read_to_string(dir.join("stderr.txt")).unwrap_or_default();
-    match status.code() {
+    let code = status.code();
+    match code {
         None => Err(format!("killed by a signal (abort?): {stderr}")),
         Some(101) => Err(format!("panic: {stderr}")),
         _ if stderr.contains("panicked") => Err(format!("panic: {stderr}")),
@@ -319,14 +369,14 @@ fn judge(dir: &Path, command: &str, input: &Path) -> Result<(), String> {
                 || stderr.contains('`')
                 || stderr.contains("--");
             if names {
-                Ok(())
+                Ok(2)
             } else {
                 Err(format!("an input error naming no file or key: {stderr}"))
             }
         }
-        Some(0) => non_finite_output(&out).map_or(Ok(()), |f| Err(format!("exit 0 with {f}"))),
+        Some(0) => non_finite_output(&out).map_or(Ok(0), |f| Err(format!("exit 0 with {f}"))),
         // A run that failed (1) says why; it is judged by its message alone.
-        Some(1) if !stderr.trim().is_empty() => Ok(()),
+        Some(1) if !stderr.trim().is_empty() => Ok(1),
         Some(code) => Err(format!("exit {code}: {stderr}")),
     }
 }
@@ -354,12 +404,44 @@ fn non_finite_output(dir: &Path) -> Option<String> {
 }
 
 fn env_or(name: &str, default: u64) -> u64 {
-    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Writes the cube scene and its mesh into `dir`, then `bytes` as the input `name` (a mutated
+/// mesh replaces the cube's), and returns the input's path.
+fn lay_out(dir: &Path, seeds: &[(&str, &str, String)], name: &str, bytes: &[u8]) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    for seed in ["cube.yaml", "mesh.msh"] {
+        let text = &seeds.iter().find(|s| s.0 == seed).unwrap().2;
+        std::fs::write(dir.join(seed), text).unwrap();
+    }
+    let input = dir.join(name);
+    std::fs::write(&input, bytes).unwrap();
+    input
+}
+
+/// Each seed runs as written (status 0), so that the mutations reach the solver and not only
+/// the reader.
+#[test]
+fn every_seed_runs_as_written() {
+    let seeds = seeds();
+    let root = temp_dir("fuzz-seeds");
+    for (name, command, text) in &seeds {
+        let dir = root.join(name.replace('.', "-"));
+        let input = lay_out(&dir, &seeds, name, text.as_bytes());
+        let status = judge(&dir, command, &input);
+        let stderr = std::fs::read_to_string(dir.join("stderr.txt")).unwrap_or_default();
+        assert_eq!(status, Ok(0), "seed {name}: {stderr}");
+    }
 }
 
 #[test]
 fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
     let inputs = env_or("IMPACT_FUZZ_INPUTS", 240) as usize;
+
     let seed = env_or("IMPACT_FUZZ_SEED", 1);
     let seeds = seeds();
     let mut rng = SplitMix64::new(seed);
@@ -372,7 +454,8 @@ fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
             let bytes = match (*command, rng.next_u64() % 4) {
                 ("mesh", _) => mutate_mesh(text, &mut rng),
                 (_, 0) => mutate_text(text, &mut rng),
-                _ => mutate_tree(text, &mut rng).map_or_else(|| text.clone().into_bytes(), String::into_bytes),
+                _ => mutate_tree(text, &mut rng)
+                    .map_or_else(|| text.clone().into_bytes(), String::into_bytes),
             };
             (s, bytes)
         })
@@ -380,24 +463,35 @@ fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
     let root = temp_dir("fuzz");
     let next = std::sync::atomic::AtomicUsize::new(0);
     let findings = std::sync::Mutex::new(Vec::new());
-    let workers = std::thread::available_parallelism().map_or(2, |n| n.get()).min(4);
+    // How many inputs ended with status 0 (ran), 1 (a run that failed) and 2 (refused).
+    let statuses = std::sync::Mutex::new([0usize; 3]);
+    let workers = std::thread::available_parallelism()
+        .map_or(2, |n| n.get())
+        .min(4);
     let started = Instant::now();
     std::thread::scope(|scope| {
         for _ in 0..workers {
             scope.spawn(|| loop {
                 let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some((s, bytes)) = cases.get(k) else { break };
+                let Some((s, bytes)) = cases.get(k) else {
+                    break;
+                };
                 let (name, command, _) = &seeds[*s];
                 let dir: PathBuf = root.join(format!("input-{k}"));
                 std::fs::create_dir_all(&dir).unwrap();
                 // The cube scene reads `mesh.msh`; a mutated mesh replaces it.
                 let cube = &seeds.iter().find(|s| s.0 == "cube.yaml").unwrap().2;
                 std::fs::write(dir.join("cube.yaml"), cube).unwrap();
-                std::fs::write(dir.join("mesh.msh"), &seeds.iter().find(|s| s.0 == "mesh.msh").unwrap().2).unwrap();
+                std::fs::write(
+                    dir.join("mesh.msh"),
+                    &seeds.iter().find(|s| s.0 == "mesh.msh").unwrap().2,
+                )
+                .unwrap();
                 let input = dir.join(if *command == "mesh" { "mesh.msh" } else { name });
                 std::fs::write(&input, bytes).unwrap();
                 match judge(&dir, command, &input) {
-                    Ok(()) => {
+                    Ok(code) => {
+                        statuses.lock().unwrap()[code as usize] += 1;
                         let _ = std::fs::remove_dir_all(&dir);
                     }
                     Err(what) => findings.lock().unwrap().push(format!(
@@ -409,10 +503,14 @@ fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
         }
     });
     let findings = findings.into_inner().unwrap();
+    let [ran, failed, refused] = statuses.into_inner().unwrap();
     eprintln!(
-        "{inputs} mutated inputs (seed {seed}) in {:.1} s: {} findings",
+        "{inputs} mutated inputs (seed {seed}) in {:.1} s: {ran} ran (status 0), {failed} runs \
+         failed (1), {refused} refused (2), {} findings",
         started.elapsed().as_secs_f64(),
         findings.len()
     );
+    // Every seed runs as written, so the campaign reaches the solver and not only the reader.
+    assert!(ran > 0, "no input ran: the seeds themselves are refused");
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
 }

@@ -9,6 +9,7 @@ mod element;
 mod fields;
 mod history;
 mod problem;
+pub mod stable_step;
 
 use std::collections::BTreeMap;
 use std::ops::Range;

@@ -257,8 +257,11 @@ impl Analysis {
     pub fn validate(&self) -> Result<()> {
         match self {
             Analysis::Explicit(s) => s.validate("analysis.explicit"),
-            Analysis::Static(_) => Ok(()),
-            Analysis::Release { explicit, .. } => explicit.validate("analysis.release.explicit"),
+            Analysis::Static(s) => s.validate("analysis.static"),
+            Analysis::Release { preload, explicit } => {
+                preload.validate("analysis.release.preload")?;
+                explicit.validate("analysis.release.explicit")
+            }
         }
     }
 }

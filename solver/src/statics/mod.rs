@@ -119,8 +119,13 @@ impl StaticSettings {
     /// Checks the settings before a solve: `load_steps` in `1..=`[`MAX_LOAD_STEPS`], a
     /// positive finite `end_time`, a `tolerance` in `(0, 1)`.
     pub fn check(&self) -> Result<()> {
+        self.validate("static settings (analysis.static or a release's preload)")
+    }
+
+    /// [`Self::check`], naming each key under `prefix` (`analysis.static`).
+    pub fn validate(&self, prefix: &str) -> Result<()> {
         let invalid = |key: &str, message: String| SolverError::InvalidScene {
-            entity: format!("static settings `{key}` (analysis.static or a release's preload)"),
+            entity: format!("{prefix}.{key}"),
             message,
         };
         if !(1..=MAX_LOAD_STEPS).contains(&self.load_steps) {
