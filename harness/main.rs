@@ -387,6 +387,7 @@ fn main() -> ExitCode {
                 tolerances,
                 time_limit_s: time_limit,
                 solvers,
+                stop: Some(stop_on_signal()),
             },
         )),
         Command::CrosscheckRefresh {
