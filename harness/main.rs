@@ -412,6 +412,7 @@ fn main() -> ExitCode {
                 tolerances,
                 time_limit_s: time_limit,
                 solvers,
+                stop: Some(stop_on_signal()),
             },
         )),
         Command::CrosscheckRefresh {

@@ -229,3 +229,91 @@ fn a_catalogue_run_killed_outright_is_rebuilt_from_its_case_lines() {
     let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
     assert_eq!(history.lines().count(), finished.len(), "{history}");
 }
+
+/// `count` copies of a frictionless problem that Gauss-Seidel solves slowly, written into
+/// `dir/problems`: 100 contacts whose normal components are coupled as a 1-D Laplacian
+/// (`W_NN = tridiag(-1, 2, -1)`, condition number about 4e3; tangential diagonal 1),
+/// `q_N = -1`. Gauss-Seidel needs tens of thousands of sweeps for 1e-8, so each solve and its
+/// timing repeats take a good fraction of a second.
+fn slow_contact_problems(dir: &Path, count: usize) -> PathBuf {
+    let n = 100;
+    let mut triplets = Vec::new();
+    for a in 0..n {
+        triplets.push(format!("[{0}, {0}, 2.0]", 3 * a));
+        triplets.push(format!("[{0}, {0}, 1.0]", 3 * a + 1));
+        triplets.push(format!("[{0}, {0}, 1.0]", 3 * a + 2));
+        if a + 1 < n {
+            triplets.push(format!("[{}, {}, -1.0]", 3 * a, 3 * a + 3));
+            triplets.push(format!("[{}, {}, -1.0]", 3 * a + 3, 3 * a));
+        }
+    }
+    let q: Vec<&str> = (0..n).flat_map(|_| ["-1.0", "0.0", "0.0"]).collect();
+    let json = format!(
+        "{{\"format\": \"contact-problem/1\", \"dimension\": 3, \"contacts\": {n}, \
+         \"mu\": [{}], \"q\": [{}], \"W\": {{\"rows\": {m}, \"cols\": {m}, \"triplets\": [{}]}}}}",
+        vec!["0.0"; n].join(", "),
+        q.join(", "),
+        triplets.join(", "),
+        m = 3 * n
+    );
+    let folder = dir.join("problems");
+    std::fs::create_dir_all(&folder).unwrap();
+    for k in 0..count {
+        std::fs::write(folder.join(format!("laplace-{k:03}.json")), &json).unwrap();
+    }
+    folder
+}
+
+/// `contact-compare` sent SIGINT mid-way stops after the solve under way (at most the time
+/// limit), writes the solves that finished with a README that says it was interrupted, and
+/// exits with status 130, as `scene` and `run` do (findings S6: it used to run to the end and
+/// exit 0).
+#[test]
+fn a_contact_comparison_interrupted_by_sigint_writes_what_it_has() {
+    let dir = temp_dir("sigint-compare");
+    let problems = slow_contact_problems(&dir, 40);
+    let out = dir.join("out");
+    let child = spawn_impact_vv(&[
+        "contact-compare",
+        problems.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--solvers",
+        "gauss-seidel/thesis,gauss-seidel/exact",
+        "--tolerances",
+        "1e-8",
+        "--time-limit",
+        "2",
+    ]);
+    let started = std::time::Instant::now();
+    let output = interrupt_after(child, 3);
+    let seconds = started.elapsed().as_secs_f64();
+    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
+    assert!(text(&output).contains("interrupted"), "{}", text(&output));
+    // The signal at 3 s; then at most one solve of at most 2 s, and the writing.
+    assert!(seconds < 10.0, "stopped after {seconds} s");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert!(
+        !rows.is_empty() && rows.len() < 80,
+        "{} of 80 solves",
+        rows.len()
+    );
+    // Only the problems that ran are described.
+    let problems = json["problems"].as_array().unwrap();
+    assert!(problems.len() < 40, "{} problems", problems.len());
+    for r in rows {
+        assert!(problems.iter().any(|p| p["name"] == r["problem"]), "{r}");
+    }
+    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    assert!(
+        readme.contains(&format!(
+            "Interrupted by a signal: {} of the 80 solves",
+            rows.len()
+        )),
+        "{readme}"
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), rows.len() + 1);
+}

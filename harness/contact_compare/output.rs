@@ -19,6 +19,16 @@ pub const WORK_PRECISION_FILE: &str = "work-precision.svg";
 
 /// Writes every file into `dir` (created if needed); returns the paths written.
 pub fn write_outputs(dir: &Path, c: &Comparison) -> io::Result<Vec<PathBuf>> {
+    write_outputs_noting(dir, c, None)
+}
+
+/// [`write_outputs`] with `note` (e.g. that the comparison was interrupted) as the first
+/// paragraph of `README.md`.
+pub fn write_outputs_noting(
+    dir: &Path,
+    c: &Comparison,
+    note: Option<&str>,
+) -> io::Result<Vec<PathBuf>> {
     fs::create_dir_all(dir)?;
     let mut written = Vec::new();
     let mut write = |name: &str, text: String| -> io::Result<()> {
@@ -37,7 +47,12 @@ pub fn write_outputs(dir: &Path, c: &Comparison) -> io::Result<Vec<PathBuf>> {
         )?;
     }
     write(WORK_PRECISION_FILE, render_plot(&work_precision_plot(c)))?;
-    write("README.md", readme(c))?;
+    let mut md = readme(c);
+    if let Some(note) = note {
+        let title_end = md.find("\n\n").map_or(0, |i| i + 2);
+        md.insert_str(title_end, &format!("**{note}**\n\n"));
+    }
+    write("README.md", md)?;
     Ok(written)
 }
 

@@ -2,6 +2,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use impact_solver::contact::problem::{natural_map_error, ContactProblem};
@@ -175,16 +176,36 @@ pub fn compare(
     settings: &CompareSettings,
     on_row: &mut dyn FnMut(&ComparisonRow),
 ) -> Comparison {
+    compare_until(problems, unreadable, solvers, settings, None, on_row)
+}
+
+/// [`compare`] that stops before the next solve (or repeat) once `stop` is set, a signal's
+/// flag: a solve under way runs to its end, at most the time limit. The comparison then holds
+/// the rows that finished and only the problems they belong to, so that the tables and
+/// profiles describe what ran rather than count the rest as failures.
+pub fn compare_until(
+    problems: &[LoadedProblem],
+    unreadable: Vec<Unreadable>,
+    solvers: &[SolverEntry],
+    settings: &CompareSettings,
+    stop: Option<&AtomicBool>,
+    on_row: &mut dyn FnMut(&ComparisonRow),
+) -> Comparison {
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
     let mut rows = Vec::new();
-    for p in problems {
+    'problems: for p in problems {
         for s in solvers {
             for &tolerance in &settings.tolerances {
-                let row = solve_row(p, s, tolerance, settings);
+                if stopped() {
+                    break 'problems;
+                }
+                let row = solve_row_until(p, s, tolerance, settings, stop);
                 on_row(&row);
                 rows.push(row);
             }
         }
     }
+    let ran = |p: &&LoadedProblem| !stopped() || rows.iter().any(|r| r.problem == p.name);
     Comparison {
         normalisation: NORMALISATION.into(),
         tolerances: settings.tolerances.clone(),
@@ -192,6 +213,7 @@ pub fn compare(
         solvers: solvers.iter().map(|s| s.name.clone()).collect(),
         problems: problems
             .iter()
+            .filter(ran)
             .map(|p| describe(&p.problem, &p.name, &p.file.display().to_string()))
             .collect(),
         unreadable,
@@ -206,10 +228,23 @@ pub fn solve_row(
     tolerance: f64,
     settings: &CompareSettings,
 ) -> ComparisonRow {
+    solve_row_until(p, entry, tolerance, settings, None)
+}
+
+/// [`solve_row`] that makes no further timing repeat once `stop` is set.
+fn solve_row_until(
+    p: &LoadedProblem,
+    entry: &SolverEntry,
+    tolerance: f64,
+    settings: &CompareSettings,
+    stop: Option<&AtomicBool>,
+) -> ComparisonRow {
     let limits = SolveLimits {
         tolerance,
         max_iterations: entry.max_iterations,
-        time_limit: Some(Duration::from_secs_f64(settings.time_limit_s)),
+        // A limit beyond what a Duration holds (inf, 1e300 s) is no limit; the command and the
+        // case reader refuse what is not positive, and this must not panic on what gets past.
+        time_limit: Duration::try_from_secs_f64(settings.time_limit_s).ok(),
     };
     let mut row = ComparisonRow {
         problem: p.name.clone(),
@@ -231,9 +266,11 @@ pub fn solve_row(
     }
     let mut times = Vec::new();
     let mut first = None;
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
     while times.is_empty()
         || (times.len() < settings.max_repeats.max(1)
-            && times.iter().sum::<f64>() < settings.min_timing_s)
+            && times.iter().sum::<f64>() < settings.min_timing_s
+            && !stopped())
     {
         let mut solver = (entry.make)();
         let started = Instant::now();
@@ -262,7 +299,7 @@ pub fn solve_row(
     row.seconds = median(&mut times);
     if let Some(report) = first {
         if report.r.len() == p.problem.q.len() {
-            let e = natural_map_error(&p.problem, &report.r);
+            let e = measured_error(&p.problem, &report.r);
             row.error = e.relative;
             row.absolute_error = e.absolute;
         } else {
@@ -282,6 +319,29 @@ pub fn solve_row(
     }
     row.solved = row.meets(settings.time_limit_s);
     row
+}
+
+/// The natural-map error of `r` ([`natural_map_error`]), computed on the problem scaled by
+/// `s = max |q_i|` when the direct sums overflow: for `|q| ~ 1e300`, `||q||_2^2` is infinite and
+/// the relative error would read inf/inf = NaN. FC(W, q, mu) is homogeneous: `r/s` solves
+/// FC(W, q/s, mu) when `r` solves FC(W, q, mu), and the natural map scales by `s`, so the
+/// relative error is the same and the absolute one is `s` times the scaled one. Problems whose
+/// direct error is finite keep it bit for bit.
+pub fn measured_error(
+    problem: &ContactProblem,
+    r: &[f64],
+) -> impact_solver::contact::problem::NaturalMapError {
+    let direct = natural_map_error(problem, r);
+    let s = problem.q.iter().fold(0.0f64, |m, q| m.max(q.abs()));
+    if direct.relative.is_finite() || !(s > 0.0 && s.is_finite()) {
+        return direct;
+    }
+    let mut scaled = problem.clone();
+    scaled.q.iter_mut().for_each(|q| *q /= s);
+    let r: Vec<f64> = r.iter().map(|v| v / s).collect();
+    let mut e = natural_map_error(&scaled, &r);
+    e.absolute *= s;
+    e
 }
 
 /// The median of `values` (the mean of the middle two for an even count); NaN when empty.
@@ -469,6 +529,131 @@ mod tests {
             unreadable
         );
         std::fs::remove_dir_all(dir).ok();
+    }
+
+    /// The problem of the fuzz findings (N2), `q = [-1e300, 2e300, 3e300]`, `mu = 0.1`, with an
+    /// isotropic tangential block, `W = diag(15, 14, 14)`, so that the slip is along `q_T` and
+    /// the Coulomb solution is analytic (closed and sliding): `r_N = 1e300 / 15`,
+    /// `r_T = -mu r_N q_T / |q_T|` (`u_T = q_T (1 - 14 mu r_N / |q_T|)`, along `q_T`).
+    fn huge_q() -> (LoadedProblem, Vec<f64>) {
+        let problem = crate::contact_compare::test_problem(
+            &[(0, 0, 15.0), (1, 1, 14.0), (2, 2, 14.0)],
+            &[-1e300, 2e300, 3e300],
+            &[0.1],
+        );
+        let r_n = 1e300 / 15.0;
+        let q_t = (2e300f64).hypot(3e300);
+        let exact = vec![r_n, -0.1 * r_n * (2e300 / q_t), -0.1 * r_n * (3e300 / q_t)];
+        assert!(exact.iter().all(|v| v.is_finite()), "{exact:?}");
+        let loaded = LoadedProblem {
+            name: "q_huge".into(),
+            file: "q_huge.json".into(),
+            problem,
+        };
+        (loaded, exact)
+    }
+
+    /// `||q||_2^2` overflows for this problem, so the direct relative error is inf/inf = NaN
+    /// even at the exact solution; measured on the scaled problem it is at roundoff, and a
+    /// conic/coulomb solve at 1e-6 reaches its tolerance and counts as solved.
+    #[test]
+    fn the_error_of_a_problem_with_huge_q_is_measured_without_overflow() {
+        let (p, exact) = huge_q();
+        assert!(natural_map_error(&p.problem, &exact).relative.is_nan());
+        let e = measured_error(&p.problem, &exact);
+        assert!(e.relative < 1e-15, "{e:?}");
+        assert!(e.absolute.is_finite(), "{e:?}");
+
+        let settings = CompareSettings {
+            tolerances: vec![1e-6],
+            time_limit_s: 10.0,
+            min_timing_s: 0.0,
+            max_repeats: 1,
+        };
+        let solvers = solver_entries(&["conic/coulomb".into()]).unwrap();
+        let c = compare(&[p], Vec::new(), &solvers, &settings, &mut |_| {});
+        let row = &c.rows[0];
+        assert!(row.error <= 1e-6, "{row:?}");
+        assert!(row.solved && row.status == "converged", "{row:?}");
+    }
+
+    /// A time limit beyond what a `Duration` holds (inf, 1e300 s) is no limit, not a panic.
+    #[test]
+    fn an_unbounded_time_limit_does_not_panic() {
+        for limit in [f64::INFINITY, 1e300] {
+            let settings = CompareSettings {
+                tolerances: vec![1e-6],
+                time_limit_s: limit,
+                min_timing_s: 0.0,
+                max_repeats: 1,
+            };
+            let row = solve_row(&one_contact(), &entry("exact", 0.0), 1e-6, &settings);
+            assert!(row.solved, "{limit}: {row:?}");
+        }
+    }
+
+    /// A stop flag set while the first solve runs ends the comparison after it: one row, and
+    /// only the problem it belongs to; set before the start, nothing runs.
+    #[test]
+    fn a_stop_flag_ends_the_comparison_after_the_solve_under_way() {
+        let settings = CompareSettings {
+            tolerances: vec![1e-4, 1e-8],
+            time_limit_s: 10.0,
+            min_timing_s: 1e3,
+            max_repeats: 5,
+        };
+        let mut second = one_contact();
+        second.name = "two".into();
+        let problems = [one_contact(), second];
+        let stop = AtomicBool::new(false);
+        let solvers = [SolverEntry {
+            name: "stops".into(),
+            max_iterations: 10,
+            make: Box::new(|| Box::new(SetsFlag)),
+        }];
+        STOP_FOR_TEST.store(false, Ordering::SeqCst);
+        let c = compare_until(
+            &problems,
+            Vec::new(),
+            &solvers,
+            &settings,
+            Some(&STOP_FOR_TEST),
+            &mut |_| {},
+        );
+        assert_eq!(c.rows.len(), 1, "{:?}", c.rows);
+        assert_eq!(c.rows[0].repeats, 1, "no repeat after the stop");
+        assert_eq!(c.problem_names(), ["one"]);
+
+        stop.store(true, Ordering::SeqCst);
+        let c = compare_until(
+            &problems,
+            Vec::new(),
+            &[entry("exact", 0.0)],
+            &settings,
+            Some(&stop),
+            &mut |_| panic!("no solve after the stop"),
+        );
+        assert!(c.rows.is_empty() && c.problems.is_empty());
+    }
+
+    /// The flag [`SetsFlag`] raises, as a signal handler would during a solve.
+    static STOP_FOR_TEST: AtomicBool = AtomicBool::new(false);
+
+    /// A solver that raises [`STOP_FOR_TEST`] while it solves, then returns the exact answer
+    /// of [`one_contact`].
+    struct SetsFlag;
+    impl ContactSolver for SetsFlag {
+        fn name(&self) -> String {
+            "stops".into()
+        }
+        fn solve(
+            &mut self,
+            problem: &ContactProblem,
+            limits: &SolveLimits,
+        ) -> Result<SolverReport, ContactSolverError> {
+            STOP_FOR_TEST.store(true, Ordering::SeqCst);
+            Fake { offset: 0.0 }.solve(problem, limits)
+        }
     }
 
     #[test]

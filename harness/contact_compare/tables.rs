@@ -51,7 +51,11 @@ pub fn descriptor_table(c: &Comparison) -> Table {
             .problems
             .iter()
             .map(|p| {
-                let mu = if p.mu_min == p.mu_max {
+                // Without a finite mu (every contact sticks) the range is empty: NaN in the
+                // descriptors, "n/a" here; the stick count beside it says why.
+                let mu = if p.mu_min.is_nan() {
+                    "n/a".to_string()
+                } else if p.mu_min == p.mu_max {
                     num(p.mu_min)
                 } else {
                     format!("{} - {}", num(p.mu_min), num(p.mu_max))
@@ -64,11 +68,21 @@ pub fn descriptor_table(c: &Comparison) -> Table {
                     format!("{} / {}", p.stick_contacts, p.frictionless_contacts),
                     num(p.asymmetry),
                     format!("{} / {}", p.rank, p.unknowns),
-                    num(p.condition),
+                    condition(p.condition),
                     p.nonzeros.to_string(),
                 ]
             })
             .collect(),
+    }
+}
+
+/// The condition number of sym(W), or "n/a (rank 0)" when it has no positive eigenvalue (an
+/// all-zero `W`): the descriptors hold NaN then.
+fn condition(c: f64) -> String {
+    if c.is_nan() {
+        "n/a (rank 0)".to_string()
+    } else {
+        num(c)
     }
 }
 
@@ -206,5 +220,36 @@ mod tests {
             rows: vec![vec!["x|y".into(), "1".into()]],
         };
         assert_eq!(t.to_markdown(), "| a | b |\n|---|---|\n| x\\|y | 1 |\n");
+    }
+
+    /// An all-zero `W` has no condition number and an all-stick problem no friction range:
+    /// the descriptor table says "n/a", never "NaN".
+    #[test]
+    fn undefined_descriptors_read_n_a() {
+        let zero_w = crate::contact_compare::test_problem(&[], &[-1.0, 0.0, 0.0], &[0.3]);
+        let stick = crate::contact_compare::test_problem(
+            &[(0, 0, 2.0), (1, 1, 2.0), (2, 2, 2.0)],
+            &[-1.0, 0.0, 0.0],
+            &[f64::INFINITY],
+        );
+        let c = Comparison {
+            normalisation: String::new(),
+            tolerances: vec![1e-6],
+            time_limit_s: 1.0,
+            solvers: Vec::new(),
+            problems: vec![
+                super::super::describe(&zero_w, "zero", "zero.json"),
+                super::super::describe(&stick, "stick", "stick.json"),
+            ],
+            unreadable: Vec::new(),
+            rows: Vec::new(),
+        };
+        let t = descriptor_table(&c);
+        let column = |name: &str| t.head.iter().position(|h| h == name).unwrap();
+        assert_eq!(t.rows[0][column("cond sym(W)")], "n/a (rank 0)");
+        assert_eq!(t.rows[0][column("mu")], "0.3");
+        assert_eq!(t.rows[1][column("mu")], "n/a");
+        assert_eq!(t.rows[1][column("cond sym(W)")], "1");
+        assert!(!t.to_markdown().contains("NaN"), "{}", t.to_markdown());
     }
 }

@@ -212,3 +212,191 @@ fn errors_are_typed() {
         }
     );
 }
+
+// Node tags as written in the file. mshio drops a block's tags when the `$Nodes` header's range
+// is dense; the reader reads them back (findings S3). One tetrahedron whose nodes are listed
+// out of tag order: the coordinates each tag has in the file are the reference.
+
+/// The unit corner tetrahedron: tag `t` (1 to 4) at `TET_BY_TAG[t - 1]`; element `1 2 3 4` has
+/// volume +1/6 (the scalar triple product of the edges from tag 1 is +1).
+const TET_BY_TAG: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+];
+
+/// An ASCII 4.1 file: one volume block listing `tags` with `coords`, header range 1-4 (dense),
+/// and the element `1 2 3 4`.
+fn ascii_tet(tags: [u64; 4], coords: [[f64; 3]; 4]) -> String {
+    let mut text = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n");
+    for t in tags {
+        text += &format!("{t}\n");
+    }
+    for [x, y, z] in coords {
+        text += &format!("{x} {y} {z}\n");
+    }
+    text + "$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n"
+}
+
+/// The same file in binary 4.1 (`4.1 1 8`, little-endian, 8-byte size_t), laid out as the Gmsh
+/// manual's "MSH file format" section gives it.
+fn binary_tet(tags: [u64; 4], coords: [[f64; 3]; 4]) -> Vec<u8> {
+    let size = |v: u64| v.to_le_bytes();
+    let int = |v: i32| v.to_le_bytes();
+    let mut b = b"$MeshFormat\n4.1 1 8\n".to_vec();
+    b.extend(int(1));
+    b.extend(b"\n$EndMeshFormat\n$Nodes\n");
+    [1, 4, 1, 4].iter().for_each(|&v| b.extend(size(v)));
+    [3, 1, 0].iter().for_each(|&v| b.extend(int(v)));
+    b.extend(size(4));
+    tags.iter().for_each(|&t| b.extend(size(t)));
+    coords
+        .iter()
+        .flatten()
+        .for_each(|v| b.extend(v.to_le_bytes()));
+    b.extend(b"\n$EndNodes\n$Elements\n");
+    [1, 1, 1, 1].iter().for_each(|&v| b.extend(size(v)));
+    [3, 1, 4].iter().for_each(|&v| b.extend(int(v)));
+    b.extend(size(1));
+    [1, 1, 2, 3, 4].iter().for_each(|&v| b.extend(size(v)));
+    b.extend(b"\n$EndElements\n");
+    b
+}
+
+/// Tags 2, 1, 3, 4 listed in that order, each with its own coordinates.
+fn permuted() -> ([u64; 4], [[f64; 3]; 4]) {
+    let tags = [2, 1, 3, 4];
+    (tags, tags.map(|t| TET_BY_TAG[t as usize - 1]))
+}
+
+/// Each node of the element has the coordinates its tag has in the file, and the element is
+/// positive.
+fn assert_read_by_tag(mesh: &Mesh) {
+    assert_eq!(mesh.element_count(), 1);
+    for (k, &node) in mesh.tets[0].iter().enumerate() {
+        assert_eq!(
+            mesh.nodes[node as usize].as_slice(),
+            TET_BY_TAG[k],
+            "tag {}",
+            k + 1
+        );
+    }
+    assert!(
+        (mesh.volume() - 1.0 / 6.0).abs() < 1e-15,
+        "{}",
+        mesh.volume()
+    );
+    mesh.validate("tet", DEFAULT_MIN_ALTITUDE_RATIO)
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn the_binary_test_writer_reads_as_the_ascii_file() {
+    let (tags, coords) = ([1, 2, 3, 4], TET_BY_TAG);
+    let ascii = parse_msh(ascii_tet(tags, coords).as_bytes(), "tet.msh").unwrap();
+    let binary = parse_msh(&binary_tet(tags, coords), "tet_bin.msh").unwrap();
+    assert_same(&binary, &ascii);
+    assert_read_by_tag(&ascii);
+}
+
+#[test]
+fn dense_tags_out_of_order_are_read_as_written() {
+    let (tags, coords) = permuted();
+    let ascii = parse_msh(ascii_tet(tags, coords).as_bytes(), "permuted.msh")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_read_by_tag(&ascii);
+    let binary =
+        parse_msh(&binary_tet(tags, coords), "permuted_bin.msh").unwrap_or_else(|e| panic!("{e}"));
+    assert_read_by_tag(&binary);
+}
+
+#[test]
+fn a_repeated_dense_tag_is_refused_naming_it() {
+    // Tags 1 1 3 4: no node 2, and element 1 refers to it.
+    let tags = [1, 1, 3, 4];
+    let reason = |result: impact_solver::error::Result<Mesh>, name: &str| {
+        let message = message_of(result, name);
+        assert!(message.contains("node tag 1 is defined twice"), "{message}");
+        message
+    };
+    reason(
+        parse_msh(ascii_tet(tags, TET_BY_TAG).as_bytes(), "twice.msh"),
+        "twice.msh",
+    );
+    reason(
+        parse_msh(&binary_tet(tags, TET_BY_TAG), "twice_bin.msh"),
+        "twice_bin.msh",
+    );
+    match parse_msh(&binary_tet(tags, TET_BY_TAG), "twice_bin.msh") {
+        Err(SolverError::MeshRead { reason, .. }) => {
+            assert_eq!(reason, GmshError::RepeatedNodeTag(1))
+        }
+        other => panic!("expected RepeatedNodeTag, got {other:?}"),
+    }
+}
+
+#[test]
+fn node_tag_zero_is_refused() {
+    // A dense header (1-4) over the listed tags 0 2 3 4, and a sparse one (1-9) over 0 2 3 9.
+    let dense = ascii_tet([0, 2, 3, 4], TET_BY_TAG);
+    let sparse = dense
+        .replace("1 4 1 4\n", "1 4 1 9\n")
+        .replace("\n4\n0 0 0", "\n9\n0 0 0")
+        .replace("1 1 2 3 4\n", "1 2 2 3 9\n");
+    assert!(
+        sparse.contains("1 4 1 9\n3 1 0 4\n0\n2\n3\n9\n"),
+        "{sparse}"
+    );
+    for (text, name) in [(dense, "zero.msh"), (sparse, "zero_sparse.msh")] {
+        let message = message_of(parse_msh(text.as_bytes(), name), name);
+        assert!(message.contains("node tag 0"), "{message}");
+        assert!(message.contains("entity 3:1"), "{message}");
+    }
+    let message = message_of(
+        parse_msh(&binary_tet([0, 2, 3, 4], TET_BY_TAG), "zero_bin.msh"),
+        "zero_bin.msh",
+    );
+    assert!(message.contains("node tag 0"), "{message}");
+}
+
+#[test]
+fn malformed_files_name_the_place() {
+    // One element more than the block announces: mshio stops without a location of its own.
+    let text = std::fs::read_to_string(path("cube_sparse.msh")).unwrap();
+    let extra = text.replace("120 7 21 99 15\n", "120 7 21 99 15\n121 7 21 99 15\n");
+    let line = extra.lines().position(|l| l == "121 7 21 99 15").unwrap() + 1;
+    let message = message_of(parse_msh(extra.as_bytes(), "extra.msh"), "extra.msh");
+    assert!(
+        message.contains(&format!("line {line}, in `$Elements`")),
+        "{message}"
+    );
+    assert!(message.contains("`121 7 21 99 15`"), "{message}");
+    assert!(message.contains("`$EndElements`"), "{message}");
+
+    // The same in binary: an element's five size_t more than announced, at a known byte.
+    let mut binary = binary_tet([1, 2, 3, 4], TET_BY_TAG);
+    let at = binary.len() - b"\n$EndElements\n".len();
+    let element: Vec<u8> = [2u64, 1, 2, 3, 4]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    binary.splice(at..at, element);
+    let message = message_of(parse_msh(&binary, "extra_bin.msh"), "extra_bin.msh");
+    assert!(
+        message.contains(&format!("byte {at}, in `$Elements`")),
+        "{message}"
+    );
+}
+
+/// The hint of a missing file says where relative paths start: at the folder of the file that
+/// names the mesh (the scene or case loaders resolve them so), not the working directory.
+#[test]
+fn a_missing_file_says_where_relative_paths_start() {
+    let message = read_err("no_such_mesh.msh");
+    assert!(
+        message.contains("folder of the scene or case file"),
+        "{message}"
+    );
+    assert!(!message.contains("working directory"), "{message}");
+}

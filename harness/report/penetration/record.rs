@@ -83,7 +83,9 @@ pub struct PenetrationRecord {
     pub pictures: Vec<String>,
 }
 
-/// The rows of a CSV whose header must be `header`, as numbers by column name.
+/// The rows of a CSV whose header must be `header`, as numbers by column name; an empty cell is
+/// a missing value, NaN (the near-tip stresses of a step with no element within the radius),
+/// which the plots leave out.
 fn read_csv(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut lines = text.lines();
@@ -100,7 +102,10 @@ fn read_csv(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, String> {
         .map(|(i, l)| {
             let row: Vec<f64> = l
                 .split(',')
-                .map(|v| v.trim().parse::<f64>())
+                .map(|v| match v.trim() {
+                    "" => Ok(f64::NAN),
+                    v => v.parse::<f64>(),
+                })
                 .collect::<Result<_, _>>()
                 .map_err(|e| format!("{} line {}: {e}", path.display(), i + 2))?;
             if row.len() != columns {
@@ -218,4 +223,32 @@ pub fn load_pictures(
             serde_json::from_str(&text).ok()
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step with no element within the radius has empty stress cells (the solver's
+    /// `near_tip.rs`); they read as NaN, beside the numbers of the other rows.
+    #[test]
+    fn empty_near_tip_cells_read_as_missing() {
+        let dir = tempfile::tempdir().expect("a scratch folder");
+        let path = dir.path().join("s_near_tip.csv");
+        let text =
+            format!("{NEAR_TIP_CSV_HEADER}\n1,-1,36,1.05e-4,0,,,\n1,0,36,1.05e-4,3,2e5,1e5,-4e4\n");
+        std::fs::write(&path, text).expect("written");
+        let rows = read_near_tip(&path).expect("read");
+        assert_eq!(rows.len(), 2);
+        assert_eq!((rows[0].offset, rows[0].elements), (-1, 0));
+        assert!(rows[0].max_von_mises.is_nan() && rows[0].mean_pressure.is_nan());
+        assert_eq!(
+            [
+                rows[1].max_von_mises,
+                rows[1].mean_von_mises,
+                rows[1].mean_pressure
+            ],
+            [2e5, 1e5, -4e4]
+        );
+    }
 }

@@ -65,6 +65,10 @@ pub enum InvalidProblem {
     /// The `dimension` field is not 3; holds it.
     #[error("dimension {0} is not supported; only 3-D contact problems are")]
     Dimension(usize),
+    /// `contacts` is 0: there is nothing to solve, and the descriptors of an empty problem
+    /// (friction range, condition number) are undefined.
+    #[error("`contacts` is 0; a contact problem needs at least one contact")]
+    NoContacts,
     /// The lengths of `mu` and `q` do not match the number of contacts.
     #[error("{contacts} contacts need {contacts} mu and {} q values, found {mu} and {q}", 3 * contacts)]
     Sizes {
@@ -203,13 +207,16 @@ impl ProblemFile {
         }
     }
 
-    /// The problem, checked: sizes agree, values are finite, `mu >= 0`.
+    /// The problem, checked: at least one contact, sizes agree, values are finite, `mu >= 0`.
     pub fn to_problem(&self, name: &str) -> Result<ContactProblem, InvalidProblem> {
         if self.format != FORMAT {
             return Err(InvalidProblem::Format(self.format.clone()));
         }
         if self.dimension != 3 {
             return Err(InvalidProblem::Dimension(self.dimension));
+        }
+        if self.contacts == 0 {
+            return Err(InvalidProblem::NoContacts);
         }
         let n = 3 * self.contacts;
         if self.mu.len() != self.contacts || self.q.len() != n {
@@ -389,6 +396,17 @@ mod tests {
             }
         );
         assert!(sizes.to_string().contains("3 q values"));
+        file.contacts = 0;
+        file.mu.clear();
+        file.q.clear();
+        file.w = MatrixFile {
+            rows: 0,
+            cols: 0,
+            triplets: Vec::new(),
+        };
+        let empty = file.to_problem("p").unwrap_err();
+        assert_eq!(empty, InvalidProblem::NoContacts);
+        assert!(empty.to_string().contains("`contacts` is 0"), "{empty}");
     }
 
     /// Reading names the file: one that is missing, one that is not JSON, and one whose

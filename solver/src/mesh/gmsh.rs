@@ -15,9 +15,9 @@
 //!   ids of all elements on its entities, plus, for points, the nodes classified on them. Groups
 //!   sharing a name (in different dimensions) are merged.
 //!
-//! Limitation: when the node tags form one contiguous range, mshio drops them and the k-th node
-//! in the file is taken to have tag `min_node_tag + k`. Gmsh always writes them so; a hand-edited
-//! file listing dense tags out of order would be misread.
+//! - Node tags are those written in the file. mshio drops them when the section's tag range is
+//!   dense, so they are then read again from the file ([`super::gmsh_tags`]); a tag listed
+//!   twice, or tag 0 (reserved by Gmsh), is an error.
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -25,7 +25,7 @@ use std::path::Path;
 use mshio::{ElementType, MshFile};
 use nalgebra::Vector3;
 
-use super::Mesh;
+use super::{gmsh_tags, Mesh};
 use crate::error::{Result, SolverError};
 
 /// Physical group key: (dimension, physical tag).
@@ -37,7 +37,10 @@ const REEXPORT: &str = "re-export it from Gmsh as format 4.1 (`gmsh -3 -format m
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GmshError {
     /// The file could not be read (the system's message).
-    #[error("{0}. Fix: check the path (relative paths start at the working directory)")]
+    #[error(
+        "{0}. Fix: check the path (a relative path is taken from the folder of the scene or case \
+         file that names it)"
+    )]
     Read(String),
     /// The file does not start with `$MeshFormat`: not a Gmsh mesh.
     #[error("not a Gmsh mesh: it does not start with `$MeshFormat`; {r}", r = REEXPORT)]
@@ -97,9 +100,28 @@ pub enum GmshError {
         /// Tag of the entity.
         tag: i32,
     },
-    /// A node tag defined in two blocks of `$Nodes`; holds the tag.
-    #[error("node tag {0} is defined twice in `$Nodes`; {r}", r = REEXPORT)]
+    /// A node tag defined twice in `$Nodes`; holds the tag.
+    #[error(
+        "node tag {0} is defined twice in `$Nodes`: every node needs a tag of its own; {r}",
+        r = REEXPORT
+    )]
     RepeatedNodeTag(u64),
+    /// Node tag 0 in the `$Nodes` block of entity `dim:tag`; Gmsh reserves it.
+    #[error(
+        "the `$Nodes` block of entity {dim}:{tag} lists node tag 0, which Gmsh reserves (tags \
+         start at 1); {r}",
+        r = REEXPORT
+    )]
+    ZeroNodeTag {
+        /// Dimension of the entity (0 to 3).
+        dim: i32,
+        /// Tag of the entity.
+        tag: i32,
+    },
+    /// The node tags of `$Nodes` could not be read back from the file after mshio parsed it
+    /// (mshio drops them when they are dense); a bug of this reader, or a file it cannot follow.
+    #[error("the node tags of `$Nodes` could not be read back from the file; {r}", r = REEXPORT)]
+    NodeTagsUnreadable,
     /// Quadratic tetrahedra in volume `entity`.
     #[error(
         "volume {entity} holds quadratic tetrahedra (type 11); only linear tetrahedra \
@@ -171,7 +193,46 @@ pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh> {
         mshio::parse_msh_bytes(bytes).map_err(|e| describe_parse_error(&e, bytes, binary))
     })
     .unwrap_or(Err(GmshError::ParserGaveUp));
-    build(&parsed.map_err(fail)?, &names).map_err(fail)
+    let msh = parsed.map_err(fail)?;
+    let tags = node_tags(&msh, bytes, binary).map_err(fail)?;
+    build(&msh, &tags, &names).map_err(fail)
+}
+
+/// The node tags of every `$Nodes` block, in file order: mshio's when it kept them (a sparse
+/// range), otherwise read again from the file, because mshio then drops the tags written and
+/// a file listing them out of order or twice would be misread.
+fn node_tags(
+    msh: &MshFile<u64, i32, f64>,
+    bytes: &[u8],
+    binary: bool,
+) -> std::result::Result<Vec<Vec<u64>>, GmshError> {
+    let Some(nodes) = &msh.data.nodes else {
+        return Ok(Vec::new());
+    };
+    if nodes.node_blocks.iter().all(|b| b.node_tags.is_some()) {
+        return nodes
+            .node_blocks
+            .iter()
+            .map(|block| match &block.node_tags {
+                Some(map) if map.len() == block.nodes.len() => {
+                    let mut tags = vec![0; block.nodes.len()];
+                    map.iter().for_each(|(&tag, &i)| tags[i] = tag);
+                    Ok(tags)
+                }
+                _ => Err(GmshError::RepeatedTagInBlock {
+                    dim: block.entity_dim,
+                    tag: block.entity_tag,
+                }),
+            })
+            .collect();
+    }
+    let shapes: Vec<_> = nodes
+        .node_blocks
+        .iter()
+        .map(|b| (b.entity_dim, b.entity_tag, b.nodes.len()))
+        .collect();
+    gmsh_tags::node_tags(bytes, binary, msh.header.size_t_size, &shapes)
+        .ok_or(GmshError::NodeTagsUnreadable)
 }
 
 /// Rejects other versions up front: mshio would only say "unsupported version", without which.
@@ -234,18 +295,17 @@ fn find_line(bytes: &[u8], tag: &[u8]) -> Option<usize> {
 /// instead.
 fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: bool) -> GmshError {
     let trace = e.filtered_backtrace();
+    let offset_of = |rest: &[u8]| (rest.as_ptr() as usize).saturating_sub(bytes.as_ptr() as usize);
     let Some((rest, kind)) = trace.first() else {
-        return GmshError::Malformed;
+        // Only nom's own errors, without mshio's context: typically a section holding more
+        // entries than its header announces, so that the `$End...` line is not where expected.
+        // The innermost error still points into the file.
+        return match e.backtrace.first() {
+            Some((rest, _)) => unexpected_at(bytes, offset_of(rest), binary),
+            None => GmshError::Malformed,
+        };
     };
-    let offset = (rest.as_ptr() as usize).saturating_sub(bytes.as_ptr() as usize);
-    let mut place = format!("byte {offset}");
-    if !binary {
-        let line = bytes[..offset.min(bytes.len())]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        place = format!("line {}", line + 1);
-    }
+    let mut place = place_of(bytes, offset_of(rest), binary);
     for (_, k) in trace[1..].iter().rev() {
         place += &format!(
             ", in {}",
@@ -258,37 +318,86 @@ fn describe_parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8], binary: 
     }
 }
 
+/// `line N` (ASCII) or `byte N` (binary) of `offset`.
+fn place_of(bytes: &[u8], offset: usize, binary: bool) -> String {
+    if binary {
+        return format!("byte {offset}");
+    }
+    let line = bytes[..offset.min(bytes.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count();
+    format!("line {}", line + 1)
+}
+
+/// The error for a parse that stopped at `offset` without a reason: the place, the section it
+/// lies in (the last `$Section` line before it) and, in an ASCII file, the text found there.
+fn unexpected_at(bytes: &[u8], offset: usize, binary: bool) -> GmshError {
+    let offset = offset.min(bytes.len());
+    let mut place = place_of(bytes, offset, binary);
+    let section = (0..offset)
+        .rev()
+        .filter(|&i| bytes[i] == b'$' && (i == 0 || bytes[i - 1] == b'\n'))
+        .find_map(|i| {
+            let name: String = bytes[i + 1..offset]
+                .iter()
+                .take_while(|b| b.is_ascii_alphabetic())
+                .map(|&b| char::from(b))
+                .collect();
+            (!name.is_empty()).then_some(name)
+        });
+    let expected = match &section {
+        Some(name) if name.starts_with("End") => {
+            place += &format!(", after `${name}`");
+            "the next `$Section` line".to_string()
+        }
+        Some(name) => {
+            place += &format!(", in `${name}`");
+            format!("`$End{name}`")
+        }
+        None => "a `$Section` line".to_string(),
+    };
+    let found = if binary {
+        String::new()
+    } else {
+        let line = bytes[offset..].split(|&b| b == b'\n').next().unwrap_or(&[]);
+        let text = String::from_utf8_lossy(line);
+        let text = text.trim_end();
+        if text.is_empty() {
+            " (end of file)".to_string()
+        } else {
+            format!(" `{}`", text.chars().take(60).collect::<String>())
+        }
+    };
+    GmshError::Parse {
+        place,
+        reason: format!(
+            "unexpected data{found} where {expected} should be; a count in the section's \
+             header may not match the entries that follow"
+        ),
+    }
+}
+
 /// Turns the parsed file into a [`Mesh`] following the rules in the module documentation.
+/// `tags` holds the node tags of each `$Nodes` block ([`node_tags`]).
 fn build(
     msh: &MshFile<u64, i32, f64>,
+    tags: &[Vec<u64>],
     names: &HashMap<Group, String>,
 ) -> std::result::Result<Mesh, GmshError> {
-    // mshio keeps a block's node tags only when the file's tags are sparse; when they are dense
-    // it drops them, so they are rebuilt as min_node_tag, min_node_tag + 1, ... in file order,
-    // which is how Gmsh writes them.
     let mut coords = Vec::new();
     let mut index_of = HashMap::new();
     let mut point_nodes: HashMap<i32, Vec<usize>> = HashMap::new();
     if let Some(nodes) = &msh.data.nodes {
-        for block in &nodes.node_blocks {
+        for (block, tags) in nodes.node_blocks.iter().zip(tags) {
             let first = coords.len();
-            let tags: Vec<u64> = match &block.node_tags {
-                Some(map) if map.len() != block.nodes.len() => {
-                    return Err(GmshError::RepeatedTagInBlock {
+            for (k, (&tag, node)) in tags.iter().zip(&block.nodes).enumerate() {
+                if tag == 0 {
+                    return Err(GmshError::ZeroNodeTag {
                         dim: block.entity_dim,
                         tag: block.entity_tag,
                     });
                 }
-                Some(map) => {
-                    let mut tags = vec![0; block.nodes.len()];
-                    map.iter().for_each(|(&tag, &i)| tags[i] = tag);
-                    tags
-                }
-                None => (0..block.nodes.len() as u64)
-                    .map(|k| nodes.min_node_tag + first as u64 + k)
-                    .collect(),
-            };
-            for (k, (tag, node)) in tags.into_iter().zip(&block.nodes).enumerate() {
                 if index_of.insert(tag, first + k).is_some() {
                     return Err(GmshError::RepeatedNodeTag(tag));
                 }

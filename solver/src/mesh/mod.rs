@@ -3,6 +3,7 @@
 mod boundary;
 mod generate;
 pub mod gmsh;
+mod gmsh_tags;
 mod numbering;
 mod quality;
 

@@ -78,7 +78,9 @@ impl NearTipSpec {
 
 /// The header of `<stem>_near_tip.csv`: the remeshing (from 1), the offset in steps from it,
 /// the step, time (s), elements measured, largest and mean von Mises stress (Pa), mean
-/// pressure (Pa); the means volume-weighted. Without elements the stresses are NaN.
+/// pressure (Pa); the means volume-weighted. Without elements (none within the radius) the three
+/// stress cells are empty: the mean and largest value of an empty set do not exist, and an empty
+/// cell is what CSV readers (and the report's) take as a missing value.
 pub const NEAR_TIP_CSV_HEADER: &str =
     "remeshing,offset,step,time,elements,max_von_mises,mean_von_mises,mean_pressure";
 
@@ -91,7 +93,7 @@ pub struct NearTipRow {
     pub time: f64,
     /// Elements measured.
     pub elements: usize,
-    /// Their largest von Mises stress (Pa).
+    /// Their largest von Mises stress (Pa); this and the means are NaN without elements.
     pub max_von_mises: f64,
     /// Their volume-weighted mean von Mises stress (Pa).
     pub mean_von_mises: f64,
@@ -184,11 +186,19 @@ pub fn measure_near_tip(
     }
 }
 
-/// One line of the CSV.
+/// One line of the CSV; the stress cells are empty when no element was measured.
 fn line(remeshing: usize, offset: i64, r: &NearTipRow) -> String {
+    let stresses = if r.elements == 0 {
+        ",,".to_string()
+    } else {
+        format!(
+            "{:e},{:e},{:e}",
+            r.max_von_mises, r.mean_von_mises, r.mean_pressure
+        )
+    };
     format!(
-        "{remeshing},{offset},{},{:e},{},{:e},{:e},{:e}",
-        r.step, r.time, r.elements, r.max_von_mises, r.mean_von_mises, r.mean_pressure
+        "{remeshing},{offset},{},{:e},{},{stresses}",
+        r.step, r.time, r.elements
     )
 }
 
@@ -275,5 +285,60 @@ impl RemeshWatch for NearTipStress {
             .collect();
         self.file.write_lines(lines);
         self.after = self.spec.steps;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{build_problem, Scene};
+
+    /// A 0.1 m elastic cube of 6 tetrahedra with a probe on its corner node at the origin.
+    fn cube() -> Problem {
+        let scene = Scene::from_yaml(
+            "name: cube
+bodies:
+  - name: block
+    mesh: { box: { origin: [0, 0, 0], size: [0.1, 0.1, 0.1], divisions: [1, 1, 1] } }
+    material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 } }
+probes:
+  - { name: tip, body: block, nodes: { nodes: [0] }, quantity: displacement }
+analysis: { explicit: { end_time: 1.0e-6 } }
+",
+            "near-tip test",
+        )
+        .expect("the test scene reads");
+        build_problem(&scene).expect("the test scene builds")
+    }
+
+    /// No centroid lies within 1 mm of the corner (the nearest is about 35 mm away): the row
+    /// counts no element, and its line leaves the three stress cells empty, not NaN. With a
+    /// radius over the whole cube, every element is measured (at rest: zero stress) and the
+    /// cells are numbers.
+    #[test]
+    fn no_element_within_the_radius_gives_empty_stress_cells() {
+        let p = cube();
+        let u = vec![Vector3::zeros(); p.model.reference.len()];
+        let probe = p
+            .probes
+            .iter()
+            .position(|q| q.name == "tip")
+            .expect("probe");
+        let none = measure_near_tip(&p, 0, probe, 1e-3, (&u, None), (3, 2e-6));
+        assert_eq!(none.elements, 0);
+        let text = line(1, -2, &none);
+        assert_eq!(text, "1,-2,3,2e-6,0,,,");
+        assert!(!text.contains("NaN"), "{text}");
+        assert_eq!(
+            text.split(',').count(),
+            NEAR_TIP_CSV_HEADER.split(',').count()
+        );
+
+        let all = measure_near_tip(&p, 0, probe, 1.0, (&u, None), (3, 2e-6));
+        assert_eq!(all.elements, p.model.tets.len());
+        assert_eq!(
+            line(1, -2, &all),
+            format!("1,-2,3,2e-6,{},0e0,0e0,0e0", all.elements)
+        );
     }
 }

@@ -98,7 +98,9 @@ impl ContactSolver for ConicSolver {
         let w_scale = if trace > 0.0 { trace / n as f64 } else { 1.0 };
         let q_scale = problem.q.iter().fold(0.0f64, |m, q| m.max(q.abs()));
         if q_scale == 0.0 || (w_scale == 1.0 && q_scale == 1.0) {
-            return self.solve_scaled(problem, limits, clock);
+            return self
+                .solve_scaled(problem, limits, clock)
+                .map(refuse_non_finite);
         }
         let mut scaled = problem.clone();
         scaled.w.values.iter_mut().for_each(|v| *v /= w_scale);
@@ -106,8 +108,25 @@ impl ContactSolver for ConicSolver {
         let mut report = self.solve_scaled(&scaled, limits, clock)?;
         let back = q_scale / w_scale;
         report.r.iter_mut().for_each(|r| *r *= back);
-        Ok(report)
+        Ok(refuse_non_finite(report))
     }
+}
+
+/// A report whose multipliers are not all finite is a failure, whatever Clarabel said: the
+/// scaled program can converge while `r = r~ |q|_max / w` overflows f64 (a tiny `W` against a
+/// huge `q`), and a caller must not take infinite forces as a solution.
+fn refuse_non_finite(mut report: SolverReport) -> SolverReport {
+    if report.r.iter().all(|v| v.is_finite()) {
+        return report;
+    }
+    let why = "the multipliers are not finite (they overflow f64 once scaled back from the \
+               program's units)";
+    report.notes.push(format!(
+        "solve ended {} but {why}; reported as failed",
+        report.status.label()
+    ));
+    report.status = SolveStatus::Failed(why.into());
+    report
 }
 
 impl ConicSolver {

@@ -283,3 +283,41 @@ fn invalid_problems_are_errors_and_empty_ones_trivial() {
     assert_eq!(ConicSolver::new(ConicMode::Coulomb).name(), "conic/coulomb");
     assert_eq!(ConicSolver::new(ConicMode::Relaxed).name(), "conic/relaxed");
 }
+
+/// The problem of the fuzz findings (N2), `q = [-1e300, 2e300, 3e300]`, `mu = 0.1`, with an
+/// isotropic tangential block, `W = diag(15, 14, 14)` (N2 has 14, 16). Its Coulomb solution is
+/// finite and analytic: the contact is closed (`u_N = 0`, `r_N = 1e300 / 15`), and it slides,
+/// because sticking needs `|r_T| = |q_T| / 14 = 2.6e299 > mu r_N = 6.7e297`; sliding with
+/// `W_TT = 14 I` puts `r_T = -mu r_N q_T / |q_T|`, opposite to `u_T`, which is along `q_T`.
+#[test]
+fn huge_q_is_solved_to_its_analytic_coulomb_solution() {
+    let w = DMatrix::from_row_slice(3, 3, &[15.0, 0.0, 0.0, 0.0, 14.0, 0.0, 0.0, 0.0, 14.0]);
+    let p = problem(&w, &[-1e300, 2e300, 3e300], &[0.1]);
+    let r_n = 1e300 / 15.0;
+    let q_t = (2e300f64).hypot(3e300);
+    let exact = [r_n, -0.1 * r_n * (2e300 / q_t), -0.1 * r_n * (3e300 / q_t)];
+    assert!(exact.iter().all(|v| v.is_finite()), "{exact:?}");
+    let report = solve_tight(&p, ConicMode::Coulomb);
+    assert_eq!(report.status, SolveStatus::Converged, "{:?}", report.notes);
+    assert_close(&report.r, &exact, 1e-6);
+    let relaxed = solve(&p, ConicMode::Relaxed);
+    assert!(relaxed.r.iter().all(|v| v.is_finite()), "{:?}", relaxed.r);
+}
+
+/// `W = 1e-10 I`, `q = [-1e300, 0, 0]`: the exact `r_N = 1e310` is beyond f64. The program is
+/// solved scaled (to `W = I`, `q = [-1, 0, 0]`) and converges; the multipliers scaled back are
+/// infinite, and a solve that returns them must not report convergence.
+#[test]
+fn multipliers_that_overflow_are_a_failure_not_convergence() {
+    let w = DMatrix::from_diagonal_element(3, 3, 1e-10);
+    let p = problem(&w, &[-1e300, 0.0, 0.0], &[0.1]);
+    for mode in [ConicMode::Relaxed, ConicMode::Coulomb] {
+        let report = solve(&p, mode);
+        assert!(report.r[0].is_infinite(), "{mode:?}: {:?}", report.r);
+        assert!(
+            matches!(&report.status, SolveStatus::Failed(why) if why.contains("not finite")),
+            "{mode:?}: {:?}",
+            report.status
+        );
+    }
+}
