@@ -105,9 +105,9 @@ pub fn parse(
             comparison.tolerances
         ));
     }
-    if !(comparison.time_limit_s > 0.0) {
+    if !(comparison.time_limit_s > 0.0 && comparison.time_limit_s.is_finite()) {
         return Err(format!(
-            "contact_problems: time_limit_s must be positive, got {}",
+            "contact_problems: time_limit_s must be positive and finite, got {}",
             comparison.time_limit_s
         ));
     }
