@@ -95,6 +95,22 @@ fn explicit_stop(analysis: &Analysis) -> Option<&StopWhen> {
     }
 }
 
+/// An input error found after the scene was read (building its model, checking its analysis)
+/// with the scene file's path before the entity it names, as the reader's own errors have it.
+fn in_file(path: &Path, e: SolverError) -> SolverError {
+    match e {
+        SolverError::InvalidScene { entity, message }
+            if !entity.starts_with(&*path.to_string_lossy()) =>
+        {
+            SolverError::InvalidScene {
+                entity: format!("{}: {entity}", path.display()),
+                message,
+            }
+        }
+        other => other,
+    }
+}
+
 /// Whether the YAML file at `path` is a catalogue case (top-level `id` and `scene`) rather than a
 /// scene: then `impact-vv scene` runs the case's scene as written (its variants and metrics are
 /// the catalogue's business, `impact-vv run`).
@@ -126,7 +142,7 @@ pub fn run_scene_file(
     } else {
         Scene::from_yaml_file(path)?
     };
-    let mut problem = build_problem(&scene)?;
+    let mut problem = build_problem(&scene).map_err(|e| in_file(path, e))?;
     let bar = fraction_bar(&scene.name);
     if ranks.is_some_and(|c| c.rank() > 0) {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
@@ -143,7 +159,7 @@ pub fn run_scene_file(
         bar.set_position((1000.0 * x) as u64)
     });
     bar.finish_and_clear();
-    let run = result?;
+    let run = result.map_err(|e| in_file(path, e))?;
     let mut lines = vec![run.plan.clone()];
     if let Some(s) = &run.summary {
         lines.push(format!(

@@ -5,7 +5,7 @@
 //! program must not panic, abort, hang, or exit 0 having written a non-finite number; an input
 //! error (status 2) must name a file or a key.
 //!
-//! `IMPACT_FUZZ_INPUTS` sets the number of inputs (default 240, under a minute on two cores) and
+//! `IMPACT_FUZZ_INPUTS` sets the number of inputs (default 600, a few seconds on two cores) and
 //! `IMPACT_FUZZ_SEED` the seed (default 1): `IMPACT_FUZZ_INPUTS=1000 IMPACT_FUZZ_SEED=7 cargo
 //! test --release --test fuzz_inputs` runs a campaign of its own. A finding prints the input that
 //! made it.
@@ -23,8 +23,9 @@ use cli_common::*;
 use impact_solver::rng::SplitMix64;
 use serde_norway::Value;
 
-/// Longest a valid mutated input may run: the seeds run in a fraction of a second.
-const LIMIT: Duration = Duration::from_secs(20);
+/// How long an input runs before it is stopped by SIGTERM: the seeds run in a fraction of a
+/// second.
+const LIMIT: Duration = Duration::from_secs(10);
 
 /// The seeds, each `(file name, command, text)`: small scenes of every analysis and feature
 /// the catalogue uses, a case with a sweep and variants, a Gmsh mesh and a contact problem.
@@ -349,10 +350,28 @@ fn judge(dir: &Path, command: &str, input: &Path) -> Result<i32, String> {
         if let Some(s) = child.try_wait().unwrap() {
             break s;
         }
+        // A valid input may ask for a long run (`end_time: 3` of a penetration): past the
+        // limit it must stop on SIGTERM as a user's Ctrl-C stops it, with status 130 and what
+        // it computed written; one that does not is a hang.
         if started.elapsed() > LIMIT {
+            let _ = Command::new("kill")
+                .args(["-TERM", &child.id().to_string()])
+                .status();
+            let signalled = Instant::now();
+            while signalled.elapsed() < Duration::from_secs(5) {
+                if let Some(s) = child.try_wait().unwrap() {
+                    return match s.code() {
+                        Some(130) => Ok(3),
+                        other => Err(format!("stopped by SIGTERM with status {other:?}")),
+                    };
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
             let _ = child.kill();
             let _ = child.wait();
-            return Err(format!("hang: still running after {LIMIT:?}"));
+            return Err(format!(
+                "hang: still running {LIMIT:?} after it started and 5 s after SIGTERM"
+            ));
         }
         std::thread::sleep(Duration::from_millis(5));
     };
@@ -375,8 +394,14 @@ fn judge(dir: &Path, command: &str, input: &Path) -> Result<i32, String> {
             }
         }
         Some(0) => non_finite_output(&out).map_or(Ok(0), |f| Err(format!("exit 0 with {f}"))),
-        // A run that failed (1) says why; it is judged by its message alone.
-        Some(1) if !stderr.trim().is_empty() => Ok(1),
+        // A run that failed (1) says why; it is judged by its message alone, which
+        // `IMPACT_FUZZ_VERBOSE` prints for a person to read.
+        Some(1) if !stderr.trim().is_empty() => {
+            if std::env::var_os("IMPACT_FUZZ_VERBOSE").is_some() {
+                eprintln!("status 1, {}: {}", input.display(), stderr.trim());
+            }
+            Ok(1)
+        }
         Some(code) => Err(format!("exit {code}: {stderr}")),
     }
 }
@@ -440,7 +465,7 @@ fn every_seed_runs_as_written() {
 
 #[test]
 fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
-    let inputs = env_or("IMPACT_FUZZ_INPUTS", 240) as usize;
+    let inputs = env_or("IMPACT_FUZZ_INPUTS", 600) as usize;
 
     let seed = env_or("IMPACT_FUZZ_SEED", 1);
     let seeds = seeds();
@@ -463,8 +488,9 @@ fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
     let root = temp_dir("fuzz");
     let next = std::sync::atomic::AtomicUsize::new(0);
     let findings = std::sync::Mutex::new(Vec::new());
-    // How many inputs ended with status 0 (ran), 1 (a run that failed) and 2 (refused).
-    let statuses = std::sync::Mutex::new([0usize; 3]);
+    // How many inputs ended with status 0 (ran), 1 (a run that failed), 2 (refused), and how
+    // many long runs stopped on SIGTERM (130).
+    let statuses = std::sync::Mutex::new([0usize; 4]);
     let workers = std::thread::available_parallelism()
         .map_or(2, |n| n.get())
         .min(4);
@@ -503,10 +529,11 @@ fn mutated_inputs_never_panic_hang_or_pass_bad_numbers() {
         }
     });
     let findings = findings.into_inner().unwrap();
-    let [ran, failed, refused] = statuses.into_inner().unwrap();
+    let [ran, failed, refused, stopped] = statuses.into_inner().unwrap();
     eprintln!(
         "{inputs} mutated inputs (seed {seed}) in {:.1} s: {ran} ran (status 0), {failed} runs \
-         failed (1), {refused} refused (2), {} findings",
+         failed (1), {refused} refused (2), {stopped} long runs stopped by SIGTERM (130), {} \
+         findings",
         started.elapsed().as_secs_f64(),
         findings.len()
     );
