@@ -107,20 +107,29 @@ fn a_raised_stop_flag_ends_the_preload_of_a_release() {
     assert!(elapsed < Duration::from_secs(2), "{elapsed:?}");
 }
 
-/// Zero load steps, or more than ten million, are refused naming the key and the range.
+/// Zero load steps, or more than ten million, are refused naming the key and the range: by the
+/// solver, and by the scene reader before it.
 #[test]
 fn load_steps_outside_the_range_are_refused() {
+    let scene = bar(&[CLAMP], "{ static: { load_steps: 1 } }");
+    let problem = build_problem(&scene).unwrap();
     for steps in [0, MAX_LOAD_STEPS + 1] {
-        let scene = bar(
-            &[CLAMP],
-            &format!("{{ static: {{ load_steps: {steps} }} }}"),
-        );
-        let problem = build_problem(&scene).unwrap();
-        let message = solve_static(&problem, &static_settings(&scene))
-            .unwrap_err()
-            .to_string();
+        let mut settings = static_settings(&scene);
+        settings.load_steps = steps;
+        let message = solve_static(&problem, &settings).unwrap_err().to_string();
         assert!(
             message.contains("load_steps") && message.contains("10000000"),
+            "{message}"
+        );
+        let text = format!(
+            "name: bar\nbodies:\n  - name: bar\n    mesh: {{ box: {{ origin: [0, 0, 0], size: [1, \
+             0.1, 0.1], divisions: [1, 1, 1] }} }}\n    material: {{ linear_elastic: {{ density: \
+             2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 }} }}\nanalysis: {{ static: {{ \
+             load_steps: {steps} }} }}\n"
+        );
+        let message = Scene::from_yaml(&text, "bar.yaml").unwrap_err().to_string();
+        assert!(
+            message.contains("bar.yaml") && message.contains("analysis.static.load_steps"),
             "{message}"
         );
     }

@@ -78,11 +78,22 @@ impl TimeFunction {
         }
     }
 
-    /// Checks the parameters: a ramp needs `t1 > t0`, a table increasing times.
+    /// Checks the parameters: every number finite, a ramp's `t1 > t0`, a table's times
+    /// increasing.
     pub fn validate(&self) -> Result<(), String> {
         match self {
             TimeFunction::Constant(v) if !v.is_finite() => {
                 Err(format!("constant {v} is not finite"))
+            }
+            TimeFunction::Ramp { t0, t1, from, to }
+                if ![t0, t1, from, to].iter().all(|v| v.is_finite()) =>
+            {
+                Err(format!(
+                    "ramp needs finite t0, t1, from and to, got {t0}, {t1}, {from}, {to}"
+                ))
+            }
+            TimeFunction::Table(p) if p.iter().flatten().any(|v| !v.is_finite()) => {
+                Err("table points must be finite".into())
             }
             TimeFunction::Ramp { t0, t1, .. } if !(t1 > t0) => {
                 Err(format!("ramp needs t1 > t0, got t0 = {t0}, t1 = {t1}"))

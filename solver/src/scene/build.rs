@@ -328,7 +328,6 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
     for (i, load) in scene.loads.iter().enumerate() {
         let name = load.name.clone().unwrap_or_else(|| format!("load{i}"));
         let entity = format!("load `{name}`");
-        load.function.validate().map_err(|m| invalid(&entity, m))?;
         loads.push(NodalLoad {
             nodes: resolve(&entity, &load.body, &load.nodes)?,
             name,

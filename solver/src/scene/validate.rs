@@ -24,7 +24,7 @@ fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError
 }
 
 /// `Ok` when every value is finite; else names the first that is not.
-pub(crate) fn finite(entity: &str, values: &[f64]) -> Result<()> {
+fn finite(entity: &str, values: &[f64]) -> Result<()> {
     match values.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(invalid(entity, format!("must be finite, got {v}"))),
         None => Ok(()),
