@@ -30,7 +30,6 @@ const LIMIT: Duration = Duration::from_secs(10);
 /// The seeds, each `(file name, command, text)`: small scenes of every analysis and feature
 /// the catalogue uses, a case with a sweep and variants, a Gmsh mesh and a contact problem.
 fn seeds() -> Vec<(&'static str, &'static str, String)> {
-    let material = repo().join("cases/materials/thesis-concrete-crack-friction.yaml");
     let bar = r#"name: bar
 bodies:
   - name: bar
@@ -87,29 +86,9 @@ analysis:
         "  static: { load_steps: 4 }",
         "  release:\n    preload: { load_steps: 2 }\n    explicit: { end_time: 5.0e-5 }",
     );
-    let remesh = format!(
-        r#"name: remesh
-bodies:
-  - name: block
-    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.1, 0.1, 0.1], divisions: [2, 2, 2] }} }}
-    material: {{ microplane: {{ file: {}, volumetric_strain: volume_ratio, crack_friction: 0.5 }} }}
-  - name: striker
-    mesh: {{ box: {{ origin: [0.03, 0.101, 0.03], size: [0.04, 0.04, 0.04], divisions: [1, 1, 1] }} }}
-    material: {{ linear_elastic: {{ density: 8000, youngs_modulus: 2.0e11, poisson_ratio: 0.3 }} }}
-    initial_velocity: {{ translation: [0, -300.0, 0] }}
-boundary_conditions:
-  - {{ name: bottom, body: block, nodes: {{ plane: {{ point: [0, 0, 0], normal: [0, 1, 0] }} }}, motion: {{ fixed: [y] }} }}
-probes:
-  - {{ name: tip, body: striker, nodes: all, quantity: displacement }}
-contact:
-  - {{ name: hit, bodies: [block, striker], friction: 0.5, penetration_release_speed: 20.0 }}
-analysis:
-  explicit:
-    end_time: 4.0e-5
-    safety: 0.6
-    remeshing: {{ body: block, check_every: 2, collapse_limit: 2.5, min_edge: 1.0e-3, regrowth: 1.25, near_tip: {{ probe: tip, radius: 3.0e-2, steps: 3 }} }}
-"#,
-        material.display()
+    let remesh = remeshing_striker(
+        "      check_every: 2\n      collapse_limit: 2.5\n      min_edge: 1.0e-3\n      \
+         regrowth: 1.25\n      near_tip: { probe: tip, radius: 3.0e-2, steps: 3 }\n",
     );
     let gmsh = format!(
         "name: cube\nbodies:\n  - name: cube\n    mesh: {{ gmsh: {} }}\n    material: {{ linear_elastic: {{ density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 }} }}\nboundary_conditions:\n  - {{ name: base, body: cube, nodes: {{ group: bottom }}, motion: {{ fixed: [x, y, z] }} }}\nanalysis: {{ explicit: {{ end_time: 1.0e-5 }} }}\n",

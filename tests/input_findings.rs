@@ -152,36 +152,6 @@ fn p3_ranks_out_of_range_are_refused() {
     );
 }
 
-/// The remeshing striker of finding H1, with `extra` appended to its `remeshing:` block.
-fn striker(extra: &str) -> String {
-    let material = repo().join("cases/materials/thesis-concrete-crack-friction.yaml");
-    format!(
-        r#"name: remesh
-bodies:
-  - name: block
-    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.1, 0.1, 0.1], divisions: [3, 3, 3] }} }}
-    material: {{ microplane: {{ file: {}, volumetric_strain: volume_ratio, crack_friction: 0.5 }} }}
-  - name: striker
-    mesh: {{ box: {{ origin: [0.03, 0.101, 0.03], size: [0.04, 0.04, 0.04], divisions: [1, 1, 1] }} }}
-    material: {{ linear_elastic: {{ density: 8000, youngs_modulus: 2.0e11, poisson_ratio: 0.3 }} }}
-    initial_velocity: {{ translation: [0, -300.0, 0] }}
-probes:
-  - {{ name: tip, body: striker, nodes: all, quantity: displacement }}
-contact:
-  - {{ name: hit, bodies: [block, striker], friction: 0.5 }}
-analysis:
-  explicit:
-    end_time: 1.5e-4
-    safety: 0.6
-    remeshing:
-      body: block
-      check_every: 2
-      collapse_limit: 2.5
-{extra}"#,
-        material.display()
-    )
-}
-
 /// H1 and A1: `regrowth` below 1 (the runaway), and `min_edge`, `min_volume`, `check_every`
 /// and `near_tip.steps` out of range, are refused naming the key.
 #[test]
@@ -201,15 +171,12 @@ fn h1_remeshing_keys_out_of_range_are_refused() {
             "remeshing.near_tip.steps",
         ),
     ] {
-        let text = striker(line).replace("      check_every: 2\n", "");
-        let text = if key.ends_with("check_every") {
-            text
-        } else {
-            text.replace(
-                "      collapse_limit",
-                "      check_every: 2\n      collapse_limit",
-            )
-        };
+        // The keys the finding's scene sets, less the one under test.
+        let others: String = ["      check_every: 2\n", "      collapse_limit: 2.5\n"]
+            .into_iter()
+            .filter(|l| l.split(':').next() != line.split(':').next())
+            .collect();
+        let text = remeshing_striker(&format!("{others}{line}"));
         let (o, _dir) = scene(&text);
         assert_input_error(&o, &[key]);
     }

@@ -78,3 +78,36 @@ pub fn results(reports: &Path) -> serde_json::Value {
 pub fn confined_wave() -> String {
     std::fs::read_to_string(repo().join("cases/elastic/confined-wave.yaml")).unwrap()
 }
+
+/// A steel striker at 300 m/s onto a microplane concrete block of 2 x 2 x 2 cells held at its
+/// base, remeshing the block, run for 40 us: a penetration scene of a fraction of a second.
+/// `remeshing` holds the lines of the `remeshing:` block after `body: block`, indented six
+/// spaces.
+pub fn remeshing_striker(remeshing: &str) -> String {
+    let material = repo().join("cases/materials/thesis-concrete-crack-friction.yaml");
+    format!(
+        r#"name: remesh
+bodies:
+  - name: block
+    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.1, 0.1, 0.1], divisions: [2, 2, 2] }} }}
+    material: {{ microplane: {{ file: {}, volumetric_strain: volume_ratio, crack_friction: 0.5 }} }}
+  - name: striker
+    mesh: {{ box: {{ origin: [0.03, 0.101, 0.03], size: [0.04, 0.04, 0.04], divisions: [1, 1, 1] }} }}
+    material: {{ linear_elastic: {{ density: 8000, youngs_modulus: 2.0e11, poisson_ratio: 0.3 }} }}
+    initial_velocity: {{ translation: [0, -300.0, 0] }}
+boundary_conditions:
+  - {{ name: bottom, body: block, nodes: {{ plane: {{ point: [0, 0, 0], normal: [0, 1, 0] }} }}, motion: {{ fixed: [y] }} }}
+probes:
+  - {{ name: tip, body: striker, nodes: all, quantity: displacement }}
+contact:
+  - {{ name: hit, bodies: [block, striker], friction: 0.5, penetration_release_speed: 20.0 }}
+analysis:
+  explicit:
+    end_time: 4.0e-5
+    safety: 0.6
+    remeshing:
+      body: block
+{remeshing}"#,
+        material.display()
+    )
+}
