@@ -26,6 +26,18 @@ use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::output::HistoryTable;
 use measure::Measure;
 
+/// The pool a rank thread of a threaded distributed run computes in: one thread, its own, so that
+/// no rank waits on workers that other cases hold.
+fn rank_pool() -> Result<rayon::ThreadPool, SolverError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| SolverError::InvalidScene {
+            entity: "ranks".into(),
+            message: format!("cannot start a rank's thread pool: {e}"),
+        })
+}
+
 /// A case that runs its scene.
 #[derive(Debug)]
 pub struct SceneCase {
@@ -159,12 +171,21 @@ fn run_case(
                 Some(_) if world.is_some() => run_as(world),
                 // Every rank runs the case; rank 0's outcome is the run's (every rank holds the
                 // same nodal history, and rank 0 alone writes files).
+                //
+                // Each rank thread gets a one-thread pool of its own: its parallel loops must not
+                // wait for the catalogue's shared pool, whose workers another case may hold for
+                // its whole run while this rank's partner waits at a barrier (the 2-rank
+                // solver-agreement case starved at step 0 behind the nail run for 900 s).
                 Some(n) => {
                     let group = ThreadGroup::new(n);
                     std::thread::scope(|s| {
                         let ranks: Vec<_> = group
                             .iter()
-                            .map(|comm| s.spawn(|| run_as(Some(comm as &dyn Communicator))))
+                            .map(|comm| {
+                                s.spawn(|| {
+                                    rank_pool()?.install(|| run_as(Some(comm as &dyn Communicator)))
+                                })
+                            })
                             .collect();
                         let mut outcomes = ranks.into_iter().map(|h| {
                             h.join().unwrap_or_else(|_| {

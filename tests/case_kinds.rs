@@ -184,3 +184,72 @@ fn a_case_on_a_folder_is_judged_and_an_unreadable_file_fails_it() {
     assert!(r.message.unwrap().contains("zz-broken.json"));
     std::fs::remove_dir_all(data).ok();
 }
+
+/// A variant run as ranks in threads finishes while every worker of the shared pool is held by
+/// other work: each rank computes in a pool of its own. (The ranks' parallel loops once went to
+/// the shared pool, where a long case held the workers; the 2-rank run starved at step 0.)
+#[test]
+fn ranks_in_threads_do_not_wait_for_the_shared_pool() {
+    let case = write_case(
+        "ranks",
+        &format!(
+            "{HEAD}scene:
+  name: bar
+  bodies:
+    - name: a
+      mesh: {{ box: {{ origin: [0, 0, 0], size: [0.1, 0.1, 0.1], divisions: [2, 2, 2] }} }}
+      material: {{ linear_elastic: {{ density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.2 }} }}
+      initial_velocity: {{ translation: [1.0, 0, 0] }}
+    - name: b
+      mesh: {{ box: {{ origin: [0.2, 0, 0], size: [0.1, 0.1, 0.1], divisions: [2, 2, 2] }} }}
+      material: {{ linear_elastic: {{ density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.2 }} }}
+  analysis:
+    explicit: {{ end_time: 1.0e-3, history_interval: 1.0e-4 }}
+variants:
+  - {{ name: 2-ranks, ranks: 2 }}
+metrics:
+  - name: energy
+    measure: energy_balance_error
+    reference: {{ analytic: zero }}
+    tolerance: {{ at_most: 1.0e-6 }}
+"
+        ),
+    );
+    let case = load_case(&case).unwrap();
+    let variant = &case.spec.variants[0];
+
+    // Hold every worker of the shared pool until the run is over (or a minute has passed, so
+    // that a run that needs them still ends and the assertion below names the failure).
+    let release = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let workers = rayon::current_num_threads();
+    let held = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    for _ in 0..workers {
+        let (release, held) = (release.clone(), held.clone());
+        rayon::spawn(move || {
+            held.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let t0 = std::time::Instant::now();
+            while !release.load(std::sync::atomic::Ordering::SeqCst) && t0.elapsed().as_secs() < 60
+            {
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+        });
+    }
+    while held.load(std::sync::atomic::Ordering::SeqCst) < workers {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let options = RunOptions {
+        output_dir: None,
+        time_limit_s: 120.0,
+        parallel: false,
+        stop: None,
+    };
+    let t0 = std::time::Instant::now();
+    let result = case.kind.run(&case, Some(variant), &options);
+    let elapsed = t0.elapsed().as_secs_f64();
+    release.store(true, std::sync::atomic::Ordering::SeqCst);
+    assert_eq!(result.status, Status::Pass, "{:?}", result.message);
+    assert!(
+        elapsed < 30.0,
+        "the 2-rank run took {elapsed:.1} s while the shared pool was busy: it waited for it"
+    );
+}
