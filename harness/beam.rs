@@ -1,4 +1,4 @@
-//! Measures of the thesis' plain concrete beam (chapter 10; `shared/design/CATALOGUE.md`,
+//! Measures of the thesis' plain concrete beam (chapter 10; `docs/catalogue.md`,
 //! "Validation: the thesis' plain concrete beam"): the failure mode from the crack pattern
 //! (FORMULATION 5), the bending-crack tip against time, and the history checks of the drop and
 //! static three-point-bending cases.

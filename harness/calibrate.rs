@@ -12,7 +12,7 @@ use impact_solver::material::microplane::calibration::{
 /// The comment at the top of a calibrated material file.
 const HEADER: &str = "\
 # The concrete of the thesis' beam (chapter 10): E 30000 MPa, nu 0.18, fc 45 MPa, ft 2.7 MPa,
-# GF 0.10 N/mm, rho 2300 kg/m^3, for the microplane model (shared/design/MICROPLANE.md).
+# GF 0.10 N/mm, rho 2300 kg/m^3, for the microplane model (docs/MICROPLANE.md).
 # Written by the calibration (`calibration.command` below reproduces it); `calibration.outcomes`
 # gives the value every target reaches with these parameters (quasi-static, single element).
 ";

@@ -1,6 +1,6 @@
 //! Reference relations for plain concrete (the material cases of the catalogue, CATALOGUE
-//! "Concrete material"; research notes `shared/research/concrete-references.md` sections 2, 3.3
-//! and 5). Each function states its formula and source; the harness evaluates them with the
+//! "Concrete material"; fib Model Code 2010, CEB-FIP Model Code 1990 and Hordijk
+//! 1991). Each function states its formula and source; the harness evaluates them with the
 //! targets a case states, never with numbers from a run of the model.
 
 use super::analytic::mc2010_dynamic_increase_factor;

@@ -1,4 +1,4 @@
-//! Every reproducer of the fuzz campaign's findings (`shared/research/fuzz-findings.md`) as a
+//! Every reproducer of the fuzz campaign's findings (the fuzz campaign's findings) as a
 //! regression test: out-of-range numbers, names and sizes stop with exit status 2 and a message
 //! that names the key, where they used to panic, run away or give a wrong answer with status 0.
 

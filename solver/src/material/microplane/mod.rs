@@ -1,5 +1,5 @@
 //! The rate-sensitive microplane model for concrete with relaxed kinematic constraint (thesis
-//! chapter 5, Ožbolt, Li & Kožar 2001), made precise by `shared/design/MICROPLANE.md`.
+//! chapter 5, Ožbolt, Li & Kožar 2001), made precise by `docs/MICROPLANE.md`.
 //!
 //! One update takes the Green-Lagrange strain `E` of an element (5.4), its equivalent rate
 //! `gamma_dot` (5.111) and the element's crack band, and returns the back-rotated Cauchy stress
