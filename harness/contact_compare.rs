@@ -14,7 +14,7 @@
 //! - [`profile`] turns the rows into Dolan & More (2002) performance profiles and a
 //!   work-precision diagram, and [`tables`] into the tables of the outputs;
 //! - [`output`] writes `results.json`, `results.csv`, `README.md` and SVG plots, [`command`]
-//!   is the `impact-vv contact-compare` command, and [`case`] runs a catalogue case of this kind.
+//!   is the `impact-vv contact-compare` command, and [`crate::contact_problems`] runs a catalogue case of this kind.
 //!
 //! On a frictionless problem (every `mu = 0`) `conic/relaxed` and `conic/coulomb` solve the same
 //! QP; both still run, and their rows say so in a note. Timings are wall times on whatever else

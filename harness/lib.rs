@@ -2,6 +2,12 @@
 //! the solver, measures, judges against references, and reports.
 //!
 //! Pipeline: `catalogue -> runner (execute, measure) -> judge -> results -> report`.
+//!
+//! Where to start: `main.rs` is the `impact-vv` command line; a case file is read by
+//! [`case_file`] into the schema of [`catalogue`] and run by its kind ([`case_kind::CaseKind`],
+//! listed in [`registry`]; the default kind is [`scene_case`]); [`runner`] runs the jobs and
+//! [`report`] writes the page. The case format is `docs/catalogue.md`, the layout
+//! `docs/architecture.md`.
 
 pub mod band;
 pub mod beam;

@@ -12,6 +12,9 @@
 //!
 //! The reference data (`published/`, `crosscheck/`) sit beside these sources and are read by
 //! path by the harness.
+//!
+//! Where to start: [`analytic`], whose functions a case names as `reference: { analytic: ... }`
+//! (`docs/catalogue.md`, "The case format"); `README.md` beside this file describes the data.
 
 pub mod analytic;
 pub mod concrete;

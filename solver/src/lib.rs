@@ -1,7 +1,14 @@
 //! `impact-solver`: explicit finite-strain dynamics of linear tetrahedra for concrete under
 //! impact, after V. Travaš (2009), *Three-dimensional finite element formulation for concrete
 //! failure at high-energy impact loadings* (the "thesis"), with the decisions recorded in the
-//! project's `FORMULATION.md`.
+//! project's `docs/formulation.md`.
+//!
+//! Where to start: [`scene::Scene`] describes a simulation (the YAML format of
+//! `docs/scenes.md`) and [`analysis::execute`] runs it; [`dynamics`] holds the explicit
+//! integrator, [`material`] the constitutive models (the concrete model in
+//! [`material::microplane`], `docs/MICROPLANE.md`), [`contact`] detection and the contact
+//! solvers (`docs/contact.md`). The modules, their layers and the conventions are in
+//! `docs/architecture.md`.
 //!
 //! Data flows one way through a time step:
 //! `kinematics -> material (stress) -> internal forces -> integrator -> state at n+1 -> energies/output`.

@@ -90,7 +90,7 @@ pub struct ContactPair {
     /// How contact normals are formed (facet or smoothed corner normals).
     pub normals: NormalSettings,
     /// Leave out of both surfaces the faces on a plane of symmetry
-    /// ([`phase::symmetry_face`]). In a model cut by symmetry planes the two bodies' cut faces
+    /// (`phase::symmetry_face`). In a model cut by symmetry planes the two bodies' cut faces
     /// lie in one plane, and a node on one of them is tested against faces of the other that it
     /// slides on: its contact normal lies along the axis both are held on, the Delassus block
     /// along it is nearly zero, and the force that closes a gap of round-off size moves the

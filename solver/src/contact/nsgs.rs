@@ -141,7 +141,7 @@ impl ContactSolver for NonsmoothGaussSeidel {
     }
 
     /// The thesis variant runs the stepper's matrix-free iteration
-    /// ([`gauss_seidel`](super::gauss_seidel::gauss_seidel), Box 6.1) with `limits.tolerance`
+    /// ([`super::gauss_seidel::gauss_seidel`], Box 6.1) with `limits.tolerance`
     /// and `limits.max_iterations` as its stopping rule; it has no clock, so `time_limit` is not
     /// read. The exact local step needs the off-diagonal terms of each block, hence W: `None`.
     fn solve_matrix_free(

@@ -60,7 +60,7 @@ impl ContactPhase {
 
     /// As [`Self::new`], with `held[n][d]` whether component `d` of node `n` is prescribed
     /// (empty: none), which the pairs with `skip_symmetry_faces` read to leave out the faces
-    /// on a plane of symmetry ([`symmetry_face`]).
+    /// on a plane of symmetry (`symmetry_face`).
     pub fn with_held(model: &Model, pairs: Vec<ContactPair>, held: &[[bool; 3]]) -> Self {
         let surfaces = pairs
             .iter()

@@ -12,11 +12,11 @@ use crate::kinematics::green_lagrange_from_h;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConstantsError {
     /// The density (kg/m^3) given, which is not positive, not finite or above
-    /// [`MAX_DENSITY`].
+    /// `MAX_DENSITY`.
     #[error("density must be positive and at most {MAX_DENSITY:e} kg/m^3, got {0}")]
     Density(f64),
     /// Young's modulus (Pa) given, which is not positive, not finite or above
-    /// [`MAX_YOUNGS_MODULUS`].
+    /// `MAX_YOUNGS_MODULUS`.
     #[error("youngs_modulus must be positive and at most {MAX_YOUNGS_MODULUS:e} Pa, got {0}")]
     YoungsModulus(f64),
     /// Poisson's ratio given, outside `(-1, 0.5)` where the elastic energy is positive definite.

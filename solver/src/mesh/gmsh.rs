@@ -16,7 +16,7 @@
 //!   sharing a name (in different dimensions) are merged.
 //!
 //! - Node tags are those written in the file. mshio drops them when the section's tag range is
-//!   dense, so they are then read again from the file ([`super::gmsh_tags`]); a tag listed
+//!   dense, so they are then read again from the file (`super::gmsh_tags`); a tag listed
 //!   twice, or tag 0 (reserved by Gmsh), is an error.
 
 use std::collections::{BTreeMap, HashMap};

@@ -300,7 +300,7 @@ impl Model {
     /// the dilatational wave speed (FORMULATION 2), and the element that sets it. An element
     /// whose density mass scaling raised by `s_e` ([`Self::mass_scale`]) has `c_e / sqrt(s_e)`;
     /// one lighter than its material's density has its own wave speed
-    /// ([`Self::stable_length`]).
+    /// (`Self::stable_length`).
     pub fn critical_time_step(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
         for (e, &l) in self.min_altitude.iter().enumerate() {

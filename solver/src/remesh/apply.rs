@@ -191,10 +191,10 @@ fn remeshed_history(
 /// * nodes: copied nodes keep their velocities and displacements, new ones take T3 (8.10);
 ///   each velocity field (`v_{n-1/2}` and `v_n`) of the remeshed body then gets the uniform
 ///   shift that restores the body's momentum, and the region's nodes the kinetic energy the
-///   transfer lost ([`restore_kinetic_energy`]). The displacement since the original
+///   transfer lost (`restore_kinetic_energy`). The displacement since the original
 ///   configuration travels as the model's carried displacement (for the prescribed motions);
 ///   the state's displacement restarts at 0;
-/// * conditions: constraint and mesh node sets are remapped ([`Splice::node_set`]: new nodes on
+/// * conditions: constraint and mesh node sets are remapped (`Splice::node_set`: new nodes on
 ///   a constrained face join it); probes keep their kept nodes only (a probe is a mean over the
 ///   nodes it was given); a load on a node of the region is an error (a force per node would
 ///   change its resultant on a refined face); contact pairs stay (their surfaces are rebuilt

@@ -21,7 +21,7 @@ use crate::contact::geometry::closest_point_on_triangle;
 use crate::mesh::boundary_faces_of;
 use crate::model::Model;
 
-/// What [`separate_new_surface_nodes`] moved.
+/// What `separate_new_surface_nodes` moved.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SurfaceSeparation {
     /// New surface nodes moved out of a contact partner.

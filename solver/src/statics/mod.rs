@@ -2,7 +2,7 @@
 //! symmetric positive definite stiffness of elastic bodies, preconditioned conjugate gradients
 //! ([`LinearSolver`]), and load stepping (thesis 3.3.3, (3.64)-(3.68)). Used by patch tests and
 //! for elastic references, and, for bodies of materials with a history (microplane concrete), as
-//! a path followed increment by increment with step cutting up to its limit point ([`path`]).
+//! a path followed increment by increment with step cutting up to its limit point (`path`).
 
 mod conjugate_gradient;
 mod opening_control;
@@ -42,7 +42,7 @@ pub struct StaticSettings {
     #[serde(default = "default_iterations")]
     pub max_iterations: usize,
     /// Bodies with a history only: how many times a load step that does not converge is halved
-    /// before the path stops at its limit point ([`path`]).
+    /// before the path stops at its limit point (`path`).
     #[serde(default = "default_cuts")]
     pub max_cuts: u32,
     /// Indirect displacement control: a condition's nodes move together by the displacement
@@ -222,7 +222,7 @@ impl StaticSolution {
 
 /// Solves `f_int(u) = f_ext` with the constraints of `problem` (velocity constraints are not
 /// static conditions and are rejected). A model with bodies whose material has a history, or
-/// under an [`OpeningControl`], is followed along its loading path by [`path::solve_path`].
+/// under an [`OpeningControl`], is followed along its loading path by `path::solve_path`.
 pub fn solve_static(problem: &Problem, settings: &StaticSettings) -> Result<StaticSolution> {
     solve_static_with_progress(problem, settings, &mut |_| {})
 }

@@ -159,7 +159,7 @@ impl ConicSolver {
 
 /// Relative natural-map residual of the problem the single program solves: Coulomb contacts
 /// with the associated law `r - P_K(r - u)` (no De Saxce shift), the others as in
-/// [`natural_map_error`]; same `/||q||` normalisation.
+/// [`natural_map_error`](crate::contact::problem::natural_map_error); same `/||q||` normalisation.
 pub fn associated_natural_map(problem: &ContactProblem, r: &[f64]) -> f64 {
     let u = problem.velocity(r);
     let mut sum = 0.0;

@@ -157,7 +157,7 @@ pub struct DetectionSettings {
     pub release: f64,
 }
 
-/// One call of [`vertex_face_ccd`] made by local detection, with its answer: the input of a
+/// One call of [`vertex_face_ccd`](crate::contact::ccd::vertex_face_ccd) made by local detection, with its answer: the input of a
 /// cross-check of our CCD against another implementation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CcdCall {
@@ -165,7 +165,7 @@ pub struct CcdCall {
     pub node: Trajectory,
     /// The face's node trajectories, in the face's node order.
     pub face: [Trajectory; 3],
-    /// The barycentric tolerance passed to [`vertex_face_ccd`].
+    /// The barycentric tolerance passed to [`vertex_face_ccd`](crate::contact::ccd::vertex_face_ccd).
     pub tolerance: f64,
     /// The hit time it returned, before detection's filter of nodes that do not move into the
     /// face.
