@@ -54,7 +54,7 @@ pub fn parse(
     if spec.scene.is_none() {
         return Err(
             "the case has no `scene`: add one, or the block of another kind of case \
-             (README, 'The V&V harness')"
+             (docs/catalogue.md, 'The case format')"
                 .into(),
         );
     }

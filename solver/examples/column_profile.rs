@@ -12,7 +12,7 @@
 //! cell of it) and the body. The scene's own end time and intervals are replaced; nothing is
 //! written to disk. The 8 m/s drop test shows the splitting state of the mid-span column
 //! (`sigma_xx` +5 to +10 MPa beside `sigma_yy` -20 to -45 MPa 0.15-0.3 m above the bottom,
-//! 0.18-0.25 ms) that the README's issue 17 paragraph quotes.
+//! 0.18-0.25 ms) that docs/validation.md quotes.
 #![allow(clippy::unwrap_used)]
 
 use std::path::{Path, PathBuf};

@@ -49,7 +49,7 @@ fn at_level(scene: &Scene, body: &str, cells: [usize; 3]) -> Scene {
 
 /// Our implicit static solution on `cells`, by conjugate gradients: the beam is linear elastic,
 /// and on its 25 mm cells LU's fill-in took 5.8 GB and a minute on one core for the same
-/// solution (README, "conjugate gradients").
+/// solution (docs/performance.md, "Static solves: conjugate gradients against LU").
 pub fn implicit(
     spec: &ElasticBeamSpec,
     scene: &Scene,

@@ -35,7 +35,7 @@ use crate::model::{
 /// The largest factor on a region's velocity fluctuations that gives back the kinetic energy
 /// its transfer lost ([`restore_kinetic_energy`]): a bound against a region whose nodes move
 /// nearly together, where a small loss would take a large factor. In the nail run the factors
-/// stay within 0.94-1.27 (README, "The nail run to its stop, in the nightly tier").
+/// stay within 0.94-1.27 (docs/remeshing.md, "The nail case").
 const MAX_FLUCTUATION_SCALE: f64 = 2.0;
 
 /// What [`remesh_problem`] returns: the problem and state the run goes on with, the record of

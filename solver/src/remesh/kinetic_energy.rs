@@ -5,8 +5,7 @@
 //! theirs (the interpolated field is smoother than the one it samples). Where the velocity
 //! varies steeply over an element, as in the concrete the nail drags along, the new nodes of a
 //! region carry 20 % less kinetic energy than the nodes they replace, and the nail run lost
-//! 2.6 % of its energy over 233 remeshings that way (README, "The nail run to its stop, in the
-//! nightly tier").
+//! 2.6 % of its energy over 233 remeshings that way (docs/remeshing.md, "The nail case").
 //! A remap conserves mass, momentum and energy (the conservative remap of ALE codes; DeBar's
 //! fix puts the kinetic energy the momentum remap loses into internal energy, which concrete
 //! without a thermal state has no place for). Here the velocity fluctuations of the nodes of

@@ -100,7 +100,7 @@ impl Material for MicroplaneMaterial {
 
     /// One elastic-like update per microplane direction on top of the element's own: 22 for the
     /// 21 directions, against the 20 to 25 times a linear element that the benchmarks measure
-    /// (README, issue 20).
+    /// (docs/performance.md).
     fn relative_cost(&self) -> f64 {
         1.0 + self.model.planes().len() as f64
     }

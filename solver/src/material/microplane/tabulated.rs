@@ -3,7 +3,7 @@
 //!
 //! Every virgin microplane law is `g(x) = x exp(-x^m)` (5.19-5.20) with a calibrated, non-integer
 //! `m`, and the cyclic shear damage is `exp(-1.2 lambda^1.1)` (5.104): through `powf` and `exp`
-//! these were half the instructions of an update (README, "Microplane material-point update").
+//! these were half the instructions of an update (docs/performance.md, "The microplane update").
 //!
 //! The pieces follow the floating-point representation of `x`: octave `[2^e, 2^(e+1))` is cut into
 //! `2^bits` equal intervals (64 for `m <= 5.5`, twice as many per doubling of `m` beyond), so the
