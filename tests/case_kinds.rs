@@ -136,16 +136,18 @@ fn a_case_is_of_one_kind_and_each_kind_reads_its_block_strictly() {
 }
 
 #[test]
-fn a_missing_folder_skips_the_case_saying_where_the_data_belongs() {
+fn a_missing_folder_is_an_error_naming_the_folder_and_the_case_file() {
     let path = write_case(
         "missing",
         &format!("{HEAD}contact_problems: {{ folder: no/such/folder }}\n{METRIC}"),
     );
     let r = run(&load_case(&path).unwrap());
-    assert_eq!(r.status, Status::Skipped);
+    assert_eq!(r.status, Status::Error);
     let m = r.message.unwrap();
     assert!(
-        m.contains("no/such/folder") && m.contains("shared/data/contact-problems"),
+        m.contains("no/such/folder")
+            && m.contains(&path.display().to_string())
+            && m.contains("references/contact-problems"),
         "{m}"
     );
 }

@@ -323,22 +323,12 @@ fn scene_command_runs_the_scene_of_a_case_file() {
     assert!(rows.lines().count() > 10, "{rows}");
 }
 
-/// The shared contact problems (`../shared/data/contact-problems` beside the repository, or
-/// under `$IMPACT_SHARED_DIR`), or `None` with a message when there is no such folder.
-fn contact_problems() -> Option<PathBuf> {
-    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
-        Some(root) => PathBuf::from(root).join("data/contact-problems"),
-        None => repo().join("../shared/data/contact-problems"),
-    };
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: no contact problems at {} (shared data beside the repository)",
-            dir.display()
-        );
-        None
-    }
+/// The committed contact problems (`references/contact-problems`, Siconos test data); a
+/// checkout without them is broken, so the test fails.
+fn contact_problems() -> PathBuf {
+    let dir = repo().join("references/contact-problems");
+    assert!(dir.is_dir(), "no contact problems at {}", dir.display());
+    dir
 }
 
 /// The four smallest stored problems: quick enough for every test run.
@@ -351,9 +341,7 @@ const SMALL_PROBLEMS: [&str; 4] = [
 
 #[test]
 fn contact_compare_writes_tables_profiles_and_measures_every_solve() {
-    let Some(data) = contact_problems() else {
-        return;
-    };
+    let data = contact_problems();
     let out = temp_dir("contact-compare");
     let files: Vec<String> = SMALL_PROBLEMS
         .iter()
@@ -471,9 +459,7 @@ fn contact_compare_names_what_is_wrong_with_its_input() {
     assert!(text(&o).contains("conic/fast") && text(&o).contains("gauss-seidel/exact"));
 
     // One unreadable file among readable ones: the others are compared, the status is 1.
-    let Some(data) = contact_problems() else {
-        return;
-    };
+    let data = contact_problems();
     let good = data.join("frictioncontact3d_1c.json");
     let o = impact_vv(
         &[
