@@ -20,6 +20,7 @@ fn run(case: &LoadedCase) -> impact_vv::results::CaseResult {
         time_limit_s: 1.0,
         parallel: false,
         stop: None,
+        verbose: false,
     };
     case.kind.run(case, None, &options)
 }
@@ -244,6 +245,7 @@ metrics:
         time_limit_s: 120.0,
         parallel: false,
         stop: None,
+        verbose: false,
     };
     let t0 = std::time::Instant::now();
     let result = case.kind.run(&case, Some(variant), &options);
