@@ -31,6 +31,9 @@ pub struct RunOptions {
     /// Set by a signal: running explicit analyses stop at the end of their step and cases not
     /// started are not run; both are recorded as interrupted.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Print each case's log lines (`crate::case_log`) to stderr as well as to its log file
+    /// (`impact-vv run --verbose`).
+    pub verbose: bool,
 }
 
 /// A case with the file it came from and its kind.
@@ -107,6 +110,7 @@ pub fn unfinished_result(spec: &CaseSpec, variant: &str) -> CaseResult {
         fast_update_share: None,
         records: Default::default(),
         known_failure: None,
+        log_file: None,
     }
 }
 

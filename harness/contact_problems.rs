@@ -1,8 +1,8 @@
 //! Catalogue cases that run no scene but a contact-solver comparison on stored problems
 //! (`contact_problems:` instead of `scene:`), judged with `contact_problem_error` metrics.
 //!
-//! A missing problem folder skips the case with a message saying where the data is expected:
-//! the problems are shared data beside the repository, not part of it.
+//! The problems live in the repository (`references/contact-problems/`), so a missing problem
+//! folder is a broken checkout or a typo in the case file: the case is an error naming both.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -20,7 +20,7 @@ use crate::contact_compare::{
     Comparison, ContactProblemsSpec,
 };
 use crate::judge::judge_metrics;
-use crate::results::{case_dir, CaseResult, Status};
+use crate::results::{case_dir, CaseResult};
 
 /// What a `contact_problems` case measures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -198,21 +198,6 @@ pub fn measure_value(measure: &ComparisonMeasure, c: &Comparison) -> Result<f64,
     Ok(statistic.of(&errors))
 }
 
-/// The folder as the case names it; or, when that does not exist and the path goes through a
-/// `shared` folder, the same path below `$IMPACT_SHARED_DIR` (a checkout that does not sit beside
-/// the shared data, such as CI's clone).
-fn shared_folder(folder: &std::path::Path) -> Option<std::path::PathBuf> {
-    if folder.is_dir() {
-        return Some(folder.to_path_buf());
-    }
-    let root = std::env::var_os("IMPACT_SHARED_DIR")?;
-    let components: Vec<_> = folder.components().collect();
-    let at = components.iter().rposition(|c| c.as_os_str() == "shared")?;
-    let mut path = std::path::PathBuf::from(root);
-    components[at + 1..].iter().for_each(|c| path.push(c));
-    path.is_dir().then_some(path)
-}
-
 /// Runs a `contact_problems` case: the comparison, its files under
 /// `<output>/cases/<id>/contact-compare/`, and its metrics.
 fn run_case(kind: &ContactProblemsCase, case: &LoadedCase, options: &RunOptions) -> CaseResult {
@@ -220,17 +205,18 @@ fn run_case(kind: &ContactProblemsCase, case: &LoadedCase, options: &RunOptions)
     let started = Instant::now();
     let mut result = unfinished_result(spec, "default");
     let cp = &kind.spec;
-    let Some(folder) = shared_folder(&cp.folder) else {
-        result.status = Status::Skipped;
+    if !cp.folder.is_dir() {
+        // `unfinished_result` is already an error: say which folder and which file names it.
         result.message = Some(format!(
-            "the contact problems are expected in `{}` (shared data: `shared/data/contact-problems` \
-             beside the repository, see its README, or under `$IMPACT_SHARED_DIR`); that folder \
-             does not exist, so the comparison did not run",
+            "{}: contact_problems.folder `{}` is not a folder (the problems are committed under \
+             `references/contact-problems/`: restore the checkout or correct the path, which is \
+             relative to the case file)",
+            case.path.display(),
             cp.folder.display()
         ));
         return result;
-    };
-    let prepared = collect_problem_files(std::slice::from_ref(&folder))
+    }
+    let prepared = collect_problem_files(std::slice::from_ref(&cp.folder))
         .and_then(|files| Ok((files, solver_entries(&cp.solvers)?)));
     let (files, solvers) = match prepared {
         Ok(p) => p,

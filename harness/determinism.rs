@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::case_kind::{
     parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
+use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
 use crate::results::CaseResult;
@@ -102,14 +103,16 @@ impl CaseKind for DeterminismCase {
         let spec = &case.spec;
         let started = Instant::now();
         let mut result = unfinished_result(spec, "default");
+        let log = CaseLog::new(options, &spec.id, "default");
         let scene = spec.scene.as_ref().expect("parse checked the scene");
         let time_limit = spec.time_limit_s.unwrap_or(options.time_limit_s);
         let mut runs = Vec::new();
         for &threads in &self.spec.threads {
-            match run_on(scene, threads, time_limit, options) {
+            match run_on(scene, threads, time_limit, options, &log) {
                 Ok(numbers) => runs.push(numbers),
                 Err(e) => {
                     result.message = Some(format!("the run on {threads} thread(s) failed: {e}"));
+                    result.log_file = log.relative_path();
                     return result;
                 }
             }
@@ -137,17 +140,19 @@ impl CaseKind for DeterminismCase {
         result.status = status;
         result.message = Some(message);
         result.metrics = judgement.metrics;
+        result.log_file = log.relative_path();
         result
     }
 }
 
 /// The scene run in a pool of `threads` threads: every number it records, in a fixed order
-/// (history rows, then the final displacement and velocity).
+/// (history rows, then the final displacement and velocity); its log lines to the case's log.
 fn run_on(
     scene: &Scene,
     threads: usize,
     time_limit_s: f64,
     options: &RunOptions,
+    log: &CaseLog,
 ) -> Result<Vec<f64>, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -163,6 +168,7 @@ fn run_on(
                 time_limit_s: Some(time_limit_s),
                 stop: options.stop.clone(),
                 ranks: None,
+                log: &log.sink(),
             };
             let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
                 .map_err(|e| e.to_string())?;

@@ -14,6 +14,7 @@ pub mod beam;
 pub mod calibrate;
 pub mod case_file;
 pub mod case_kind;
+pub mod case_log;
 pub mod catalogue;
 pub mod contact_compare;
 pub mod contact_problems;

@@ -61,6 +61,10 @@ enum Command {
         /// Run cases one after the other.
         #[arg(long)]
         serial: bool,
+        /// Print each case's log lines (each remeshing's summary, ...) on the terminal too; they
+        /// are always in the case's log file, `<run>/cases/<case>/log.txt`.
+        #[arg(long)]
+        verbose: bool,
     },
     /// Rebuild a run's report from its `results.json`.
     Report {
@@ -303,6 +307,7 @@ fn main() -> ExitCode {
             reports,
             time_limit,
             serial,
+            verbose,
         } => {
             let names_files = patterns.iter().any(|p| Path::new(p).is_file());
             let cases = match catalogue(&dir, !names_files) {
@@ -342,7 +347,7 @@ fn main() -> ExitCode {
                 }
                 return ExitCode::from(2);
             }
-            run(selected, tier, &reports, time_limit, !serial)
+            run(selected, tier, &reports, time_limit, !serial, verbose)
         }
         Command::Calibrate {
             out,
@@ -564,6 +569,7 @@ fn run(
     reports: &Path,
     time_limit: f64,
     parallel: bool,
+    verbose: bool,
 ) -> ExitCode {
     let (date, stamp) = metadata::now();
     let (run_id, dir) = match claim_run_dir(reports, &stamp) {
@@ -590,6 +596,11 @@ fn run(
         .progress_chars("=> "),
     );
     bar.set_prefix("running");
+    if verbose {
+        // The cases' log lines come from every worker thread at any time: without a bar to
+        // redraw around them, they and the case lines stay whole.
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
     let stop = stop_on_signal();
     let facts = RunResults {
         run_id: run_id.clone(),
@@ -619,6 +630,7 @@ fn run(
             time_limit_s: time_limit,
             parallel,
             stop: Some(stop.clone()),
+            verbose,
         },
         &|r| {
             if let Some(log) = &log {

@@ -47,6 +47,7 @@ pub fn rank_case(
         time_limit_s,
         parallel: false,
         stop: None,
+        verbose: false,
     };
     let result = scene.run_as_rank(&case, Some(chosen), &options, world);
     if world.rank() == 0 {

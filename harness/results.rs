@@ -295,6 +295,11 @@ pub struct CaseResult {
     /// does not fail the run (see [`RunResults::exit_code`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub known_failure: Option<String>,
+    /// The case's log file (the lines its runs printed on the way: each remeshing's summary,
+    /// ...), relative to the run folder with `/` separators (`cases/<case>/log.txt`); absent
+    /// when the case logged nothing (`crate::case_log`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub log_file: Option<String>,
 }
 
 impl CaseResult {

@@ -15,6 +15,7 @@ use impact_solver::SolverError;
 use crate::case_kind::{
     parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
 };
+use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
 use crate::results::{
@@ -104,16 +105,41 @@ struct LevelRun {
     outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
 }
 
-/// Runs one case under one variant (or the scene's own analysis): every level of its sweep (or
-/// the scene once), then judges its metrics. A variant with `ranks: N` runs as `N` ranks: over
-/// `world` when this process is one of them, under `mpirun` in a build with the `mpi` feature
-/// ([`crate::mpirun`]), and otherwise as `N` threads of this process (`ThreadGroup`).
+/// Runs one case under one variant with its log ([`crate::case_log`]): what its runs print on
+/// the way goes to the case's log file, whose path the result records.
 fn run_case(
     kind: &SceneCase,
     case: &LoadedCase,
     variant: Option<&Variant>,
     options: &RunOptions,
     world: Option<&dyn Communicator>,
+) -> CaseResult {
+    let variant_name = variant.map_or("default", |v| v.name.as_str());
+    // Rank 0 of an `mpirun` variant keeps the log; the other ranks would write the same lines.
+    let log = if world.is_some_and(|w| w.rank() > 0) {
+        CaseLog::silent(&case.spec.id, variant_name)
+    } else {
+        CaseLog::new(options, &case.spec.id, variant_name)
+    };
+    let mut result = run_logged(kind, case, variant, options, world, &log);
+    // A variant run under `mpirun` brings its ranks' log path in its result.
+    if let Some(path) = log.relative_path() {
+        result.log_file = Some(path);
+    }
+    result
+}
+
+/// Runs one case under one variant (or the scene's own analysis): every level of its sweep (or
+/// the scene once), then judges its metrics. A variant with `ranks: N` runs as `N` ranks: over
+/// `world` when this process is one of them, under `mpirun` in a build with the `mpi` feature
+/// ([`crate::mpirun`]), and otherwise as `N` threads of this process (`ThreadGroup`).
+fn run_logged(
+    kind: &SceneCase,
+    case: &LoadedCase,
+    variant: Option<&Variant>,
+    options: &RunOptions,
+    world: Option<&dyn Communicator>,
+    log: &CaseLog,
 ) -> CaseResult {
     let spec = &case.spec;
     #[cfg(feature = "mpi")]
@@ -140,6 +166,7 @@ fn run_case(
         }
     };
     let case_dir = options.output_dir.as_ref().map(|d| case_dir(d, &spec.id));
+    let sink = log.sink();
     let runs: Vec<LevelRun> = levels
         .iter()
         .enumerate()
@@ -155,6 +182,13 @@ fn run_case(
                         time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
                         stop: options.stop.clone(),
                         ranks,
+                        // Rank 0 of threaded ranks speaks for the run: every rank would log the
+                        // same lines.
+                        log: if ranks.is_none_or(|c| c.rank() == 0) {
+                            &sink
+                        } else {
+                            &|_| {}
+                        },
                     };
                     execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
                         .map(|run| (problem, run))
@@ -234,7 +268,7 @@ fn run_case(
         if let Some(dir) = &case_dir {
             let stem = stem_of(levels.len().saturating_sub(1), levels.len());
             let history = HistoryTable::read_csv(&dir.join(format!("{stem}_history.csv"))).ok();
-            result.plots = plots(spec, history.as_ref(), &[]);
+            result.plots = plots(spec, history.as_ref(), &[], log);
             crate::report::penetration::record(&mut result, dir, &stem);
         }
         return result;
@@ -333,7 +367,7 @@ fn run_case(
             observed_order: observed,
         });
     }
-    result.plots = plots(spec, run.history.as_ref(), &result.metrics);
+    result.plots = plots(spec, run.history.as_ref(), &result.metrics, log);
     if let Some(dir) = &case_dir {
         crate::report::penetration::record(&mut result, dir, &stem_of(judged, levels.len()));
     }
@@ -452,11 +486,13 @@ fn sweep_measure(
     }
 }
 
-/// The case's plots of history columns, with reference lines and bands from their metrics.
+/// The case's plots of history columns, with reference lines and bands from their metrics; a
+/// plot that cannot be drawn says why in the case's log.
 fn plots(
     spec: &crate::catalogue::CaseSpec,
     history: Option<&HistoryTable>,
     metrics: &[MetricResult],
+    log: &CaseLog,
 ) -> Vec<PlotData> {
     let Some(history) = history else {
         return Vec::new();
@@ -481,7 +517,7 @@ fn plots(
                         .ok_or_else(|| format!("the history has no column `{c}`"))
                 })
                 .unwrap_or_else(|e| {
-                    eprintln!("plot `{}`: {e}", p.title);
+                    log.line(&format!("plot `{}`: {e}", p.title));
                     Vec::new()
                 }),
                 _ => Vec::new(),

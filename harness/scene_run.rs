@@ -9,7 +9,7 @@ use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
 use crate::progress::fraction_bar;
-use impact_solver::analysis::{execute, ExecuteOptions};
+use impact_solver::analysis::{execute, log_to_stderr, ExecuteOptions};
 use impact_solver::distributed::Communicator;
 use impact_solver::dynamics::StopWhen;
 use impact_solver::scene::Analysis;
@@ -154,6 +154,8 @@ pub fn run_scene_file(
         time_limit_s: None,
         stop,
         ranks,
+        // As a scene run always has: each remeshing's summary on stderr, the bar kept whole.
+        log: &|line| bar.suspend(|| log_to_stderr(line)),
     };
     let result = execute(&mut problem, &scene.analysis, &options, &mut |x| {
         bar.set_position((1000.0 * x) as u64)

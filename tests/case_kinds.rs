@@ -20,6 +20,7 @@ fn run(case: &LoadedCase) -> impact_vv::results::CaseResult {
         time_limit_s: 1.0,
         parallel: false,
         stop: None,
+        verbose: false,
     };
     case.kind.run(case, None, &options)
 }
@@ -136,16 +137,18 @@ fn a_case_is_of_one_kind_and_each_kind_reads_its_block_strictly() {
 }
 
 #[test]
-fn a_missing_folder_skips_the_case_saying_where_the_data_belongs() {
+fn a_missing_folder_is_an_error_naming_the_folder_and_the_case_file() {
     let path = write_case(
         "missing",
         &format!("{HEAD}contact_problems: {{ folder: no/such/folder }}\n{METRIC}"),
     );
     let r = run(&load_case(&path).unwrap());
-    assert_eq!(r.status, Status::Skipped);
+    assert_eq!(r.status, Status::Error);
     let m = r.message.unwrap();
     assert!(
-        m.contains("no/such/folder") && m.contains("shared/data/contact-problems"),
+        m.contains("no/such/folder")
+            && m.contains(&path.display().to_string())
+            && m.contains("references/contact-problems"),
         "{m}"
     );
 }
@@ -242,6 +245,7 @@ metrics:
         time_limit_s: 120.0,
         parallel: false,
         stop: None,
+        verbose: false,
     };
     let t0 = std::time::Instant::now();
     let result = case.kind.run(&case, Some(variant), &options);

@@ -323,22 +323,12 @@ fn scene_command_runs_the_scene_of_a_case_file() {
     assert!(rows.lines().count() > 10, "{rows}");
 }
 
-/// The shared contact problems (`../shared/data/contact-problems` beside the repository, or
-/// under `$IMPACT_SHARED_DIR`), or `None` with a message when there is no such folder.
-fn contact_problems() -> Option<PathBuf> {
-    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
-        Some(root) => PathBuf::from(root).join("data/contact-problems"),
-        None => repo().join("../shared/data/contact-problems"),
-    };
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: no contact problems at {} (shared data beside the repository)",
-            dir.display()
-        );
-        None
-    }
+/// The committed contact problems (`references/contact-problems`, Siconos test data); a
+/// checkout without them is broken, so the test fails.
+fn contact_problems() -> PathBuf {
+    let dir = repo().join("references/contact-problems");
+    assert!(dir.is_dir(), "no contact problems at {}", dir.display());
+    dir
 }
 
 /// The four smallest stored problems: quick enough for every test run.
@@ -351,9 +341,7 @@ const SMALL_PROBLEMS: [&str; 4] = [
 
 #[test]
 fn contact_compare_writes_tables_profiles_and_measures_every_solve() {
-    let Some(data) = contact_problems() else {
-        return;
-    };
+    let data = contact_problems();
     let out = temp_dir("contact-compare");
     let files: Vec<String> = SMALL_PROBLEMS
         .iter()
@@ -471,9 +459,7 @@ fn contact_compare_names_what_is_wrong_with_its_input() {
     assert!(text(&o).contains("conic/fast") && text(&o).contains("gauss-seidel/exact"));
 
     // One unreadable file among readable ones: the others are compared, the status is 1.
-    let Some(data) = contact_problems() else {
-        return;
-    };
+    let data = contact_problems();
     let good = data.join("frictioncontact3d_1c.json");
     let o = impact_vv(
         &[
@@ -564,4 +550,67 @@ fn a_case_file_outside_the_catalogue_with_an_unknown_key_names_it() {
         "{}",
         text(&out)
     );
+}
+
+/// A catalogue run keeps a case's own log lines (here each remeshing's summary) off the
+/// terminal: one line per case and the summary there, the lines in the case's log file, whose
+/// path the result records; `--verbose` brings them back to the terminal as well.
+#[test]
+fn a_case_log_goes_to_its_file_and_to_the_terminal_only_with_verbose() {
+    // Run to 200 us with a collapse limit of 1.5, the striker's block remeshes three times.
+    let scene = remeshing_striker("      check_every: 2\n      collapse_limit: 1.5\n")
+        .replace("end_time: 4.0e-5", "end_time: 2.0e-4");
+    let indented: String = scene.lines().map(|l| format!("  {l}\n")).collect();
+    let case = format!(
+        "id: log/striker\ndescription: a remeshing striker\ntier: quick\nscene:\n{indented}\
+         metrics:\n  - name: end_time\n    measure: {{ history_final: {{ column: time }} }}\n    \
+         reference: {{ value: {{ value: 2.0e-4, source: the scene's end_time }} }}\n    \
+         tolerance: {{ relative: 0.1 }}\n"
+    );
+    // The metric only asks that the run reach its end (within its last steps of a few us):
+    // the test is about where the case's lines go.
+    let (_dir, cases, reports) = catalogue_with("case-log", &case);
+    let run = |verbose: bool| {
+        let mut args = vec![
+            "run",
+            "--catalogue",
+            cases.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+            "log/striker",
+        ];
+        if verbose {
+            args.push("--verbose");
+        }
+        let o = impact_vv(&args, &[]);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        (text(&o), only_run_dir(&reports), results(&reports))
+    };
+
+    let (terminal, run_dir, json) = run(false);
+    let remeshing = |s: &str| s.lines().filter(|l| l.contains("remeshing at t =")).count();
+    assert_eq!(remeshing(&terminal), 0, "{terminal}");
+    // The run's header, the case's line, and the summary: nothing else.
+    let summary = |l: &&str| {
+        l.starts_with("impact-vv: ")
+            || l.starts_with("report: ")
+            || l.ends_with(" passed, 0 failed")
+            || l.starts_with("wall time ")
+    };
+    let others: Vec<&str> = terminal.lines().filter(|l| !summary(l)).collect();
+    assert_eq!(others.len(), 1, "{terminal}");
+    assert!(others[0].starts_with("pass ") && others[0].contains("log/striker"));
+    let case = &json["cases"][0];
+    let log_file = case["log_file"].as_str().expect("the result names its log");
+    assert_eq!(log_file, "cases/log__striker/log.txt");
+    let log = std::fs::read_to_string(run_dir.join(log_file)).unwrap();
+    let remeshings = remeshing(&log);
+    assert!(remeshings > 0, "the case remeshes: {log}");
+    assert_eq!(remeshings, log.lines().count(), "{log}");
+
+    let (terminal, run_dir, json) = run(true);
+    assert_eq!(remeshing(&terminal), remeshings, "{terminal}");
+    let log_file = json["cases"][0]["log_file"].as_str().unwrap();
+    let log = std::fs::read_to_string(run_dir.join(log_file)).unwrap();
+    assert_eq!(remeshing(&log), remeshings, "{log}");
 }

@@ -41,6 +41,7 @@ fn nightly_and_stress_cases_pass() {
             time_limit_s: 600.0,
             parallel: true,
             stop: None,
+            verbose: false,
         },
         &|_| {},
     );

@@ -29,6 +29,7 @@ fn options() -> RunOptions {
         time_limit_s: 600.0,
         parallel: true,
         stop: None,
+        verbose: false,
     }
 }
 

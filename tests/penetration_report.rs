@@ -75,6 +75,7 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
         time_limit_s: None,
         stop: None,
         ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
     };
     match execute(&mut p, &Analysis::Explicit(settings), &options, &mut |_| {}) {
         Ok(run) => {

@@ -66,6 +66,7 @@ fn quick_tier_passes_and_matches_snapshots() {
         time_limit_s: 600.0,
         parallel: true,
         stop: None,
+        verbose: false,
     };
     let results = run_cases(&quick, &options, &|_| {});
     let mut failures = Vec::new();

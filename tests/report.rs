@@ -93,6 +93,7 @@ fn pass_case() -> CaseResult {
         fast_update_share: None,
         records: Default::default(),
         known_failure: None,
+        log_file: None,
     }
 }
 
@@ -143,6 +144,7 @@ fn fail_case() -> CaseResult {
         fast_update_share: None,
         records: Default::default(),
         known_failure: None,
+        log_file: None,
     }
 }
 
@@ -164,6 +166,7 @@ fn error_case() -> CaseResult {
         fast_update_share: None,
         records: Default::default(),
         known_failure: None,
+        log_file: None,
     }
 }
 

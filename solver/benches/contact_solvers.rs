@@ -5,8 +5,8 @@
 //! - `stack`: a synthetic frictionless or frictional problem of our own kind (lumped masses:
 //!   diagonal blocks multiples of the identity), a row of slave nodes pressed onto a chain of
 //!   shared faces, built by `ContactProblem::from_constraints`, 64 contacts;
-//! - `rover1039` and `oneobject-i1028-138` from `shared/data/contact-problems` (Siconos,
-//!   Apache-2.0) when that folder is there.
+//! - `rover1039` and `oneobject-i1028-138` from `references/contact-problems` (Siconos,
+//!   Apache-2.0, committed with the repository).
 //!
 //! Before the criterion groups, the natural-map error each solver reached is printed, so a
 //! time never stands without its accuracy. Run with
@@ -75,17 +75,16 @@ fn problems() -> Vec<(String, ContactProblem)> {
         ("strip-frictionless".to_string(), strip(64, 0.0)),
         ("strip-mu0.3".to_string(), strip(64, 0.3)),
     ];
-    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
-        Some(root) => PathBuf::from(root).join("data/contact-problems"),
-        None => {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems")
-        }
-    };
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../references/contact-problems");
     for name in ["rover1039", "oneobject-i1028-138"] {
-        match read_problem(&dir.join(format!("{name}.json"))) {
-            Ok((p, _)) => list.push((name.to_string(), p)),
-            Err(e) => eprintln!("skipped {name}: {e}"),
-        }
+        let path = dir.join(format!("{name}.json"));
+        let (p, _) = read_problem(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (committed data: restore the checkout)",
+                path.display()
+            )
+        });
+        list.push((name.to_string(), p));
     }
     list
 }

@@ -75,6 +75,16 @@ pub struct ExecuteOptions<'a> {
     /// The ranks of a distributed explicit run (`crate::distributed`), of which this process is
     /// one; only rank 0 writes files. `None` or one rank: the run of one process.
     pub ranks: Option<&'a dyn Communicator>,
+    /// Where the run's log lines go (a remeshing's summary), one line per call without its
+    /// newline. The caller decides: `impact-vv scene` prints them ([`log_to_stderr`]), the
+    /// harness writes them to the case's log file. A sink rather than a global because cases run
+    /// side by side on the same threads.
+    pub log: &'a (dyn Fn(&str) + Sync),
+}
+
+/// A log sink that prints each line to standard error, indented under the run's own lines.
+pub fn log_to_stderr(line: &str) {
+    eprintln!("  {line}");
 }
 
 /// Runs `analysis` on `problem`, reporting progress in `[0, 1]`.
@@ -246,8 +256,8 @@ fn explicit(
 }
 
 /// An explicit run that remeshes ([`crate::remesh::run_remeshing_watched`]): the observers of
-/// [`explicit`] over the whole run, a line per remeshing to the log, and `problem` replaced by
-/// the problem over the last mesh. With an output folder, the records go to
+/// [`explicit`] over the whole run, a line per remeshing to `options.log`, and `problem`
+/// replaced by the problem over the last mesh. With an output folder, the records go to
 /// `<stem>_remeshing.csv` as the remeshings are made, the scene's `section` pictures to
 /// `<stem>_mesh_<k>.json` and its `near_tip` stresses to `<stem>_near_tip.csv`, all of them
 /// written whether the run completes, fails or is stopped (module `remesh`, `watch.rs`).
@@ -321,7 +331,7 @@ fn explicit_remeshing(
         &output,
         &policy,
         &mut observers,
-        &mut |record| eprintln!("  {}", record.summary()),
+        &mut |record| (options.log)(&record.summary()),
         &mut Watches(watches),
     );
     // The watches' files are closed (and the last picture taken) whether or not the run

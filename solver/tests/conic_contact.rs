@@ -1,5 +1,5 @@
-//! The conic contact solver on the external problems of `shared/data/contact-problems` (Siconos
-//! test data, FCLIB family): every solve returns a report in both modes, and the Coulomb mode
+//! The conic contact solver on the external problems of `references/contact-problems` (Siconos
+//! test data, FCLIB family, Apache-2.0): every solve returns a report in both modes, and the Coulomb mode
 //! solves the two small problems to a natural-map error of 1e-6 (Acary, Bremond & Huber 2018
 //! normalisation, `/||q||`).
 
@@ -10,17 +10,20 @@ use impact_solver::contact::problem::natural_map_error;
 use impact_solver::contact::problem_file::read_problem;
 use impact_solver::contact::solver::{ContactSolver, SolveLimits};
 
+/// The committed problem folder (see its README for origin and licence).
 fn problem_folder() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../references/contact-problems")
 }
 
 #[test]
 fn external_problems_in_both_modes() {
     let folder = problem_folder();
-    let Ok(entries) = std::fs::read_dir(&folder) else {
-        println!("skipped: no problem folder at {}", folder.display());
-        return;
-    };
+    let entries = std::fs::read_dir(&folder).unwrap_or_else(|e| {
+        panic!(
+            "the external contact problems are committed at {}: {e}; restore the checkout",
+            folder.display()
+        )
+    });
     let mut files: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "json"))

@@ -1,5 +1,5 @@
-//! Gauss-Seidel on the seven frictional contact problems of `shared/data/contact-problems`
-//! (Siconos test data, Apache-2.0), read from that path and never copied into the repository.
+//! Gauss-Seidel on the seven frictional contact problems of `references/contact-problems`
+//! (Siconos test data, Apache-2.0, committed with their licence; see the README there).
 //! Issue 5: the exact local solver must reach a natural-map error below 1e-8 on the five small
 //! ones; the two larger ones (rank-deficient `W`, rigid bodies) are reported.
 
@@ -19,28 +19,20 @@ const SMALL: [&str; 5] = [
     "oneobject-i1028-138",
 ];
 
-fn folder() -> Option<PathBuf> {
-    // Beside the checkout, or under $IMPACT_SHARED_DIR for a clone elsewhere (CI).
-    let dir = match std::env::var_os("IMPACT_SHARED_DIR") {
-        Some(root) => PathBuf::from(root).join("data/contact-problems"),
-        None => {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/contact-problems")
-        }
-    };
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: the external contact problems are expected at {}",
-            dir.display()
-        );
-        None
-    }
+/// The committed problem folder; a checkout without it is broken, so the test fails.
+fn folder() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../references/contact-problems");
+    assert!(
+        dir.is_dir(),
+        "the external contact problems are committed at {}: restore the checkout",
+        dir.display()
+    );
+    dir
 }
 
 #[test]
 fn gauss_seidel_with_the_exact_local_solver_reaches_1e_8_on_the_small_problems() {
-    let Some(dir) = folder() else { return };
+    let dir = folder();
     let limits = SolveLimits {
         tolerance: 1e-10,
         max_iterations: 200_000,

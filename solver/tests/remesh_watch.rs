@@ -76,6 +76,7 @@ fn run(dir: &Path, problem: &mut Problem, analysis: &Analysis) -> Result<(), Sol
         time_limit_s: None,
         stop: None,
         ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
     };
     execute(problem, analysis, &options, &mut |_| {}).map(|_| ())
 }

@@ -91,6 +91,7 @@ fn a_raised_stop_flag_ends_the_preload_of_a_release() {
         time_limit_s: None,
         stop: Some(Arc::new(AtomicBool::new(true))),
         ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
     };
     let mut reported = Vec::new();
     let start = Instant::now();

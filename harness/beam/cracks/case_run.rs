@@ -25,6 +25,7 @@ fn run_scene(
         time_limit_s: None,
         stop: None,
         ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
     };
     let run =
         impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})

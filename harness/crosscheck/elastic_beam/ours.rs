@@ -110,6 +110,7 @@ pub fn explicit(
         time_limit_s: Some(time_limit_s),
         stop: None,
         ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
     };
     let run =
         impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})

@@ -1,6 +1,6 @@
 //! The per-step contact problem in algebraic form, FC(W, q, mu), shared by every contact solver
 //! and by the recorded or external problem files (FORMULATION section 4; Acary, Bremond &
-//! Huber 2018; format `contact-problem/1` of `shared/data/contact-problems/README.md`).
+//! Huber 2018; format `contact-problem/1` of `references/contact-problems/README.md`).
 //!
 //! Unknowns are the contact multipliers `r`, three per contact in the contact's local frame,
 //! ordered `[normal, tangent1, tangent2]`. With `u = W r + q`, the conditions are Signorini's

@@ -1,5 +1,5 @@
 //! Reading and writing contact problems in the `contact-problem/1` JSON format of
-//! `shared/data/contact-problems/README.md`.
+//! `references/contact-problems/README.md`.
 //!
 //! Our extensions, all optional, are ignored by a reader that does not know them:
 //! - `mu` entries may be `null`: infinite friction (stick, `r_T` free);
