@@ -9,7 +9,9 @@ use std::fs;
 use std::path::PathBuf;
 
 use impact_vv::registry::SECTIONS;
+use impact_vv::report::plot::{render_plot_sized, PLOT_SIZE, TREND_SIZE};
 use impact_vv::report::summary::worst_text;
+use impact_vv::report::text_fit::width_bound;
 use impact_vv::report::{append_history, read_history, render_plot, write_report};
 use impact_vv::results::{
     CaseResult, HistoryRecord, MetricResult, PlotData, ReferenceLine, RunResults, Series, Status,
@@ -512,6 +514,25 @@ fn row_cells<'a>(html: &'a str, first: &str) -> &'a str {
     &html[start..start + html[start..].find("</tr>").unwrap()]
 }
 
+/// The text of `html` without its tags, runs of white space made one space: what a reader sees
+/// of titles drawn as several SVG `<text>` lines.
+fn visible_text(html: &str) -> String {
+    let mut text = String::new();
+    let mut in_tag = false;
+    for c in html.chars() {
+        match c {
+            '<' => {
+                in_tag = true;
+                text.push(' ');
+            }
+            '>' => in_tag = false,
+            c if !in_tag => text.push(c),
+            _ => {}
+        }
+    }
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
 #[test]
 fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
     let dir = scratch("contact");
@@ -565,11 +586,13 @@ fn contact_algorithms_section_shows_comparisons_solver_tables_and_diagrams() {
     assert!(!row_cells(section, "conic-relaxed").contains("fastest"));
     assert!(section.contains("Fastest among the passing variants: conic, 0.01 s"));
 
-    // (c) One work-precision diagram per swept metric, one curve per solver variant.
-    assert!(section.contains(&format!(
+    // (c) One work-precision diagram per swept metric, one curve per solver variant; their
+    // titles are wrapped onto lines, so they are read as the reader sees them.
+    let seen = visible_text(section);
+    assert!(seen.contains(&format!(
         "Work-precision by solver: {SOLVER_CASE_ID}, {WORST}"
     )));
-    assert!(section.contains(&format!(
+    assert!(seen.contains(&format!(
         "Work-precision by solver: {SOLVER_CASE_ID}, frequency_error"
     )));
 
@@ -740,4 +763,70 @@ fn a_zero_tolerance_metric_shows_its_value_against_the_reference() {
         assert!(!text.contains("inf×") && !text.contains("NaN×"));
     }
     let _ = fs::remove_dir_all(&dir);
+}
+
+/// The `<text>` elements of an SVG: (x, text-anchor, font-size, content).
+fn svg_texts(svg: &str) -> Vec<(f64, String, f64, String)> {
+    let attr = |tag: &str, name: &str| -> Option<String> {
+        let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+        Some(tag[start..start + tag[start..].find('"')?].to_string())
+    };
+    svg.split("<text")
+        .skip(1)
+        .map(|t| {
+            let tag = &t[..t.find('>').unwrap()];
+            let content = &t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()];
+            (
+                attr(tag, "x").unwrap().parse().unwrap(),
+                attr(tag, "text-anchor").unwrap_or_else(|| "start".into()),
+                attr(tag, "font-size").unwrap().parse().unwrap(),
+                content.trim().to_string(),
+            )
+        })
+        .collect()
+}
+
+/// A title longer than the plot is wide (the contact-compare grid's) is split into lines, each
+/// within the plot's width by an upper bound of the glyph widths, with every word kept in order.
+#[test]
+fn a_long_plot_title_wraps_within_the_plot_width() {
+    let title =
+        "Work-precision by solver: contact/spheres-eccentric-frictionless, energy_after_separation";
+    let mut plot = history_plot();
+    plot.title = title.to_string();
+    for size in [PLOT_SIZE, TREND_SIZE] {
+        let svg = render_plot_sized(&plot, size);
+        let width = f64::from(size.0);
+        // The title's lines: the texts in the largest font.
+        let texts = svg_texts(&svg);
+        let largest = texts.iter().map(|t| t.2).fold(0.0, f64::max);
+        let lines: Vec<_> = texts.into_iter().filter(|t| t.2 == largest).collect();
+        assert!(lines.len() >= 2, "{size:?}: {lines:?}");
+        // Every character of the title, in order (a word too long for a line breaks after a `-`).
+        let shown: String = lines.iter().flat_map(|l| l.3.split_whitespace()).collect();
+        let expected: String = title.split_whitespace().collect();
+        assert_eq!(shown, expected, "{size:?}");
+        for (x, anchor, font_px, text) in &lines {
+            let w = width_bound(text, *font_px);
+            assert_eq!(anchor, "middle", "{text}");
+            assert!(
+                x - w / 2.0 >= 0.0 && x + w / 2.0 <= width,
+                "{size:?}: {text:?} spans {} to {} px",
+                x - w / 2.0,
+                x + w / 2.0
+            );
+        }
+    }
+    // A plot with nothing to draw says so under the same title, wrapped too.
+    plot.series.clear();
+    let svg = render_plot(&plot);
+    let message = svg_texts(&svg);
+    assert!(message.len() >= 2, "{message:?}");
+    for (x, _, font_px, text) in &message {
+        let w = width_bound(text, *font_px);
+        assert!(
+            x - w / 2.0 >= 0.0 && x + w / 2.0 <= f64::from(PLOT_SIZE.0),
+            "{text:?}"
+        );
+    }
 }
