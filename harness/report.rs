@@ -18,6 +18,7 @@ pub mod plot;
 pub mod records;
 pub mod section;
 pub mod summary;
+pub mod text_fit;
 
 use std::fs;
 use std::io;

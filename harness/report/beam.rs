@@ -18,7 +18,7 @@ pub mod section;
 mod side_view;
 
 pub use failure_modes::{
-    failure_rows, markdown, metric_text, monotonic_statement, verdicts, FailureRow,
+    code_name, failure_rows, markdown, metric_text, monotonic_statement, verdicts, FailureRow,
 };
 pub use plots::central_differences;
 pub use record::{load, load_one, rasterise, record, record_path, BeamRecord, SideView};

@@ -3,7 +3,7 @@
 //! [`format::html`]; each helper says whether it takes escaped HTML or plain text.
 
 use super::format;
-use super::summary::status_name;
+use super::summary::{status_name, CaseState};
 use crate::results::Status;
 
 /// `<tag class="class">inner</tag>`; `inner` must already be HTML.
@@ -19,6 +19,15 @@ pub fn element(tag: &str, class: &str, inner: &str) -> String {
 pub fn badge(status: Status) -> String {
     let name = status_name(status);
     format!("<span class=\"badge {name}\">{name}</span>")
+}
+
+/// A coloured badge of a case's state: a status, or `known failure` in amber.
+pub fn state_badge(state: CaseState) -> String {
+    format!(
+        "<span class=\"badge {}\">{}</span>",
+        state.class(),
+        state.label()
+    )
 }
 
 /// A table cell: escaped HTML content, or a number (right-aligned, tabular figures).
@@ -39,9 +48,10 @@ pub fn number(v: f64) -> Cell {
     Cell::Num(format::num(v))
 }
 
-/// A table row with an optional CSS class (`bad` for failing rows).
+/// A table row with an optional CSS class (`bad` for failing rows, `known` for known failures).
 pub struct Row {
-    /// CSS class of the row (`bad` for a failing row), empty for none.
+    /// CSS class of the row (`bad` for a failing row, `known` for a known failure), empty for
+    /// none.
     pub class: &'static str,
     /// The row's cells, in column order.
     pub cells: Vec<Cell>,

@@ -2,12 +2,16 @@
 //! text from the results goes through [`format::html`]; the helpers below take either escaped
 //! fragments (`Cell::Html`, `inner`) or plain text, and say which.
 
-use super::blocks::{badge, element, note, number, plots, table, text, titles, Cell, Row};
+use super::blocks::{
+    badge, element, note, number, plots, state_badge, table, text, titles, Cell, Row,
+};
 use super::diagrams::{self, Trend};
 use super::format;
 use super::plot::{render_plot, render_plot_sized, TREND_SIZE};
 use super::section::{self, Page, Section};
-use super::summary::{self, status_name, tolerance_ratio, CaseSummary, STATUSES};
+use super::summary::{
+    self, against_reference, ratio_text, tolerance_ratio, CaseState, CaseSummary, STATES,
+};
 use crate::results::{CaseResult, HistoryRecord, MetricResult, RunResults, Status, SweepResult};
 
 /// The page's style sheet, inlined so that the page opens from a CI artifact without network.
@@ -32,12 +36,18 @@ pub fn page(page: &Page<'_>, history: &[HistoryRecord], sections: &[&dyn Section
     )
 }
 
-/// Title, verdict banner, status counts and the run's provenance.
+/// Title, verdict banner, counts per state and the run's provenance.
 fn header(results: &RunResults) -> String {
     let verdict = summary::verdict(results);
-    let counts: String = STATUSES
+    let counts: String = STATES
         .iter()
-        .map(|&s| format!("<span>{} {}</span>", badge(s), summary::count(results, s)))
+        .map(|&s| {
+            format!(
+                "<span>{} {}</span>",
+                state_badge(s),
+                summary::count_state(results, s)
+            )
+        })
         .collect();
     let versions = results
         .versions
@@ -59,14 +69,10 @@ fn header(results: &RunResults) -> String {
         .iter()
         .map(|(k, v)| format!("<dt>{k}</dt><dd>{}</dd>", format::html(v)))
         .collect();
-    let banner_class = if verdict.ok {
-        "verdict ok"
-    } else {
-        "verdict bad"
-    };
+    let banner_class = format!("verdict {}", verdict.tone.class());
     format!(
         "<header>\n<h1>Concrete-impact V&amp;V report</h1>\n{}{}{}</header>\n",
-        element("div", banner_class, &format::html(&verdict.text)),
+        element("div", &banner_class, &format::html(&verdict.text)),
         element("div", "counts", &counts),
         element("dl", "meta", &meta),
     )
@@ -94,19 +100,20 @@ fn summary_row(s: &CaseSummary<'_>) -> Row {
     let c = s.case;
     let link = format!("<a href=\"#{}\">{}</a>", s.anchor, format::html(&c.id));
     let worst = match s.worst {
-        Some(m) => Cell::Html(worst_html(m)),
+        Some(m) => Cell::Html(worst_html(m, CaseState::of(c))),
         None => text("—"),
     };
+    let state = CaseState::of(c);
     Row {
-        class: if matches!(c.status, Status::Fail | Status::Error) {
-            "bad"
-        } else {
-            ""
+        class: match state {
+            CaseState::Fail | CaseState::Error => "bad",
+            CaseState::KnownFailure => "known",
+            _ => "",
         },
         cells: vec![
             Cell::Html(link),
             text(&c.variant),
-            Cell::Html(badge(c.status)),
+            Cell::Html(state_badge(state)),
             Cell::Num(format::seconds(c.wall_s)),
             Cell::Num(format!("{}/{}", s.passed, s.total)),
             worst,
@@ -114,18 +121,23 @@ fn summary_row(s: &CaseSummary<'_>) -> Row {
     }
 }
 
-/// The worst metric's name and its error/tolerance ratio, red when above 1.
-fn worst_html(m: &MetricResult) -> String {
-    let ratio = tolerance_ratio(m);
-    let class = if ratio > 1.0 || !m.pass {
-        "ratio bad"
-    } else {
-        "ratio"
+/// The worst metric's name and its error as a multiple of the tolerance, or its value against
+/// the reference where the tolerance gives no finite multiple ([`ratio_text`]); red when it
+/// failed, amber when the case's failure is a known one.
+fn worst_html(m: &MetricResult, state: CaseState) -> String {
+    let class = match (m.pass, state) {
+        (true, _) => "ratio",
+        (false, CaseState::KnownFailure) => "ratio known",
+        (false, _) => "ratio bad",
+    };
+    let how_far = match ratio_text(m) {
+        Some(ratio) => format!("{ratio} tol"),
+        None => against_reference(m),
     };
     format!(
-        "{} <span class=\"{class}\">{}× tol</span>",
+        "{} <span class=\"{class}\">{}</span>",
         format::html(&m.name),
-        format::tick(ratio)
+        format::html(&how_far)
     )
 }
 
@@ -140,7 +152,7 @@ fn case_section(
     let mut html = format!(
         "<section class=\"case\" id=\"{}\">\n<h2>{} {} <span class=\"variant\">{}</span></h2>\n",
         s.anchor,
-        badge(c.status),
+        state_badge(CaseState::of(c)),
         format::html(&c.id),
         format::html(&c.variant)
     );
@@ -150,7 +162,7 @@ fn case_section(
     }
     html.push_str(&message(c));
     html.push_str(&element("h3", "", "Metrics"));
-    html.push_str(&metrics_table(&c.metrics, s.worst));
+    html.push_str(&metrics_table(&c.metrics, s.worst, CaseState::of(c)));
     if !c.plots.is_empty() {
         html.push_str(&element("h3", "", "Plots"));
         html.push_str(&plots("plots", c.plots.iter().map(render_plot)));
@@ -180,45 +192,52 @@ fn case_facts(c: &CaseResult) -> String {
     )
 }
 
-/// The case's message: a coloured call-out with the reason when it did not pass, the solver's
-/// plan folded away when it did.
+/// The case's message: a coloured call-out with the reason when it did not pass (for a known
+/// failure, first the debt the case records, then how it failed this time), the solver's plan
+/// folded away when it did.
 fn message(c: &CaseResult) -> String {
     let msg = c.message.as_deref().unwrap_or("");
     let pre = element("pre", "", &format::html(msg));
-    match c.status {
-        Status::Pass if msg.is_empty() => String::new(),
-        Status::Pass => format!("<details><summary>Solver plan</summary>\n{pre}</details>\n"),
-        status => {
-            let title = match status {
-                Status::Fail => "Why it failed",
-                Status::Error => "Why it could not be evaluated",
-                Status::Interrupted => "Interrupted",
-                _ => "Why it was skipped",
-            };
-            let mut body = if msg.is_empty() {
-                note("no reason given")
-            } else {
-                pre
-            };
-            if let (Status::Fail, Some(known)) = (status, &c.known_failure) {
-                // The debt the case records: why this failure does not fail the run.
-                body.push_str(&format!(
-                    "\n<div class=\"callout-title\">Known failure (does not fail the run)</div>\n{}",
-                    element("pre", "", &format::html(known))
-                ));
-            }
-            element(
-                "div",
-                &format!("callout {}", status_name(status)),
-                &format!("<div class=\"callout-title\">{title}</div>\n{body}"),
-            )
+    let state = CaseState::of(c);
+    let title = match state {
+        CaseState::Pass if msg.is_empty() => return String::new(),
+        CaseState::Pass => {
+            return format!("<details><summary>Solver plan</summary>\n{pre}</details>\n")
         }
+        CaseState::KnownFailure => "How it failed",
+        CaseState::Fail => "Why it failed",
+        CaseState::Error => "Why it could not be evaluated",
+        CaseState::Interrupted => "Interrupted",
+        CaseState::Skipped => "Why it was skipped",
+    };
+    let mut body = String::new();
+    if let Some(known) = c
+        .known_failure
+        .as_deref()
+        .filter(|_| state == CaseState::KnownFailure)
+    {
+        // The debt the case records: why this failure does not fail the run.
+        body.push_str(&format!(
+            "<div class=\"callout-title\">Known failure (does not fail the run)</div>\n{}",
+            element("pre", "", &format::html(known))
+        ));
     }
+    body.push_str(&format!("<div class=\"callout-title\">{title}</div>\n"));
+    body.push_str(&if msg.is_empty() {
+        note("no reason given")
+    } else {
+        pre
+    });
+    element("div", &format!("callout {}", state.class()), &body)
 }
 
-/// The metrics of a case with their references and tolerances; failing rows in red, the worst
-/// metric marked.
-fn metrics_table(metrics: &[MetricResult], worst: Option<&MetricResult>) -> String {
+/// The metrics of a case with their references and tolerances; failing rows in red (amber in a
+/// known failure), the worst metric marked.
+fn metrics_table(
+    metrics: &[MetricResult],
+    worst: Option<&MetricResult>,
+    state: CaseState,
+) -> String {
     if metrics.is_empty() {
         return note("no metrics");
     }
@@ -236,13 +255,13 @@ fn metrics_table(metrics: &[MetricResult], worst: Option<&MetricResult>) -> Stri
     ]);
     let rows: Vec<Row> = metrics
         .iter()
-        .map(|m| metric_row(m, worst.is_some_and(|w| std::ptr::eq(w, m))))
+        .map(|m| metric_row(m, worst.is_some_and(|w| std::ptr::eq(w, m)), state))
         .collect();
     table(&head, &rows)
 }
 
 /// One row of the metrics table.
-fn metric_row(m: &MetricResult, is_worst: bool) -> Row {
+fn metric_row(m: &MetricResult, is_worst: bool, state: CaseState) -> Row {
     let name = if is_worst {
         format!("{} <span class=\"tag\">worst</span>", format::html(&m.name))
     } else {
@@ -250,14 +269,19 @@ fn metric_row(m: &MetricResult, is_worst: bool) -> Row {
     };
     let verdict = badge(if m.pass { Status::Pass } else { Status::Fail });
     Row {
-        class: if m.pass { "" } else { "bad" },
+        class: match (m.pass, state) {
+            (true, _) => "",
+            (false, CaseState::KnownFailure) => "known",
+            (false, _) => "bad",
+        },
         cells: vec![
             Cell::Html(name),
             number(m.value),
             number(m.reference),
             number(m.error),
             number(m.tolerance),
-            number(tolerance_ratio(m)),
+            // A zero tolerance has no finite multiple: the value and reference columns say it.
+            ratio_text(m).map_or_else(|| text("—"), |_| number(tolerance_ratio(m))),
             text(m.tolerance_kind.name()),
             text(&m.unit),
             Cell::Html(verdict),

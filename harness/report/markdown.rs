@@ -2,7 +2,7 @@
 
 use super::format;
 use super::section::{self, Page, Section};
-use super::summary::{self, status_name, worst_text, CaseSummary};
+use super::summary::{self, worst_text, CaseState, CaseSummary};
 use crate::results::Status;
 
 /// How much of a failure message the summary quotes; the page has the rest.
@@ -36,8 +36,9 @@ fn table(summaries: &[CaseSummary<'_>]) -> String {
         "| case | variant | status | wall time | metrics passed | worst metric |\n|---|---|---|---:|---:|---|\n",
     );
     for s in summaries {
-        let status = status_name(s.case.status).to_uppercase();
-        let status = if s.case.status == Status::Pass {
+        let state = CaseState::of(s.case);
+        let status = state.label().to_uppercase();
+        let status = if state == CaseState::Pass {
             status
         } else {
             format!("**{status}**")
@@ -56,8 +57,8 @@ fn table(summaries: &[CaseSummary<'_>]) -> String {
     md
 }
 
-/// The cases that failed or errored, each with its worst metric and the first line of its
-/// message; nothing when all passed.
+/// The cases that failed (known failures labelled so) or errored, each with its worst metric and
+/// the first line of its message; nothing when all passed.
 fn failures(summaries: &[CaseSummary<'_>]) -> String {
     let bad: Vec<&CaseSummary<'_>> = summaries
         .iter()
@@ -69,15 +70,22 @@ fn failures(summaries: &[CaseSummary<'_>]) -> String {
     let mut md = String::from("\n## Failures\n\n");
     for s in bad {
         let c = s.case;
-        let mut line = format!("- **{}** ({}) {}", c.id, c.variant, status_name(c.status));
+        let state = CaseState::of(c).label();
+        let mut line = format!("- **{}** ({}) {state}", c.id, c.variant);
         if let Some(m) = s.worst {
-            line.push_str(&format!(
-                ": worst metric `{}` = {} vs {} ({:.2}× tolerance)",
-                m.name,
-                format::num(m.value),
-                format::num(m.reference),
-                summary::tolerance_ratio(m)
-            ));
+            line.push_str(&match summary::ratio_text(m) {
+                Some(ratio) => format!(
+                    ": worst metric `{}` = {} vs {} ({ratio} tolerance)",
+                    m.name,
+                    format::num(m.value),
+                    format::num(m.reference),
+                ),
+                None => format!(
+                    ": worst metric `{}` = {}",
+                    m.name,
+                    summary::against_reference(m)
+                ),
+            });
         }
         if let Some(msg) = c.message.as_deref().filter(|m| !m.trim().is_empty()) {
             // A code span, so that chat renderers show `<tags>` in messages instead of eating them.

@@ -10,6 +10,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::axis::{to_plot, Axis};
+use super::text_fit;
 use crate::results::PlotData;
 
 /// Size of a case plot: wide enough for six tick labels, small enough for two side by side on
@@ -36,6 +37,10 @@ const FONT: &str = "sans-serif";
 const LABEL_FONT: u32 = 17;
 const DESC_FONT: u32 = 18;
 const TITLE_FONT: u32 = 22;
+/// plotters' SVG backend writes a requested font size `s` as `font-size="s / 1.24"` pixels.
+const SVG_FONT_SCALE: f64 = 1.24;
+/// Space above and below the title, as plotters leaves around a caption.
+const TITLE_PAD: i32 = 5;
 const LEGEND_FONT: u32 = 17;
 const LEGEND_ROW: u32 = 22;
 /// Estimated width of one legend character in pixels (there is no font to measure with).
@@ -229,15 +234,19 @@ fn band(y: &Axis, [a, b]: [f64; 2]) -> Option<(f64, f64)> {
     Some((y.clamp(lo), y.clamp(hi)))
 }
 
-/// Draws the chart and its legend strip into one SVG string.
+/// Draws the chart and its legend strip into one SVG string; a title too long for one line
+/// adds its further lines to the height, so that the chart keeps its size.
 fn draw_scene(scene: &Scene, plot: &PlotData, size: (u32, u32)) -> Result<String, Box<dyn Error>> {
     let legend = Legend::layout(scene, size.0);
+    let title = Title::layout(&plot.title, size.0);
+    let chart_h = size.1 + title.extra_height();
     let mut svg = String::new();
     {
-        let root =
-            SVGBackend::with_string(&mut svg, (size.0, size.1 + legend.height)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (size.0, chart_h + legend.height))
+            .into_drawing_area();
         root.fill(&WHITE)?;
-        let (chart_area, legend_area) = root.split_vertically(size.1);
+        let (chart_area, legend_area) = root.split_vertically(chart_h);
+        let chart_area = title.draw(&chart_area)?;
         draw_chart(&chart_area, scene, plot)?;
         legend.draw(&legend_area)?;
         root.present()?;
@@ -253,7 +262,6 @@ fn draw_chart(
 ) -> Result<(), Box<dyn Error>> {
     let (x, y) = (scene.x, scene.y);
     let mut chart = ChartBuilder::on(area)
-        .caption(&plot.title, (FONT, TITLE_FONT))
         .margin(CHART_MARGIN)
         .margin_right(2 * CHART_MARGIN)
         .x_label_area_size(X_LABEL_AREA)
@@ -319,6 +327,57 @@ fn draw_chart(
         }
     }
     Ok(())
+}
+
+/// The plot's title, wrapped to the plot's width: plotters' caption is one line centred on the
+/// plot, and a longer one runs off both edges, cut at the left where the reader starts.
+struct Title {
+    lines: Vec<String>,
+    width: u32,
+}
+
+impl Title {
+    /// The title in the pixel size plotters writes it at.
+    const FONT_PX: f64 = TITLE_FONT as f64 / SVG_FONT_SCALE;
+    /// Baseline-to-baseline distance of the title's lines.
+    const LINE_STEP: u32 = (Self::FONT_PX * 1.25) as u32 + 1;
+
+    /// `title` broken into lines that fit `width` less the chart's margins on both sides; no
+    /// lines for an empty title.
+    fn layout(title: &str, width: u32) -> Title {
+        let room = f64::from(width.saturating_sub(2 * CHART_MARGIN));
+        let lines = if title.trim().is_empty() {
+            Vec::new()
+        } else {
+            text_fit::wrap(title, Self::FONT_PX, room)
+        };
+        Title { lines, width }
+    }
+
+    /// The height the lines after the first add to the plot.
+    fn extra_height(&self) -> u32 {
+        self.lines.len().saturating_sub(1) as u32 * Self::LINE_STEP
+    }
+
+    /// Draws the lines centred at the top of `area`; returns the area below them.
+    fn draw<'a>(
+        &self,
+        area: &DrawingArea<SVGBackend<'a>, Shift>,
+    ) -> Result<DrawingArea<SVGBackend<'a>, Shift>, Box<dyn Error>> {
+        if self.lines.is_empty() {
+            return Ok(area.clone());
+        }
+        let style = TextStyle::from((FONT, TITLE_FONT).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top));
+        let cx = self.width as i32 / 2;
+        for (i, line) in self.lines.iter().enumerate() {
+            let y = TITLE_PAD + (i as u32 * Self::LINE_STEP) as i32;
+            area.draw(&Text::new(line.clone(), (cx, y), &style))?;
+        }
+        let height = 2 * TITLE_PAD as u32 + Self::FONT_PX.ceil() as u32 + self.extra_height();
+        Ok(area.split_vertically(height).1)
+    }
 }
 
 /// How a legend entry's swatch looks.
@@ -451,27 +510,36 @@ fn draw_swatch(
     Ok(())
 }
 
-/// A small SVG standing in for a plot that cannot be drawn, saying why.
+/// A small SVG standing in for a plot that cannot be drawn, saying why; the text wraps to the
+/// width like a title.
 fn message_svg(title: &str, why: &str, width: u32) -> String {
+    const LINE_STEP: u32 = 20;
+    let text = if title.is_empty() {
+        why.to_string()
+    } else {
+        format!("{title}: {why}")
+    };
+    let font_px = LABEL_FONT as f64 / SVG_FONT_SCALE;
+    let lines = text_fit::wrap(&text, font_px, f64::from(width.saturating_sub(16)));
+    let height = 90 + (lines.len() as u32 - 1) * LINE_STEP;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (width, 90)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         let grey = BLACK.mix(0.6);
         let style = TextStyle::from((FONT, LABEL_FONT).into_font())
             .color(&grey)
             .pos(Pos::new(HPos::Center, VPos::Center));
-        let text = if title.is_empty() {
-            why.to_string()
-        } else {
-            format!("{title}: {why}")
-        };
         // Drawing into a string cannot fail for lack of space; ignore errors rather than panic.
         let _ = root.fill(&RGBColor(248, 248, 248));
         let _ = root.draw(&Rectangle::new(
-            [(0, 0), (width as i32 - 1, 89)],
+            [(0, 0), (width as i32 - 1, height as i32 - 1)],
             BLACK.mix(0.2).stroke_width(1),
         ));
-        let _ = root.draw(&Text::new(text, (width as i32 / 2, 45), &style));
+        let first = height as i32 / 2 - ((lines.len() as u32 - 1) * LINE_STEP / 2) as i32;
+        for (i, line) in lines.into_iter().enumerate() {
+            let y = first + (i as u32 * LINE_STEP) as i32;
+            let _ = root.draw(&Text::new(line, (width as i32 / 2, y), &style));
+        }
         let _ = root.present();
     }
     svg

@@ -6,9 +6,9 @@
 
 use std::path::Path;
 
-use super::blocks::{badge, element};
+use super::blocks::{element, state_badge};
 use super::format;
-use super::summary::CaseSummary;
+use super::summary::{CaseState, CaseSummary};
 use crate::results::RunResults;
 use serde::de::DeserializeOwned;
 
@@ -89,7 +89,7 @@ pub fn part_heading(section: &dyn Section, case: &CaseSummary<'_>, extra: &str) 
     let mut html = format!(
         "<h3 id=\"{}\">{} {}{extra} <a href=\"#{}\">metrics and trend</a></h3>\n",
         part_anchor(section, case),
-        badge(c.status),
+        state_badge(CaseState::of(c)),
         format::html(&c.id),
         case.anchor
     );

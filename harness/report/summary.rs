@@ -1,6 +1,9 @@
 //! The facts both the HTML page and the Markdown summary show: per-case counts, the worst
 //! metric, and the run's verdict. Computed once here so that the two outputs cannot disagree.
 
+use super::beam::{code_name, FAILURE_MODE_METRIC};
+use super::format;
+use crate::beam::FailureMode;
 use crate::results::{CaseResult, MetricResult, RunResults, Status, ToleranceKind};
 
 /// Statuses in the order the page lists them.
@@ -78,9 +81,64 @@ pub fn worst_metric(metrics: &[MetricResult]) -> Option<&MetricResult> {
         .max_by(|a, b| tolerance_ratio(a).total_cmp(&tolerance_ratio(b)))
 }
 
-/// The worst metric as one line of plain text, e.g. `peak_force: 3.2× tolerance`.
+/// The error as a multiple of the tolerance, e.g. `3.2×`, where that multiple says something:
+/// `None` for a zero tolerance (any miss would be infinitely many tolerances, any hit zero) and
+/// for a value that gives no finite ratio (NaN), which read better as the value against its
+/// reference ([`against_reference`]).
+pub fn ratio_text(m: &MetricResult) -> Option<String> {
+    let ratio = tolerance_ratio(m);
+    (m.tolerance != 0.0 && ratio.is_finite()).then(|| format!("{}×", format::tick(ratio)))
+}
+
+/// The metric's value against what it should be, in words: a class code by its name where the
+/// reference source lists the codes or the metric is the beam's `failure_mode`
+/// (`shear, expected mixed`), otherwise the numbers with the bound the tolerance kind sets
+/// (`3, expected 0`; `0.2 m, expected at most 0`).
+pub fn against_reference(m: &MetricResult) -> String {
+    let class = |v: f64| class_name(m, v);
+    if let (Some(value), Some(reference)) = (class(m.value), class(m.reference)) {
+        return format!("{value}, expected {reference}");
+    }
+    let unit = |v: f64| {
+        if m.unit.is_empty() {
+            format::num(v)
+        } else {
+            format!("{} {}", format::num(v), m.unit)
+        }
+    };
+    let expected = match m.tolerance_kind {
+        ToleranceKind::AtMost => format!("expected at most {}", unit(m.tolerance)),
+        ToleranceKind::AtLeast => format!("expected at least {}", unit(m.tolerance)),
+        ToleranceKind::AtLeastRatio => format!(
+            "expected at least {}× {}",
+            format::num(m.tolerance),
+            unit(m.reference)
+        ),
+        _ => format!("expected {}", unit(m.reference)),
+    };
+    format!("{}, {expected}", unit(m.value))
+}
+
+/// The name of class code `v` of a discrete metric: from the codes its reference source lists
+/// (`code 0 none, 1 bending, ...`), or, for the beam's `failure_mode`, from
+/// [`FailureMode::from_code`].
+fn class_name(m: &MetricResult, v: f64) -> Option<String> {
+    code_name(&m.reference_source, v).or_else(|| {
+        (m.name == FAILURE_MODE_METRIC)
+            .then(|| FailureMode::from_code(v))
+            .flatten()
+            .map(|mode| mode.name().to_string())
+    })
+}
+
+/// The worst metric as one line of plain text: `peak_force: 3.2× tolerance`, or the value
+/// against its reference where no finite multiple of the tolerance exists
+/// (`failure_mode: shear, expected mixed`).
 pub fn worst_text(m: &MetricResult) -> String {
-    format!("{}: {:.2}× tolerance", m.name, tolerance_ratio(m))
+    match ratio_text(m) {
+        Some(ratio) => format!("{}: {ratio} tolerance", m.name),
+        None => format!("{}: {}", m.name, against_reference(m)),
+    }
 }
 
 /// The acceptance band of a metric around its reference, where the tolerance kind says how
@@ -148,64 +206,149 @@ pub fn count(results: &RunResults, status: Status) -> usize {
     results.cases.iter().filter(|c| c.status == status).count()
 }
 
-/// The run's overall verdict: the headline and whether it is good news.
-pub struct Verdict {
-    /// The headline, e.g. `All 12 cases passed` or `2 failed (1 known), 1 error`.
-    pub text: String,
-    /// Whether the run is good news: cases ran, none failed or errored, none interrupted.
-    pub ok: bool,
+/// How many cases are in `state`.
+pub fn count_state(results: &RunResults, state: CaseState) -> usize {
+    results
+        .cases
+        .iter()
+        .filter(|c| CaseState::of(c) == state)
+        .count()
 }
 
-/// `All N cases passed` when nothing failed or errored, otherwise `N failed, M errors`.
-pub fn verdict(results: &RunResults) -> Verdict {
-    let (failed, errors) = (count(results, Status::Fail), count(results, Status::Error));
-    let skipped = count(results, Status::Skipped);
-    let interrupted = count(results, Status::Interrupted);
-    if interrupted > 0 {
-        let finished = results.cases.len() - interrupted;
-        return Verdict {
-            text: format!(
-                "Interrupted: {finished} of {} {} finished ({} passed)",
-                results.cases.len(),
-                plural(results.cases.len(), "case", "cases"),
-                count(results, Status::Pass)
-            ),
-            ok: false,
-        };
+/// What a case's result means to the reader: its status, with a failure the case records as
+/// known (`known_failure`) told apart from a new one. A known failure neither passes nor fails
+/// the run ([`RunResults::exit_code`]), so the page shows it in a colour of its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaseState {
+    /// Every metric met its tolerance.
+    Pass,
+    /// Failed the way the case file says it is known to fail: debt, not a regression.
+    KnownFailure,
+    /// Failed without being known to: fails the run.
+    Fail,
+    /// Could not be evaluated: fails the run.
+    Error,
+    /// Not run (filtered out or not applicable here).
+    Skipped,
+    /// Stopped before it finished.
+    Interrupted,
+}
+
+/// States in the order the page counts them: good news first, then what needs a look.
+pub const STATES: [CaseState; 6] = [
+    CaseState::Pass,
+    CaseState::KnownFailure,
+    CaseState::Fail,
+    CaseState::Error,
+    CaseState::Skipped,
+    CaseState::Interrupted,
+];
+
+impl CaseState {
+    /// The state of `case`.
+    pub fn of(case: &CaseResult) -> Self {
+        match case.status {
+            Status::Pass => CaseState::Pass,
+            Status::Fail if case.known_failure.is_some() => CaseState::KnownFailure,
+            Status::Fail => CaseState::Fail,
+            Status::Error => CaseState::Error,
+            Status::Skipped => CaseState::Skipped,
+            Status::Interrupted => CaseState::Interrupted,
+        }
     }
+
+    /// The CSS class of its badge, row and call-out (`known` for a known failure, the status
+    /// name otherwise).
+    pub fn class(self) -> &'static str {
+        match self {
+            CaseState::Pass => "pass",
+            CaseState::KnownFailure => "known",
+            CaseState::Fail => "fail",
+            CaseState::Error => "error",
+            CaseState::Skipped => "skipped",
+            CaseState::Interrupted => "interrupted",
+        }
+    }
+
+    /// Its name in badges and tables (`known failure`, the status name otherwise).
+    pub fn label(self) -> &'static str {
+        match self {
+            CaseState::KnownFailure => "known failure",
+            other => other.class(),
+        }
+    }
+
+    /// `n` cases in this state, in words: `3 passed`, `1 known failure`, `2 errors`.
+    pub fn counted(self, n: usize) -> String {
+        let what = match self {
+            CaseState::Pass => "passed",
+            CaseState::KnownFailure => plural(n, "known failure", "known failures"),
+            CaseState::Fail => "failed",
+            CaseState::Error => plural(n, "error", "errors"),
+            CaseState::Skipped => "skipped",
+            CaseState::Interrupted => "interrupted",
+        };
+        format!("{n} {what}")
+    }
+}
+
+/// How the run reads at a glance, by its worst case: the colour of the banner.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tone {
+    /// Every case that ran passed (some may have been skipped).
+    Good,
+    /// Nothing new failed, but known failures remain.
+    Known,
+    /// A case failed, errored or was interrupted, or no case ran.
+    Bad,
+}
+
+impl Tone {
+    /// The CSS class of the banner.
+    pub fn class(self) -> &'static str {
+        match self {
+            Tone::Good => "ok",
+            Tone::Known => "known",
+            Tone::Bad => "bad",
+        }
+    }
+}
+
+/// The run's overall verdict: the headline and its tone.
+pub struct Verdict {
+    /// The headline: the cases counted per state, e.g.
+    /// `41 passed · 20 known failures · 0 failed · 1 error`.
+    pub text: String,
+    /// Red for any failure, error or interruption, amber for known failures alone, green
+    /// otherwise.
+    pub tone: Tone,
+}
+
+/// Counts passes and failures always, known failures, errors, skipped and interrupted cases
+/// where there are any, so that the headline says at a glance what the run found; its tone is
+/// that of the worst case.
+pub fn verdict(results: &RunResults) -> Verdict {
     if results.cases.is_empty() {
         return Verdict {
             text: "No cases were run".to_string(),
-            ok: false,
+            tone: Tone::Bad,
         };
     }
-    if failed + errors == 0 {
-        let passed = count(results, Status::Pass);
-        let mut text = format!("All {passed} {} passed", plural(passed, "case", "cases"));
-        if skipped > 0 {
-            text.push_str(&format!(" ({skipped} skipped)"));
-        }
-        return Verdict { text, ok: true };
-    }
-    let known = results
-        .cases
+    let n = |state| count_state(results, state);
+    let text = STATES
         .iter()
-        .filter(|c| c.status == Status::Fail && c.known_failure.is_some())
-        .count();
-    let mut parts = Vec::new();
-    if failed > 0 && known > 0 {
-        parts.push(format!("{failed} failed ({known} known)"));
-    } else if failed > 0 {
-        parts.push(format!("{failed} failed"));
-    }
-    if errors > 0 {
-        parts.push(format!("{errors} {}", plural(errors, "error", "errors")));
-    }
-    Verdict {
-        text: parts.join(", "),
-        // The page agrees with the exit status: known failures alone do not fail the run.
-        ok: results.exit_code() == 0,
-    }
+        .filter(|&&s| matches!(s, CaseState::Pass | CaseState::Fail) || n(s) > 0)
+        .map(|&s| s.counted(n(s)))
+        .collect::<Vec<_>>()
+        .join(" · ");
+    let tone = if n(CaseState::Fail) + n(CaseState::Error) + n(CaseState::Interrupted) > 0 {
+        Tone::Bad
+    } else if n(CaseState::KnownFailure) > 0 {
+        Tone::Known
+    } else {
+        Tone::Good
+    };
+    Verdict { text, tone }
 }
 
 /// `one` when `n` is 1, else `many`.

@@ -197,7 +197,7 @@ pub fn metric_text(m: &crate::results::MetricResult) -> String {
 }
 
 /// The name of an integer code `v` where `text` lists the codes as `code 0 none, 1 bending, ...`.
-fn code_name(text: &str, v: f64) -> Option<String> {
+pub fn code_name(text: &str, v: f64) -> Option<String> {
     if v.fract() != 0.0 || !v.is_finite() {
         return None;
     }

@@ -2,7 +2,7 @@
 //! outline, supports, impactor footprint, title and colour legend.
 
 use super::{BeamRecord, SideView};
-use crate::report::format;
+use crate::report::{format, text_fit};
 
 /// Width of a full-size side view (px).
 pub const SIDE_VIEW_WIDTH: u32 = 720;
@@ -75,7 +75,12 @@ pub fn side_view_svg(record: &BeamRecord, f: &SideView, width: u32) -> String {
     let w = width as f64;
     let scale = (w - 2.0 * margin) / record.size[0].max(f64::MIN_POSITIVE);
     let beam_h = record.size[1] * scale;
-    let title_h = font * 2.0;
+    // The title wraps to the width rather than running off both edges (a filmstrip picture is
+    // narrower than a case id and its time).
+    let title_font = font * 1.1;
+    let title_step = title_font * 1.25;
+    let title_lines = text_fit::wrap(&frame_title(record, f), title_font, w - 8.0);
+    let title_h = font * 2.0 + (title_lines.len() - 1) as f64 * title_step;
     let top_band = font * 0.9 + 4.0; // the footprint bar
     let y_top = title_h + top_band;
     let support_h = font * 0.9 + 4.0;
@@ -88,14 +93,17 @@ pub fn side_view_svg(record: &BeamRecord, f: &SideView, width: u32) -> String {
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{h:.0}\" \
          viewBox=\"0 0 {width} {h:.0}\" font-family=\"sans-serif\" font-size=\"{font}\">\n\
-         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
-         <text x=\"{cx:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-size=\"{tf:.1}\">{title}</text>\n",
+         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
         h = height.ceil(),
-        cx = w / 2.0,
-        ty = font * 1.3,
-        tf = font * 1.1,
-        title = format::html(&frame_title(record, f)),
     );
+    for (i, line) in title_lines.iter().enumerate() {
+        s.push_str(&format!(
+            "<text x=\"{cx:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-size=\"{title_font:.1}\">{}</text>\n",
+            format::html(line),
+            cx = w / 2.0,
+            ty = font * 1.3 + i as f64 * title_step,
+        ));
+    }
     // Cells, merged along x where neighbours share a colour.
     let (nx, ny) = (f.nx, f.ny);
     let (cw, ch) = (

@@ -4,7 +4,7 @@
 
 use impact_solver::remesh::SectionFrame;
 
-use crate::report::format;
+use crate::report::{format, text_fit};
 
 /// Width of a mesh picture (px).
 pub const MESH_VIEW_WIDTH: u32 = 360;
@@ -75,12 +75,47 @@ fn extent(frame: &SectionFrame) -> Option<[[f64; 2]; 2]> {
     (lo[0] < hi[0] && lo[1] < hi[1]).then_some([lo, hi])
 }
 
+/// The `<text>` elements of the title lines `t1` (in the title's size) and the caption lines
+/// `t2` below them, centred on `cx`, `step` apart.
+fn title_lines(t1: &[String], t2: &[String], cx: f64, font: f64, step: f64) -> String {
+    let sized = t1
+        .iter()
+        .map(|l| (l, format!(" font-size=\"{:.1}\"", font * 1.1)));
+    let plain = t2.iter().map(|l| (l, String::new()));
+    sized
+        .chain(plain)
+        .enumerate()
+        .map(|(i, (line, size))| {
+            format!(
+                "<text x=\"{cx:.1}\" y=\"{:.1}\" text-anchor=\"middle\"{size}>{}</text>\n",
+                font * 1.2 + i as f64 * step,
+                format::html(line)
+            )
+        })
+        .collect()
+}
+
 /// The picture as an SVG `width` px wide; `id` makes its clip path's id unique on the page.
 pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> String {
     let font = 11.0;
     let w = width as f64;
-    // Title and caption lines, then the vertical axis's name above the picture.
-    let (left, right, top) = (44.0, 10.0, font * 4.6);
+    // Title and caption lines, wrapped to the width rather than cut at its edges, then the
+    // vertical axis's name above the picture.
+    let title_font = font * 1.1;
+    let step = font * 1.25;
+    let t1 = text_fit::wrap(title, title_font, w - 8.0);
+    let t2 = text_fit::wrap(
+        &format!(
+            "{}, plane {} = {} mm",
+            caption(frame),
+            frame.axis.name(),
+            format::num(frame.value * 1e3)
+        ),
+        font,
+        w - 8.0,
+    );
+    let extra_lines = (t1.len() + t2.len()).saturating_sub(2) as f64;
+    let (left, right, top) = (44.0, 10.0, font * 4.6 + extra_lines * step);
     let plot_w = w - left - right;
     let names: Vec<String> = frame
         .drawing_axes
@@ -130,22 +165,10 @@ pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> Stri
     s.push_str(&format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{h:.0}\" \
          viewBox=\"0 0 {width} {h:.0}\" font-family=\"sans-serif\" font-size=\"{font}\">\n\
-         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
-         <text x=\"{cx:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-size=\"{tf:.1}\">{t1}</text>\n\
-         <text x=\"{cx:.1}\" y=\"{ty2:.1}\" text-anchor=\"middle\">{t2}</text>\n\
+         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{lines}\
          <defs><clipPath id=\"{id}\"><rect x=\"{left:.2}\" y=\"{top:.2}\" width=\"{pw:.2}\" height=\"{ph:.2}\"/></clipPath></defs>\n",
         h = height.ceil(),
-        cx = w / 2.0,
-        ty = font * 1.2,
-        tf = font * 1.1,
-        t1 = format::html(title),
-        ty2 = font * 2.4,
-        t2 = format::html(&format!(
-            "{}, plane {} = {} mm",
-            caption(frame),
-            frame.axis.name(),
-            format::num(frame.value * 1e3)
-        )),
+        lines = title_lines(&t1, &t2, w / 2.0, font, step),
     ));
     s.push_str(&format!(
         "<g clip-path=\"url(#{id})\" stroke-linejoin=\"round\">\n"
