@@ -833,3 +833,24 @@ fn a_long_plot_title_wraps_within_the_plot_width() {
         );
     }
 }
+
+/// A case that logged lines links its log file (relative to the run folder, where the page is);
+/// a case that logged nothing has no link.
+#[test]
+fn a_case_with_a_log_links_it() {
+    let dir = scratch("log");
+    let mut run = results("run-log");
+    run.cases[0].log_file = Some("cases/a__b/log.txt".into());
+    let index = write_report(&dir, &run, &[], SECTIONS).unwrap();
+    let page = fs::read_to_string(&index).unwrap();
+    assert_eq!(
+        page.matches("<a href=\"cases/a__b/log.txt\">log</a>")
+            .count(),
+        1
+    );
+    assert_eq!(
+        page.matches(">log</a>").count(),
+        1,
+        "no link for cases without a log"
+    );
+}

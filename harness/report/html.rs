@@ -185,8 +185,12 @@ fn case_facts(c: &CaseResult) -> String {
         .iter()
         .map(|t| format!("<span class=\"tag\">{}</span>", format::html(t)))
         .collect();
+    // The case's own log lines (remeshing summaries), kept off the terminal.
+    let log = c.log_file.as_deref().map_or(String::new(), |path| {
+        format!(" · <a href=\"{}\">log</a>", format::html(path))
+    });
     format!(
-        "<p class=\"facts\">tier <b>{}</b> · wall time <b>{}</b> {tags} · <a href=\"#summary\">back to summary</a></p>\n",
+        "<p class=\"facts\">tier <b>{}</b> · wall time <b>{}</b> {tags}{log} · <a href=\"#summary\">back to summary</a></p>\n",
         format::html(if c.tier.is_empty() { "—" } else { &c.tier }),
         format::seconds(c.wall_s),
     )
