@@ -17,7 +17,13 @@ use impact_vv::registry::KINDS;
 use impact_vv::results::Status;
 use impact_vv::runner::run_cases;
 
+/// Not in the README's test command: `.ci/run` runs the nightly and stress tiers whole
+/// (`impact-vv run --tier nightly`, `--tier stress`), whose exit status fails on the same terms
+/// (a case that is not a known failure must pass; an error fails whatever it records), so this
+/// test judged the same cases twice, for four to eight of CI's minutes. Run it by hand with
+/// `cargo test --release --test long_tiers -- --ignored`.
 #[test]
+#[ignore = "the nightly and stress tiers of .ci/run judge these cases (impact-vv run --tier nightly / stress)"]
 fn nightly_and_stress_cases_pass() {
     let cases = load_catalogue(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases"), &KINDS)
         .expect("catalogue loads");
