@@ -19,7 +19,7 @@ pub struct ExplicitSettings {
     #[serde(default)]
     pub time_step: Option<f64>,
     /// Fraction of the critical step used when `time_step` is not given (default 0.8: see
-    /// [`default_safety`]).
+    /// the doc comment of `default_safety` in this file).
     #[serde(default = "default_safety")]
     pub safety: f64,
     /// Run even if `time_step` exceeds the stable estimate (stability sweeps do).
@@ -69,7 +69,7 @@ pub struct ExplicitSettings {
 /// `solver/tests/stable_step_aspect.rs`), so the 0.9 of explicit codes' habit is unstable on
 /// flat cells, and 0.8 keeps 8 % of margin on all of them. Meshes of near-cubic cells may set
 /// 0.9 (the catalogue's beams do, each measured stable).
-pub fn default_safety() -> f64 {
+fn default_safety() -> f64 {
     0.8
 }
 fn default_energy_tolerance() -> f64 {
