@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use crate::case_kind::RunOptions;
-use crate::results::case_dir;
+use crate::results::{case_dir, file_safe};
 
 /// The log file of one case run, and whether its lines are echoed to the terminal.
 #[derive(Debug)]
@@ -126,20 +126,6 @@ impl CaseLog {
     pub fn sink(&self) -> impl Fn(&str) + Sync + '_ {
         move |line: &str| self.line(line)
     }
-}
-
-/// `name` with every character but ASCII letters, digits, `-` and `.` replaced by `_` (a
-/// variant's name such as `gauss-seidel/thesis` as part of a file name).
-fn file_safe(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 #[cfg(test)]

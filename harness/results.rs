@@ -12,6 +12,12 @@ pub fn case_dir(run_dir: &std::path::Path, id: &str) -> std::path::PathBuf {
     run_dir.join("cases").join(id.replace('/', "__"))
 }
 
+/// `name` with every character but ASCII letters, digits and `-` replaced by `_`: a variant's
+/// name such as `gauss-seidel/thesis` as part of a file name in a case's folder.
+pub fn file_safe(name: &str) -> String {
+    name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_")
+}
+
 /// JSON has no NaN or infinity: serde_json writes them as `null`. These read `null` back as
 /// NaN so that a run with a non-finite value can still be reloaded by `impact-vv report`.
 pub(crate) mod lenient {

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::plots::{plots, tip_plots};
 use super::side_view::{side_view_svg, SIDE_VIEW_WIDTH};
 use super::{BEAM_BODY, FILMSTRIP};
-use crate::results::{CaseResult, PlotData, RunResults};
+use crate::results::{file_safe, CaseResult, PlotData, RunResults};
 use impact_solver::analysis::Execution;
 
 /// The crack indicator `eps_1 / eps_r` of the beam seen from the side at one instant: per cell of
@@ -423,10 +423,6 @@ pub(super) fn contact_column(problem: &Problem, run: &Execution) -> Option<Strin
 /// The file a case's record is written to, in the case's output folder.
 pub fn record_path(case_dir: &Path, variant: &str) -> PathBuf {
     case_dir.join(format!("beam-{}.json", file_safe(variant)))
-}
-
-fn file_safe(s: &str) -> String {
-    s.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_")
 }
 
 /// Writes the record and one SVG per frame into `dir`.
