@@ -311,21 +311,43 @@ fn prism_end(steps: usize) -> (f64, Option<String>) {
     (*time.last().unwrap(), solution.stopped)
 }
 
-/// Under opening control the shrunk prism has no limit point: its path must end at the same
-/// load factor (1, or a genuine end) whatever the load steps. Fuzz finding O2, still open.
-/// Measured on fix/statics: ends 0.6008 (150 steps), 0.1813 (1000), 0.1815 (3000), 0.0223
-/// (10 000), each after a step that failed 15 Newton iterations four times. Not the residual's
-/// scale (the reaction norm, 2.6 kN at the stops, does not shrink with the step) and not the
-/// round-off of the forces: at 0.18 the load-point controlled tangent that the bordering
-/// factorises is nearly singular (`|K^-1 r| / |r|` 1e-6 m/N against 4e-10 elastic, a
-/// non-uniform mode of the softening band) and the iteration cycles between relative residuals
-/// 1e-6 and 1e-2; at 0.022 it contracts by 0.5 to 0.8 per iteration and then drifts back up
-/// (relative residual 9.7e-6, 2.2e-6, 6e-6): the forward-difference tangent is not the
-/// derivative along the correction.
+/// A band that has softened through carries almost nothing (0.03 N at the end of a prism that
+/// peaked at 26 kN): the path is judged on the forces it carried, and goes on to its end. With a
+/// tolerance relative to the present reaction alone it stopped at load factor 0.60 ("relative
+/// residual 1.6"), its residual at the round-off of the forces.
 #[test]
-#[ignore = "fuzz finding O2 is open: the path ends at 0.60, 0.18 and 0.18 with 150, 1000 and 3000 steps"]
+fn a_band_softened_through_follows_its_path_to_the_end() {
+    let (end, stopped) = prism_end(150);
+    assert_eq!(stopped, None);
+    assert!((end - 1.0).abs() < 1e-12, "ended at {end}");
+}
+
+/// Refining the load steps from 1 000 to 10 000 does not move the end of the path. With a
+/// forward-difference step of 1e-7 h the tangent crossed the loading-unloading kinks of planes
+/// near their turning points, Newton's iteration stalled, and the path stopped at 0.18 and
+/// 0.022; the end is now where the branch the fine steps follow folds (the next test).
+#[test]
+fn refined_load_steps_end_an_opening_controlled_path_at_the_same_load_factor() {
+    let ends: Vec<(f64, Option<String>)> = [1000, 10_000].map(prism_end).into();
+    assert!(
+        (ends[1].0 / ends[0].0 - 1.0).abs() < 0.01 && ends[0].0 > 0.3,
+        "ends {ends:?}"
+    );
+}
+
+/// Under opening control the shrunk prism should end at the same load factor whatever the load
+/// steps (fuzz finding O2). It does not yet: 150 steps reach the end (1.0), 1 000, 3 000 and
+/// 10 000 steps stop at 0.3615 to 0.3617. The band's six elements leave the uniform solution
+/// near the peak (their plane strains differ by 2 % to 10 %), and the branch that short steps
+/// follow folds at an opening of 0.108 mm: along the last Newton correction the residual falls
+/// linearly to a kink and rises beyond it, its least value (2e-2 N, 1.1e-6 of the peak force)
+/// is not zero, and the iteration cycles between the two sides of the kink; steps of up to 16
+/// times the nominal one from there fail too. Long steps (150) stay on a branch without the
+/// fold. Following the path past such a fold needs branch switching (or the dynamics).
+#[test]
+#[ignore = "fuzz finding O2 is open: the path ends at 1.0 with 150 steps, at 0.3615 with 1000 and 10000"]
 fn an_opening_controlled_path_ends_where_it_ends_whatever_the_load_steps() {
-    let ends: Vec<(f64, Option<String>)> = [150, 1000, 3000].map(prism_end).into();
+    let ends: Vec<(f64, Option<String>)> = [150, 1000, 10_000].map(prism_end).into();
     let reference = ends[0].0;
     for (end, stopped) in &ends {
         assert!(

@@ -34,7 +34,9 @@ pub struct StaticSettings {
     #[serde(default = "default_end_time")]
     pub end_time: f64,
     /// Converged when the out-of-balance force (3.64) on the free components is below
-    /// `tolerance` times the largest of the reaction and external force norms.
+    /// `tolerance` times the largest of the reaction and external force norms; on the loading
+    /// path of a material with a history, the largest of them at this or any earlier load step
+    /// (a specimen that has softened through is judged on the forces it carried).
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
     /// Most Newton iterations per load step (default 25); beyond, the step fails or, for bodies

@@ -2,7 +2,7 @@
 //!
 //! An element's stiffness is the consistent tangent of its material (3.68a) where the model has
 //! one in closed form; otherwise the forward difference of its forces from the committed history,
-//! `K_e[:, j] = (f_e(u_e + delta e_j) - f_e(u_e)) / delta` with `delta = 1e-7 h_e` (the module
+//! `K_e[:, j] = (f_e(u_e + delta e_j) - f_e(u_e)) / delta` with `delta = 1e-10 h_e` (the module
 //! documentation of `path` says why this step).
 
 use faer::linalg::solvers::Solve;
@@ -17,8 +17,10 @@ use crate::kinematics::deformation_gradient;
 use crate::material::ElementState;
 use crate::model::{BodyMaterial, MaterialHistory, Model, Problem};
 
-/// Relative size of the forward-difference step of the element tangent, times the element size.
-const DIFFERENCE_STEP: f64 = 1e-7;
+/// Relative size of the forward-difference step of the element tangent, times the element size:
+/// small enough not to cross the loading-unloading kinks of planes near their turning points,
+/// large against the round-off of the forces (the module documentation of `path` says why).
+const DIFFERENCE_STEP: f64 = 1e-10;
 
 /// Whether a material has a closed-form consistent tangent (its derivative is defined at any
 /// deformation, so asking at the reference one answers).
