@@ -215,6 +215,61 @@ fn a_long_plot_title_wraps_within_the_plot_width() {
     }
 }
 
+/// Legend labels are laid out by an upper bound of their glyph widths: a label too long for the
+/// strip wraps onto rows of its own, and no legend text runs past the picture's right edge (a
+/// Forrestal reference label was cut off when widths were estimated at a fixed 7.6 px a glyph).
+#[test]
+fn legend_labels_stay_within_the_plot_width() {
+    let long = "Forrestal et al. (1994) penetration depth for a 6061-T6511 aluminium rod, \
+                ogive nose, into 23 MPa concrete (digitised)";
+    let mut plot = history_plot();
+    plot.series[0].name = "Measured Within Wide Margins".to_string();
+    plot.reference_lines[0].label = long.to_string();
+    for size in [PLOT_SIZE, TREND_SIZE] {
+        let svg = render_plot_sized(&plot, size);
+        let width = f64::from(size.0);
+        let texts = svg_texts(&svg);
+        for (x, _, font_px, text) in texts.iter().filter(|t| t.1 == "start") {
+            let w = width_bound(text, *font_px);
+            assert!(
+                x + w <= width,
+                "{size:?}: {text:?} ends at {} px of {width}",
+                x + w
+            );
+        }
+        // Every word of the long label is drawn, in order.
+        let shown: String = texts
+            .iter()
+            .filter(|t| t.1 == "start")
+            .flat_map(|t| t.3.split_whitespace())
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(
+            shown.contains(&long.split_whitespace().collect::<Vec<_>>().join(" ")),
+            "{size:?}: {shown}"
+        );
+    }
+}
+
+/// In the tables of the material-point and cross-check sections, a failing metric of a case
+/// known to fail reads `known failure` (amber), as the banner counts it; of any other case, FAIL.
+#[test]
+fn a_known_failures_metrics_read_known_failure_not_fail() {
+    use impact_vv::report::records::{metric_markdown, metric_rows, metric_table};
+    let mut case = pass_case();
+    case.metrics[0].pass = false;
+    assert_eq!(metric_rows(&case)[0][4], "FAIL");
+    assert!(metric_markdown(&case, true).contains("**FAIL**"));
+    case.known_failure = Some("a debt on record".into());
+    assert_eq!(metric_rows(&case)[0][4], "known failure");
+    assert!(!metric_markdown(&case, true).contains("FAIL"));
+    let html = metric_table(&case, true);
+    assert!(
+        html.contains("known failure") && !html.contains(">fail<"),
+        "{html}"
+    );
+}
+
 /// A case that logged lines links its log file (relative to the run folder, where the page is);
 /// a case that logged nothing has no link.
 #[test]

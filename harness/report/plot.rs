@@ -43,8 +43,6 @@ const SVG_FONT_SCALE: f64 = 1.24;
 const TITLE_PAD: i32 = 5;
 const LEGEND_FONT: u32 = 17;
 const LEGEND_ROW: u32 = 22;
-/// Estimated width of one legend character in pixels (there is no font to measure with).
-const LEGEND_CHAR_W: f64 = 7.6;
 const LEGEND_SWATCH: i32 = 28;
 const CHART_MARGIN: u32 = 12;
 /// Left edge of the legend: under the y labels, so that two entries fit on a trend plot's row.
@@ -389,11 +387,12 @@ enum Swatch {
     Band,
 }
 
-/// One legend entry placed at `(x, row)`.
+/// One legend entry placed at `(x, row)`, its label on one line or, if wider than the strip,
+/// on as many rows as it needs.
 struct Entry {
     swatch: Swatch,
     color: RGBColor,
-    label: String,
+    lines: Vec<String>,
     x: i32,
     row: u32,
 }
@@ -433,24 +432,42 @@ impl Legend {
             )
             .filter(|(_, _, label)| !label.is_empty());
         let left = LEGEND_LEFT;
+        // Widths bounded from above glyph by glyph (`text_fit`): no label runs off the picture.
+        let font_px = f64::from(LEGEND_FONT) / SVG_FONT_SCALE;
+        let label_room = (width as i32 - left - LEGEND_SWATCH - 8 - CHART_MARGIN as i32).max(40);
         let (mut x, mut row) = (left, 0);
         let mut entries = Vec::new();
         for (swatch, color, label) in items {
-            let w = LEGEND_SWATCH + 8 + (label.chars().count() as f64 * LEGEND_CHAR_W) as i32 + 20;
-            if x > left && x + w > width as i32 {
+            let text_w = text_fit::width_bound(&label, font_px).ceil() as i32;
+            let lines = if text_w > label_room {
+                text_fit::wrap(&label, font_px, f64::from(label_room))
+            } else {
+                vec![label]
+            };
+            let w = LEGEND_SWATCH + 8 + text_w.min(label_room) + 20;
+            if x > left && (x + w > width as i32 || lines.len() > 1) {
                 x = left;
                 row += 1;
             }
+            let rows = lines.len() as u32;
             entries.push(Entry {
                 swatch,
                 color,
-                label,
+                lines,
                 x,
                 row,
             });
-            x += w;
+            if rows > 1 {
+                // A wrapped label takes its rows whole; the next entry starts below it.
+                x = width as i32;
+                row += rows - 1;
+            } else {
+                x += w;
+            }
         }
-        let height = entries.last().map_or(0, |e| (e.row + 1) * LEGEND_ROW + 8);
+        let height = entries
+            .last()
+            .map_or(0, |e| (e.row + e.lines.len() as u32) * LEGEND_ROW + 8);
         Legend { entries, height }
     }
 
@@ -462,11 +479,13 @@ impl Legend {
         for e in &self.entries {
             let cy = (e.row * LEGEND_ROW + LEGEND_ROW / 2) as i32;
             draw_swatch(area, e.swatch, e.color, (e.x, cy))?;
-            area.draw(&Text::new(
-                e.label.clone(),
-                (e.x + LEGEND_SWATCH + 8, cy),
-                &style,
-            ))?;
+            for (k, line) in e.lines.iter().enumerate() {
+                area.draw(&Text::new(
+                    line.clone(),
+                    (e.x + LEGEND_SWATCH + 8, cy + (k as u32 * LEGEND_ROW) as i32),
+                    &style,
+                ))?;
+            }
         }
         Ok(())
     }
