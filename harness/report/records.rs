@@ -2,9 +2,10 @@
 //! kinds: metrics against their targets (HTML and Markdown tables), plots with target windows
 //! and dashed references, and recorded tables.
 
-use super::blocks::{badge, element, table, text, Cell, Row};
+use super::blocks::{badge, element, state_badge, table, text, Cell, Row};
 use super::format::{self, num};
 use super::plot::{render_plot_with, PlotExtras, PLOT_SIZE};
+use super::summary::CaseState;
 use crate::results::{CaseResult, MaterialPlot, MetricResult, RecordTable, Status, ToleranceKind};
 
 /// A metric's target in words: `2.7 ± 3 %`, `[1e-4, 1.5e-4]`, `<= 1e-10`, `>= 0.5`.
@@ -24,6 +25,16 @@ pub fn target(m: &MetricResult) -> String {
     }
 }
 
+/// The verdict of a metric: `pass`, `known failure` (a failing metric of a case whose file says
+/// it is known to fail: a debt, shown in amber as the banner counts it) or `FAIL`.
+fn verdict(c: &CaseResult, m: &MetricResult) -> &'static str {
+    match (m.pass, c.known_failure.is_some()) {
+        (true, _) => "pass",
+        (false, true) => "known failure",
+        (false, false) => "FAIL",
+    }
+}
+
 /// The rows of the measured-against-target table: metric, value, target, unit, verdict, source.
 pub fn metric_rows(c: &CaseResult) -> Vec<[String; 6]> {
     c.metrics
@@ -34,7 +45,7 @@ pub fn metric_rows(c: &CaseResult) -> Vec<[String; 6]> {
                 num(m.value),
                 target(m),
                 m.unit.clone(),
-                if m.pass { "pass" } else { "FAIL" }.to_string(),
+                verdict(c, m).to_string(),
                 m.reference_source.clone(),
             ]
         })
@@ -64,21 +75,18 @@ pub fn metric_table(c: &CaseResult, with_unit: bool) -> String {
     let rows: Vec<Row> = metric_rows(c)
         .into_iter()
         .map(|r| {
-            let pass = r[4] == "pass";
+            let (badge_html, class) = match r[4].as_str() {
+                "pass" => (badge(Status::Pass), ""),
+                "known failure" => (state_badge(CaseState::KnownFailure), "known"),
+                _ => (badge(Status::Fail), "bad"),
+            };
             let mut cells = vec![text(&r[0]), Cell::Num(r[1].clone()), text(&r[2])];
             if with_unit {
                 cells.push(text(&r[3]));
             }
-            cells.push(Cell::Html(badge(if pass {
-                Status::Pass
-            } else {
-                Status::Fail
-            })));
+            cells.push(Cell::Html(badge_html));
             cells.push(Cell::Html(element("span", "source", &format::html(&r[5]))));
-            Row {
-                class: if pass { "" } else { "bad" },
-                cells,
-            }
+            Row { class, cells }
         })
         .collect();
     let head: Vec<String> = ["metric", "value", "target", "unit", "verdict", "source"]
@@ -108,7 +116,10 @@ pub fn metric_markdown(c: &CaseResult, with_unit: bool) -> String {
             format::markdown_cell(&r[0]),
             r[1],
             format::markdown_cell(&r[2]),
-            if r[4] == "pass" { "pass" } else { "**FAIL**" }
+            match r[4].as_str() {
+                "FAIL" => "**FAIL**",
+                other => other,
+            }
         ));
     }
     md
