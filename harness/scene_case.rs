@@ -19,8 +19,8 @@ use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::judge::{error_for_sweep, judge_metrics, observed_order};
 use crate::results::{
-    case_dir, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series, Status,
-    SweepLevel, SweepResult,
+    case_dir, file_safe, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series,
+    Status, SweepLevel, SweepResult,
 };
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
@@ -172,7 +172,7 @@ fn run_logged(
         .enumerate()
         .map(|(i, (parameter, scene))| {
             let t0 = Instant::now();
-            let stem = stem_of(i, levels.len());
+            let stem = stem_of(variant, i, levels.len());
             let run_as = |ranks: Option<&dyn Communicator>| {
                 build_problem(scene).and_then(|mut problem| {
                     let opts = ExecuteOptions {
@@ -266,7 +266,7 @@ fn run_logged(
         // What the last level wrote before it failed: its history as the case's plots (the
         // history file is written as the run goes) and the records of a run that remeshes.
         if let Some(dir) = &case_dir {
-            let stem = stem_of(levels.len().saturating_sub(1), levels.len());
+            let stem = stem_of(variant, levels.len().saturating_sub(1), levels.len());
             let history = HistoryTable::read_csv(&dir.join(format!("{stem}_history.csv"))).ok();
             result.plots = plots(spec, history.as_ref(), &[], log);
             crate::report::penetration::record(&mut result, dir, &stem);
@@ -369,7 +369,11 @@ fn run_logged(
     }
     result.plots = plots(spec, run.history.as_ref(), &result.metrics, log);
     if let Some(dir) = &case_dir {
-        crate::report::penetration::record(&mut result, dir, &stem_of(judged, levels.len()));
+        crate::report::penetration::record(
+            &mut result,
+            dir,
+            &stem_of(variant, judged, levels.len()),
+        );
     }
     let beam_plots = crate::report::beam::record(
         &result,
@@ -385,13 +389,19 @@ fn run_logged(
     result
 }
 
-/// The stem of the output files of level `i` of `levels`: `run` for a case without a sweep,
-/// `level<i>` otherwise (`<stem>_history.csv`, ...).
-fn stem_of(i: usize, levels: usize) -> String {
-    if levels > 1 {
+/// The stem of the output files of level `i` of `levels` under `variant`
+/// (`<stem>_history.csv`, ...): `run` for a case without a sweep, `level<i>` otherwise, each
+/// after the variant's name ([`file_safe`]) when the case has variants. The variants of a case
+/// share its folder and may run at the same time: without their names they wrote one file.
+fn stem_of(variant: Option<&Variant>, i: usize, levels: usize) -> String {
+    let level = if levels > 1 {
         format!("level{i}")
     } else {
         "run".to_string()
+    };
+    match variant {
+        Some(v) => format!("{}_{level}", file_safe(&v.name)),
+        None => level,
     }
 }
 
@@ -580,4 +590,31 @@ fn contact_stats(
         iterations: t.iterations,
         contact_seconds: summary.contact_seconds,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::stem_of;
+    use crate::catalogue::Variant;
+
+    fn variant(name: &str) -> Variant {
+        Variant {
+            name: name.into(),
+            analysis: None,
+            contact_solver: None,
+            ranks: None,
+        }
+    }
+
+    /// Each variant of a case writes files of its own; a case without variants keeps `run` and
+    /// `level<i>`.
+    #[test]
+    fn variants_of_a_case_write_files_of_their_own() {
+        assert_eq!(stem_of(None, 0, 1), "run");
+        assert_eq!(stem_of(None, 2, 3), "level2");
+        let (a, b) = (variant("gauss-seidel/thesis"), variant("conic/coulomb"));
+        assert_eq!(stem_of(Some(&a), 0, 1), "gauss-seidel_thesis_run");
+        assert_eq!(stem_of(Some(&b), 1, 2), "conic_coulomb_level1");
+        assert_ne!(stem_of(Some(&a), 0, 1), stem_of(Some(&b), 0, 1));
+    }
 }
