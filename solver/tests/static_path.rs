@@ -337,9 +337,9 @@ fn refined_load_steps_end_an_opening_controlled_path_at_the_same_load_factor() {
 
 /// Under opening control the shrunk prism should end at the same load factor whatever the load
 /// steps (fuzz finding O2). It does not yet: 150 steps reach the end (1.0), 1 000, 3 000 and
-/// 10 000 steps stop at 0.3615 to 0.3617. The band's six elements leave the uniform solution
-/// near the peak (their plane strains differ by 2 % to 10 %), and the branch that short steps
-/// follow folds at an opening of 0.108 mm: along the last Newton correction the residual falls
+/// 10 000 steps stop at 0.3615 to 0.3617. The band's six elements do not deform alike (their
+/// largest plane strains differ by 2 % before the peak and 10 % at it, on both paths), and the
+/// branch that short steps follow folds at an opening of 0.108 mm: along the last Newton correction the residual falls
 /// linearly to a kink and rises beyond it, its least value (2e-2 N, 1.1e-6 of the peak force)
 /// is not zero, and the iteration cycles between the two sides of the kink; steps of up to 16
 /// times the nominal one from there fail too. Long steps (150) stay on a branch without the
