@@ -459,8 +459,8 @@ impl Legend {
             });
             if rows > 1 {
                 // A wrapped label takes its rows whole; the next entry starts below it.
-                x = width as i32;
-                row += rows - 1;
+                x = left;
+                row += rows;
             } else {
                 x += w;
             }
