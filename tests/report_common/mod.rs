@@ -150,7 +150,6 @@ pub fn fail_case() -> CaseResult {
 pub fn error_case() -> CaseResult {
     CaseResult {
         id: ERROR_ID.to_string(),
-        variant: "explicit-lumped".to_string(),
         status: Status::Error,
         wall_s: 0.2,
         metrics: vec![],
@@ -159,13 +158,7 @@ pub fn error_case() -> CaseResult {
         tags: vec![],
         message: Some(NASTY.to_string()),
         plots: vec![],
-        sweep: None,
-        contact: None,
-        phase_seconds: Default::default(),
-        fast_update_share: None,
-        records: Default::default(),
-        known_failure: None,
-        log_file: None,
+        ..pass_case()
     }
 }
 
