@@ -43,7 +43,8 @@
 //! to `max_cuts` times; after a converged step the next one grows back by a factor of two, up to
 //! the nominal `1 / load_steps`. Past the last cut the path has reached a limit point of this
 //! control (under load-point control, the peak of a beam that snaps back after it): it stops there
-//! and returns what it computed, with the reason in [`StaticSolution::stopped`].
+//! and returns what it computed, with the reason in [`StaticSolution::stopped`]. It stops the
+//! same way where a converged step moves a node farther than its body's size ([`lost_support`]).
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -145,6 +146,12 @@ pub(super) fn solve_path(
                 scale,
             } => {
                 path_scale = path_scale.max(scale);
+                if let Some(why) = lost_support(problem, &state.u) {
+                    stopped = Some(format!(
+                        "lost support at load factor {target:.6}: {why}; the path ends at {lambda:.6}"
+                    ));
+                    break;
+                }
                 let du = state
                     .u
                     .iter()
@@ -194,6 +201,40 @@ pub(super) fn solve_path(
         history: Some(table),
         material_history: Some(committed.history),
         stopped,
+    })
+}
+
+/// Why the converged displacement `u` cannot be a static state: a node of a body moved farther
+/// than the body's own size (the diagonal of its reference bounding box). A static path's strains
+/// stay far below one, so such a motion is rigid, and a rigid motion that no force resists is
+/// set by round-off: a piece that a crack has cut free with nothing holding it (the far end of a
+/// prism whose pulled face is held only along the pull slid 0.7 m sideways by the end of its
+/// path). `None` when every body stays within its size.
+fn lost_support(problem: &Problem, u: &[Vector3<f64>]) -> Option<String> {
+    let model = &problem.model;
+    model.bodies.iter().find_map(|body| {
+        let nodes = &model.reference[body.nodes.clone()];
+        let (lo, hi) = nodes.iter().fold(
+            (
+                Vector3::repeat(f64::INFINITY),
+                Vector3::repeat(f64::NEG_INFINITY),
+            ),
+            |(lo, hi), x| (lo.inf(x), hi.sup(x)),
+        );
+        let size = (hi - lo).norm();
+        let (node, moved) = body
+            .nodes
+            .clone()
+            .map(|n| (n, u[n].norm()))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        (moved > size).then(|| {
+            format!(
+                "node {node} of body `{}` moved {moved:.3e} m, more than the body's size \
+                 ({size:.3e} m): a piece of it has no support (a crack has cut it free, or a \
+                 rigid motion is unrestrained); hold it with a boundary condition",
+                body.name
+            )
+        })
     })
 }
 
