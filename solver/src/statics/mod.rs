@@ -7,6 +7,7 @@
 mod conjugate_gradient;
 mod opening_control;
 mod path;
+mod relaxation;
 mod rigid_body;
 mod tangent;
 
@@ -18,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion, Problem};
 use crate::output::HistoryTable;
-use tangent::{forward_difference_tangents, solve_tangent, solve_tangent_spd};
+use tangent::{forward_difference_tangents, solve_tangent, solve_tangent_spd, TangentTerms};
 
 /// Settings of a static analysis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -323,7 +324,16 @@ pub fn solve_static_until(
             let tangents = forward_difference_tangents(problem, &u, &history);
             let du = match settings.linear_solver {
                 LinearSolver::Lu => {
-                    solve_tangent(problem, &u, &equation, free, &residual, &tangents, None)?.0
+                    solve_tangent(
+                        problem,
+                        &u,
+                        &equation,
+                        free,
+                        &residual,
+                        &tangents,
+                        TangentTerms::default(),
+                    )?
+                    .0
                 }
                 LinearSolver::ConjugateGradient {
                     tolerance,

@@ -43,15 +43,20 @@
 //! to `max_cuts` times; after a converged step the next one grows back by a factor of two, up to
 //! the nominal `1 / load_steps`. Past the last cut the path has reached a limit point of this
 //! control (under load-point control, the peak of a beam that snaps back after it): it stops there
-//! and returns what it computed, with the reason in [`StaticSolution::stopped`]. It stops the
+//! and returns what it computed, with the reason in [`StaticSolution::stopped`]. Under opening
+//! control the path has no limit point, but the branch that Newton's iteration follows from the
+//! committed state can fold where the elements of a band deform unequally: past the last cut
+//! such a step is solved again by pseudo-transient continuation (`relaxation.rs`), and the path
+//! stops only if that fails too. It stops the
 //! same way where a converged step moves a node farther than its body's size ([`lost_support`]).
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::opening_control::Control;
+use super::relaxation::{Relaxation, RELAXATION_ITERATIONS};
 use super::rigid_body::{check_loaded, FreePiece};
-use super::tangent::{forward_difference_tangents, solve_tangent};
+use super::tangent::{forward_difference_tangents, solve_tangent, TangentTerms};
 use super::{prescribe, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
 use crate::material::ElementState;
@@ -138,7 +143,20 @@ pub(super) fn solve_path(
             predicted: predicted.as_deref(),
             path_scale,
         };
-        match trial.solve()? {
+        // Under opening control a step that fails at the last cut has met a fold of the branch
+        // it followed, not a limit point of the path: it is solved again, relaxed.
+        let outcome = match trial.solve(false)? {
+            Outcome::Failed { reason } if cuts >= settings.max_cuts && control.is_some() => {
+                match trial.solve(true)? {
+                    Outcome::Failed { reason: relaxed } => Outcome::Failed {
+                        reason: format!("{reason}; relaxed, it {relaxed}"),
+                    },
+                    converged => converged,
+                }
+            }
+            outcome => outcome,
+        };
+        match outcome {
             Outcome::Converged {
                 state,
                 iterations: it,
@@ -280,7 +298,7 @@ struct Step<'a> {
 }
 
 impl Step<'_> {
-    fn solve(&self) -> Result<Outcome> {
+    fn solve(&self, relaxed: bool) -> Result<Outcome> {
         let problem = self.problem;
         let n = problem.model.node_count();
         let time = self.lambda * self.settings.end_time;
@@ -297,7 +315,15 @@ impl Step<'_> {
         }
         check_loaded(self.free_pieces, &f_ext)?;
         let mut last = f64::INFINITY;
-        for iteration in 0..=self.settings.max_iterations {
+        let (max_iterations, mut relaxation) = if relaxed {
+            let model = &problem.model;
+            let tau_0 = model.critical_time_step().0;
+            let relaxation = Relaxation::new(self.equation, self.free, &model.mass, tau_0);
+            (RELAXATION_ITERATIONS, Some(relaxation))
+        } else {
+            (self.settings.max_iterations, None)
+        };
+        for iteration in 0..=max_iterations {
             let Some((f_int, history)) = trial_forces(problem, &u, &self.committed.history) else {
                 return Ok(Outcome::Failed {
                     reason: format!("inverted an element at iteration {iteration}"),
@@ -344,9 +370,10 @@ impl Step<'_> {
                     scale,
                 });
             }
-            if !last.is_finite() || iteration == self.settings.max_iterations {
+            if !last.is_finite() || iteration == max_iterations {
                 break;
             }
+            let shift = relaxation.as_mut().map(|r| r.shift(norm));
             let tangents = forward_difference_tangents(problem, &u, &self.committed.history);
             // At a limit point the tangent of this control is singular: a step that meets one
             // fails like one that does not converge, and is cut.
@@ -360,7 +387,10 @@ impl Step<'_> {
                 self.free,
                 &residual,
                 &tangents,
-                self.control.map(|c| c.moved_mask.as_slice()),
+                TangentTerms {
+                    moved: self.control.map(|c| c.moved_mask.as_slice()),
+                    diagonal: shift.as_deref(),
+                },
             );
             let (a, b) = match solved {
                 Ok(ab) => ab,
@@ -389,8 +419,9 @@ impl Step<'_> {
         }
         Ok(Outcome::Failed {
             reason: format!(
-                "did not converge in {} iterations (relative residual {last:.3e}, tolerance {:.1e})",
-                self.settings.max_iterations, self.settings.tolerance
+                "did not converge in {max_iterations} iterations (relative residual {last:.3e}, \
+                 tolerance {:.1e})",
+                self.settings.tolerance
             ),
         })
     }

@@ -170,10 +170,21 @@ fn for_each_element_stiffness(
     Ok(())
 }
 
+/// What a static iteration's system has besides the element stiffnesses.
+#[derive(Default, Clone, Copy)]
+pub(super) struct TangentTerms<'a> {
+    /// Prescribed components that move together by one unknown (an
+    /// [`super::OpeningControl`]), by node.
+    pub moved: Option<&'a [[bool; 3]]>,
+    /// A diagonal added on the free components, by equation (a relaxed step's `M / tau^2`,
+    /// `relaxation.rs`).
+    pub diagonal: Option<&'a [f64]>,
+}
+
 /// Solves `K du = r` on the free components by sparse LU (`faer`), `K` assembled from the
-/// element stiffnesses of [`for_each_element_stiffness`]. With `moved` (prescribed components
-/// that move together by one unknown, an [`super::OpeningControl`]), also solves `K b = k` for
-/// the sum `k` of their columns, and returns `b` second.
+/// element stiffnesses of [`for_each_element_stiffness`] and the diagonal of `terms`. With its
+/// `moved` components, also solves `K b = k` for the sum `k` of their columns, and returns `b`
+/// second.
 pub(super) fn solve_tangent(
     problem: &Problem,
     u: &[Vector3<f64>],
@@ -181,10 +192,19 @@ pub(super) fn solve_tangent(
     free: usize,
     residual: &[f64],
     tangents: &[Vec<ElementTangent>],
-    moved: Option<&[[bool; 3]]>,
+    terms: TangentTerms,
 ) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    let TangentTerms { moved, diagonal } = terms;
     let model = &problem.model;
-    let mut triplets = Vec::with_capacity(144 * model.element_count());
+    let mut triplets = Vec::with_capacity(144 * model.element_count() + free);
+    if let Some(shift) = diagonal {
+        triplets.extend(
+            shift
+                .iter()
+                .enumerate()
+                .map(|(i, &s)| Triplet::new(i, i, s)),
+        );
+    }
     let mut moved_column = moved.map(|_| vec![0.0; free]);
     // Where column (node, component) goes: its equation, or the moved column, or nowhere.
     let is_moved = |node: usize, d: usize| moved.is_some_and(|m| m[node][d]);
