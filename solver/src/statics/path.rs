@@ -200,9 +200,16 @@ pub(super) fn solve_path(
                 cuts = cuts.saturating_sub(1);
             }
             Outcome::Failed { reason } if cuts >= settings.max_cuts => {
+                // Under load-point control the path's limit point; under opening control, where
+                // the path has none, a fold that the relaxation did not cross either.
+                let what = if control.is_some() {
+                    "no balanced state past"
+                } else {
+                    "limit point at"
+                };
                 stopped = Some(format!(
-                    "limit point at load factor {lambda:.6}: the step to {target:.6} ({} of the \
-                     nominal step, after {cuts} halvings) {reason}",
+                    "{what} load factor {lambda:.6}: the step to {target:.6} ({} of the nominal \
+                     step, after {cuts} halvings) {reason}",
                     size / nominal
                 ));
                 break;
@@ -417,10 +424,26 @@ impl Step<'_> {
                 c.set_delta(&mut u, delta);
             }
         }
+        // A relaxation that does not balance the step may be moving a piece that nothing holds:
+        // how far it went tells.
+        let motion = if relaxed {
+            let (node, moved) = u
+                .iter()
+                .zip(&self.committed.u)
+                .map(|(a, b)| (a - b).norm())
+                .enumerate()
+                .fold(
+                    (0, 0.0),
+                    |best, (i, m)| if m > best.1 { (i, m) } else { best },
+                );
+            format!("; it moved node {node} by {moved:.3e} m")
+        } else {
+            String::new()
+        };
         Ok(Outcome::Failed {
             reason: format!(
                 "did not converge in {max_iterations} iterations (relative residual {last:.3e}, \
-                 tolerance {:.1e})",
+                 tolerance {:.1e}){motion}",
                 self.settings.tolerance
             ),
         })
