@@ -77,6 +77,14 @@ pub enum Measure {
         /// Name of the history column.
         column: String,
     },
+    /// The largest |value| of a column over the mean |value| of the five rows centred on it (the
+    /// peak's row and two on each side, fewer at an end of the history): 1 for a peak that the
+    /// records resolve, up to 5 for a spike of one row. A peak force that is a single-step spike
+    /// is a numerical event, not a measurement.
+    PeakOverNeighbours {
+        /// Name of the history column.
+        column: String,
+    },
     /// Total time during which the column exceeds `threshold`.
     DurationAbove {
         /// Name of the history column.

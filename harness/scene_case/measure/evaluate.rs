@@ -50,6 +50,7 @@ impl Measure {
                     .ok_or("empty history")?;
                 t[i]
             }
+            Measure::PeakOverNeighbours { column: c } => peak_over_neighbours(&column(c)?)?,
             Measure::DurationAbove {
                 column: c,
                 threshold,
@@ -438,6 +439,21 @@ impl Measure {
 }
 
 /// First time `signal` reaches `level` (upward or downward, whichever way it starts from).
+/// `|y_p| / mean(|y_i|, |i - p| <= 2)` at the row `p` of the largest `|y|` (the first of equal
+/// ones): how far the peak stands above the rows around it
+/// ([`Measure::PeakOverNeighbours`]).
+fn peak_over_neighbours(y: &[f64]) -> Result<f64, String> {
+    let p = (0..y.len())
+        .reduce(|a, b| if y[b].abs() > y[a].abs() { b } else { a })
+        .ok_or("empty history")?;
+    let around = &y[p.saturating_sub(2)..(p + 3).min(y.len())];
+    let mean = around.iter().map(|v| v.abs()).sum::<f64>() / around.len() as f64;
+    if mean == 0.0 {
+        return Err("the column is zero throughout".into());
+    }
+    Ok(y[p].abs() / mean)
+}
+
 fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
     let start = signal.first().copied().unwrap_or(0.0);
     let up = level >= start;
@@ -453,4 +469,29 @@ fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
         }
     }
     Err(format!("the signal never reaches {level}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::peak_over_neighbours;
+
+    #[test]
+    fn a_resolved_peak_stands_little_above_its_neighbours_and_a_spike_stands_far() {
+        // A half sine over 40 rows: its five rows around the peak are within 1 - cos(2 pi / 40)
+        // of it, so the ratio is below 1.01.
+        let pulse: Vec<f64> = (0..=40)
+            .map(|i| -(std::f64::consts::PI * f64::from(i) / 40.0).sin())
+            .collect();
+        let ratio = peak_over_neighbours(&pulse).unwrap();
+        assert!((1.0..1.01).contains(&ratio), "{ratio}");
+        // One row at three times a plateau: 3 / ((3 + 4) / 5).
+        let mut spike = vec![1.0; 11];
+        spike[5] = 3.0;
+        let ratio = peak_over_neighbours(&spike).unwrap();
+        assert!((ratio - 15.0 / 7.0).abs() < 1e-12, "{ratio}");
+        // At the end of the history the window is cut: 2 / ((1 + 1 + 2) / 3).
+        let ratio = peak_over_neighbours(&[0.0, 1.0, 1.0, 2.0]).unwrap();
+        assert!((ratio - 1.5).abs() < 1e-12, "{ratio}");
+        assert!(peak_over_neighbours(&[0.0; 4]).is_err());
+    }
 }
