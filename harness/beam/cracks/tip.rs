@@ -157,8 +157,10 @@ pub struct Initiation {
     pub time: f64,
     /// The initiation length: the cohesive tip's height at that snapshot (m). The
     /// traction-free tip's speed counts from where it passes this height.
+    #[serde(deserialize_with = "crate::results::lenient::f64")]
     pub length: f64,
     /// The traction-free crack's own height at that snapshot (m).
+    #[serde(deserialize_with = "crate::results::lenient::f64")]
     pub traction_free_height: f64,
 }
 
@@ -176,8 +178,12 @@ pub struct CrackTipReport {
     /// Snapshot times (s).
     pub times: Vec<f64>,
     /// Cohesive tip height per snapshot (m), NaN before it exists.
+    // NaN is written as null (JSON has none) and read back as NaN.
+    #[serde(deserialize_with = "crate::results::lenient::vec")]
     pub cohesive: Vec<f64>,
     /// Traction-free tip height per snapshot (m), NaN before it exists.
+    // NaN is written as null (JSON has none) and read back as NaN.
+    #[serde(deserialize_with = "crate::results::lenient::vec")]
     pub traction_free: Vec<f64>,
     /// The traction-free crack's appearance, `None` without one.
     pub initiation: Option<Initiation>,

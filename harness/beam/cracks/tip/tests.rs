@@ -276,3 +276,22 @@ fn a_reading_within_its_resolution_of_c_r_is_inconclusive() {
     assert_eq!(statuses(&[2000.0, 3000.0]), TipStatus::Fail);
     assert_eq!(statuses(&[]), TipStatus::NoTip);
 }
+
+#[test]
+fn a_report_reads_back_from_json_with_its_missing_heights() {
+    // Heights before a tip exists are NaN, which JSON writes as null: a report rebuilt from
+    // results.json must still read the record.
+    let r = report(30, |t, i, j| {
+        if i == 29 && j == 0 && t >= 20e-6 {
+            2e-4
+        } else {
+            0.0
+        }
+    });
+    assert!(r.cohesive[0].is_nan() && r.cohesive[29].is_finite());
+    let back: CrackTipReport = serde_json::from_str(&serde_json::to_string(&r).unwrap()).unwrap();
+    assert!(back.cohesive[0].is_nan());
+    assert_eq!(back.cohesive[29], r.cohesive[29]);
+    assert_eq!(back.initiation, r.initiation);
+    assert_eq!(back.cohesive_speed, r.cohesive_speed);
+}
