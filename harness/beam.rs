@@ -4,7 +4,7 @@
 //! static three-point-bending cases.
 //!
 //! - [`cracks`]: cracked zones, their crack planes, the failure-mode classification and the
-//!   bending-crack tip history ([`crack_tip_history`], for the report too).
+//!   bending-crack tips ([`crack_tip_report`], for the report too).
 //! - [`history`]: checks on history columns (quasi-static ratio, secant stiffness, peak ratios,
 //!   the force balance (6.48) of a body).
 
@@ -12,6 +12,6 @@ pub mod cracks;
 pub mod history;
 
 pub use cracks::{
-    classify, crack_tip_history, failure_mode_details, failure_mode_judged, BeamFrame, BeamSpec,
-    Crack, CrackKind, FailureMode, JudgedAt,
+    classify, crack_tip_report, failure_mode_details, failure_mode_judged, BeamFrame, BeamSpec,
+    Crack, CrackKind, CrackTipMeasure, CrackTipReport, FailureMode, JudgedAt,
 };

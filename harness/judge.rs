@@ -5,6 +5,36 @@ use impact_solver::scene::Scene;
 use crate::catalogue::{MetricSpec, Tolerance};
 use crate::results::{MetricResult, Status, ToleranceKind};
 
+/// A measured value, with the measure's own verdict where it gives one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// The value, in the metric's unit.
+    pub value: f64,
+    /// The measure's verdict on its own reading (a crack-tip speed judged with its
+    /// resolution), `None` for measures whose value the tolerance alone judges.
+    pub reading: Option<Reading>,
+}
+
+/// A measure's verdict on its own reading: a metric with one passes only if the reading passes
+/// too. It says what the tolerance cannot see, such as a value within its resolution of the
+/// bound ("inconclusive") or no value to judge ("no tip").
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reading {
+    /// Whether the reading passes.
+    pub pass: bool,
+    /// One line: its status and why, as the report shows it.
+    pub text: String,
+}
+
+impl From<f64> for Measured {
+    fn from(value: f64) -> Self {
+        Self {
+            value,
+            reading: None,
+        }
+    }
+}
+
 /// The metrics of one case, judged, and why any could not be.
 #[derive(Debug, Default)]
 pub struct Judgement {
@@ -25,6 +55,21 @@ pub fn judge_metrics(
     measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<f64, String>,
     peak: &dyn Fn(&str) -> Option<f64>,
 ) -> Judgement {
+    judge_readings(
+        metrics,
+        scene,
+        &mut |i, m, r| measure(i, m, r).map(Measured::from),
+        peak,
+    )
+}
+
+/// [`judge_metrics`] for kinds whose measures may give their own verdict ([`Measured`]).
+pub fn judge_readings(
+    metrics: &[MetricSpec],
+    scene: Option<&Scene>,
+    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<Measured, String>,
+    peak: &dyn Fn(&str) -> Option<f64>,
+) -> Judgement {
     let mut judgement = Judgement::default();
     for (i, m) in metrics.iter().enumerate() {
         let Some(reference) = &m.reference else {
@@ -43,7 +88,14 @@ pub fn judge_metrics(
                     .map_err(|e| format!("metric `{}`: {e}", m.name))
             });
         match judged {
-            Ok((value, r, source)) => judgement.metrics.push(judge(m, value, r, &source, peak)),
+            Ok((measured, r, source)) => {
+                let mut result = judge(m, measured.value, r, &source, peak);
+                if let Some(reading) = measured.reading {
+                    result.pass &= reading.pass;
+                    result.reading = Some(reading.text);
+                }
+                judgement.metrics.push(result);
+            }
             Err(e) => judgement.failures.push(e),
         }
     }
@@ -77,8 +129,12 @@ impl Judgement {
 
 /// One failed metric: its value against the reference, the error and the tolerance.
 pub fn failure_line(m: &MetricResult) -> String {
+    let reading = m
+        .reading
+        .as_ref()
+        .map_or(String::new(), |r| format!(" [{r}]"));
     format!(
-        "`{}` = {:.6e} against {:.6e} (error {:.3e}, tolerance {:.3e})",
+        "`{}` = {:.6e} against {:.6e} (error {:.3e}, tolerance {:.3e}){reading}",
         m.name, m.value, m.reference, m.error, m.tolerance
     )
 }
@@ -125,6 +181,7 @@ pub fn judge(
         pass: pass && value.is_finite(),
         tolerance_kind: kind,
         reference_source: source.to_string(),
+        reading: None,
     }
 }
 

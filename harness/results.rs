@@ -132,6 +132,11 @@ pub struct MetricResult {
     /// Where the reference comes from (formula and source, or data file).
     #[serde(default)]
     pub reference_source: String,
+    /// The measure's own verdict on its reading, for measures that give one (a crack-tip speed
+    /// judged with its resolution: `pass`, `fail`, `inconclusive` or `no tip`, and why); such a
+    /// metric passes only if its reading does.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reading: Option<String>,
 }
 
 /// A curve of a plot.

@@ -17,7 +17,7 @@ use crate::case_kind::{
 };
 use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Sweep, Variant};
-use crate::judge::{error_for_sweep, judge_metrics, observed_order};
+use crate::judge::{error_for_sweep, judge_readings, observed_order};
 use crate::results::{
     case_dir, file_safe, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series,
     Status, SweepLevel, SweepResult,
@@ -320,13 +320,13 @@ fn run_logged(
             .column(column)
             .map(|y| y.iter().fold(0.0f64, |a, x| a.max(x.abs())))
     };
-    let judgement = judge_metrics(
+    let judgement = judge_readings(
         &spec.metrics,
         Some(&scene),
         &mut |i, m, ref_value| {
             let measure = &kind.measures[i];
             if measure.is_sweep_measure() {
-                return sweep_measure(measure, spec, &runs, &sweep_levels);
+                return sweep_measure(measure, spec, &runs, &sweep_levels).map(Into::into);
             }
             for (level, r) in sweep_levels.iter_mut().zip(&runs) {
                 if let Ok((p, e)) = &r.outcome {
@@ -338,7 +338,7 @@ fn run_logged(
                     }
                 }
             }
-            measure.evaluate(problem, run)
+            measure.evaluate_read(problem, run)
         },
         &peak,
     );

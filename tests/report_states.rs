@@ -100,6 +100,7 @@ fn zero_tolerance(name: &str, value: f64, reference: f64, source: &str) -> Metri
         pass: value == reference,
         tolerance_kind: ToleranceKind::Absolute,
         reference_source: source.to_string(),
+        reading: None,
     }
 }
 

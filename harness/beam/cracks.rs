@@ -1,5 +1,5 @@
 //! Cracked zones of a beam, the failure-mode classification (FORMULATION 5, thesis 10.3) and the
-//! bending-crack tip against time.
+//! bending-crack tips against time (`tip`).
 //!
 //! An element is cracked when its crack indicator `eps_1 / eps_r` (largest principal
 //! Green-Lagrange strain over `eps_r = w_cr / L`, thesis 5.1) is at least 1. The indicator is
@@ -23,8 +23,9 @@ pub use classify::{
 };
 pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
-    crack_tip_history, initiation, tip_height, tip_speeds, TIP_OPENING_FRACTION,
-    TIP_SPEED_HALF_WINDOW,
+    cohesive_opening, crack_tip_report, opening_at_stress_fraction, CrackTipMeasure,
+    CrackTipQuantity, CrackTipReport, Initiation, SpeedWindow, TipReading, TipStatus,
+    COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
 };
 
 use impact_solver::model::Problem;

@@ -271,7 +271,11 @@ fn metric_row(m: &MetricResult, is_worst: bool, state: CaseState) -> Row {
     } else {
         format::html(&m.name)
     };
-    let verdict = badge(if m.pass { Status::Pass } else { Status::Fail });
+    let mut verdict = badge(if m.pass { Status::Pass } else { Status::Fail });
+    // A measure's own reading (a tip speed "inconclusive" or "no tip") says why beside it.
+    if let Some(reading) = &m.reading {
+        verdict.push_str(&element("span", "source", &format::html(reading)));
+    }
     Row {
         class: match (m.pass, state) {
             (true, _) => "",

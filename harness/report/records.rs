@@ -155,6 +155,7 @@ mod tests {
             pass: true,
             tolerance_kind: kind,
             reference_source: String::new(),
+            reading: None,
         }
     }
 

@@ -382,6 +382,7 @@ mod tests {
             pass,
             tolerance_kind: kind,
             reference_source: String::new(),
+            reading: None,
         }
     }
 

@@ -248,10 +248,13 @@ pub enum Measure {
     /// inclined damage zones (`crate::beam::classify`). Judged against
     /// `{ failure_mode: <mode> }` with `absolute: 0`.
     FailureMode(#[serde(default)] crate::beam::BeamSpec),
-    /// Largest speed of the bending-crack tip, tracked on the crack opening over every snapshot
-    /// (`crate::beam::crack_tip_history`), over the Rayleigh speed `c_R` of the beam's elastic
-    /// constants: a crack cannot outrun `c_R` (Freund 1990), the thesis finds about 0.55 `c_R`.
-    CrackTipSpeedRatio(#[serde(default)] crate::beam::BeamSpec),
+    /// A quantity of the bending-crack tips over every snapshot
+    /// (`crate::beam::cracks::crack_tip_report`): the cohesive (`w >= w_p`, `sigma(w_p) = 0.9
+    /// f_t`) and traction-free (`w >= w_cr / 2`) tips of the face-connected crack grown from
+    /// mid-span's bottom, their largest windowed speed over the Rayleigh speed `c_R` judged with
+    /// its resolution (a mode-I tip cannot outrun `c_R`, Freund 1990; the thesis finds about
+    /// 0.55 `c_R`), the initiation length and the coalescence length.
+    CrackTip(crate::beam::CrackTipMeasure),
     /// `max |left - right| / max(|left|, |right|)` over the history records up to the first
     /// snapshot in which an element of the beam outside the crushing under the impactor is
     /// cracked (`eps_1 / eps_r >= 1`, `crate::beam::cracks::first_crack_time`): the two

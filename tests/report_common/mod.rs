@@ -43,6 +43,7 @@ pub fn metric(name: &str, value: f64, reference: f64, tolerance: f64, kind: &str
         pass: error <= tolerance,
         tolerance_kind: serde_json::from_value(serde_json::Value::String(kind.into())).unwrap(),
         reference_source: "c = sqrt(E/rho), Graff (1975) eq. 2.1.8".to_string(),
+        reading: None,
     }
 }
 

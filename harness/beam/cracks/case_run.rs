@@ -1,6 +1,7 @@
 //! Diagnostics that run beam cases and print what the measures see (ignored tests, minutes
-//! each): the crack table, the tip and the layer openings of a case (`print_beam_case`), and the
-//! tip beside the cohesive hinge's opening front on a static beam (`tip_against_hinge`).
+//! each): the crack table, the two tips and the layer openings of a case (`print_beam_case`),
+//! and the traction-free tip beside the cohesive hinge's opening front on a static beam
+//! (`tip_against_hinge`).
 //!
 //! `print_beam_case` runs a beam drop case and prints its crack table and tip history (about 30 s
 //! per case):
@@ -9,6 +10,46 @@
 #![cfg(test)]
 
 use super::*;
+
+/// Prints a crack-tip report: thresholds, initiation, coalescence, both speed readings and the
+/// two heights per snapshot.
+fn print_tips(tip: &CrackTipReport) {
+    let c_r = tip.rayleigh_speed;
+    println!(
+        "w_p {:.2} um, w_tf {:.3} mm, cell {:.4} m, c_R {:.0} m/s",
+        tip.cohesive_opening * 1e6,
+        tip.traction_free_opening * 1e3,
+        tip.cell,
+        c_r
+    );
+    match tip.initiation {
+        Some(i) => println!(
+            "initiation {:.4} ms: length {:.3} m (traction-free crack {:.3} m)",
+            i.time * 1e3,
+            i.length,
+            i.traction_free_height
+        ),
+        None => println!("initiation: no traction-free crack"),
+    }
+    println!(
+        "coalescence {:.3} m ({} elements)",
+        tip.coalescence_length, tip.coalesced_elements
+    );
+    println!("cohesive tip {}", tip.cohesive_speed.describe(c_r));
+    println!(
+        "traction-free tip {}",
+        tip.traction_free_speed.describe(c_r)
+    );
+    if let Some(w) = tip.cohesive_speed.fastest {
+        println!("cohesive fastest {:?}", w);
+    }
+    if let Some(w) = tip.traction_free_speed.fastest {
+        println!("traction-free fastest {:?}", w);
+    }
+    for ((t, c), f) in tip.times.iter().zip(&tip.cohesive).zip(&tip.traction_free) {
+        println!("tips {:.4} ms {:.3} {:.3} m", t * 1e3, c, f);
+    }
+}
 
 /// Builds and runs a scene without output files.
 fn run_scene(
@@ -79,12 +120,8 @@ fn print_beam_case() {
         ),
         Err(e) => println!("no end of contact: {e}"),
     }
-    match crack_tip_history(&problem, run.snapshots(), &spec) {
-        Ok(tip) => {
-            for (t, h, v) in tip {
-                println!("tip {:.3} ms {:.3} m {:.0} m/s", t * 1e3, h, v);
-            }
-        }
+    match crack_tip_report(&problem, run.snapshots(), &spec) {
+        Ok(tip) => print_tips(&tip),
         Err(e) => println!("no tip: {e}"),
     }
     // The largest opening (mm) of each cell layer of the mid-span strip, bottom first.
@@ -157,9 +194,16 @@ fn tip_against_hinge() {
         .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
         .unwrap();
     let spec = BeamSpec::default();
-    let tip = crack_tip_history(&problem, run.snapshots(), &spec).unwrap();
-    for (time, h, v) in &tip {
-        println!("tip {:.1} ms {:.3} m {:.1} m/s", time * 1e3, h, v);
+    let report = crack_tip_report(&problem, run.snapshots(), &spec).unwrap();
+    // The traction-free tip, as `(t, height reached)`: the opening front at `w_cr / 2`.
+    let tip: Vec<(f64, f64)> = report
+        .times
+        .iter()
+        .zip(&report.traction_free)
+        .map(|(t, h)| (*t, if h.is_finite() { *h } else { 0.0 }))
+        .collect();
+    for (time, h) in &tip {
+        println!("tip {:.1} ms {:.3} m", time * 1e3, h);
     }
     let nearest = tip
         .iter()
@@ -195,7 +239,7 @@ fn tip_against_hinge() {
         .map(|p| (p.load / curve.peak.load, hinge.opening_front(p, w_tip)))
         .collect();
     let fe_peak = load[peak_at].abs();
-    for (time, h, _) in tip.iter().filter(|p| p.0 > t[peak_at]) {
+    for (time, h) in tip.iter().filter(|p| p.0 > t[peak_at]) {
         let i = t.partition_point(|&x| x < *time).min(t.len() - 1);
         let ratio = load[i].abs() / fe_peak;
         let front = falling

@@ -71,10 +71,15 @@ pub struct BeamRecord {
     /// The failure mode of the final state.
     #[serde(default)]
     pub mode_at_end: Option<String>,
-    /// The bending-crack tip, `[t (s), height reached (m), speed (m/s)]` per snapshot
-    /// (`crate::beam::crack_tip_history`).
-    #[serde(default)]
+    /// The bending-crack tip of the per-layer measure this record had before the two tips,
+    /// `[t (s), height reached (m), speed (m/s)]` per snapshot: read back from older results,
+    /// no longer written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tip: Vec<[f64; 3]>,
+    /// The bending-crack tips (`crate::beam::crack_tip_report`), `None` without a crack-tip
+    /// reading (no snapshots, no concrete beam).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_tip: Option<crate::beam::CrackTipReport>,
     /// Rayleigh wave speed of the beam's concrete `c_R` (m/s).
     #[serde(default)]
     pub rayleigh_speed: Option<f64>,
@@ -290,9 +295,7 @@ fn beam_record(
     }
     frames.push(frame(&run.u, end, true));
     let spec = crate::beam::BeamSpec::default();
-    let tip = crate::beam::crack_tip_history(problem, snapshots, &spec)
-        .map(|t| t.into_iter().map(|(t, h, v)| [t, h, v]).collect())
-        .unwrap_or_default();
+    let crack_tip = crate::beam::crack_tip_report(problem, snapshots, &spec).ok();
     BeamRecord {
         case: case.id.clone(),
         variant: case.variant.clone(),
@@ -307,7 +310,8 @@ fn beam_record(
         mesh: mesh_words(scene),
         contact_end: judged.0,
         mode_at_end: judged.1,
-        tip,
+        tip: Vec::new(),
+        crack_tip,
         rayleigh_speed: Some(crate::reference::analytic::rayleigh_wave_speed(
             &b.material.constants(),
         )),
@@ -531,6 +535,7 @@ mod tests {
             contact_end: None,
             mode_at_end: None,
             tip: Vec::new(),
+            crack_tip: None,
             rayleigh_speed: None,
         };
         let frame = SideView {

@@ -144,15 +144,20 @@ fn section(
                     .map_or_else(|| text("no failure_mode metric"), |m| text(&metric_text(m))),
                 initiation(r.record).map_or_else(
                     || text("—"),
-                    |(t, h)| {
+                    |i| {
                         text(&format!(
-                            "{} ms, {} m",
-                            format::num(t * 1e3),
-                            format::num(h)
+                            "{} ms; initiation {} m",
+                            format::num(i.time * 1e3),
+                            format::num(i.length)
                         ))
                     },
                 ),
-                tip_ratio(r.record).map_or_else(|| text("—"), |v| Cell::Num(format::num(v))),
+                r.record
+                    .crack_tip
+                    .as_ref()
+                    .map_or_else(|| text("—"), |t| text(&format::num(t.coalescence_length))),
+                tip_text(r.record, |t| &t.cohesive_speed),
+                tip_text(r.record, |t| &t.traction_free_speed),
             ])
         })
         .collect();
@@ -167,8 +172,10 @@ fn section(
             "mode at the end of contact",
             "mode at the end of the run",
             FAILURE_MODE_METRIC,
-            "bending crack appears (time, length)",
-            "largest tip speed / c_R (thesis 0.55)",
+            "traction-free crack appears (time; cohesive tip then)",
+            "coalescence length (m)",
+            "cohesive tip speed / c_R ± h/T (thesis 0.55)",
+            "traction-free tip speed / c_R ± h/T",
         ]),
         &table_rows,
     ));
@@ -202,14 +209,19 @@ fn section(
     Some(html)
 }
 
-/// When the bending crack appears and how long it is then (`crate::beam::initiation`).
-fn initiation(record: &BeamRecord) -> Option<(f64, f64)> {
-    let tip: Vec<(f64, f64, f64)> = record.tip.iter().map(|p| (p[0], p[1], p[2])).collect();
-    crate::beam::cracks::initiation(&tip)
+/// When the traction-free crack appears and the cohesive tip's height then
+/// (`crate::beam::Initiation`).
+fn initiation(record: &BeamRecord) -> Option<crate::beam::cracks::Initiation> {
+    record.crack_tip.as_ref()?.initiation
 }
 
-/// Largest bending-crack tip speed over the Rayleigh speed, if the record has a tip.
-fn tip_ratio(record: &BeamRecord) -> Option<f64> {
-    let c_r = record.rayleigh_speed?;
-    (!record.tip.is_empty()).then(|| record.tip.iter().map(|p| p[2]).fold(0.0, f64::max) / c_r)
+/// A tip's speed reading: its status, and its deciding window over `c_R` with the resolution.
+fn tip_text(
+    record: &BeamRecord,
+    reading: fn(&crate::beam::CrackTipReport) -> &crate::beam::cracks::TipReading,
+) -> Cell {
+    record.crack_tip.as_ref().map_or_else(
+        || text("—"),
+        |t| text(&reading(t).describe(t.rayleigh_speed)),
+    )
 }

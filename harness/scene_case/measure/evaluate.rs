@@ -7,6 +7,7 @@ use nalgebra::Matrix3;
 
 use super::field::{boundary_node_flags, element_stress_in_box, max_abs};
 use super::{FieldQuantity, Measure, NodeScope};
+use crate::judge::{Measured, Reading};
 use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
 use impact_solver::analysis::Execution;
 use impact_solver::kinematics::matrix_from_voigt;
@@ -14,6 +15,11 @@ use impact_solver::kinematics::matrix_from_voigt;
 impl Measure {
     /// Evaluates a per-run measure.
     pub fn evaluate(&self, problem: &Problem, run: &Execution) -> Result<f64, String> {
+        self.evaluate_read(problem, run).map(|m| m.value)
+    }
+
+    /// Evaluates a per-run measure, with its own verdict where it gives one (the crack tips).
+    pub fn evaluate_read(&self, problem: &Problem, run: &Execution) -> Result<Measured, String> {
         let history = || {
             run.history
                 .as_ref()
@@ -30,7 +36,7 @@ impl Measure {
         };
         let time = || column("time");
         let explicit_time = run.summary.as_ref().map_or(1.0, |s| s.time);
-        Ok(match self {
+        Ok(Measured::from(match self {
             Measure::HistoryMax { column: c } => {
                 column(c)?.into_iter().fold(f64::NEG_INFINITY, f64::max)
             }
@@ -313,22 +319,16 @@ impl Measure {
                     .0
                     .code()
             }
-            Measure::CrackTipSpeedRatio(spec) => {
-                let snapshots = run.snapshots();
-                if snapshots.is_empty() {
-                    return Err("crack_tip_speed_ratio needs snapshots: set the explicit \
-                                analysis' snapshot_interval"
-                        .into());
-                }
-                let tip = crate::beam::crack_tip_history(problem, snapshots, spec)?;
-                let b = problem
-                    .model
-                    .body_index(&spec.body)
-                    .ok_or_else(|| format!("no body named `{}`", spec.body))?;
-                let c_r = crate::reference::analytic::rayleigh_wave_speed(
-                    &problem.model.bodies[b].material.constants(),
-                );
-                tip.iter().map(|p| p.2).fold(0.0, f64::max) / c_r
+            Measure::CrackTip(m) => {
+                let report = crate::beam::crack_tip_report(problem, run.snapshots(), &m.beam)?;
+                let (value, reading) = m.read(&report);
+                return Ok(Measured {
+                    value,
+                    reading: reading.map(|r| Reading {
+                        pass: r.status == crate::beam::cracks::TipStatus::Pass,
+                        text: r.describe(report.rayleigh_speed),
+                    }),
+                });
             }
             Measure::ReactionAsymmetry { left, right, body } => {
                 let spec = crate::beam::BeamSpec {
@@ -434,7 +434,7 @@ impl Measure {
                     "{sweep:?} is a sweep measure: the case needs a sweep"
                 ))
             }
-        })
+        }))
     }
 }
 
