@@ -258,38 +258,12 @@ fn one() -> f64 {
 impl ReferenceCurve {
     /// Reads the curve's two columns, scaled.
     pub fn read(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
-        let text = std::fs::read_to_string(&self.file)
-            .map_err(|e| format!("cannot read {}: {e}", self.file.display()))?;
-        let mut lines = text
-            .lines()
-            .map(str::trim)
-            .filter(|l| !l.is_empty() && !l.starts_with('#'));
-        let header: Vec<&str> = lines
-            .next()
-            .ok_or_else(|| format!("{}: no header line", self.file.display()))?
-            .split(',')
-            .map(str::trim)
-            .collect();
-        let column = |name: &str| {
-            header
-                .iter()
-                .position(|h| *h == name)
-                .ok_or_else(|| format!("{}: no column `{name}` in {header:?}", self.file.display()))
-        };
-        let (ix, iy) = (column(&self.x)?, column(&self.y)?);
-        let (mut xs, mut ys) = (Vec::new(), Vec::new());
-        for (k, line) in lines.enumerate() {
-            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-            let value = |i: usize| -> Result<f64, String> {
-                fields
-                    .get(i)
-                    .and_then(|f| f.parse().ok())
-                    .ok_or_else(|| format!("{}: bad data row {}", self.file.display(), k + 1))
-            };
-            xs.push(self.x_scale * value(ix)?);
-            ys.push(self.y_scale * value(iy)?);
-        }
-        Ok((xs, ys))
+        let mut c = crate::curve::read_columns(&self.file, &[&self.x, &self.y])?.into_iter();
+        let (xs, ys) = (c.next().unwrap_or_default(), c.next().unwrap_or_default());
+        Ok((
+            xs.into_iter().map(|x| self.x_scale * x).collect(),
+            ys.into_iter().map(|y| self.y_scale * y).collect(),
+        ))
     }
 }
 

@@ -19,6 +19,7 @@ pub mod catalogue;
 pub mod contact_compare;
 pub mod contact_problems;
 pub mod crosscheck;
+pub mod curve;
 pub mod determinism;
 pub mod judge;
 pub mod material_point;

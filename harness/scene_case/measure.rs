@@ -301,6 +301,29 @@ pub enum Measure {
         /// Fraction of the peak |force| up to which records are fitted.
         up_to_fraction: f64,
     },
+    /// Initial stiffness of a load-opening curve (`crate::curve::rising_branch_slope`): the
+    /// least-squares slope of `F = load_scale * load` against `w = opening_scale * (opening -
+    /// opening_minus)` over the records up to the peak of `F` with `F` in `[from, to]` (in the
+    /// scaled unit), the same rule as the `curve_slope` reference applies to a measured curve.
+    RisingBranchSlope {
+        /// History column of the load.
+        load: String,
+        /// Factor on the load (default 1; -1 for a downward reaction).
+        #[serde(default = "one")]
+        load_scale: f64,
+        /// History column of the opening (for a CMOD, the right mouth probe's x).
+        opening: String,
+        /// History column subtracted from `opening` (the left mouth probe's x).
+        #[serde(default)]
+        opening_minus: Option<String>,
+        /// Factor on the opening (default 1; 1e6 for um from m).
+        #[serde(default = "one")]
+        opening_scale: f64,
+        /// Lower end of the load window, in the scaled unit.
+        from: f64,
+        /// Upper end of the load window, in the scaled unit.
+        to: f64,
+    },
     /// Largest |bending moment| about the z axis at the section `x = section_x` over the run,
     /// from the y reactions of `conditions`, all on one side of the section: `M = sum_c
     /// R_c (section_x - x_c)`, each named boundary condition or `quantity: reaction` probe on one

@@ -369,6 +369,25 @@ impl Measure {
                 &column(displacement)?,
                 *up_to_fraction,
             )?,
+            Measure::RisingBranchSlope {
+                load,
+                load_scale,
+                opening,
+                opening_minus,
+                opening_scale,
+                from,
+                to,
+            } => {
+                let f: Vec<f64> = column(load)?.iter().map(|f| load_scale * f).collect();
+                let mut w = column(opening)?;
+                if let Some(minus) = opening_minus {
+                    for (w, m) in w.iter_mut().zip(column(minus)?) {
+                        *w -= m;
+                    }
+                }
+                w.iter_mut().for_each(|w| *w *= opening_scale);
+                crate::curve::rising_branch_slope(&f, &w, *from, *to)?.0
+            }
             Measure::PeakBendingMoment {
                 section_x,
                 conditions,

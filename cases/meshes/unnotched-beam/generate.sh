@@ -1,0 +1,5 @@
+#!/bin/sh
+# Regenerates the unnotched beam mesh from unnotched_beam.geo (Gmsh 4.15.2: `pip install gmsh==4.15.2`).
+set -eu
+cd "$(dirname "$0")"
+gmsh unnotched_beam.geo -3 -format msh41 -bin -o unnotched_beam_d50.msh

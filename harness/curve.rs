@@ -1,0 +1,159 @@
+//! Measured and computed load-opening curves: reading named columns of a data file, and the
+//! initial stiffness of a curve by one least-squares rule that serves both the tests and the
+//! model, so that the two slopes compared are measured the same way.
+
+use std::path::Path;
+
+/// The named columns of a CSV file (a header line of column names, `#` comment lines and blank
+/// lines skipped), each as a vector in the file's units. An error names the file and the
+/// missing column or the bad data row.
+pub fn read_columns(file: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, String> {
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+    let mut lines = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'));
+    let header: Vec<&str> = lines
+        .next()
+        .ok_or_else(|| format!("{}: no header line", file.display()))?
+        .split(',')
+        .map(str::trim)
+        .collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|name| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .ok_or_else(|| format!("{}: no column `{name}` in {header:?}", file.display()))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut columns = vec![Vec::new(); names.len()];
+    for (k, line) in lines.enumerate() {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        for (column, &i) in columns.iter_mut().zip(&index) {
+            let value = fields
+                .get(i)
+                .and_then(|f| f.parse().ok())
+                .ok_or_else(|| format!("{}: bad data row {}", file.display(), k + 1))?;
+            column.push(value);
+        }
+    }
+    Ok(columns)
+}
+
+/// Initial stiffness of a load-opening curve: the least-squares slope
+/// `k = sum (w - w_m)(F - F_m) / sum (w - w_m)^2` over the records from the first up to the
+/// first largest `F` (the peak) whose load lies in `[from, to]`. Only the rising branch counts:
+/// a softening branch that falls back through the window is left out. The window keeps off the
+/// first records (seating, the lead-in of a loading ramp) and off the nonlinear part before the
+/// peak. Returns `k` and the number of records fitted; an error when fewer than two records fall
+/// in the window or the opening does not change over them.
+pub fn rising_branch_slope(
+    load: &[f64],
+    opening: &[f64],
+    from: f64,
+    to: f64,
+) -> Result<(f64, usize), String> {
+    if load.is_empty() || load.len() != opening.len() {
+        return Err(format!(
+            "{} loads against {} openings",
+            load.len(),
+            opening.len()
+        ));
+    }
+    let peak_at = load
+        .iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |best, (i, &f)| {
+            if f > best.1 {
+                (i, f)
+            } else {
+                best
+            }
+        })
+        .0;
+    let (w, f): (Vec<f64>, Vec<f64>) = opening[..=peak_at]
+        .iter()
+        .zip(&load[..=peak_at])
+        .filter(|(_, f)| (from..=to).contains(*f))
+        .map(|(w, f)| (*w, *f))
+        .unzip();
+    let n = w.len();
+    if n < 2 {
+        return Err(format!(
+            "{n} records of the rising branch have a load in [{from}, {to}]: too few to fit"
+        ));
+    }
+    let (wm, fm) = (
+        w.iter().sum::<f64>() / n as f64,
+        f.iter().sum::<f64>() / n as f64,
+    );
+    let sww: f64 = w.iter().map(|w| (w - wm).powi(2)).sum();
+    if !(sww > 0.0) {
+        return Err("the opening does not change over the fitted records".into());
+    }
+    let swf: f64 = w.iter().zip(&f).map(|(w, f)| (w - wm) * (f - fm)).sum();
+    Ok((swf / sww, n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{read_columns, rising_branch_slope};
+
+    /// A straight rising branch `F = 2 + 73 w` (w in um) to a peak at w = 10, then a softening
+    /// branch that falls back through the window: the slope is 73 exactly, from the rising
+    /// records in the window only, whatever the offset.
+    #[test]
+    fn the_slope_of_a_rising_branch_ignores_the_softening_branch() {
+        let mut w: Vec<f64> = (0..=100).map(|i| 0.1 * i as f64).collect();
+        let mut f: Vec<f64> = w.iter().map(|w| 2.0 + 73.0 * w).collect();
+        for i in 1..=100 {
+            w.push(10.0 + 0.5 * i as f64);
+            f.push(732.0 - 20.0 * i as f64);
+        }
+        let (k, n) = rising_branch_slope(&f, &w, 150.0, 450.0).unwrap();
+        assert!((k - 73.0).abs() < 1e-9, "{k}");
+        // records with 150 <= 2 + 7.3 i <= 450: i = 21..=61
+        assert_eq!(n, 41);
+    }
+
+    /// A curve bending over before its peak: the window picks the part it is given, so a
+    /// window low on the branch gives the initial slope and a high one a smaller secant.
+    #[test]
+    fn the_window_selects_the_part_of_the_branch() {
+        let w: Vec<f64> = (0..=200).map(|i| 0.05 * i as f64).collect();
+        let f: Vec<f64> = w.iter().map(|w| 100.0 * w - 4.0 * w * w).collect();
+        let (low, _) = rising_branch_slope(&f, &w, 0.0, 100.0).unwrap();
+        let (high, _) = rising_branch_slope(&f, &w, 400.0, 600.0).unwrap();
+        assert!(low > 95.0 && low < 100.0, "{low}");
+        assert!(high < low - 20.0, "{high} {low}");
+    }
+
+    #[test]
+    fn too_few_records_in_the_window_is_an_error() {
+        let e = rising_branch_slope(&[0.0, 1.0, 2.0], &[0.0, 1.0, 2.0], 5.0, 9.0).unwrap_err();
+        assert!(e.contains("too few"), "{e}");
+        let e = rising_branch_slope(&[1.0, 2.0], &[0.0], 0.0, 9.0).unwrap_err();
+        assert!(e.contains("against"), "{e}");
+    }
+
+    /// Columns are read by name, in the order asked, with comments and blank lines skipped.
+    #[test]
+    fn columns_are_read_by_name() {
+        let dir = std::env::temp_dir().join(format!("impact-curve-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("curve.csv");
+        std::fs::write(
+            &file,
+            "# a test\ncmod, load_mean, load_min\n\n0.0, 1.0, 2.0\n",
+        )
+        .unwrap();
+        let c = read_columns(&file, &["load_min", "cmod"]).unwrap();
+        assert_eq!(c, vec![vec![2.0], vec![0.0]]);
+        let e = read_columns(&file, &["load"]).unwrap_err();
+        assert!(e.contains("no column `load`"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
