@@ -86,16 +86,22 @@ pub fn rising_branch_slope(
             "{n} records of the rising branch have a load in [{from}, {to}]: too few to fit"
         ));
     }
-    let (wm, fm) = (
-        w.iter().sum::<f64>() / n as f64,
-        f.iter().sum::<f64>() / n as f64,
-    );
-    let sww: f64 = w.iter().map(|w| (w - wm).powi(2)).sum();
-    if !(sww > 0.0) {
-        return Err("the opening does not change over the fitted records".into());
+    let slope =
+        least_squares_slope(&w, &f).ok_or("the opening does not change over the fitted records")?;
+    Ok((slope, n))
+}
+
+/// Least-squares slope `sum (x - x_m)(y - y_m) / sum (x - x_m)^2` of `y` against `x` (same
+/// length); `None` where `x` does not vary (or is empty).
+pub fn least_squares_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let n = x.len() as f64;
+    let (xm, ym) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = x.iter().map(|x| (x - xm).powi(2)).sum();
+    if !(sxx > 0.0) {
+        return None;
     }
-    let swf: f64 = w.iter().zip(&f).map(|(w, f)| (w - wm) * (f - fm)).sum();
-    Ok((swf / sww, n))
+    let sxy: f64 = x.iter().zip(y).map(|(x, y)| (x - xm) * (y - ym)).sum();
+    Some(sxy / sxx)
 }
 
 #[cfg(test)]

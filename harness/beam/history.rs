@@ -83,20 +83,8 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
             "the force reaches {fraction} of its peak at the first record: no points to fit"
         ));
     }
-    let (f, d) = (&force[..n], &displacement[..n]);
-    let (fm, dm) = (
-        f.iter().sum::<f64>() / n as f64,
-        d.iter().sum::<f64>() / n as f64,
-    );
-    let sdd: f64 = d.iter().map(|d| (d - dm).powi(2)).sum();
-    if !(sdd > 0.0) {
-        return Err("the displacement does not change before the fit's end".into());
-    }
-    Ok(f.iter()
-        .zip(d)
-        .map(|(f, d)| (d - dm) * (f - fm))
-        .sum::<f64>()
-        / sdd)
+    crate::curve::least_squares_slope(&displacement[..n], &force[..n])
+        .ok_or_else(|| "the displacement does not change before the fit's end".into())
 }
 
 /// A line force of the moment measure: the history column of its y force and the x of its

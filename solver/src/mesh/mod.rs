@@ -92,13 +92,7 @@ impl Mesh {
 
     /// Axis-aligned bounding box `(min, max)` of the reference nodes.
     pub fn bounding_box(&self) -> (Vector3<f64>, Vector3<f64>) {
-        let mut lo = Vector3::repeat(f64::INFINITY);
-        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
-        for x in &self.nodes {
-            lo = lo.inf(x);
-            hi = hi.sup(x);
-        }
-        (lo, hi)
+        bounding_box(&self.nodes)
     }
 
     /// Total reference volume (m^3).
@@ -111,3 +105,14 @@ impl Mesh {
 
 /// Default lower bound on (smallest altitude / longest edge) accepted by [`Mesh::validate`].
 pub const DEFAULT_MIN_ALTITUDE_RATIO: f64 = 1e-6;
+
+/// Axis-aligned bounding box `(min, max)` of `points` (infinities for none).
+pub fn bounding_box(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
+    let mut lo = Vector3::repeat(f64::INFINITY);
+    let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+    for x in points {
+        lo = lo.inf(x);
+        hi = hi.sup(x);
+    }
+    (lo, hi)
+}

@@ -107,6 +107,7 @@ pub(super) fn solve_path(
     // The force scale of the convergence test: the largest reaction or external force norm of
     // the committed steps (see the module documentation).
     let mut path_scale = 0.0_f64;
+    let sizes = body_sizes(problem);
     while lambda < 1.0 - 1e-12 {
         let size = (nominal / f64::from(1_u32 << cuts)).min(1.0 - lambda);
         let target = if 1.0 - (lambda + size) < 1e-12 {
@@ -164,7 +165,7 @@ pub(super) fn solve_path(
                 scale,
             } => {
                 path_scale = path_scale.max(scale);
-                if let Some(why) = lost_support(problem, &state.u) {
+                if let Some(why) = lost_support(problem, &sizes, &state.u) {
                     stopped = Some(format!(
                         "lost support at load factor {target:.6}: {why}; the path ends at {lambda:.6}"
                     ));
@@ -229,38 +230,47 @@ pub(super) fn solve_path(
     })
 }
 
-/// Why the converged displacement `u` cannot be a static state: a node of a body moved farther
-/// than the body's own size (the diagonal of its reference bounding box). A static path's strains
-/// stay far below one, so such a motion is rigid, and a rigid motion that no force resists is
-/// set by round-off: a piece that a crack has cut free with nothing holding it (the far end of a
-/// prism whose pulled face is held only along the pull slid 0.7 m sideways by the end of its
-/// path). `None` when every body stays within its size.
-fn lost_support(problem: &Problem, u: &[Vector3<f64>]) -> Option<String> {
+/// The size of each body: the diagonal of its reference bounding box (m), the yardstick of
+/// [`lost_support`].
+fn body_sizes(problem: &Problem) -> Vec<f64> {
     let model = &problem.model;
-    model.bodies.iter().find_map(|body| {
-        let nodes = &model.reference[body.nodes.clone()];
-        let (lo, hi) = nodes.iter().fold(
-            (
-                Vector3::repeat(f64::INFINITY),
-                Vector3::repeat(f64::NEG_INFINITY),
-            ),
-            |(lo, hi), x| (lo.inf(x), hi.sup(x)),
-        );
-        let size = (hi - lo).norm();
-        let (node, moved) = body
-            .nodes
-            .clone()
-            .map(|n| (n, u[n].norm()))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        (moved > size).then(|| {
-            format!(
-                "node {node} of body `{}` moved {moved:.3e} m, more than the body's size \
-                 ({size:.3e} m): a piece of it has no support (a crack has cut it free, or a \
-                 rigid motion is unrestrained); hold it with a boundary condition",
-                body.name
-            )
+    model
+        .bodies
+        .iter()
+        .map(|body| {
+            let (lo, hi) = crate::mesh::bounding_box(&model.reference[body.nodes.clone()]);
+            (hi - lo).norm()
         })
-    })
+        .collect()
+}
+
+/// Why the converged displacement `u` cannot be a static state: a node of a body moved farther
+/// than the body's own size (`sizes`, from [`body_sizes`]). A static path's strains stay far
+/// below one, so such a motion is rigid, and a rigid motion that no force resists is set by
+/// round-off: a piece that a crack has cut free with nothing holding it (the far end of a prism
+/// whose pulled face is held only along the pull slid 0.7 m sideways by the end of its path).
+/// `None` when every body stays within its size.
+fn lost_support(problem: &Problem, sizes: &[f64], u: &[Vector3<f64>]) -> Option<String> {
+    problem
+        .model
+        .bodies
+        .iter()
+        .zip(sizes)
+        .find_map(|(body, &size)| {
+            let (node, moved) = body
+                .nodes
+                .clone()
+                .map(|n| (n, u[n].norm()))
+                .max_by(|a, b| a.1.total_cmp(&b.1))?;
+            (moved > size).then(|| {
+                format!(
+                    "node {node} of body `{}` moved {moved:.3e} m, more than the body's size \
+                     ({size:.3e} m): a piece of it has no support (a crack has cut it free, or a \
+                     rigid motion is unrestrained); hold it with a boundary condition",
+                    body.name
+                )
+            })
+        })
 }
 
 /// A converged state of the path.

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::curve::least_squares_slope;
+
 /// Cells of advance a speed window spans at least: over fewer, quantising the tip to cells
 /// makes the slope's uncertainty `h / T` as large as the speeds it is to judge.
 pub const WINDOW_CELLS: f64 = 3.0;
@@ -65,23 +67,12 @@ pub fn speed_windows(times: &[f64], heights: &[f64], cell: f64) -> Vec<SpeedWind
             start: times[i],
             end: times[j],
             advance: heights[j] - heights[i],
-            speed: slope(t, h),
+            // Snapshot times increase, so the fit exists.
+            speed: least_squares_slope(t, h).unwrap_or(f64::NAN),
             resolution: cell / (times[j] - times[i]),
         });
     }
     out
-}
-
-/// Least-squares slope of `y` against `x`.
-pub fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let m = x.len() as f64;
-    let (xm, ym) = (x.iter().sum::<f64>() / m, y.iter().sum::<f64>() / m);
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (a, b) in x.iter().zip(y) {
-        sxy += (a - xm) * (b - ym);
-        sxx += (a - xm) * (a - xm);
-    }
-    sxy / sxx
 }
 
 /// The verdict of one window: pass when `v + h/T < c_R`, fail when `v - h/T > c_R`,
