@@ -47,6 +47,7 @@ fn drop_scene(variant: &str) -> Scene {
                 rate_effect: true,
                 volumetric_strain: None,
                 crack_friction: None,
+                strength_field: None,
             }));
         }
         _ => {}

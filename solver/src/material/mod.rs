@@ -15,6 +15,7 @@ mod linear_elastic;
 pub mod microplane;
 mod parameter_file;
 mod saint_venant_kirchhoff;
+pub mod strength_field;
 
 use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
@@ -24,6 +25,7 @@ pub use linear_elastic::LinearElastic;
 pub use microplane::MicroplaneMaterial;
 pub use parameter_file::{read_microplane_file, MicroplaneFile};
 pub use saint_venant_kirchhoff::SaintVenantKirchhoff;
+pub use strength_field::{StrengthField, StrengthFieldSpec};
 
 /// The kinematics of one element at one update, as every model receives them (FORMULATION 1).
 #[derive(Debug, Clone, Copy)]
@@ -174,6 +176,9 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
 
 /// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which
 /// may point to a parameter file instead.)
+// One per body and built once: being `Copy` matters more than the 200 bytes the microplane
+// parameters take over the elastic constants.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialModel {

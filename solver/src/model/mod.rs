@@ -51,6 +51,8 @@ pub struct Body {
 
 /// Where a body's material comes from: a model a scene names (prepared for the body's elements
 /// when the model is built), or any [`crate::material::Material`] given ready.
+// One per body, consumed when the model is built (see `MaterialModel`).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum MaterialSource {
     /// A built-in model, prepared for the body's elements (crack bands of microplane concrete)
@@ -85,13 +87,15 @@ impl MaterialSource {
     }
 
     /// The material of a body whose elements have the reference volumes `volumes`
-    /// (`first_element` is the global id of the first): the elastic models need nothing from
-    /// them, microplane concrete the crack band of each element. An element too large for the
+    /// and the reference centroids `centroids` (`first_element` is the global id of the first):
+    /// the elastic models need nothing from them, microplane concrete the crack band of each
+    /// element (and its strength where a strength field is given). An element too large for the
     /// crack band is an error naming the body and the element.
     fn prepare(
         self,
         body: &str,
         volumes: &[f64],
+        centroids: &[[f64; 3]],
         first_element: usize,
     ) -> Result<Arc<dyn BodyMaterial>> {
         match self {
@@ -102,7 +106,7 @@ impl MaterialSource {
                 Ok(Arc::new(SaintVenantKirchhoff::new(c)))
             }
             MaterialSource::Model(MaterialModel::Microplane(p)) => Ok(Arc::new(
-                MicroplaneMaterial::new(body, p, volumes, first_element)?,
+                MicroplaneMaterial::new(body, p, volumes, centroids, first_element)?,
             )),
             MaterialSource::Prepared(m) => Ok(m),
         }
@@ -229,8 +233,12 @@ impl Model {
         let mut grad_n = Vec::with_capacity(tets.len());
         let mut volume = Vec::with_capacity(tets.len());
         let mut min_altitude = Vec::with_capacity(tets.len());
+        let mut centroid = Vec::with_capacity(tets.len());
         for tet in &tets {
             let x = tet.map(|n| reference[n as usize]);
+            centroid.push(std::array::from_fn(|i| {
+                0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i])
+            }));
             let (g, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
             grad_n.push(g);
             volume.push(v);
@@ -238,7 +246,12 @@ impl Model {
         }
         let mut model_bodies = Vec::with_capacity(parts.len());
         for (name, nodes, elements, node_sets, material) in parts {
-            let material = material.prepare(&name, &volume[elements.clone()], elements.start)?;
+            let material = material.prepare(
+                &name,
+                &volume[elements.clone()],
+                &centroid[elements.clone()],
+                elements.start,
+            )?;
             model_bodies.push(Body {
                 name,
                 material,

@@ -21,7 +21,7 @@ use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region_keeping_edges, MesherOptions};
 use super::record::{kinetic_energy, momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
-use super::transfer::{element_volumes, shape_function_transfer};
+use super::transfer::{element_centroids, element_volumes, shape_function_transfer};
 use crate::dynamics::RunState;
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
@@ -108,17 +108,22 @@ fn remeshed_material(
     body: &str,
     origin: &[Option<u32>],
     volumes: &[f64],
+    centroids: &[[f64; 3]],
     first_element: usize,
 ) -> Result<Arc<dyn BodyMaterial>> {
     let any: &dyn std::any::Any = &**material;
     if let Some(m) = any.downcast_ref::<MicroplaneMaterial>() {
         let mut bands = Vec::with_capacity(origin.len());
         for (e, (o, v)) in origin.iter().zip(volumes).enumerate() {
+            let strength = m
+                .strength_field
+                .as_ref()
+                .map_or(1.0, |field| field.factor(centroids[e]));
             bands.push(match o {
                 Some(o) => m.bands[*o as usize],
                 None => m
                     .model
-                    .crack_band(MicroplaneConcrete::element_size(*v))
+                    .crack_band_with_strength(MicroplaneConcrete::element_size(*v), strength)
                     .map_err(|message| {
                         fail(
                             &format!("body `{body}` new element {}", first_element + e),
@@ -130,6 +135,7 @@ fn remeshed_material(
         return Ok(Arc::new(MicroplaneMaterial {
             model: m.model.clone(),
             bands,
+            strength_field: m.strength_field.clone(),
         }));
     }
     if material.history_len() > 0 {
@@ -516,6 +522,7 @@ pub fn remesh_problem(
                 &other.name,
                 &new.element_origin,
                 &new_volumes,
+                &element_centroids(&new.nodes, &new.tets),
                 elements.start,
             )?;
             (new.nodes.clone(), new.tets.clone(), material)

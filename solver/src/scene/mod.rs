@@ -234,6 +234,10 @@ pub struct MicroplaneSpec {
     /// concrete under pressure, which a penetrator's nose works against.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crack_friction: Option<f64>,
+    /// A seeded random field of tensile strength over the body (`material/strength_field.rs`,
+    /// docs/materials.md): `{ coefficient_of_variation, correlation_length, seed }`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strength_field: Option<crate::material::StrengthFieldSpec>,
 }
 
 fn rate_effect_on() -> bool {
@@ -290,6 +294,9 @@ impl MaterialSpec {
                 }
                 if let Some(mu) = spec.crack_friction {
                     parameters.crack_friction = Some(mu);
+                }
+                if let Some(field) = spec.strength_field {
+                    parameters.strength_field = Some(field);
                 }
                 MaterialModel::Microplane(parameters)
             }

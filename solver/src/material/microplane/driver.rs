@@ -84,7 +84,19 @@ pub fn equivalent_rate(from: &Sym, to: &Sym, dt: f64) -> f64 {
 impl<'a> MaterialPoint<'a> {
     /// A virgin point of size `h` (m).
     pub fn new(model: &'a MicroplaneConcrete, h: f64) -> Result<Self, DriverError> {
-        let band = model.crack_band(h).map_err(DriverError::CrackBand)?;
+        Self::with_strength(model, h, 1.0)
+    }
+
+    /// A virgin point of size `h` (m) whose tensile strength is `strength` times the material's
+    /// ([`MicroplaneConcrete::crack_band_with_strength`]).
+    pub fn with_strength(
+        model: &'a MicroplaneConcrete,
+        h: f64,
+        strength: f64,
+    ) -> Result<Self, DriverError> {
+        let band = model
+            .crack_band_with_strength(h, strength)
+            .map_err(DriverError::CrackBand)?;
         Ok(Self {
             model,
             band,

@@ -26,7 +26,9 @@ impl MicroplaneConcrete {
     /// |dev|_F`), and a positive volumetric strain drives the relaxation `psi` through the tension
     /// law (5.91).
     #[inline(always)]
-    pub(super) fn on_elastic_path(&self, strain: &Sym, e_v: f64) -> bool {
+    /// A weaker element (`strength` below 1, a strength field) has its tension law linear over
+    /// a proportionally smaller range.
+    pub(super) fn on_elastic_path(&self, strain: &Sym, e_v: f64, strength: f64) -> bool {
         let deviator: Sym = [
             strain[0] - e_v,
             strain[1] - e_v,
@@ -36,7 +38,7 @@ impl MicroplaneConcrete {
             strain[5],
         ];
         let deviator = contract(&deviator, &deviator);
-        let limit = self.elastic_limit;
+        let limit = self.elastic_limit * strength.min(1.0);
         deviator <= limit * limit && e_v <= limit
     }
 

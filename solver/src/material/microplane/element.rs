@@ -6,7 +6,9 @@ use nalgebra::Matrix3;
 use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
-use crate::material::{Deformation, ElementState, IsotropicElastic, Material, MaterialModel};
+use crate::material::{
+    Deformation, ElementState, IsotropicElastic, Material, MaterialModel, StrengthField,
+};
 
 /// Microplane concrete prepared for a body: the model with its microplanes and laws precomputed,
 /// and the crack band of each element from its reference volume.
@@ -16,28 +18,46 @@ pub struct MicroplaneMaterial {
     pub model: MicroplaneConcrete,
     /// Crack band of each element of the body, in the body's element order.
     pub bands: Vec<CrackBand>,
+    /// The body's strength field (`parameters.strength_field`), kept so that a remeshed
+    /// element takes the field's value at its own centroid.
+    pub strength_field: Option<StrengthField>,
 }
 
 impl MicroplaneMaterial {
-    /// The model for `parameters` and the crack bands of the elements of `volumes` (the body's
-    /// elements in order; `first_element` is the global id of the first). An element too large
-    /// for the crack band is an error naming the body, the element (global id and id in its
-    /// mesh), its size and the limit.
+    /// The model for `parameters` and the crack bands of the elements of `volumes` with the
+    /// reference centroids `centroids` (the body's elements in order; `first_element` is the
+    /// global id of the first). An element too large for the crack band is an error naming the
+    /// body, the element (global id and id in its mesh), its size and the limit.
     pub fn new(
         body: &str,
         parameters: MicroplaneParameters,
         volumes: &[f64],
+        centroids: &[[f64; 3]],
         first_element: usize,
     ) -> Result<Self> {
         let model = MicroplaneConcrete::new(parameters).map_err(|e| SolverError::InvalidScene {
             entity: format!("body `{body}` material.microplane.parameters"),
             message: e.to_string(),
         })?;
+        let strength_field = match &parameters.strength_field {
+            Some(spec) => {
+                Some(
+                    StrengthField::new(spec).map_err(|e| SolverError::InvalidScene {
+                        entity: format!("body `{body}` material.microplane.strength_field"),
+                        message: e.to_string(),
+                    })?,
+                )
+            }
+            None => None,
+        };
         let mut bands = Vec::with_capacity(volumes.len());
         let mut too_large: Option<(usize, String)> = None;
         let mut count = 0;
         for (local, &v) in volumes.iter().enumerate() {
-            match model.crack_band(MicroplaneConcrete::element_size(v)) {
+            let strength = strength_field
+                .as_ref()
+                .map_or(1.0, |field| field.factor(centroids[local]));
+            match model.crack_band_with_strength(MicroplaneConcrete::element_size(v), strength) {
                 Ok(band) => bands.push(band),
                 Err(message) => {
                     count += 1;
@@ -58,7 +78,11 @@ impl MicroplaneMaterial {
                 message: format!("{message}{more}"),
             });
         }
-        Ok(Self { model, bands })
+        Ok(Self {
+            model,
+            bands,
+            strength_field,
+        })
     }
 }
 
@@ -168,8 +192,20 @@ impl Material for MicroplaneMaterial {
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
                 (lo.min(b.size), hi.max(b.size))
             });
+        let strength = match self.strength_field {
+            Some(_) => {
+                let (weak, strong) = self
+                    .bands
+                    .iter()
+                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+                        (lo.min(b.strength), hi.max(b.strength))
+                    });
+                format!(", tensile strength {weak:.3}-{strong:.3} of the material's")
+            }
+            None => String::new(),
+        };
         Some(format!(
-            "{} directions, element sizes {:.1}-{:.1} mm, limit {:.1} mm",
+            "{} directions, element sizes {:.1}-{:.1} mm, limit {:.1} mm{strength}",
             self.model.planes().len(),
             lo * 1e3,
             hi * 1e3,

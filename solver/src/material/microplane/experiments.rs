@@ -91,7 +91,7 @@ pub fn uniaxial_tension(
     h: f64,
     rate: f64,
 ) -> Result<(Curve, TensionResult), DriverError> {
-    tension(model, h, rate, false)
+    tension(model, h, rate, false, 1.0)
 }
 
 /// The crack band's path (issue 16): uniaxial stress up to the tensile peak, then the lateral
@@ -105,7 +105,19 @@ pub fn bonded_tension(
     h: f64,
     rate: f64,
 ) -> Result<(Curve, TensionResult), DriverError> {
-    tension(model, h, rate, true)
+    tension(model, h, rate, true, 1.0)
+}
+
+/// [`bonded_tension`] of an element whose tensile strength is `strength` times the material's
+/// (a strength field, `material/strength_field.rs`): its peak is about `strength` times the
+/// material's and its fracture energy the material's.
+pub fn bonded_tension_with_strength(
+    model: &MicroplaneConcrete,
+    h: f64,
+    rate: f64,
+    strength: f64,
+) -> Result<(Curve, TensionResult), DriverError> {
+    tension(model, h, rate, true, strength)
 }
 
 /// The single-element path of a tension test: uniaxial stress throughout, or the crack band's
@@ -139,7 +151,7 @@ impl FracturePath {
         h: f64,
         rate: f64,
     ) -> Result<(Curve, TensionResult), DriverError> {
-        tension(model, h, rate, self == FracturePath::Bonded)
+        tension(model, h, rate, self == FracturePath::Bonded, 1.0)
     }
 }
 
@@ -148,8 +160,9 @@ fn tension(
     h: f64,
     rate: f64,
     hold_after_peak: bool,
+    strength: f64,
 ) -> Result<(Curve, TensionResult), DriverError> {
-    let mut point = MaterialPoint::new(model, h)?;
+    let mut point = MaterialPoint::with_strength(model, h, strength)?;
     let mut points = vec![PathPoint {
         time: 0.0,
         strain: [0.0; 6],

@@ -107,6 +107,9 @@ pub struct CrackBand {
     pub tension: f64,
     /// The same factor for the shear law (exponent `k`).
     pub shear: f64,
+    /// The element's tensile strength over the material's (1 without a strength field,
+    /// `strength_field.rs`): the tension law's strain scale `e1` is multiplied by it.
+    pub strength: f64,
 }
 
 /// What one update gives besides the stress: enough for output and for checks.
@@ -220,15 +223,36 @@ impl MicroplaneConcrete {
     /// The crack band of an element of size `h`, or why the element is too large: its softening
     /// laws would have to snap back to dissipate the calibrated energy per unit crack area.
     pub fn crack_band(&self, h: f64) -> Result<CrackBand, String> {
+        self.crack_band_with_strength(h, 1.0)
+    }
+
+    /// The crack band of an element of size `h` whose tensile strength is `strength` times the
+    /// material's (a strength field, `strength_field.rs`). Scaling `e1` by `s` scales the tension
+    /// law's energy per unit volume by `s^2` (the law is `E e1 x g(x)` in `x = e / e1`), so the
+    /// band's factor is the one of an element of size `h s^2`: the element still dissipates the
+    /// calibrated fracture energy per unit crack area, and a strong element too large for its
+    /// band is refused like a large one.
+    pub fn crack_band_with_strength(&self, h: f64, strength: f64) -> Result<CrackBand, String> {
         let h_ref = self.parameters.h_ref;
-        let tension = self.tension.band_factor(h, h_ref);
+        let tension = self.tension.band_factor(h * (strength * strength), h_ref);
         let shear = self.shear.band_factor(h, h_ref);
         match (tension, shear) {
             (Some(tension), Some(shear)) => Ok(CrackBand {
                 size: h,
                 tension,
                 shear,
+                strength,
             }),
+            (None, Some(_)) if strength != 1.0 => Err(format!(
+                "element size h = (6 V)^(1/3) = {:.1} mm with a tensile strength {strength:.3} \
+                 times the material's (strength_field) would need a crack band of an element of \
+                 {:.1} mm, above the {:.1} mm at which the tension law would have to snap back \
+                 to dissipate no more than the fracture energy; refine the mesh there or lower \
+                 the strength field's coefficient_of_variation",
+                h * 1e3,
+                h * strength * strength * 1e3,
+                self.tension.largest_element(h_ref) * 1e3,
+            )),
             _ => Err(format!(
                 "element size h = (6 V)^(1/3) = {:.1} mm exceeds the {:.1} mm above which the \
                  microplane laws (calibrated at h_ref = {:.1} mm) would have to snap back to \
@@ -333,7 +357,7 @@ impl MicroplaneConcrete {
         let s_v = self.volumetric_stress(header, strain, e_v, f, band);
         if self.elastic_path
             && header[state::VIRGIN_PLANES] == 1.0
-            && self.on_elastic_path(strain, e_v)
+            && self.on_elastic_path(strain, e_v, band.strength)
         {
             return self.elastic_update(header, strain, s_v, f);
         }
@@ -359,7 +383,7 @@ impl MicroplaneConcrete {
         // stiffer than the virgin secant). Once the law stiffens (x > b) the secant exceeds E_V0,
         // and a secant unloading line through the origin would run above the convex loading curve
         // and give back 1.5 times the work of loading; the tangent line lies under it.
-        let e1 = f * p.e1;
+        let e1 = f * band.strength * p.e1;
         // The volumetric law sees the strain less the dilatant part reached so far (the previous
         // update's: MICROPLANE "Dilatancy").
         let e_v_law = e_v - header[state::DILATANCY] as f64;
@@ -478,7 +502,7 @@ impl MicroplaneConcrete {
         band: &CrackBand,
     ) -> (Sym, UpdateInfo) {
         let p = &self.parameters;
-        let e1 = f * p.e1;
+        let e1 = f * band.strength * p.e1;
 
         // Relaxation: psi follows the volumetric tension law at f(s_I) <e_V> (5.91), so that the
         // deviatoric secant stays proportional to the volumetric one (5.84). It is kept as damage,

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::volumetric::VolumetricStrain;
 
 use super::directions::SphereRule;
+use crate::material::strength_field::{StrengthFieldError, StrengthFieldSpec};
 use crate::material::{ConstantsError, IsotropicElastic};
 
 /// Everything that defines the model. Strains are dimensionless, stresses in Pa, lengths in m.
@@ -95,6 +96,12 @@ pub struct MicroplaneParameters {
     /// `c10 = 0.73`). `~` (the default, the thesis): none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crack_friction: Option<f64>,
+    /// A seeded random field of tensile strength over the body (`strength_field.rs`): each
+    /// element's tension law is scaled by the field's factor at its centroid, with its crack
+    /// band refitted so that the element still dissipates the calibrated fracture energy.
+    /// `~` (the default): every element has the material's strength. A scene sets it per body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strength_field: Option<StrengthFieldSpec>,
 }
 
 fn is_trace(v: &VolumetricStrain) -> bool {
@@ -238,6 +245,9 @@ impl MicroplaneParameters {
                 return Err(ParameterError::CrackFriction(mu));
             }
         }
+        if let Some(field) = &self.strength_field {
+            field.validate()?;
+        }
         if let Some(rate) = self.rate_effect {
             if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
                 return Err(ParameterError::RateEffect {
@@ -293,6 +303,9 @@ pub enum ParameterError {
         /// The value given, in the parameter's unit.
         value: f64,
     },
+    /// The strength field's coefficient of variation or correlation length.
+    #[error(transparent)]
+    StrengthField(#[from] StrengthFieldError),
     /// Constants of the rate law (5.110) out of range.
     #[error("rate_effect needs c1 > 0 and c2 >= 0, got c1 = {c1}, c2 = {c2}")]
     RateEffect {

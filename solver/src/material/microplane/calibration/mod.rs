@@ -470,5 +470,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         relaxation_driver: Default::default(),
         volumetric_strain: Default::default(),
         crack_friction: None,
+        strength_field: None,
     }
 }
