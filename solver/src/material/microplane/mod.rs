@@ -28,6 +28,7 @@ mod relaxation;
 mod shear;
 pub mod state;
 pub mod tabulated;
+pub mod tension_boundary;
 pub mod volumetric;
 
 pub use directions::{contract, Microplane, SphereRule, Sym};
@@ -39,6 +40,7 @@ pub use principal::{
     largest_principal, mazars_strain, principal_stress_for_closure, principal_values,
 };
 pub use state::MicroplaneState;
+pub use tension_boundary::TensionBoundary;
 pub use volumetric::VolumetricStrain;
 
 use cyclic::{Branch, UnloadingRule};
@@ -236,6 +238,19 @@ impl MicroplaneConcrete {
         let h_ref = self.parameters.h_ref;
         let tension = self.tension.band_factor(h * (strength * strength), h_ref);
         let shear = self.shear.band_factor(h, h_ref);
+        if let Some(boundary) = &self.parameters.tension_boundary {
+            let e = self.parameters.youngs_modulus;
+            if boundary.scaled(e, h, h_ref, strength, 1.0).is_none() {
+                return Err(format!(
+                    "element size h = (6 V)^(1/3) = {:.1} mm (tensile strength {strength:.3} of \
+                     the material's) is too large for the tension boundary calibrated at h_ref \
+                     = {:.1} mm: its planes would have to snap back to dissipate no more than \
+                     the fracture energy; refine the mesh there",
+                    h * 1e3,
+                    h_ref * 1e3
+                ));
+            }
+        }
         match (tension, shear) {
             (Some(tension), Some(shear)) => Ok(CrackBand {
                 size: h,
@@ -387,7 +402,10 @@ impl MicroplaneConcrete {
         // The volumetric law sees the strain less the dilatant part reached so far (the previous
         // update's: MICROPLANE "Dilatancy").
         let e_v_law = e_v - header[state::DILATANCY] as f64;
-        if e_v_law >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
+        if e_v_law >= 0.0 && p.tension_boundary.is_some() {
+            // The planes' boundaries carry the tension (`tension_boundary`).
+            self.e_v0 * e_v_law
+        } else if e_v_law >= 0.0 && p.tension_driver == TensionDriver::Equivalent {
             // Scalar damage at the largest driver reached: s_V = E_V0 e_V s(k) / (E_V0 k), with
             // k = (1 - 2 nu) / 3 sqrt(sum <e_i>^2) (MICROPLANE "Tension driver").
             let stored = &mut header[state::V_TENSION..state::V_TENSION + 2];
@@ -509,20 +527,48 @@ impl MicroplaneConcrete {
         // the smallest value reached: a psi that rises again when the crack closes is not a
         // potential, and shear cycles across an opening crack then give energy back (in the beam
         // drop tests the cracked zone pumped about 700 J into the beam in 3 ms).
-        let s_i = header[state::PRINCIPAL_STRESS] as f64;
-        let driver = match p.relaxation_driver {
-            RelaxationDriver::Volumetric => e_v,
-            RelaxationDriver::TensileStress => {
-                self.tensile_stress_driver(strain, e_v, header[state::OPENING] as f64)
-            }
+        // With the tensile boundary the planes crack one by one and psi stays 1.
+        let boundary = p.tension_boundary.map(|b| {
+            let (e, h_ref) = (p.youngs_modulus, p.h_ref);
+            b.scaled(e, band.size, h_ref, band.strength, f)
+                .unwrap_or_else(|| tension_boundary::PlaneBoundary {
+                    // Refused when the body was built; kept finite if a remeshed element is not.
+                    f0: f * band.strength * b.strength,
+                    softening: 1.000001 * f * band.strength * b.strength / e,
+                    youngs: e,
+                })
+        });
+        let strain_weight = p.tension_boundary.map_or(0.0, |b| b.strain_weight);
+        // The element's largest plane damage of the previous update: it releases the shear of
+        // every plane that is not in compression (a crack on one plane lets the shear of the
+        // planes across it go, not that of the planes it compresses).
+        let element_damage = if boundary.is_some() {
+            let n = self.planes.len();
+            planes[..state::PER_PLANE * n]
+                .chunks_exact(state::PER_PLANE)
+                .map(|h| h[state::D_POSITIVE + 1])
+                .fold(0.0f32, f32::max) as f64
+        } else {
+            0.0
         };
-        let relaxation = discontinuity::relaxation(
-            discontinuity::closure(s_i, p.s_i_min) * driver.max(0.0),
-            e1,
-            &self.tension,
-            band.tension,
-        )
-        .min(header[state::RELAXATION] as f64);
+        let relaxation = if boundary.is_some() {
+            1.0
+        } else {
+            let s_i = header[state::PRINCIPAL_STRESS] as f64;
+            let driver = match p.relaxation_driver {
+                RelaxationDriver::Volumetric => e_v,
+                RelaxationDriver::TensileStress => {
+                    self.tensile_stress_driver(strain, e_v, header[state::OPENING] as f64)
+                }
+            };
+            discontinuity::relaxation(
+                discontinuity::closure(s_i, p.s_i_min) * driver.max(0.0),
+                e1,
+                &self.tension,
+                band.tension,
+            )
+            .min(header[state::RELAXATION] as f64)
+        };
         header[state::RELAXATION] = relaxation as f32;
         let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
         let e2 = f * p.e2;
@@ -596,7 +642,10 @@ impl MicroplaneConcrete {
                 relaxation,
             );
             let mut dissipated = 0.0;
-            let s_d = if e_d >= 0.0 {
+            let s_d = if e_d >= 0.0 && boundary.is_some() {
+                // The plane's boundary, below, caps the total normal stress.
+                self.e_d0 * e_d
+            } else if e_d >= 0.0 {
                 let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
                 let before = b;
                 // The split form of `Branch::stress`: its law closure was called out of line,
@@ -682,6 +731,33 @@ impl MicroplaneConcrete {
             let w = 6.0 * plane.weight;
             dissipation += w * dissipated;
             sum_d += w * s_d;
+            let (s_d, s_m, s_k) = match &boundary {
+                Some(b) => {
+                    // The plane's total normal stress s_V + s_D and its driver; the D+ slots
+                    // hold the largest driver and the damage (`tension_boundary`).
+                    let total = s_v + s_d;
+                    let driver = total + strain_weight * (b.youngs * normal[p] - total);
+                    let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
+                    let damage = if driver > slot[0] as f64 {
+                        let d = b.damage(driver);
+                        slot[0] = driver as f32;
+                        slot[1] = d as f32;
+                        d
+                    } else {
+                        slot[1] as f64
+                    };
+                    if total > 0.0 {
+                        // An open crack: the normal stress falls to the boundary, and the shear
+                        // across the crack with it. The trace term keeps the uncapped s_D, so
+                        // the cap lowers the mean stress too.
+                        let open = 1.0 - element_damage.max(damage);
+                        (s_d - damage * total, open * s_m, open * s_k)
+                    } else {
+                        (s_d, s_m, s_k)
+                    }
+                }
+                None => (s_d, s_m, s_k),
+            };
             for i in 0..6 {
                 sigma[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
             }

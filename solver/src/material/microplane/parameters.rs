@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::tension_boundary::{TensionBoundary, TensionBoundaryError};
 use super::volumetric::VolumetricStrain;
 
 use super::directions::SphereRule;
@@ -102,6 +103,12 @@ pub struct MicroplaneParameters {
     /// `~` (the default): every element has the material's strength. A scene sets it per body.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strength_field: Option<StrengthFieldSpec>,
+    /// A tensile boundary on every plane's total normal stress, in M7's form
+    /// (`tension_boundary.rs`, docs/MICROPLANE.md "Tensile boundary"): it replaces the tension
+    /// laws, the volumetric tension's damage and the relaxation `psi`. `~` (the default, the
+    /// thesis): none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tension_boundary: Option<TensionBoundary>,
 }
 
 fn is_trace(v: &VolumetricStrain) -> bool {
@@ -248,6 +255,9 @@ impl MicroplaneParameters {
         if let Some(field) = &self.strength_field {
             field.validate()?;
         }
+        if let Some(boundary) = &self.tension_boundary {
+            boundary.validate()?;
+        }
         if let Some(rate) = self.rate_effect {
             if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
                 return Err(ParameterError::RateEffect {
@@ -303,6 +313,9 @@ pub enum ParameterError {
         /// The value given, in the parameter's unit.
         value: f64,
     },
+    /// The tensile boundary's constants.
+    #[error(transparent)]
+    TensionBoundary(#[from] TensionBoundaryError),
     /// The strength field's coefficient of variation or correlation length.
     #[error(transparent)]
     StrengthField(#[from] StrengthFieldError),

@@ -471,5 +471,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         volumetric_strain: Default::default(),
         crack_friction: None,
         strength_field: None,
+        tension_boundary: None,
     }
 }

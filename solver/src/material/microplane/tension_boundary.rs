@@ -1,0 +1,198 @@
+//! A tensile boundary on each microplane's total normal stress, in the form of M7 (Caner &
+//! Bažant 2013): the volumetric-deviatoric split is kept for compression only, and the plane's
+//! total normal stress `sigma_N = s_V + s_D` (in the elastic range exactly the traction
+//! `n . sigma . n`, MICROPLANE "Elastic split") is capped, plane by plane, by a softening
+//! boundary. A plane that cracks loses its normal stress and, while open, its shear; the planes
+//! across it keep theirs, so a cracked point still carries a compression along its crack, which
+//! the scalar relaxation `psi` of the thesis cannot do (docs/MICROPLANE.md "Tensile boundary").
+//!
+//! Per plane, with `sigma_el` the plane's normal stress from the elastic tension laws:
+//! - the driver `q = (1 - theta) sigma_el + theta E eps_N` (`theta` = `strain_weight`: 0 is
+//!   Rankine on every plane; a strain part makes a lateral compression lower the tensile peak,
+//!   Kupfer & Gerstle 1973's slope `0.8 f_t / f_c`), and its largest value `kappa`;
+//! - damage `d` with `(1 - d) kappa = F(y)` at the crack strain `y = d kappa / E`, where
+//!   `F(y) = f0 exp(-y / eps_f)` (M4 and M7's exponential boundary, flat part dropped);
+//! - `sigma_N = (1 - d) sigma_el` while `sigma_el > 0`, and `sigma_el` once the crack is closed
+//!   (secant unloading to the origin, full stiffness in compression).
+//!
+//! Crack band: the plane dissipates `f0 eps_f` per unit volume; `eps_f` is set per
+//! element so that `h` times that is the energy at `h_ref` (Bažant & Oh 1983), with the rate
+//! factor and the element's strength scaling `f0` (and the rate factor the energy by `F^2`, as it
+//! does for the thesis' tension law).
+
+use serde::{Deserialize, Serialize};
+
+/// The tensile boundary of every microplane (see the module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TensionBoundary {
+    /// `f0`: the largest total normal stress of a plane (Pa).
+    pub strength: f64,
+    /// `eps_f`: the strain scale of the boundary's softening at `h_ref`.
+    pub softening_strain: f64,
+    /// `theta` in `[0, 1)`: the weight of the plane's normal strain in its driver.
+    #[serde(default)]
+    pub strain_weight: f64,
+}
+
+/// What is wrong with a [`TensionBoundary`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TensionBoundaryError {
+    /// A non-positive strength or softening strain, or a weight outside `[0, 1)`.
+    #[error(
+        "tension_boundary needs strength > 0 (Pa), softening_strain > 0 and strain_weight in \
+         [0, 1), got {strength}, {softening_strain} and {strain_weight}"
+    )]
+    OutOfRange {
+        /// `f0` (Pa).
+        strength: f64,
+        /// `eps_f`.
+        softening_strain: f64,
+        /// `theta`.
+        strain_weight: f64,
+    },
+}
+
+impl TensionBoundary {
+    /// Checks the ranges.
+    pub fn validate(&self) -> Result<(), TensionBoundaryError> {
+        let ok = self.strength > 0.0
+            && self.strength.is_finite()
+            && self.softening_strain > 0.0
+            && self.softening_strain.is_finite()
+            && (0.0..1.0).contains(&self.strain_weight);
+        if ok {
+            Ok(())
+        } else {
+            Err(TensionBoundaryError::OutOfRange {
+                strength: self.strength,
+                softening_strain: self.softening_strain,
+                strain_weight: self.strain_weight,
+            })
+        }
+    }
+
+    /// The boundary of an element of size `h` and strength factor `s` at the rate factor `f`:
+    /// its `f0` and `eps_f`, or `None` where `eps_f` would not exceed `f0 / E` (the plane would
+    /// snap back: the element is too large for its band).
+    pub fn scaled(&self, youngs: f64, h: f64, h_ref: f64, s: f64, f: f64) -> Option<PlaneBoundary> {
+        // Dissipated per unit volume: the integral of F over the crack strain, f0 eps_f (the
+        // elastic energy stored up to the peak is given back as the stress falls).
+        let energy = f * f * (h_ref / h) * self.strength * self.softening_strain;
+        let f0 = f * s * self.strength;
+        let softening = energy / f0;
+        (softening > f0 / youngs).then_some(PlaneBoundary {
+            f0,
+            softening,
+            youngs,
+        })
+    }
+}
+
+/// The boundary of one element at one update (see [`TensionBoundary::scaled`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneBoundary {
+    /// `f0` (Pa).
+    pub f0: f64,
+    /// `eps_f` of this element.
+    pub softening: f64,
+    /// `E` (Pa).
+    pub youngs: f64,
+}
+
+impl PlaneBoundary {
+    /// Damage `d` at the largest driver `kappa` (Pa): 0 up to `f0`, else the root of
+    /// `kappa - E y - f0 exp(-y / eps_f) = 0` in the crack strain `y`, `d = E y / kappa`. The
+    /// function is concave and falls from `kappa - f0 > 0` (no snap-back), so Newton's method
+    /// from `y = 0` overshoots once and then converges from above.
+    pub fn damage(&self, kappa: f64) -> f64 {
+        if kappa <= self.f0 {
+            return 0.0;
+        }
+        let (e, f0, ef) = (self.youngs, self.f0, self.softening);
+        let mut y = 0.0;
+        for _ in 0..30 {
+            let decay = f0 * (-y / ef).exp();
+            let g = kappa - e * y - decay;
+            let slope = -e + decay / ef;
+            let step = g / slope;
+            y -= step;
+            if step.abs() <= 1e-12 * y.abs() {
+                break;
+            }
+        }
+        (e * y / kappa).clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn boundary() -> PlaneBoundary {
+        TensionBoundary {
+            strength: 3.0e6,
+            softening_strain: 1.0e-3,
+            strain_weight: 0.0,
+        }
+        .scaled(30e9, 0.05, 0.05, 1.0, 1.0)
+        .unwrap()
+    }
+
+    #[test]
+    fn damage_puts_the_plane_on_its_boundary() {
+        let b = boundary();
+        assert_eq!(b.damage(2.0e6), 0.0);
+        for kappa in [3.1e6, 5e6, 3e7, 3e8] {
+            let d = b.damage(kappa);
+            let y = d * kappa / b.youngs;
+            let on_boundary = b.f0 * (-y / b.softening).exp();
+            assert!(
+                ((1.0 - d) * kappa - on_boundary).abs() < 1e-6 * b.f0,
+                "kappa {kappa}: {} against {on_boundary}",
+                (1.0 - d) * kappa
+            );
+        }
+    }
+
+    #[test]
+    fn energy_per_crack_area_does_not_depend_on_the_element() {
+        // h times the area under the plane's uniaxial curve, integrated along the strain.
+        let spec = TensionBoundary {
+            strength: 3.0e6,
+            softening_strain: 4.0e-4,
+            strain_weight: 0.0,
+        };
+        let energy = |h: f64, s: f64| {
+            let b = spec.scaled(30e9, h, 0.05, s, 1.0).unwrap();
+            let (mut work, mut last, mut kappa) = (0.0, 0.0f64, 0.0f64);
+            let n = 400_000;
+            for i in 1..=n {
+                let eps = 0.02 * i as f64 / n as f64;
+                let sigma_el = b.youngs * eps;
+                kappa = kappa.max(sigma_el);
+                let sigma = (1.0 - b.damage(kappa)) * sigma_el;
+                work += 0.5 * (sigma + last) * 0.02 / n as f64;
+                last = sigma;
+            }
+            h * work
+        };
+        let reference = energy(0.05, 1.0);
+        for (h, s) in [(0.025, 1.0), (0.1, 1.0), (0.05, 0.8), (0.05, 1.2)] {
+            let ratio = energy(h, s) / reference;
+            assert!((ratio - 1.0).abs() < 1e-3, "h {h}, s {s}: {ratio}");
+        }
+    }
+
+    #[test]
+    fn a_band_that_would_snap_back_is_refused() {
+        let spec = TensionBoundary {
+            strength: 3.0e6,
+            softening_strain: 2.0e-4,
+            strain_weight: 0.0,
+        };
+        // f0 / E = 1e-4: the band snaps back beyond h = 0.1 m.
+        assert!(spec.scaled(30e9, 0.05, 0.05, 1.0, 1.0).is_some());
+        assert!(spec.scaled(30e9, 0.5, 0.05, 1.0, 1.0).is_none());
+    }
+}
