@@ -104,3 +104,59 @@ fn a_body_takes_the_field_at_its_element_centroids() {
         sd / mean
     );
 }
+
+/// The field frame for ParaView carries the strength field, element by element, beside an
+/// elastic body's 1; a model without a field has no such array.
+#[test]
+fn the_field_frame_shows_the_strength_field() {
+    use impact_solver::material::MaterialModel;
+    use impact_solver::model::{field_frame, Model};
+    use impact_solver::output::FieldData;
+    let concrete = MaterialModel::Microplane(MicroplaneParameters {
+        strength_field: Some(field_spec(5)),
+        ..shipped_concrete("thesis-concrete")
+    });
+    let steel = MaterialModel::LinearElastic(common::STEEL);
+    let beam = common::box_body([0.4, 0.1, 0.1], [8, 2, 2], 0.0, 0);
+    let mut plate = common::box_body([0.1, 0.1, 0.1], [1, 1, 1], 0.0, 0);
+    for x in &mut plate.nodes {
+        x.y += 0.2;
+    }
+    let model = Model::new(vec![
+        ("beam".into(), beam, concrete),
+        ("plate".into(), plate, steel),
+    ])
+    .unwrap();
+    let u = vec![nalgebra::Vector3::zeros(); model.node_count()];
+    let frame = field_frame(&model, &model.reference, &u, None, 0.0);
+    let (_, data) = frame
+        .cell_data
+        .iter()
+        .find(|(name, _)| name == "tensile_strength_factor")
+        .expect("a strength field array");
+    let FieldData::Scalar(values) = data else {
+        panic!("a scalar array");
+    };
+    let concrete_elements = model.bodies[0].elements.len();
+    assert_eq!(values.len(), model.element_count());
+    let field = StrengthField::new(&field_spec(5)).unwrap();
+    for (e, tet) in model.tets[..concrete_elements].iter().enumerate() {
+        let x = tet.map(|n| model.reference[n as usize]);
+        let centroid = std::array::from_fn(|i| 0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i]));
+        assert_eq!(values[e], field.factor(centroid));
+    }
+    assert!(values[concrete_elements..].iter().all(|&v| v == 1.0));
+
+    let plain = Model::new(vec![(
+        "beam".into(),
+        common::box_body([0.4, 0.1, 0.1], [8, 2, 2], 0.0, 0),
+        MaterialModel::Microplane(shipped_concrete("thesis-concrete")),
+    )])
+    .unwrap();
+    let u = vec![nalgebra::Vector3::zeros(); plain.node_count()];
+    let frame = field_frame(&plain, &plain.reference, &u, None, 0.0);
+    assert!(frame
+        .cell_data
+        .iter()
+        .all(|(n, _)| n != "tensile_strength_factor"));
+}

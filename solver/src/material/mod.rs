@@ -172,6 +172,12 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
     fn summary(&self) -> Option<String> {
         None
     }
+
+    /// The tensile strength of an element over the material's where the body has a random
+    /// strength field (`strength_field.rs`), for the output; `None` (the default) without one.
+    fn strength_factor(&self, _element: usize) -> Option<f64> {
+        None
+    }
 }
 
 /// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which

@@ -196,33 +196,50 @@ pub fn field_frame_with_history<'a>(
     if let Some(v) = v {
         point_data.push(("velocity".to_string(), FieldData::Vector(as_arrays(v))));
     }
+    let mut cell_data = vec![
+        (
+            "cauchy_stress".into(),
+            FieldData::SymmetricTensor(fields.cauchy),
+        ),
+        (
+            "green_lagrange_strain".into(),
+            FieldData::SymmetricTensor(fields.green_lagrange),
+        ),
+        (
+            "max_principal_strain".into(),
+            FieldData::Scalar(fields.max_principal_strain),
+        ),
+        (
+            "crack_indicator".into(),
+            FieldData::Scalar(fields.crack_indicator),
+        ),
+        ("rate_factor".into(), FieldData::Scalar(fields.rate_factor)),
+        (
+            "body".into(),
+            FieldData::Int(model.element_body.iter().map(|&b| b as i32).collect()),
+        ),
+    ];
+    // The strength field, where a body has one (1 on the other bodies' elements).
+    let has_field = |b: &super::Body| b.material.strength_factor(0).is_some();
+    if model
+        .bodies
+        .iter()
+        .any(|b| !b.elements.is_empty() && has_field(b))
+    {
+        let mut factors = Vec::with_capacity(model.element_count());
+        for body in &model.bodies {
+            let material = &body.material;
+            factors.extend(
+                (0..body.elements.len()).map(|e| material.strength_factor(e).unwrap_or(1.0)),
+            );
+        }
+        cell_data.push(("tensile_strength_factor".into(), FieldData::Scalar(factors)));
+    }
     FieldFrame {
         time,
         points,
         tets: &model.tets,
         point_data,
-        cell_data: vec![
-            (
-                "cauchy_stress".into(),
-                FieldData::SymmetricTensor(fields.cauchy),
-            ),
-            (
-                "green_lagrange_strain".into(),
-                FieldData::SymmetricTensor(fields.green_lagrange),
-            ),
-            (
-                "max_principal_strain".into(),
-                FieldData::Scalar(fields.max_principal_strain),
-            ),
-            (
-                "crack_indicator".into(),
-                FieldData::Scalar(fields.crack_indicator),
-            ),
-            ("rate_factor".into(), FieldData::Scalar(fields.rate_factor)),
-            (
-                "body".into(),
-                FieldData::Int(model.element_body.iter().map(|&b| b as i32).collect()),
-            ),
-        ],
+        cell_data,
     }
 }

@@ -185,6 +185,12 @@ impl Material for MicroplaneMaterial {
         Some(history[state::ELASTIC_UPDATES] as f64)
     }
 
+    fn strength_factor(&self, element: usize) -> Option<f64> {
+        self.strength_field
+            .as_ref()
+            .map(|_| self.bands[element].strength)
+    }
+
     fn summary(&self) -> Option<String> {
         let (lo, hi) = self
             .bands
