@@ -133,6 +133,19 @@ fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
     }
     for v in &spec.variants {
         let key = format!("variant `{}`", v.name);
+        let has_field = spec.scene.as_ref().is_some_and(|scene| {
+            scene.bodies.iter().any(|b| {
+                matches!(&b.material, impact_solver::scene::MaterialSpec::Microplane(m)
+                    if m.strength_field.is_some())
+            })
+        });
+        if v.strength_seed.is_some() && !has_field {
+            return Err(format!(
+                "{key} strength_seed: no body of the scene has a strength field to seed; give a \
+                 microplane body `strength_field: {{ coefficient_of_variation, \
+                 correlation_length, seed }}` or remove `strength_seed`"
+            ));
+        }
         if let Some(analysis) = &v.analysis {
             analysis
                 .validate()

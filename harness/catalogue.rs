@@ -135,6 +135,11 @@ pub struct Variant {
     /// absent.
     #[serde(default)]
     pub ranks: Option<usize>,
+    /// The seed of every random strength field of the scene's bodies
+    /// (`material.microplane.strength_field`): the same case on another draw of the concrete's
+    /// scatter, so that the report sets the seeds side by side.
+    #[serde(default)]
+    pub strength_seed: Option<u64>,
 }
 
 impl Variant {
@@ -142,6 +147,15 @@ impl Variant {
     pub fn apply(&self, scene: &mut Scene) {
         if let Some(analysis) = &self.analysis {
             scene.analysis = analysis.clone();
+        }
+        if let Some(seed) = self.strength_seed {
+            for body in &mut scene.bodies {
+                if let impact_solver::scene::MaterialSpec::Microplane(spec) = &mut body.material {
+                    if let Some(field) = &mut spec.strength_field {
+                        field.seed = seed;
+                    }
+                }
+            }
         }
         if let Some(solver) = &self.contact_solver {
             for pair in &mut scene.contact {
