@@ -3,11 +3,11 @@
 
 use std::path::PathBuf;
 
-use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::EnergyLedger;
 use crate::output::history::HistoryTable;
+use crate::output::Snapshot;
 
 /// Settings of an explicit run. Defaults follow FORMULATION section 2.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -336,17 +336,4 @@ pub struct RunSummary {
     /// The time of the history row at which the run's `stop_when` column reached its level
     /// (the run ended there); `None` for a run to its end time.
     pub stopped_when_at: Option<f64>,
-}
-
-/// The displacement of every node, and the crack opening of every element, at one instant of a
-/// run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    /// Simulated time of the snapshot (s).
-    pub time: f64,
-    /// Displacement of each node from its reference position (m), in model node order.
-    pub u: Vec<Vector3<f64>>,
-    /// Crack opening `w` of each element (m, [`crate::model::Model::crack_openings`]), in model
-    /// element order; empty when no body keeps a material history (nothing can crack).
-    pub crack_opening: Vec<f32>,
 }

@@ -11,7 +11,7 @@ pub mod vtu;
 pub use history::{HistoryStream, HistoryTable};
 pub use observer::{
     Deadline, FieldFrames, Halt, HistoryFile, ObserverSet, Progress, Recorder, RunObserver,
-    SnapshotView, StopFlag,
+    Snapshot, SnapshotView, StopFlag,
 };
 pub use pieces::PieceFrames;
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};
