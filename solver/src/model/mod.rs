@@ -25,7 +25,7 @@ pub use assembly::{ChunkJob, ForceAssembler};
 pub use carried::CarriedState;
 pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
 pub use element::{element_forces, BodyMaterial, ElementForces};
-pub use fields::{field_frame, field_frame_with_history, CrackIndicator, ElementFields};
+pub use fields::{CrackIndicator, ElementFields};
 pub use history::{BodyHistory, MaterialHistory};
 pub use problem::{Probe, ProbeQuantity, Problem};
 
