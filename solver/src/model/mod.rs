@@ -23,7 +23,7 @@ pub(crate) use assembly::{first_elements, NO_ELEMENT};
 pub const ELEMENT_LEAF: usize = 64;
 pub use assembly::{ChunkJob, ForceAssembler};
 pub use carried::CarriedState;
-pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
+pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunction};
 pub use element::{element_forces, BodyMaterial, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
 pub use history::{BodyHistory, MaterialHistory};

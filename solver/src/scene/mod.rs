@@ -10,6 +10,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::material::without_byte_order_mark;
+pub use crate::model::Component;
 pub use build::build_problem;
 pub use selector::Selector;
 pub use solver_spec::ContactSolverSpec;
@@ -383,18 +385,6 @@ pub struct InitialVelocity {
     pub center: [f64; 3],
 }
 
-/// Displacement components, named.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Component {
-    /// The `x` component (index 0).
-    X,
-    /// The `y` component (index 1).
-    Y,
-    /// The `z` component (index 2).
-    Z,
-}
-
 /// A condition on the nodes of one body picked by a selector.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -613,11 +603,4 @@ impl Scene {
             }
         }
     }
-}
-
-/// `text` without the UTF-8 byte-order mark that Windows editors put before a file's first
-/// line: YAML does not expect it there, and the first key would read as `\u{feff}name`, so that
-/// every file would miss its first field.
-pub fn without_byte_order_mark(text: &str) -> &str {
-    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
