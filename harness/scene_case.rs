@@ -102,7 +102,7 @@ impl SceneCase {
 struct LevelRun {
     parameter: f64,
     wall_s: f64,
-    outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
+    outcome: Result<(impact_solver::problem::Problem, Execution), SolverError>,
 }
 
 /// Runs one case under one variant with its log ([`crate::case_log`]): what its runs print on
@@ -575,7 +575,7 @@ fn band(m: &MetricResult) -> Option<[f64; 2]> {
 
 /// The contact solver's record over a run of a scene with contact.
 fn contact_stats(
-    problem: &impact_solver::model::Problem,
+    problem: &impact_solver::problem::Problem,
     run: &Execution,
 ) -> Option<crate::results::ContactSolverStats> {
     let pair = problem.contact.first()?;

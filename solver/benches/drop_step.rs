@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem, Analysis, MaterialSpec, Scene};
 
 /// Steps run untimed before each timed window: the hammer has touched and the contact force

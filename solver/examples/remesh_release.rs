@@ -17,7 +17,7 @@ use std::path::PathBuf;
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::kinematics::signed_volume;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
 use impact_solver::scene::{build_problem, Analysis, Scene};
 use nalgebra::Vector3;

@@ -8,10 +8,11 @@ use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
 use crate::distributed::Communicator;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
-use crate::model::{ElementFields, MaterialHistory, Model, Problem};
+use crate::model::{ElementFields, MaterialHistory, Model};
 use crate::output::{
     field_frame_with_history, Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag,
 };
+use crate::problem::Problem;
 use crate::remesh::{
     run_remeshing_watched, NearTipStress, RemeshRecord, RemeshWatch, RemeshingCsv, SectionPictures,
     Watches,

@@ -15,7 +15,8 @@ use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, 
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec, Mesh};
-use impact_solver::model::{Model, Problem};
+use impact_solver::model::Model;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions, Remeshed};
 use nalgebra::Vector3;
 

@@ -15,7 +15,7 @@ use common::*;
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{
     distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER, REMESHING_CSV_HEADER,
 };

@@ -55,7 +55,7 @@ fn print_tips(tip: &CrackTipReport) {
 fn run_scene(
     scene: &impact_solver::scene::Scene,
 ) -> (
-    impact_solver::model::Problem,
+    impact_solver::problem::Problem,
     impact_solver::analysis::Execution,
 ) {
     let mut problem = impact_solver::scene::build_problem(scene).unwrap();

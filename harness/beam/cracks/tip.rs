@@ -43,7 +43,7 @@ pub use track::{track, TipTrack};
 use impact_solver::material::microplane::experiments::crack_opening_curve;
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::MaterialModel;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use serde::{Deserialize, Serialize};
 
 use super::{beam_elements, BeamFrame, BeamSpec};

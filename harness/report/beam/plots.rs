@@ -2,7 +2,7 @@
 //! reactions, the force components of (6.48) and a static load-displacement curve; from its
 //! record the bending-crack tips against time.
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{Analysis, Scene};
 
 use super::record::{bounds, contact_column};

@@ -4,7 +4,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{MeshSource, Scene};
 use impact_solver::Vector3;
 use serde::{Deserialize, Serialize};

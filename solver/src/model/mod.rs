@@ -8,7 +8,7 @@ mod crack_opening;
 mod element;
 mod fields;
 mod history;
-mod problem;
+mod probe;
 pub mod stable_step;
 
 use std::collections::BTreeMap;
@@ -27,7 +27,7 @@ pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunctio
 pub use element::{element_forces, BodyMaterial, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
 pub use history::{BodyHistory, MaterialHistory};
-pub use problem::{Probe, ProbeQuantity, Problem};
+pub use probe::{Probe, ProbeQuantity};
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};

@@ -19,7 +19,8 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SolverError};
-use crate::model::{Component, Motion, Problem, TimeFunction};
+use crate::model::{Component, Motion, TimeFunction};
+use crate::problem::Problem;
 
 /// The settings: `{ condition, from, to, component, opening }`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
