@@ -447,8 +447,8 @@ fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)
                     let Analysis::Explicit(settings) = &mut s.analysis else {
                         return Err("a time-step sweep needs an explicit analysis".to_string());
                     };
-                    settings.time_step = Some(f * dt_cr);
-                    settings.allow_unstable_time_step = *f > 1.0;
+                    settings.settings.time_step = Some(f * dt_cr);
+                    settings.settings.allow_unstable_time_step = *f > 1.0;
                     Ok((*f, s))
                 })
                 .collect()

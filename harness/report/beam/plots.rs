@@ -127,8 +127,8 @@ pub(super) fn plots(
                 })
                 .collect();
             let damping_coefficient = match &scene.analysis {
-                Analysis::Explicit(s) => s.damping,
-                Analysis::Release { explicit, .. } => explicit.damping,
+                Analysis::Explicit(s) => s.settings.damping,
+                Analysis::Release { explicit, .. } => explicit.settings.damping,
                 Analysis::Static(_) => 0.0,
             };
             // Mass-proportional damping C = a M: its resultant on the beam is a p.

@@ -2,6 +2,7 @@
 //! can build directly. Unknown keys are rejected everywhere.
 
 mod build;
+mod explicit;
 mod selector;
 mod solver_spec;
 mod validate;
@@ -13,11 +14,11 @@ use serde::{Deserialize, Serialize};
 pub use crate::material::without_byte_order_mark;
 pub use crate::model::Component;
 pub use build::build_problem;
+pub use explicit::ExplicitAnalysis;
 pub use selector::Selector;
 pub use solver_spec::ContactSolverSpec;
 pub use validate::{output_stem_problem, MAX_ELEMENTS};
 
-use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
 use crate::material::microplane::MicroplaneParameters;
 use crate::material::{read_microplane_file, IsotropicElastic, MaterialModel};
@@ -506,8 +507,8 @@ pub struct ProbeSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Analysis {
-    /// Explicit central-difference dynamics (thesis chapter 4).
-    Explicit(ExplicitSettings),
+    /// Explicit central-difference dynamics (thesis chapter 4), remeshing one body or not.
+    Explicit(ExplicitAnalysis),
     /// Static equilibrium by Newton's method in load steps.
     Static(StaticSettings),
     /// Static equilibrium under the loads, then the loads are removed and the body is released
@@ -515,8 +516,9 @@ pub enum Analysis {
     Release {
         /// The static analysis that finds the preloaded state.
         preload: StaticSettings,
-        /// The explicit run from the released state.
-        explicit: ExplicitSettings,
+        /// The explicit run from the released state (its `remeshing`, read and checked as in
+        /// an explicit analysis, is not used).
+        explicit: ExplicitAnalysis,
     },
 }
 
