@@ -15,3 +15,7 @@ pub use cracks::{
     classify, crack_tip_report, failure_mode_details, failure_mode_judged, BeamFrame, BeamSpec,
     Crack, CrackKind, CrackTipMeasure, CrackTipReport, FailureMode, JudgedAt,
 };
+
+/// Name of the metric whose value is a beam case's failure-mode code ([`FailureMode::code`]):
+/// the report's failure-mode comparison shows its value and reference, if present.
+pub const FAILURE_MODE_METRIC: &str = "failure_mode";

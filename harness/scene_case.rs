@@ -102,7 +102,7 @@ impl SceneCase {
 struct LevelRun {
     parameter: f64,
     wall_s: f64,
-    outcome: Result<(impact_solver::model::Problem, Execution), SolverError>,
+    outcome: Result<(impact_solver::problem::Problem, Execution), SolverError>,
 }
 
 /// Runs one case under one variant with its log ([`crate::case_log`]): what its runs print on
@@ -447,8 +447,8 @@ fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)
                     let Analysis::Explicit(settings) = &mut s.analysis else {
                         return Err("a time-step sweep needs an explicit analysis".to_string());
                     };
-                    settings.time_step = Some(f * dt_cr);
-                    settings.allow_unstable_time_step = *f > 1.0;
+                    settings.settings.time_step = Some(f * dt_cr);
+                    settings.settings.allow_unstable_time_step = *f > 1.0;
                     Ok((*f, s))
                 })
                 .collect()
@@ -575,7 +575,7 @@ fn band(m: &MetricResult) -> Option<[f64; 2]> {
 
 /// The contact solver's record over a run of a scene with contact.
 fn contact_stats(
-    problem: &impact_solver::model::Problem,
+    problem: &impact_solver::problem::Problem,
     run: &Execution,
 ) -> Option<crate::results::ContactSolverStats> {
     let pair = problem.contact.first()?;
@@ -603,6 +603,7 @@ mod tests {
             analysis: None,
             contact_solver: None,
             ranks: None,
+            strength_seed: None,
         }
     }
 

@@ -90,7 +90,9 @@ impl fmt::Display for SceneReport {
 /// The explicit run's own end condition, if the analysis has one.
 fn explicit_stop(analysis: &Analysis) -> Option<&StopWhen> {
     match analysis {
-        Analysis::Explicit(s) | Analysis::Release { explicit: s, .. } => s.stop_when.as_ref(),
+        Analysis::Explicit(s) | Analysis::Release { explicit: s, .. } => {
+            s.settings.stop_when.as_ref()
+        }
         Analysis::Static(_) => None,
     }
 }

@@ -16,9 +16,10 @@ use std::path::{Path, PathBuf};
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
-use impact_solver::model::{Model, Problem};
+use impact_solver::model::Model;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{check_distortion, RemeshSettings, REMESHING_CSV_HEADER};
-use impact_solver::scene::Analysis;
+use impact_solver::scene::{Analysis, ExplicitAnalysis};
 use impact_vv::registry::SECTIONS;
 use impact_vv::report::penetration::{
     read_record, read_remeshings, record, PenetrationRecord, KEY,
@@ -67,7 +68,10 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
         "{{ body: block, check_every: 5, collapse_limit: {}, {remeshing} }}",
         1.3 * initial
     );
-    settings.remeshing = Some(serde_norway::from_str::<RemeshSettings>(&yaml).unwrap());
+    let analysis = Analysis::Explicit(ExplicitAnalysis {
+        settings,
+        remeshing: Some(serde_norway::from_str::<RemeshSettings>(&yaml).unwrap()),
+    });
     let options = ExecuteOptions {
         out: Some(dir),
         stem: "run",
@@ -77,7 +81,7 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
         ranks: None,
         log: &impact_solver::analysis::log_to_stderr,
     };
-    match execute(&mut p, &Analysis::Explicit(settings), &options, &mut |_| {}) {
+    match execute(&mut p, &analysis, &options, &mut |_| {}) {
         Ok(run) => {
             let h = run.history.unwrap();
             (h.column("time").unwrap(), h.column("top_x").unwrap(), true)

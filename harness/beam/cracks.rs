@@ -28,7 +28,7 @@ pub use tip::{
     COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
 };
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 use serde::{Deserialize, Serialize};
 

@@ -92,7 +92,7 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
 /// `quantity: reaction` (column `<name>_y`): the part of a condition's reaction carried by one
 /// line of its nodes. An error if the nodes do not lie on one line `x = const` (to 1e-9 m).
 pub fn force_line(
-    problem: &impact_solver::model::Problem,
+    problem: &impact_solver::problem::Problem,
     name: &str,
 ) -> Result<(String, f64), String> {
     use impact_solver::model::ProbeQuantity;

@@ -17,8 +17,9 @@ mod record;
 pub mod section;
 mod side_view;
 
+pub use crate::beam::FAILURE_MODE_METRIC;
 pub use failure_modes::{
-    code_name, failure_rows, markdown, metric_text, monotonic_statement, verdicts, FailureRow,
+    failure_rows, markdown, metric_text, monotonic_statement, verdicts, FailureRow,
 };
 pub use plots::central_differences;
 pub use record::{load, load_one, rasterise, record, record_path, BeamRecord, SideView};
@@ -28,5 +29,3 @@ pub use side_view::{frame_title, side_view_svg, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH
 pub const BEAM_BODY: &str = "beam";
 /// Instants of the filmstrip (s), before the final state.
 pub const FILMSTRIP: [f64; 4] = [2.0e-4, 5.0e-4, 1.0e-3, 2.0e-3];
-/// Name of the metric whose value and reference the failure-mode comparison shows, if present.
-pub const FAILURE_MODE_METRIC: &str = "failure_mode";

@@ -1,9 +1,8 @@
 //! The facts both the HTML page and the Markdown summary show: per-case counts, the worst
 //! metric, and the run's verdict. Computed once here so that the two outputs cannot disagree.
 
-use super::beam::{code_name, FAILURE_MODE_METRIC};
 use super::format;
-use crate::beam::FailureMode;
+use crate::beam::{FailureMode, FAILURE_MODE_METRIC};
 use crate::results::{CaseResult, MetricResult, RunResults, Status, ToleranceKind};
 
 /// Statuses in the order the page lists them.
@@ -360,10 +359,33 @@ pub fn plural<'s>(n: usize, one: &'s str, many: &'s str) -> &'s str {
     }
 }
 
+/// The name of an integer code `v` where `text` lists the codes as `code 0 none, 1 bending, ...`.
+pub fn code_name(text: &str, v: f64) -> Option<String> {
+    if v.fract() != 0.0 || !v.is_finite() {
+        return None;
+    }
+    let list = &text[text.find("code ")? + 5..];
+    let list = list.split([')', ';']).next()?;
+    list.split(',').find_map(|item| {
+        let mut words = item.split_whitespace();
+        let code: f64 = words.next()?.parse().ok()?;
+        (code == v).then(|| words.collect::<Vec<_>>().join(" "))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+
+    #[test]
+    fn code_names_are_read_from_the_reference_source() {
+        let text =
+            "failure mode `bending` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear)";
+        assert_eq!(code_name(text, 2.0).as_deref(), Some("mixed"));
+        assert_eq!(code_name(text, 1.5), None);
+        assert_eq!(code_name("no codes", 1.0), None);
+    }
 
     fn metric(
         name: &str,

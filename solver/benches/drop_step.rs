@@ -23,8 +23,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
-use impact_solver::model::Problem;
-use impact_solver::scene::{build_problem, Analysis, MaterialSpec, Scene};
+use impact_solver::problem::Problem;
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, MaterialSpec, Scene};
 
 /// Steps run untimed before each timed window: the hammer has touched and the contact force
 /// rises.
@@ -47,7 +47,7 @@ fn drop_scene(elastic: bool) -> Scene {
 
 /// A fresh run of `problem` advanced by [`WARM_STEPS`].
 fn warmed<'p>(problem: &'p Problem, scene: &Scene) -> ExplicitSolver<'p> {
-    let Analysis::Explicit(settings) = &scene.analysis else {
+    let Analysis::Explicit(ExplicitAnalysis { settings, .. }) = &scene.analysis else {
         panic!("the drop test is an explicit analysis")
     };
     let output = OutputSettings {

@@ -21,7 +21,7 @@ use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
 use impact_solver::output::observer::RunObserver;
 use impact_solver::output::vtu::{FieldData, FieldFrame};
 use impact_solver::remesh::{centroids, element_volumes};
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 /// One layer's sums over a frame.
 #[derive(Clone, Copy)]
@@ -92,7 +92,7 @@ fn main() {
     let x0: f64 = args.get(4).map_or(1.5, |s| s.parse().unwrap());
     let body = args.get(5).map_or("beam", String::as_str);
     let problem = build_problem(&scene).unwrap();
-    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+    let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("an explicit analysis is needed")
     };
     settings.end_time = end;

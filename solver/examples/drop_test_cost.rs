@@ -23,7 +23,9 @@ use std::path::PathBuf;
 
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
 use impact_solver::material::MaterialModel;
-use impact_solver::scene::{build_problem, Analysis, MaterialSpec, MicroplaneSpec, Scene};
+use impact_solver::scene::{
+    build_problem, Analysis, ExplicitAnalysis, MaterialSpec, MicroplaneSpec, Scene,
+};
 
 /// Factor on the strain scales of the `linear laws` variant: `2^(-25/m)` of the scales stays
 /// above any strain of the run.
@@ -58,7 +60,7 @@ fn drop_scene(variant: &str) -> Scene {
 /// Wall time and internal-force time (s) of one whole run, and the elastic path's share of the
 /// element updates.
 fn run(scene: &Scene) -> (f64, f64, Option<f64>) {
-    let Analysis::Explicit(settings) = &scene.analysis else {
+    let Analysis::Explicit(ExplicitAnalysis { settings, .. }) = &scene.analysis else {
         panic!("the drop test is an explicit analysis")
     };
     let problem = build_problem(scene).unwrap();

@@ -25,7 +25,7 @@ use impact_solver::material::microplane::{principal_values, sym};
 use impact_solver::output::observer::RunObserver;
 use impact_solver::output::vtu::{FieldData, FieldFrame};
 use impact_solver::remesh::von_mises;
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 /// Prints one element's deformation and stress at every field frame.
 struct ElementHistory {
@@ -86,7 +86,11 @@ fn main() {
     let every: f64 = args[3].parse().unwrap();
     let element: usize = args[4].parse().unwrap();
     let from: f64 = args.get(5).map_or(0.0, |s| s.parse().unwrap());
-    let Analysis::Explicit(scene_settings) = &scene.analysis else {
+    let Analysis::Explicit(ExplicitAnalysis {
+        settings: scene_settings,
+        ..
+    }) = &scene.analysis
+    else {
         panic!("an explicit analysis is needed")
     };
     // The frames this diagnostic reads, and no snapshots.

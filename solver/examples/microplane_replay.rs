@@ -37,7 +37,7 @@ use impact_solver::material::microplane::{
     sym, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym, VolumetricStrain,
 };
 use impact_solver::material::MaterialModel;
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 use nalgebra::Matrix3;
 
 /// Planes of the prototype: the 21 of the rule, padded to a multiple of 8 lanes.
@@ -57,7 +57,7 @@ struct Update {
 fn record(step: usize) -> (MicroplaneParameters, Vec<Update>) {
     let case = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/beam/drop-2ms.yaml");
     let scene = Scene::from_yaml_file_entry(&case, "scene").unwrap();
-    let Analysis::Explicit(settings) = &scene.analysis else {
+    let Analysis::Explicit(ExplicitAnalysis { settings, .. }) = &scene.analysis else {
         panic!("the drop test is an explicit analysis")
     };
     let beam = scene.bodies.iter().find(|b| b.name == "beam").unwrap();

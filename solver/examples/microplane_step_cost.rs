@@ -15,7 +15,8 @@ use std::path::PathBuf;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{read_microplane_file, IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
-use impact_solver::model::{Constraint, Model, Motion, Problem, TimeFunction};
+use impact_solver::model::{Constraint, Model, Motion, TimeFunction};
+use impact_solver::problem::Problem;
 
 const STEPS: usize = 100;
 const RUNS: usize = 5;

@@ -18,7 +18,7 @@ use std::path::Path;
 use impact_solver::dynamics::OutputSettings;
 use impact_solver::mesh::{face_key, TET_FACES};
 use impact_solver::remesh::{collapse_ratio, distortion, mean_ratio, run_remeshing};
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 use nalgebra::Vector3;
 
 /// The distinct planes (unit normals up to sign, to 1e-3) among `normals`.
@@ -41,15 +41,18 @@ fn main() {
     let end: f64 = args[2].parse().unwrap();
     let worst_n: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(12);
     let problem = build_problem(&scene).unwrap();
-    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+    let Analysis::Explicit(ExplicitAnalysis {
+        mut settings,
+        remeshing,
+    }) = scene.analysis.clone()
+    else {
         panic!("an explicit analysis is needed")
     };
     settings.end_time = end;
     if std::env::var("LOOSE").is_ok() {
         settings.instability_energy_tolerance = 1e9;
     }
-    let policy = settings
-        .remeshing
+    let policy = remeshing
         .as_ref()
         .expect("the scene remeshes")
         .policy(&problem)

@@ -17,9 +17,9 @@ use std::path::PathBuf;
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::kinematics::signed_volume;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 use nalgebra::Vector3;
 
 /// Body indices of the case's scene.
@@ -107,11 +107,15 @@ fn main() {
     let case =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cases/penetration/nail-200ms.yaml");
     let scene = Scene::from_yaml_file_entry(&case, "scene").unwrap();
-    let Analysis::Explicit(settings) = &scene.analysis else {
+    let Analysis::Explicit(ExplicitAnalysis {
+        settings,
+        remeshing,
+    }) = &scene.analysis
+    else {
         panic!("the nail case is an explicit analysis")
     };
     let mut settings = settings.clone();
-    let remeshing = settings.remeshing.take().unwrap();
+    let remeshing = remeshing.clone().unwrap();
     let problem = build_problem(&scene).unwrap();
     let output = OutputSettings {
         dir: None,

@@ -8,13 +8,16 @@ use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
 use crate::distributed::Communicator;
 use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
-use crate::model::{field_frame_with_history, ElementFields, MaterialHistory, Model, Problem};
-use crate::output::{Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag};
-use crate::remesh::{
-    run_remeshing_watched, NearTipStress, RemeshRecord, RemeshWatch, RemeshingCsv, SectionPictures,
-    Watches,
+use crate::model::{ElementFields, MaterialHistory, Model};
+use crate::output::{
+    field_frame_with_history, Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag,
 };
-use crate::scene::Analysis;
+use crate::problem::Problem;
+use crate::remesh::{
+    run_remeshing_watched, NearTipStress, RemeshRecord, RemeshSettings, RemeshWatch, RemeshingCsv,
+    SectionPictures, Watches,
+};
+use crate::scene::{Analysis, ExplicitAnalysis};
 use crate::statics::{solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
 
@@ -95,7 +98,7 @@ pub fn execute(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
     let distributed = options.ranks.is_some_and(|c| c.size() > 1);
-    if distributed && !matches!(analysis, Analysis::Explicit(s) if s.remeshing.is_none()) {
+    if distributed && !matches!(analysis, Analysis::Explicit(a) if a.remeshing.is_none()) {
         return Err(SolverError::InvalidScene {
             entity: "analysis".into(),
             message: "only an explicit analysis without remeshing runs over several ranks; run \
@@ -127,10 +130,11 @@ pub fn execute(
         });
     }
     match analysis {
-        Analysis::Explicit(settings) if settings.remeshing.is_some() => {
-            explicit_remeshing(problem, settings, options, progress)
-        }
-        Analysis::Explicit(settings) => explicit(problem, settings, None, options, progress),
+        Analysis::Explicit(ExplicitAnalysis {
+            settings,
+            remeshing: Some(remeshing),
+        }) => explicit_remeshing(problem, settings, remeshing, options, progress),
+        Analysis::Explicit(a) => explicit(problem, &a.settings, None, options, progress),
         Analysis::Static(settings) => statics(problem, settings, options, progress),
         Analysis::Release {
             preload,
@@ -140,7 +144,13 @@ pub fn execute(
             // factor as progress; the explicit run then reports its own from 0.
             let loaded = solve_static_until(problem, preload, progress, options.stop.as_deref())?;
             problem.loads.clear();
-            let mut run = explicit(problem, settings, Some(&loaded.u), options, progress)?;
+            let mut run = explicit(
+                problem,
+                &settings.settings,
+                Some(&loaded.u),
+                options,
+                progress,
+            )?;
             run.plan = format!(
                 "static preload ({} load steps), then release: {}",
                 preload.load_steps, run.plan
@@ -255,7 +265,8 @@ fn explicit(
     })
 }
 
-/// An explicit run that remeshes ([`crate::remesh::run_remeshing_watched`]): the observers of
+/// An explicit run that remeshes as `remeshing` says
+/// ([`crate::remesh::run_remeshing_watched`]): the observers of
 /// [`explicit`] over the whole run, a line per remeshing to `options.log`, and `problem`
 /// replaced by the problem over the last mesh. With an output folder, the records go to
 /// `<stem>_remeshing.csv` as the remeshings are made, the scene's `section` pictures to
@@ -264,12 +275,10 @@ fn explicit(
 fn explicit_remeshing(
     problem: &mut Problem,
     settings: &ExplicitSettings,
+    remeshing: &RemeshSettings,
     options: &ExecuteOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
-    let Some(remeshing) = &settings.remeshing else {
-        return explicit(problem, settings, None, options, progress);
-    };
     let policy = remeshing.policy(problem)?;
     if problem.contact.iter().any(|p| p.record_every.is_some()) {
         return Err(SolverError::InvalidScene {

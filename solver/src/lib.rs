@@ -25,6 +25,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod problem;
 pub mod remesh;
 pub mod rng;
 pub mod scene;
@@ -32,3 +33,4 @@ pub mod statics;
 
 pub use error::SolverError;
 pub use nalgebra::{Matrix3, Vector3};
+pub use problem::Problem;

@@ -17,7 +17,8 @@ use impact_solver::contact::ContactPair;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, StopWhen};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
-use impact_solver::model::{Model, Problem};
+use impact_solver::model::Model;
+use impact_solver::problem::Problem;
 use nalgebra::Vector3;
 
 /// With nu = 0 a bar of any section carries the one-dimensional wave at sqrt(E/rho).

@@ -16,7 +16,8 @@ use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{
     Deformation, ElementState, IsotropicElastic, Material, SaintVenantKirchhoff,
 };
-use impact_solver::model::{BodyMaterial, Probe, ProbeQuantity, Problem};
+use impact_solver::model::{BodyMaterial, Probe, ProbeQuantity};
+use impact_solver::problem::Problem;
 use impact_solver::statics::{solve_static, StaticSettings};
 use nalgebra::Matrix3;
 

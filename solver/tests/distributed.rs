@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 fn case(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
@@ -39,7 +39,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
         .or_else(|_| Scene::from_yaml_file(path))
         .unwrap();
     let problem = build_problem(&scene).unwrap();
-    let Analysis::Explicit(mut settings) = scene.analysis.clone() else {
+    let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("{}: an explicit scene", path.display())
     };
     settings.max_steps = Some(steps);

@@ -18,7 +18,8 @@ use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::kinematics::shape_gradients;
 use impact_solver::material::MaterialModel;
 use impact_solver::mesh::Mesh;
-use impact_solver::model::{CarriedState, Model, Problem};
+use impact_solver::model::{CarriedState, Model};
+use impact_solver::problem::Problem;
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 
 /// A tetrahedron of a few millimetres, not regular.

@@ -15,9 +15,8 @@ use impact_solver::material::microplane::driver::{ramp, uniaxial_controls, Mater
 use impact_solver::material::microplane::{state, MicroplaneConcrete, MicroplaneParameters};
 use impact_solver::material::MaterialModel;
 use impact_solver::mesh::Mesh;
-use impact_solver::model::{
-    Constraint, Model, Motion, Probe, ProbeQuantity, Problem, TimeFunction,
-};
+use impact_solver::model::{Constraint, Model, Motion, Probe, ProbeQuantity, TimeFunction};
+use impact_solver::problem::Problem;
 use impact_solver::{SolverError, Vector3};
 use nalgebra::{Matrix3, Rotation3};
 

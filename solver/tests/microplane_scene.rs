@@ -47,7 +47,7 @@ analysis:
     )
 }
 
-fn build(text: &str) -> Result<impact_solver::model::Problem, SolverError> {
+fn build(text: &str) -> Result<impact_solver::problem::Problem, SolverError> {
     Scene::from_yaml(text, "cube.yaml").and_then(|s| build_problem(&s))
 }
 
@@ -235,7 +235,7 @@ fn rate_effect_false_gives_static_rates() {
 }
 
 /// The prepared microplane material of body `b`.
-fn microplane_of(problem: &impact_solver::model::Problem, b: usize) -> &MicroplaneMaterial {
+fn microplane_of(problem: &impact_solver::problem::Problem, b: usize) -> &MicroplaneMaterial {
     let material: &dyn std::any::Any = &*problem.model.bodies[b].material;
     material
         .downcast_ref::<MicroplaneMaterial>()

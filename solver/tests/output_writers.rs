@@ -450,7 +450,8 @@ fn run_frames_carry_the_crack_indicator_and_the_rate_factor() {
     use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
     use impact_solver::material::{read_microplane_file, IsotropicElastic, MaterialModel};
     use impact_solver::mesh::{box_mesh, BoxSpec};
-    use impact_solver::model::{Model, Problem};
+    use impact_solver::model::Model;
+    use impact_solver::problem::Problem;
 
     let cube = |x: f64| {
         box_mesh(&BoxSpec {

@@ -15,7 +15,8 @@ use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, 
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec, Mesh};
-use impact_solver::model::{Model, Problem};
+use impact_solver::model::Model;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions, Remeshed};
 use nalgebra::Vector3;
 
@@ -390,7 +391,7 @@ fn fields_after_a_remeshing_read_the_deformation_reached_before_it() {
     let after = new.element_fields(&r.state.u);
     let frame = |model: &Model, u: &[Vector3<f64>]| {
         let points: Vec<Vector3<f64>> = model.reference.iter().zip(u).map(|(x, u)| x + u).collect();
-        let f = impact_solver::model::field_frame(model, &points, u, None, 0.0);
+        let f = impact_solver::output::field_frame(model, &points, u, None, 0.0);
         match &f.point_data[0] {
             (name, impact_solver::output::vtu::FieldData::Vector(d)) if name == "displacement" => {
                 d.clone()

@@ -12,7 +12,8 @@ mod common;
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::material::{LinearElastic, Material, MaterialModel};
-use impact_solver::model::{Constraint, Motion, Problem, TimeFunction};
+use impact_solver::model::{Constraint, Motion, TimeFunction};
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions, Remeshed};
 use nalgebra::{Matrix3, Vector3};
 

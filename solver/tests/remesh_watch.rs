@@ -15,11 +15,11 @@ use common::*;
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::remesh::{
     distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER, REMESHING_CSV_HEADER,
 };
-use impact_solver::scene::Analysis;
+use impact_solver::scene::{Analysis, ExplicitAnalysis};
 use impact_solver::SolverError;
 
 const SOFT: IsotropicElastic = IsotropicElastic {
@@ -64,8 +64,11 @@ fn sheared_block(remeshing: &str) -> (Problem, Analysis) {
         1.3 * initial
     );
     let parsed: RemeshSettings = serde_norway::from_str(&yaml).unwrap();
-    settings.remeshing = Some(parsed);
-    (p, Analysis::Explicit(settings))
+    let analysis = ExplicitAnalysis {
+        settings,
+        remeshing: Some(parsed),
+    };
+    (p, Analysis::Explicit(analysis))
 }
 
 fn run(dir: &Path, problem: &mut Problem, analysis: &Analysis) -> Result<(), SolverError> {
@@ -213,10 +216,13 @@ fn a_window_restricts_a_picture_and_an_inner_plane_has_none() {
         box_body(size, [4, 4, 4], 0.0, 1),
         MaterialModel::SaintVenantKirchhoff(SOFT),
     );
-    let mut settings = ExplicitSettings::new(1e-4);
-    settings.remeshing =
-        Some(serde_norway::from_str("{ body: body, section: { axis: x, value: 0.05 } }").unwrap());
-    run(&dir, &mut inner, &Analysis::Explicit(settings)).unwrap();
+    let analysis = ExplicitAnalysis {
+        settings: ExplicitSettings::new(1e-4),
+        remeshing: Some(
+            serde_norway::from_str("{ body: body, section: { axis: x, value: 0.05 } }").unwrap(),
+        ),
+    };
+    run(&dir, &mut inner, &Analysis::Explicit(analysis)).unwrap();
     let f = frame(&dir, 0);
     assert!(f.bodies.is_empty(), "{:?}", f.bodies);
     let _ = std::fs::remove_dir_all(&dir);

@@ -12,7 +12,7 @@
 #![allow(clippy::unwrap_used)]
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem, Scene};
 use nalgebra::{DMatrix, Matrix3};
 

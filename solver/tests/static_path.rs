@@ -22,7 +22,7 @@ fn shipped_file() -> PathBuf {
 /// A 5 cm cube of the thesis concrete (six tetrahedra) on rollers (x on the face x = 0, y on
 /// y = 0, z on z = 0), its face x = 5 cm pulled to an axial strain `strain` in `steps` load
 /// steps: uniaxial stress, the same strain in every element.
-fn pulled_cube(strain: f64, steps: usize) -> (impact_solver::model::Problem, Analysis) {
+fn pulled_cube(strain: f64, steps: usize) -> (impact_solver::problem::Problem, Analysis) {
     let text = format!(
         "name: cube
 bodies:
@@ -266,7 +266,7 @@ fn a_path_refuses_conjugate_gradients() {
 
 /// The catalogue's opening-controlled prism, `cases/fracture/band-in-prism-h50-long-opening-control.yaml`
 /// (350 mm of 50 mm cells, two across, the band's opening driven to 0.3 mm), in `steps` load steps.
-fn catalogue_prism(steps: usize) -> (impact_solver::model::Problem, Analysis) {
+fn catalogue_prism(steps: usize) -> (impact_solver::problem::Problem, Analysis) {
     let file = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../cases/fracture/band-in-prism-h50-long-opening-control.yaml");
     let mut scene = Scene::from_yaml_file_entry(&file, "scene").unwrap();
@@ -280,7 +280,7 @@ fn catalogue_prism(steps: usize) -> (impact_solver::model::Problem, Analysis) {
 /// The catalogue prism's band shrunk to one cell across (`divisions: [7, 1, 1]`, six
 /// tetrahedra in the band, `max_cuts: 3`), its pulled face held sideways (`gripped`) or only
 /// along the pull, in `steps` load steps.
-fn shrunk_prism(steps: usize, gripped: bool) -> (impact_solver::model::Problem, Analysis) {
+fn shrunk_prism(steps: usize, gripped: bool) -> (impact_solver::problem::Problem, Analysis) {
     let grip = if gripped {
         "  - { name: pulled_end_grip, body: prism, nodes: { box: { min: [0.35, 0, 0], max: [0.35, 0.1, 0.1] } }, motion: { fixed: [y, z] } }\n"
     } else {
@@ -320,7 +320,7 @@ analysis:
 
 /// The load factor at which a prism's path ends, and why.
 fn path_end(
-    (problem, analysis): (impact_solver::model::Problem, Analysis),
+    (problem, analysis): (impact_solver::problem::Problem, Analysis),
 ) -> (f64, Option<String>) {
     let Analysis::Static(settings) = analysis else {
         unreachable!()
@@ -373,7 +373,7 @@ fn a_piece_cut_free_stops_the_path_and_names_its_body() {
 
 /// The history of a prism's path: its load factors, band openings and pulled-face reactions.
 fn path_history(
-    (problem, analysis): (impact_solver::model::Problem, Analysis),
+    (problem, analysis): (impact_solver::problem::Problem, Analysis),
 ) -> (Vec<f64>, Vec<f64>, Vec<f64>, Option<String>) {
     let Analysis::Static(settings) = analysis else {
         unreachable!()

@@ -110,7 +110,8 @@ fn a_body_takes_the_field_at_its_element_centroids() {
 #[test]
 fn the_field_frame_shows_the_strength_field() {
     use impact_solver::material::MaterialModel;
-    use impact_solver::model::{field_frame, Model};
+    use impact_solver::model::Model;
+    use impact_solver::output::field_frame;
     use impact_solver::output::FieldData;
     let concrete = MaterialModel::Microplane(MicroplaneParameters {
         strength_field: Some(field_spec(5)),

@@ -6,7 +6,8 @@
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec};
-use impact_solver::model::{Constraint, Model, Motion, Problem};
+use impact_solver::model::{Constraint, Model, Motion};
+use impact_solver::problem::Problem;
 use nalgebra::Vector3;
 
 const SIZE: f64 = 0.1;

@@ -55,7 +55,7 @@ fn print_tips(tip: &CrackTipReport) {
 fn run_scene(
     scene: &impact_solver::scene::Scene,
 ) -> (
-    impact_solver::model::Problem,
+    impact_solver::problem::Problem,
     impact_solver::analysis::Execution,
 ) {
     let mut problem = impact_solver::scene::build_problem(scene).unwrap();
@@ -90,10 +90,10 @@ fn print_beam_case() {
     // BEAM_END_MS and BEAM_SNAPSHOT_US shorten the run and refine the snapshots.
     if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
         if let Ok(end) = std::env::var("BEAM_END_MS") {
-            x.end_time = end.parse::<f64>().unwrap() * 1e-3;
+            x.settings.end_time = end.parse::<f64>().unwrap() * 1e-3;
         }
         if let Ok(dt) = std::env::var("BEAM_SNAPSHOT_US") {
-            x.snapshot_interval = Some(dt.parse::<f64>().unwrap() * 1e-6);
+            x.settings.snapshot_interval = Some(dt.parse::<f64>().unwrap() * 1e-6);
         }
     }
     // The microplane file is named relative to the case's folder.
@@ -176,7 +176,7 @@ fn tip_against_hinge() {
         .expect("a case with a hinge reference");
     let mut scene = case.scene.clone().unwrap();
     if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
-        x.snapshot_interval = Some(
+        x.settings.snapshot_interval = Some(
             std::env::var("BEAM_SNAPSHOT_MS").map_or(1e-3, |v| v.parse::<f64>().unwrap() * 1e-3),
         );
     }

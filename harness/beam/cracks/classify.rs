@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use impact_solver::analysis::Execution;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 
 use super::{

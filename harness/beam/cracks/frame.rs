@@ -1,7 +1,7 @@
 //! The beam's frame (load strip, bottom face, height, supports, cell size) and its elements,
 //! read from the problem; the conventions are in the `cracks` module documentation.
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 
 use super::{BeamSpec, Side};

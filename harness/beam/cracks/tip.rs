@@ -43,7 +43,7 @@ pub use track::{track, TipTrack};
 use impact_solver::material::microplane::experiments::crack_opening_curve;
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::MaterialModel;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use serde::{Deserialize, Serialize};
 
 use super::{beam_elements, BeamFrame, BeamSpec};
@@ -281,7 +281,7 @@ pub fn crack_tip_report(
         .ok_or_else(|| format!("body `{}` has no built-in material model", spec.body))?;
     let w_p = cohesive_opening(&model, frame.cell)?;
     let w_tf = TIP_OPENING_FRACTION * problem.model.crack_indicator.crack_width;
-    let c_r = crate::reference::analytic::rayleigh_wave_speed(&material.constants());
+    let c_r = impact_references::analytic::rayleigh_wave_speed(&material.constants());
     let path = CrackPath::of(&frame, &elements);
     let times: Vec<f64> = snapshots.iter().map(|s| s.time).collect();
     let openings = snapshots.iter().map(|s| {

@@ -65,8 +65,11 @@ pub fn record_case(
     let mut scene = spec
         .scene
         .ok_or_else(|| format!("{name}: the case has no scene to record CCD queries from"))?;
-    let mut settings = match &scene.analysis {
-        Analysis::Explicit(s) => s.clone(),
+    let settings = match &mut scene.analysis {
+        Analysis::Explicit(a) => {
+            a.settings.end_time = end_time;
+            a.settings.clone()
+        }
         _ => {
             return Err(format!(
                 "{name}: the scene's analysis is not explicit dynamics; CCD queries are recorded \
@@ -74,8 +77,6 @@ pub fn record_case(
             ))
         }
     };
-    settings.end_time = end_time;
-    scene.analysis = Analysis::Explicit(settings.clone());
     if scene.contact.is_empty() {
         return Err(format!("{name}: the scene has no contact pair"));
     }

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::statics::{solve_static, LinearSolver, StaticSettings};
 

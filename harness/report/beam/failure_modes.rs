@@ -3,6 +3,7 @@
 
 use super::{BeamRecord, FAILURE_MODE_METRIC};
 use crate::report::format::{self, num};
+use crate::report::summary::code_name;
 use crate::results::{CaseResult, RunResults};
 
 /// One case of the failure-mode comparison.
@@ -196,20 +197,6 @@ pub fn metric_text(m: &crate::results::MetricResult) -> String {
     }
 }
 
-/// The name of an integer code `v` where `text` lists the codes as `code 0 none, 1 bending, ...`.
-pub fn code_name(text: &str, v: f64) -> Option<String> {
-    if v.fract() != 0.0 || !v.is_finite() {
-        return None;
-    }
-    let list = &text[text.find("code ")? + 5..];
-    let list = list.split([')', ';']).next()?;
-    list.split(',').find_map(|item| {
-        let mut words = item.split_whitespace();
-        let code: f64 = words.next()?.parse().ok()?;
-        (code == v).then(|| words.collect::<Vec<_>>().join(" "))
-    })
-}
-
 /// The failure-mode comparison in Markdown for `summary.md`; empty without beam pictures.
 pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option<String> {
     let rows = failure_rows(results, records);
@@ -242,15 +229,6 @@ pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn code_names_are_read_from_the_reference_source() {
-        let text =
-            "failure mode `bending` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear)";
-        assert_eq!(code_name(text, 2.0).as_deref(), Some("mixed"));
-        assert_eq!(code_name(text, 1.5), None);
-        assert_eq!(code_name("no codes", 1.0), None);
-    }
 
     #[test]
     fn meshes_are_judged_each_on_its_own() {

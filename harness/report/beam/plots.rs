@@ -2,10 +2,10 @@
 //! reactions, the force components of (6.48) and a static load-displacement curve; from its
 //! record the bending-crack tips against time.
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{Analysis, Scene};
+use impact_solver::Vector3;
 
-use super::record::{bounds, contact_column};
 use super::{BeamRecord, BEAM_BODY};
 use crate::report::format::{self, num};
 use crate::results::{PlotData, Series};
@@ -127,8 +127,8 @@ pub(super) fn plots(
                 })
                 .collect();
             let damping_coefficient = match &scene.analysis {
-                Analysis::Explicit(s) => s.damping,
-                Analysis::Release { explicit, .. } => explicit.damping,
+                Analysis::Explicit(s) => s.settings.damping,
+                Analysis::Release { explicit, .. } => explicit.settings.damping,
                 Analysis::Static(_) => 0.0,
             };
             // Mass-proportional damping C = a M: its resultant on the beam is a p.
@@ -266,6 +266,28 @@ pub fn central_differences(t: &[f64], y: &[f64]) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+/// Lower and upper corners of a point cloud.
+pub(super) fn bounds(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
+    points.iter().fold(
+        (
+            Vector3::repeat(f64::INFINITY),
+            Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
+}
+
+/// The history column of the vertical contact force of the first pair with the beam.
+pub(super) fn contact_column(problem: &Problem, run: &Execution) -> Option<String> {
+    let history = run.history.as_ref()?;
+    problem
+        .contact
+        .iter()
+        .map(|p| format!("{}_force_y", p.name))
+        .chain(std::iter::once("impact_force_y".to_string()))
+        .find(|c| history.columns().contains(c))
 }
 
 #[cfg(test)]

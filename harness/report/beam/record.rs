@@ -4,12 +4,12 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::scene::{MeshSource, Scene};
 use impact_solver::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::plots::{plots, tip_plots};
+use super::plots::{bounds, contact_column, plots, tip_plots};
 use super::side_view::{side_view_svg, SIDE_VIEW_WIDTH};
 use super::{BEAM_BODY, FILMSTRIP};
 use crate::results::{file_safe, CaseResult, PlotData, RunResults};
@@ -379,17 +379,6 @@ fn judged_modes(problem: &Problem, run: &Execution) -> (Option<JudgedMode>, Opti
     (contact, at_end)
 }
 
-/// Lower and upper corners of a point cloud.
-pub(super) fn bounds(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
-    points.iter().fold(
-        (
-            Vector3::repeat(f64::INFINITY),
-            Vector3::repeat(f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    )
-}
-
 /// The peak of the first contact pair's force on the beam (`<pair>_force_y`), or of the load
 /// of a static case (`load_plate_reaction_y`), with what it is.
 fn peak_force(problem: &Problem, run: &Execution) -> (Option<f64>, String) {
@@ -411,17 +400,6 @@ fn peak_force(problem: &Problem, run: &Execution) -> (Option<f64>, String) {
         return (Some(f), "peak contact force".into());
     }
     (None, String::new())
-}
-
-/// The history column of the vertical contact force of the first pair with the beam.
-pub(super) fn contact_column(problem: &Problem, run: &Execution) -> Option<String> {
-    let history = run.history.as_ref()?;
-    problem
-        .contact
-        .iter()
-        .map(|p| format!("{}_force_y", p.name))
-        .chain(std::iter::once("impact_force_y".to_string()))
-        .find(|c| history.columns().contains(c))
 }
 
 /// The file a case's record is written to, in the case's output folder.

@@ -1,7 +1,7 @@
 //! Evaluating a per-run measure on a run's histories and final fields.
 
 use impact_solver::material::MaterialModel;
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 use nalgebra::Matrix3;
 

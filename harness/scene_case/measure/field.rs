@@ -1,7 +1,7 @@
 //! Reading the final fields for the field and stress measures: boundary nodes, Voigt stresses
 //! and the elements in a box.
 
-use impact_solver::model::Problem;
+use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 use nalgebra::Matrix3;
 

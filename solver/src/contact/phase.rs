@@ -361,7 +361,7 @@ mod tests {
     use crate::contact::test_blocks::elastic_boxes;
     use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings};
     use crate::mesh::BoxSpec;
-    use crate::model::Problem;
+    use crate::problem::Problem;
 
     /// A small block dropped at 2 m/s onto a larger one, 0.1 mm above it, non-matching meshes,
     /// with friction, two passes.

@@ -3,14 +3,12 @@
 
 mod energy;
 mod explicit;
-mod report;
 mod settings;
 mod stop_when;
 
+pub use crate::error::InstabilityReport;
+pub use crate::output::Snapshot;
 pub use energy::EnergyLedger;
 pub use explicit::{ExplicitSolver, OutputSchedule, RunState, SegmentEnd};
-pub use report::InstabilityReport;
-pub use settings::{
-    ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary, Snapshot,
-};
+pub use settings::{ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary};
 pub use stop_when::{StopProgress, StopWhen};

@@ -3,11 +3,11 @@
 
 use std::path::PathBuf;
 
-use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::EnergyLedger;
 use crate::output::history::HistoryTable;
+use crate::output::Snapshot;
 
 /// Settings of an explicit run. Defaults follow FORMULATION section 2.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -58,9 +58,6 @@ pub struct ExplicitSettings {
     /// altitude of its elements are counted.
     #[serde(default = "default_eta")]
     pub mesh_stability_eta: f64,
-    /// Adaptive remeshing of one body (thesis chapter 8); `None` runs on the initial mesh.
-    #[serde(default)]
-    pub remeshing: Option<crate::remesh::RemeshSettings>,
 }
 
 /// The default safety, 0.8. The estimate `dt_cr` (smallest altitude over the wave speed,
@@ -96,7 +93,6 @@ impl ExplicitSettings {
             snapshot_refined: None,
             instability_energy_tolerance: default_energy_tolerance(),
             mesh_stability_eta: default_eta(),
-            remeshing: None,
         }
     }
 }
@@ -111,8 +107,7 @@ impl ExplicitSettings {
     /// `analysis.release.explicit`): times and intervals positive and finite, `safety` in
     /// `(0, 1]` unless `allow_unstable_time_step` (above 1 the step exceeds the stable estimate,
     /// which only a stability sweep asks for), intervals, damping and tolerances finite and not
-    /// negative,
-    /// and the remeshing keys (`RemeshSettings::validate`).
+    /// negative.
     pub fn validate(&self, key: &str) -> crate::error::Result<()> {
         let fail = |name: &str, message: String| crate::error::SolverError::InvalidScene {
             entity: format!("{key}.{name}"),
@@ -195,9 +190,6 @@ impl ExplicitSettings {
             self.mesh_stability_eta,
             "a fraction of the altitude",
         )?;
-        if let Some(r) = &self.remeshing {
-            r.validate()?;
-        }
         Ok(())
     }
 }
@@ -336,17 +328,4 @@ pub struct RunSummary {
     /// The time of the history row at which the run's `stop_when` column reached its level
     /// (the run ended there); `None` for a run to its end time.
     pub stopped_when_at: Option<f64>,
-}
-
-/// The displacement of every node, and the crack opening of every element, at one instant of a
-/// run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    /// Simulated time of the snapshot (s).
-    pub time: f64,
-    /// Displacement of each node from its reference position (m), in model node order.
-    pub u: Vec<Vector3<f64>>,
-    /// Crack opening `w` of each element (m, [`crate::model::Model::crack_openings`]), in model
-    /// element order; empty when no body keeps a material history (nothing can crack).
-    pub crack_opening: Vec<f32>,
 }

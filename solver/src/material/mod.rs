@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 pub use isotropic::{ConstantsError, Elastic, Hooke, IsotropicElastic};
 pub use linear_elastic::LinearElastic;
 pub use microplane::MicroplaneMaterial;
-pub use parameter_file::{read_microplane_file, MicroplaneFile};
+pub use parameter_file::{read_microplane_file, without_byte_order_mark, MicroplaneFile};
 pub use saint_venant_kirchhoff::SaintVenantKirchhoff;
 pub use strength_field::{StrengthField, StrengthFieldSpec};
 

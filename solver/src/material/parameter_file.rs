@@ -48,8 +48,15 @@ pub fn read_microplane_file(path: &Path) -> Result<MicroplaneParameters> {
         entity: format!("microplane parameter file `{}`", path.display()),
         message: format!("cannot read it: {e}"),
     })?;
-    let text = crate::scene::without_byte_order_mark(&text);
+    let text = without_byte_order_mark(&text);
     Ok(MicroplaneFile::from_yaml(text, &path.display().to_string())?.parameters)
+}
+
+/// `text` without the UTF-8 byte-order mark that Windows editors put before a file's first
+/// line (of a scene, a case or a parameter file): YAML does not expect it there, and the first key would read as `\u{feff}name`, so that
+/// every file would miss its first field.
+pub fn without_byte_order_mark(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
 #[cfg(test)]

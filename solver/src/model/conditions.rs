@@ -3,6 +3,18 @@
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
+/// Displacement components, named.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Component {
+    /// The `x` component (index 0).
+    X,
+    /// The `y` component (index 1).
+    Y,
+    /// The `z` component (index 2).
+    Z,
+}
+
 /// A scalar function of time (or of the load factor in a static analysis).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]

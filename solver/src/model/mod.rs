@@ -8,7 +8,7 @@ mod crack_opening;
 mod element;
 mod fields;
 mod history;
-mod problem;
+mod probe;
 pub mod stable_step;
 
 use std::collections::BTreeMap;
@@ -23,11 +23,11 @@ pub(crate) use assembly::{first_elements, NO_ELEMENT};
 pub const ELEMENT_LEAF: usize = 64;
 pub use assembly::{ChunkJob, ForceAssembler};
 pub use carried::CarriedState;
-pub use conditions::{Constraint, Dofs, Motion, NodalLoad, TimeFunction};
+pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunction};
 pub use element::{element_forces, BodyMaterial, ElementForces};
-pub use fields::{field_frame, field_frame_with_history, CrackIndicator, ElementFields};
+pub use fields::{CrackIndicator, ElementFields};
 pub use history::{BodyHistory, MaterialHistory};
-pub use problem::{Probe, ProbeQuantity, Problem};
+pub use probe::{Probe, ProbeQuantity};
 
 use crate::error::{Result, SolverError};
 use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};

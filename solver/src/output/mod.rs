@@ -3,15 +3,17 @@
 //! are plain, documented formats so results can be inspected and post-processed without this
 //! crate.
 
+mod fields;
 pub mod history;
 pub mod observer;
 pub mod pieces;
 pub mod vtu;
 
+pub use fields::{field_frame, field_frame_with_history};
 pub use history::{HistoryStream, HistoryTable};
 pub use observer::{
     Deadline, FieldFrames, Halt, HistoryFile, ObserverSet, Progress, Recorder, RunObserver,
-    SnapshotView, StopFlag,
+    Snapshot, SnapshotView, StopFlag,
 };
 pub use pieces::PieceFrames;
 pub use vtu::{write_vtu, FieldData, FieldFrame, PvdWriter};

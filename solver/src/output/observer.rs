@@ -149,13 +149,26 @@ impl RunObserver for FieldFrames {
     }
 }
 
+/// The displacement of every node, and the crack opening of every element, at one instant of a
+/// run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Simulated time of the snapshot (s).
+    pub time: f64,
+    /// Displacement of each node from its reference position (m), in model node order.
+    pub u: Vec<Vector3<f64>>,
+    /// Crack opening `w` of each element (m, [`crate::model::Model::crack_openings`]), in model
+    /// element order; empty when no body keeps a material history (nothing can crack).
+    pub crack_opening: Vec<f32>,
+}
+
 /// The history table and the snapshots, kept in memory for the run's summary.
 #[derive(Debug, Default)]
 pub struct Recorder {
     /// Every history row, with its columns; `None` until the run announced the columns.
     pub history: Option<HistoryTable>,
     /// The displacement snapshots in time order.
-    pub snapshots: Vec<crate::dynamics::Snapshot>,
+    pub snapshots: Vec<Snapshot>,
 }
 
 impl RunObserver for Recorder {
@@ -172,7 +185,7 @@ impl RunObserver for Recorder {
     }
 
     fn snapshot(&mut self, snapshot: &SnapshotView) {
-        self.snapshots.push(crate::dynamics::Snapshot {
+        self.snapshots.push(Snapshot {
             time: snapshot.time,
             u: snapshot.u.to_vec(),
             crack_opening: snapshot.crack_opening.to_vec(),

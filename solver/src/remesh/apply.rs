@@ -29,8 +29,9 @@ use crate::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
     light_density_ratio, BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialHistory,
-    MaterialSource, Model, Probe, Problem,
+    MaterialSource, Model, Probe,
 };
+use crate::problem::Problem;
 
 /// The largest factor on a region's velocity fluctuations that gives back the kinetic energy
 /// its transfer lost ([`restore_kinetic_energy`]): a bound against a region whose nodes move

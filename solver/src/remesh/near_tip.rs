@@ -25,7 +25,8 @@ use super::watch::{LineFile, RemeshWatch};
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
 use crate::material::{Deformation, ElementState};
-use crate::model::{MaterialHistory, Problem};
+use crate::model::MaterialHistory;
+use crate::problem::Problem;
 
 /// What is recorded (`analysis.explicit.remeshing.near_tip`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

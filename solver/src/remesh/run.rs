@@ -22,8 +22,8 @@ use crate::dynamics::{
     SegmentEnd,
 };
 use crate::error::{Result, SolverError};
-use crate::model::Problem;
 use crate::output::{ObserverSet, Recorder, RunObserver};
+use crate::problem::Problem;
 
 /// A scene's remeshing settings (`analysis.explicit.remeshing`), the body named; see
 /// [`RemeshPolicy`] for what each means.

@@ -24,7 +24,8 @@ use super::watch::RemeshWatch;
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
 use crate::mesh::Axis;
-use crate::model::{Model, Problem};
+use crate::model::Model;
+use crate::problem::Problem;
 
 /// Where the pictures are taken (`analysis.explicit.remeshing.section`): the plane
 /// `axis = value` and, optionally, a window.

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use super::record::RemeshRecord;
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
-use crate::model::Problem;
+use crate::problem::Problem;
 
 /// An observer of a run that remeshes (see the module's documentation). Every method does
 /// nothing by default.

@@ -7,7 +7,8 @@ use crate::error::{Result, SolverError};
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
 };
-use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Problem, Region};
+use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Region};
+use crate::problem::Problem;
 
 fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
     SolverError::InvalidScene {

@@ -2,6 +2,7 @@
 //! can build directly. Unknown keys are rejected everywhere.
 
 mod build;
+mod explicit;
 mod selector;
 mod solver_spec;
 mod validate;
@@ -10,12 +11,14 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::material::without_byte_order_mark;
+pub use crate::model::Component;
 pub use build::build_problem;
+pub use explicit::ExplicitAnalysis;
 pub use selector::Selector;
 pub use solver_spec::ContactSolverSpec;
 pub use validate::{output_stem_problem, MAX_ELEMENTS};
 
-use crate::dynamics::ExplicitSettings;
 use crate::error::{Result, SolverError};
 use crate::material::microplane::MicroplaneParameters;
 use crate::material::{read_microplane_file, IsotropicElastic, MaterialModel};
@@ -390,18 +393,6 @@ pub struct InitialVelocity {
     pub center: [f64; 3],
 }
 
-/// Displacement components, named.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Component {
-    /// The `x` component (index 0).
-    X,
-    /// The `y` component (index 1).
-    Y,
-    /// The `z` component (index 2).
-    Z,
-}
-
 /// A condition on the nodes of one body picked by a selector.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -523,8 +514,8 @@ pub struct ProbeSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Analysis {
-    /// Explicit central-difference dynamics (thesis chapter 4).
-    Explicit(ExplicitSettings),
+    /// Explicit central-difference dynamics (thesis chapter 4), remeshing one body or not.
+    Explicit(ExplicitAnalysis),
     /// Static equilibrium by Newton's method in load steps.
     Static(StaticSettings),
     /// Static equilibrium under the loads, then the loads are removed and the body is released
@@ -532,8 +523,9 @@ pub enum Analysis {
     Release {
         /// The static analysis that finds the preloaded state.
         preload: StaticSettings,
-        /// The explicit run from the released state.
-        explicit: ExplicitSettings,
+        /// The explicit run from the released state (its `remeshing`, read and checked as in
+        /// an explicit analysis, is not used).
+        explicit: ExplicitAnalysis,
     },
 }
 
@@ -620,11 +612,4 @@ impl Scene {
             }
         }
     }
-}
-
-/// `text` without the UTF-8 byte-order mark that Windows editors put before a file's first
-/// line: YAML does not expect it there, and the first key would read as `\u{feff}name`, so that
-/// every file would miss its first field.
-pub fn without_byte_order_mark(text: &str) -> &str {
-    text.strip_prefix('\u{feff}').unwrap_or(text)
 }

@@ -17,8 +17,9 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SolverError};
-use crate::model::{MaterialHistory, Motion, Problem};
+use crate::model::{MaterialHistory, Motion};
 use crate::output::HistoryTable;
+use crate::problem::Problem;
 use tangent::{forward_difference_tangents, solve_tangent, solve_tangent_spd, TangentTerms};
 
 /// Settings of a static analysis.

@@ -19,8 +19,8 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SolverError};
-use crate::model::{Motion, Problem, TimeFunction};
-use crate::scene::Component;
+use crate::model::{Component, Motion, TimeFunction};
+use crate::problem::Problem;
 
 /// The settings: `{ condition, from, to, component, opening }`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -60,8 +60,9 @@ use super::tangent::{forward_difference_tangents, solve_tangent, TangentTerms};
 use super::{prescribe, StaticSettings, StaticSolution};
 use crate::error::{Result, SolverError};
 use crate::material::ElementState;
-use crate::model::{MaterialHistory, Problem};
+use crate::model::MaterialHistory;
 use crate::output::HistoryTable;
+use crate::problem::Problem;
 
 /// Follows the loading path of `problem` from rest to load factor 1 (see the module
 /// documentation), reporting the load factor reached.

@@ -17,7 +17,7 @@
 use nalgebra::{Matrix6, Vector3, Vector6};
 
 use crate::error::{Result, SolverError};
-use crate::model::Problem;
+use crate::problem::Problem;
 
 /// Eigenvalues of `G` below this fraction of its largest count as zero: a restrained slender
 /// piece (a 1 m beam 1 cm thick clamped at one end) stays near `(0.01 / 1)^2 = 1e-4`, a free

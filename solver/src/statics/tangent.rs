@@ -15,7 +15,8 @@ use super::conjugate_gradient::{self, SymmetricCsr};
 use crate::error::{Result, SolverError};
 use crate::kinematics::deformation_gradient;
 use crate::material::ElementState;
-use crate::model::{BodyMaterial, MaterialHistory, Model, Problem};
+use crate::model::{BodyMaterial, MaterialHistory, Model};
+use crate::problem::Problem;
 
 /// Relative size of the forward-difference step of the element tangent, times the element size:
 /// small enough not to cross the loading-unloading kinks of planes near their turning points,

@@ -9,7 +9,8 @@ use impact_solver::contact::solver::SolveLimits;
 use impact_solver::contact::ContactPair;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
-use impact_solver::model::{Model, Problem};
+use impact_solver::model::Model;
+use impact_solver::problem::Problem;
 use nalgebra::{Matrix3, Vector3};
 
 pub const STEEL: IsotropicElastic = IsotropicElastic {

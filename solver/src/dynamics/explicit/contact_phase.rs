@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use crate::model::Problem;
+use crate::problem::Problem;
 
 /// Buffers of the contact phase, allocated once per run.
 pub(super) struct ContactScratch {

@@ -6,7 +6,7 @@ use nalgebra::Vector3;
 use super::ExplicitSolver;
 use crate::dynamics::EnergyLedger;
 use crate::error::Result;
-use crate::model::field_frame_with_history;
+use crate::output::field_frame_with_history;
 use crate::output::ObserverSet;
 
 impl<'p> ExplicitSolver<'p> {

@@ -8,7 +8,8 @@ use super::ExplicitSolver;
 use crate::dynamics::settings::{ContactTotals, PhaseTimes};
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
-use crate::model::{MaterialHistory, Problem};
+use crate::model::MaterialHistory;
+use crate::problem::Problem;
 
 /// The state of the central-difference scheme between two steps (after a step's move to
 /// `u_{n+1}`, before the next step's forces).

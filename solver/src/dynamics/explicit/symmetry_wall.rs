@@ -15,7 +15,9 @@ use std::ops::Range;
 
 use nalgebra::Vector3;
 
-use crate::model::{Motion, Problem};
+use crate::model::Motion;
+
+use crate::problem::Problem;
 
 /// One symmetry plane `x[axis] = value` and the nodes of the body it bounds, which lies on the
 /// side `side` (+1 or -1) of it.

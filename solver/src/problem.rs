@@ -1,34 +1,11 @@
-//! A model together with what acts on it: the complete input of an analysis.
+//! A model together with what acts on it (conditions, loads, gravity, initial velocities, probes
+//! and contact pairs): the complete input of an analysis. It sits above `model` and `contact`, so
+//! that the model holds no contact configuration.
 
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 
-use super::{Constraint, Model, NodalLoad};
-
-/// What a probe records, three components: the mean over its nodes of a nodal field, or the
-/// sum of the reactions on them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ProbeQuantity {
-    /// Mean displacement of the probe's nodes (m).
-    Displacement,
-    /// Mean velocity of the probe's nodes (m/s), at the full step.
-    Velocity,
-    /// The resultant of the boundary-condition reactions on the probe's nodes (N), a sum, not
-    /// a mean: the force one line of nodes of a rigid plate carries, for example.
-    Reaction,
-}
-
-/// A history of the mean displacement or velocity of a node set.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Probe {
-    /// Name of the probe; its history columns are `<name>_x`, `_y`, `_z`.
-    pub name: String,
-    /// The probed nodes, as indices into the model's node arrays.
-    pub nodes: Vec<u32>,
-    /// What is recorded over the nodes.
-    pub quantity: ProbeQuantity,
-}
+use crate::contact::ContactPair;
+use crate::model::{Constraint, Model, NodalLoad, Probe, ProbeQuantity};
 
 /// A model with its boundary conditions, loads and initial state.
 #[derive(Debug)]
@@ -46,7 +23,7 @@ pub struct Problem {
     /// Quantities recorded in the history.
     pub probes: Vec<Probe>,
     /// Pairs of bodies that may touch.
-    pub contact: Vec<crate::contact::ContactPair>,
+    pub contact: Vec<ContactPair>,
 }
 
 impl Problem {

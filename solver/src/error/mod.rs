@@ -1,8 +1,17 @@
 //! Errors are values: each names the entity at fault and the fix.
+//!
+//! The lowest layer of the crate: every layer returns [`SolverError`], so this module imports
+//! nothing from the others. The reports its variants carry live here too, [`GmshError`] (the
+//! mesh reader's, re-exported as `mesh::gmsh::GmshError`) and [`InstabilityReport`] (the
+//! explicit integrator's, re-exported as `dynamics::InstabilityReport`).
 
 use std::path::PathBuf;
 
-use crate::dynamics::InstabilityReport;
+mod gmsh;
+mod instability;
+
+pub use gmsh::GmshError;
+pub use instability::InstabilityReport;
 
 /// Every error the solver returns: each variant names the mesh, element, body or file at fault
 /// and its message says the fix.
@@ -68,7 +77,7 @@ pub enum SolverError {
         /// The mesh file as given.
         path: PathBuf,
         /// What went wrong: the I/O error, or the entity of the file at fault and the fix.
-        reason: crate::mesh::gmsh::GmshError,
+        reason: GmshError,
     },
 
     #[error(

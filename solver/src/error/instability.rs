@@ -1,4 +1,5 @@
-//! What a run that stopped early tells its user.
+//! What an explicit run that stopped early tells its user: the report
+//! [`super::SolverError::Unstable`] carries.
 
 use std::fmt;
 use std::path::PathBuf;
