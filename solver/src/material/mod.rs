@@ -173,11 +173,36 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
         None
     }
 
+    /// The material for the body's new mesh after a remeshing (`elements`: for each new element
+    /// the old one it continues, or its size and centroid where the mesher made it). The
+    /// remeshing carries every element's history itself (`remesh`, T1/T2); a model that also
+    /// keeps data per element (microplane concrete: each element's crack band) rebuilds that
+    /// data here. `Ok(None)`, the default, keeps the material as it is; an error names the new
+    /// element (its index in `elements`) and why its data cannot be made.
+    fn remeshed(&self, _elements: &RemeshedElements<'_>) -> Result<Option<Self>, (usize, String)>
+    where
+        Self: Sized,
+    {
+        Ok(None)
+    }
+
     /// The tensile strength of an element over the material's where the body has a random
     /// strength field (`strength_field.rs`), for the output; `None` (the default) without one.
     fn strength_factor(&self, _element: usize) -> Option<f64> {
         None
     }
+}
+
+/// The elements of a body after a remeshing, as [`Material::remeshed`] sees them.
+#[derive(Debug, Clone, Copy)]
+pub struct RemeshedElements<'a> {
+    /// For each new element, the old element it continues unchanged, or `None` for an element
+    /// the mesher made.
+    pub origin: &'a [Option<u32>],
+    /// Volume of each new element on its new reference (the configuration it is made in).
+    pub volumes: &'a [f64],
+    /// Centroid of each new element on that reference.
+    pub centroids: &'a [[f64; 3]],
 }
 
 /// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which

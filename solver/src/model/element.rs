@@ -10,7 +10,9 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::assembly::{chunk_forces, ChunkJob};
 use crate::kinematics::{element_gradient, triple_product_determinant};
-use crate::material::{Deformation, ElementState, Material};
+use std::sync::Arc;
+
+use crate::material::{Deformation, ElementState, Material, RemeshedElements};
 
 /// What one element gives the assembly.
 #[derive(Debug, Clone, Copy)]
@@ -136,11 +138,27 @@ pub trait BodyMaterial: Material {
         u: &[Vector3<f64>; 4],
         state: ElementState<'_>,
     ) -> ElementForces;
+
+    /// [`Material::remeshed`] through the trait object: the body's material for its new mesh
+    /// (`None`: the same material serves it).
+    fn remeshed_material(
+        &self,
+        elements: &RemeshedElements<'_>,
+    ) -> Result<Option<Arc<dyn BodyMaterial>>, (usize, String)>;
 }
 
 impl<M: Material> BodyMaterial for M {
     fn assemble_chunk(&self, job: &ChunkJob<'_>) -> usize {
         chunk_forces(self, job)
+    }
+
+    fn remeshed_material(
+        &self,
+        elements: &RemeshedElements<'_>,
+    ) -> Result<Option<Arc<dyn BodyMaterial>>, (usize, String)> {
+        Ok(self
+            .remeshed(elements)?
+            .map(|m| Arc::new(m) as Arc<dyn BodyMaterial>))
     }
 
     fn static_element_forces(

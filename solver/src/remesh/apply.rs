@@ -25,7 +25,7 @@ use super::transfer::{element_centroids, element_volumes, shape_function_transfe
 use crate::dynamics::RunState;
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
-use crate::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
+use crate::material::RemeshedElements;
 use crate::mesh::{boundary_faces_of, Mesh};
 use crate::model::{
     light_density_ratio, BodyHistory, BodyMaterial, CarriedState, Constraint, MaterialHistory,
@@ -99,57 +99,24 @@ fn region_body(model: &Model, region: &[usize]) -> Result<usize> {
     Ok(body)
 }
 
-/// The remeshed body's material: the same for the elastic models (no data per element); for
-/// microplane concrete, each kept element's crack band and a new band from each new element's
-/// volume (its size on the new reference, the current configuration), so that the fracture
-/// energy stays that of the new element's size (crack band, Bazant & Oh 1983). Another
-/// material with a history is an error: its data per element cannot be rebuilt.
+/// The remeshed body's material ([`crate::material::Material::remeshed`]): the same for a model
+/// without data per element, rebuilt by the model for the new elements otherwise (microplane
+/// concrete: the crack band of each new element's size). An error names the body and the new
+/// element.
 fn remeshed_material(
     material: &Arc<dyn BodyMaterial>,
     body: &str,
-    origin: &[Option<u32>],
-    volumes: &[f64],
-    centroids: &[[f64; 3]],
+    elements: &RemeshedElements<'_>,
     first_element: usize,
 ) -> Result<Arc<dyn BodyMaterial>> {
-    let any: &dyn std::any::Any = &**material;
-    if let Some(m) = any.downcast_ref::<MicroplaneMaterial>() {
-        let mut bands = Vec::with_capacity(origin.len());
-        for (e, (o, v)) in origin.iter().zip(volumes).enumerate() {
-            let strength = m
-                .strength_field
-                .as_ref()
-                .map_or(1.0, |field| field.factor(centroids[e]));
-            bands.push(match o {
-                Some(o) => m.bands[*o as usize],
-                None => m
-                    .model
-                    .crack_band_with_strength(MicroplaneConcrete::element_size(*v), strength)
-                    .map_err(|message| {
-                        fail(
-                            &format!("body `{body}` new element {}", first_element + e),
-                            message,
-                        )
-                    })?,
-            });
-        }
-        return Ok(Arc::new(MicroplaneMaterial {
-            model: m.model.clone(),
-            bands,
-            strength_field: m.strength_field.clone(),
-        }));
+    match material.remeshed_material(elements) {
+        Ok(Some(rebuilt)) => Ok(rebuilt),
+        Ok(None) => Ok(material.clone()),
+        Err((e, message)) => Err(fail(
+            &format!("body `{body}` new element {}", first_element + e),
+            message,
+        )),
     }
-    if material.history_len() > 0 {
-        return Err(fail(
-            &format!("body `{body}`"),
-            format!(
-                "its material `{}` keeps a history whose data per element the remeshing cannot \
-                 rebuild (only microplane concrete's)",
-                material.name()
-            ),
-        ));
-    }
-    Ok(material.clone())
 }
 
 /// The remeshed body's history: kept elements copy theirs; new ones copy the history of their
@@ -521,9 +488,11 @@ pub fn remesh_problem(
             let material = remeshed_material(
                 &other.material,
                 &other.name,
-                &new.element_origin,
-                &new_volumes,
-                &element_centroids(&new.nodes, &new.tets),
+                &RemeshedElements {
+                    origin: &new.element_origin,
+                    volumes: &new_volumes,
+                    centroids: &element_centroids(&new.nodes, &new.tets),
+                },
                 elements.start,
             )?;
             (new.nodes.clone(), new.tets.clone(), material)

@@ -7,7 +7,8 @@ use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
 use crate::material::{
-    Deformation, ElementState, IsotropicElastic, Material, MaterialModel, StrengthField,
+    Deformation, ElementState, IsotropicElastic, Material, MaterialModel, RemeshedElements,
+    StrengthField,
 };
 
 /// Microplane concrete prepared for a body: the model with its microplanes and laws precomputed,
@@ -183,6 +184,32 @@ impl Material for MicroplaneMaterial {
 
     fn fast_updates(&self, history: &[f32]) -> Option<f64> {
         Some(history[state::ELASTIC_UPDATES] as f64)
+    }
+
+    /// Each kept element keeps its crack band; a new element gets the band of its own size (and
+    /// strength, with a strength field, at its centroid), so that the fracture energy stays that
+    /// of the new element's size (crack band, Bažant & Oh 1983).
+    fn remeshed(&self, elements: &RemeshedElements<'_>) -> Result<Option<Self>, (usize, String)> {
+        let mut bands = Vec::with_capacity(elements.origin.len());
+        for (e, (o, v)) in elements.origin.iter().zip(elements.volumes).enumerate() {
+            bands.push(match o {
+                Some(o) => self.bands[*o as usize],
+                None => {
+                    let strength = self
+                        .strength_field
+                        .as_ref()
+                        .map_or(1.0, |field| field.factor(elements.centroids[e]));
+                    self.model
+                        .crack_band_with_strength(MicroplaneConcrete::element_size(*v), strength)
+                        .map_err(|message| (e, message))?
+                }
+            });
+        }
+        Ok(Some(MicroplaneMaterial {
+            model: self.model.clone(),
+            bands,
+            strength_field: self.strength_field.clone(),
+        }))
     }
 
     fn strength_factor(&self, element: usize) -> Option<f64> {
