@@ -630,6 +630,9 @@ fn solver_modules_import_each_other_without_a_cycle() {
     assert!(g.len() > 10, "the solver's modules were found: {g:?}");
     let found = cycles(&g, "solver");
     assert!(found.is_empty(), "import cycles:\n{}", found.join("\n"));
+    // Nor inside a folder: no circle of files or folders side by side.
+    let found = folder_cycles(&c, "solver");
+    assert!(found.is_empty(), "import cycles:\n{}", found.join("\n"));
 }
 
 #[test]

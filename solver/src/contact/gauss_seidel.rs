@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use super::problem::{contact_natural_map, local_frame};
+use super::local::{contact_natural_map, local_frame};
 
 /// The fraction of the largest diagonal Delassus entry below which a direction counts as locked
 /// in [`ContactConstraint::trial`]: `|P e|^2 < 1/100`, a normal within 6 degrees of the

@@ -218,6 +218,49 @@ fn slide(a: &Matrix3<f64>, b: &Vector3<f64>, mu: f64, hint: &Vector3<f64>) -> Op
     })
 }
 
+/// Rows `n, t1, t2` of a right-handed frame; `t1` is `n` crossed with the global axis least
+/// aligned with it, so the frame is a deterministic function of `n`.
+pub fn local_frame(n: &Vector3<f64>) -> Matrix3<f64> {
+    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
+        Vector3::x()
+    } else if n.y.abs() <= n.z.abs() {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let t1 = n.cross(&axis).normalize();
+    let t2 = n.cross(&t1);
+    Matrix3::from_rows(&[n.transpose(), t1.transpose(), t2.transpose()])
+}
+
+/// One contact's natural map `r - P_K(r - u_hat)` (local components).
+pub fn contact_natural_map(r: &Vector3<f64>, u: &Vector3<f64>, mu: f64) -> Vector3<f64> {
+    if mu.is_infinite() {
+        let normal = r.x - (r.x - u.x).max(0.0);
+        return if r.x - u.x > 0.0 {
+            Vector3::new(normal, u.y, u.z)
+        } else {
+            Vector3::new(normal, r.y, r.z)
+        };
+    }
+    let ut = (u.y * u.y + u.z * u.z).sqrt();
+    let z = r - Vector3::new(u.x + mu * ut, u.y, u.z);
+    r - project_on_coulomb_cone(&z, mu)
+}
+
+/// Euclidean projection onto `{|z_T| <= mu z_N}` (Siconos `projectionOnCone`).
+pub fn project_on_coulomb_cone(z: &Vector3<f64>, mu: f64) -> Vector3<f64> {
+    let t = (z.y * z.y + z.z * z.z).sqrt();
+    if mu * t <= -z.x {
+        Vector3::zeros()
+    } else if t <= mu * z.x {
+        *z
+    } else {
+        let n = (mu * t + z.x) / (mu * mu + 1.0);
+        Vector3::new(n, mu * n * z.y / t, mu * n * z.z / t)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

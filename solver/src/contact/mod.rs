@@ -7,7 +7,7 @@ pub mod detection;
 pub mod gauss_seidel;
 pub mod geometry;
 pub mod local;
-pub mod normals;
+pub use detection::normals;
 pub mod nsgs;
 mod phase;
 pub mod problem;

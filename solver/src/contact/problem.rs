@@ -10,6 +10,7 @@
 //! For our own steps `q = -g` (the gap vector in the local frame) and `u = -d`, `d = g - W r` the
 //! corrected gap: `u_N >= 0` means no penetration remains.
 
+pub use super::local::{contact_natural_map, local_frame, project_on_coulomb_cone};
 use nalgebra::{Matrix3, Vector3};
 
 use super::gauss_seidel::ContactConstraint;
@@ -278,21 +279,6 @@ impl ContactProblem {
     }
 }
 
-/// Rows `n, t1, t2` of a right-handed frame; `t1` is `n` crossed with the global axis least
-/// aligned with it, so the frame is a deterministic function of `n`.
-pub fn local_frame(n: &Vector3<f64>) -> Matrix3<f64> {
-    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
-        Vector3::x()
-    } else if n.y.abs() <= n.z.abs() {
-        Vector3::y()
-    } else {
-        Vector3::z()
-    };
-    let t1 = n.cross(&axis).normalize();
-    let t2 = n.cross(&t1);
-    Matrix3::from_rows(&[n.transpose(), t1.transpose(), t2.transpose()])
-}
-
 /// The natural-map residual of FC(W, q, mu) at `r` (Acary, Bremond & Huber 2018, eq. error-1):
 /// `F = r - P_K(r - (u + g(u)))`, `u = W r + q`, `g(u)` the De Saxce shift `[mu |u_T|, 0, 0]`
 /// per contact, `P_K` the projection onto the product of Coulomb cones. `relative` is
@@ -327,34 +313,6 @@ pub fn natural_map_error(problem: &ContactProblem, r: &[f64]) -> NaturalMapError
     NaturalMapError {
         absolute,
         relative: if q > 0.0 { absolute / q } else { absolute },
-    }
-}
-
-/// One contact's natural map `r - P_K(r - u_hat)` (local components).
-pub fn contact_natural_map(r: &Vector3<f64>, u: &Vector3<f64>, mu: f64) -> Vector3<f64> {
-    if mu.is_infinite() {
-        let normal = r.x - (r.x - u.x).max(0.0);
-        return if r.x - u.x > 0.0 {
-            Vector3::new(normal, u.y, u.z)
-        } else {
-            Vector3::new(normal, r.y, r.z)
-        };
-    }
-    let ut = (u.y * u.y + u.z * u.z).sqrt();
-    let z = r - Vector3::new(u.x + mu * ut, u.y, u.z);
-    r - project_on_coulomb_cone(&z, mu)
-}
-
-/// Euclidean projection onto `{|z_T| <= mu z_N}` (Siconos `projectionOnCone`).
-pub fn project_on_coulomb_cone(z: &Vector3<f64>, mu: f64) -> Vector3<f64> {
-    let t = (z.y * z.y + z.z * z.z).sqrt();
-    if mu * t <= -z.x {
-        Vector3::zeros()
-    } else if t <= mu * z.x {
-        *z
-    } else {
-        let n = (mu * t + z.x) / (mu * mu + 1.0);
-        Vector3::new(n, mu * n * z.y / t, mu * n * z.z / t)
     }
 }
 

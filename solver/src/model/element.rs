@@ -1,18 +1,10 @@
-//! The element kernel every analysis shares, and [`BodyMaterial`]: a [`Material`] together with
-//! the element loops compiled for it.
-//!
-//! A body holds its material as `Arc<dyn BodyMaterial>`. The trait is implemented for every
-//! [`Material`], so a new constitutive model needs nothing but its `Material` implementation; the
-//! loops are generic over the model, so its update inlines into them and the dispatch costs one
-//! virtual call per assembly chunk, not one per element.
+//! The element kernel every analysis shares: the forces of one element from its deformation
+//! and its material's update ([`super::BodyMaterial`] runs it over the assembly's chunks).
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::assembly::{chunk_forces, ChunkJob};
 use crate::kinematics::{element_gradient, triple_product_determinant};
-use std::sync::Arc;
-
-use crate::material::{Deformation, ElementState, Material, RemeshedElements};
+use crate::material::{Deformation, ElementState, Material};
 
 /// What one element gives the assembly.
 #[derive(Debug, Clone, Copy)]
@@ -121,54 +113,4 @@ pub(super) fn element_forces_carried<M: Material + ?Sized>(
     forces_of_update(material, element, grad_n, &deformation, state, |p| {
         p * pull_back * volume
     })
-}
-
-/// A [`Material`] with the element loops compiled for it; implemented for every `Material`.
-pub trait BodyMaterial: Material {
-    /// Runs the assembly's element loop over one chunk (`model::assembly`), returning the lowest
-    /// inverted element of the chunk (`usize::MAX` if none).
-    fn assemble_chunk(&self, job: &ChunkJob<'_>) -> usize;
-
-    /// [`element_forces`] at zero strain rate, through the trait object.
-    fn static_element_forces(
-        &self,
-        element: usize,
-        grad_n: &[Vector3<f64>; 4],
-        volume: f64,
-        u: &[Vector3<f64>; 4],
-        state: ElementState<'_>,
-    ) -> ElementForces;
-
-    /// [`Material::remeshed`] through the trait object: the body's material for its new mesh
-    /// (`None`: the same material serves it).
-    fn remeshed_material(
-        &self,
-        elements: &RemeshedElements<'_>,
-    ) -> Result<Option<Arc<dyn BodyMaterial>>, (usize, String)>;
-}
-
-impl<M: Material> BodyMaterial for M {
-    fn assemble_chunk(&self, job: &ChunkJob<'_>) -> usize {
-        chunk_forces(self, job)
-    }
-
-    fn remeshed_material(
-        &self,
-        elements: &RemeshedElements<'_>,
-    ) -> Result<Option<Arc<dyn BodyMaterial>>, (usize, String)> {
-        Ok(self
-            .remeshed(elements)?
-            .map(|m| Arc::new(m) as Arc<dyn BodyMaterial>))
-    }
-
-    fn static_element_forces(
-        &self,
-        element: usize,
-        grad_n: &[Vector3<f64>; 4],
-        volume: f64,
-        u: &[Vector3<f64>; 4],
-        state: ElementState<'_>,
-    ) -> ElementForces {
-        element_forces(self, element, grad_n, volume, u, None, state)
-    }
 }

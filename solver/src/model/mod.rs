@@ -2,6 +2,7 @@
 //! geometry, lumped masses and the deterministic internal-force assembly.
 
 mod assembly;
+mod body_material;
 mod carried;
 mod conditions;
 mod crack_opening;
@@ -22,9 +23,10 @@ pub(crate) use assembly::{first_elements, NO_ELEMENT};
 /// Elements per block of the sums over elements (the stored energy): ranks own whole blocks.
 pub const ELEMENT_LEAF: usize = 64;
 pub use assembly::{ChunkJob, ForceAssembler};
+pub use body_material::BodyMaterial;
 pub use carried::CarriedState;
 pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunction};
-pub use element::{element_forces, BodyMaterial, ElementForces};
+pub use element::{element_forces, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
 pub use history::{BodyHistory, MaterialHistory};
 pub use probe::{Probe, ProbeQuantity};

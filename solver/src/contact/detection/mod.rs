@@ -16,17 +16,18 @@
 
 mod global;
 mod local;
+pub mod normals;
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::ccd::Trajectory;
 use super::gauss_seidel::ContactConstraint;
-use super::normals::{contact_normal_with, facet_normal, NormalSettings};
 use crate::mesh::{boundary_faces_of, boundary_nodes};
 use crate::model::Model;
 use global::{GlobalSearch, LayerBoxes};
 use local::{FaceBoxes, FaceScratch, LocalSearch, Strategy};
+use normals::{contact_normal_with, facet_normal, NormalSettings};
 
 /// The kept grids of detection ([`global::LayerBoxes`], [`local::FaceBoxes`]) are rebuilt once a
 /// node moved this fraction of a cell since: the queries grow by that motion, and a small

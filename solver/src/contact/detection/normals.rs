@@ -13,7 +13,7 @@
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::detection::ContactSurface;
+use super::ContactSurface;
 
 /// Which normal a contact's force conditions use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
