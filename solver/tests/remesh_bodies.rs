@@ -11,7 +11,7 @@ mod common;
 
 use common::*;
 use impact_solver::contact::registry::SolverKind;
-use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
+use impact_solver::dynamics::{ExplicitSettings, RunState};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec, Mesh};
@@ -24,15 +24,7 @@ use nalgebra::Vector3;
 fn run(problem: &Problem, state: Option<RunState>, steps: usize) -> RunState {
     let mut settings = ExplicitSettings::new(1.0);
     settings.safety = 0.5;
-    let mut solver = match state {
-        Some(s) => ExplicitSolver::resume(problem, settings, OutputSettings::default(), s),
-        None => ExplicitSolver::new(problem, settings, OutputSettings::default()),
-    }
-    .unwrap();
-    for _ in 0..steps {
-        solver.step().unwrap();
-    }
-    solver.state()
+    run_steps(problem, settings, state, steps)
 }
 
 /// The elements of body `body` whose current centroid lies within `radius` of `center`, grown

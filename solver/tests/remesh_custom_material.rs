@@ -11,7 +11,7 @@ mod common;
 use std::sync::Arc;
 
 use common::*;
-use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
+use impact_solver::dynamics::{ExplicitSettings, RunState};
 use impact_solver::material::{
     Deformation, ElementState, IsotropicElastic, LinearElastic, Material,
 };
@@ -48,16 +48,7 @@ impl Material for PeakDilatation {
 }
 
 fn run(problem: &Problem, state: Option<RunState>, steps: usize) -> RunState {
-    let settings = ExplicitSettings::new(1.0);
-    let mut solver = match state {
-        Some(s) => ExplicitSolver::resume(problem, settings, OutputSettings::default(), s),
-        None => ExplicitSolver::new(problem, settings, OutputSettings::default()),
-    }
-    .unwrap();
-    for _ in 0..steps {
-        solver.step().unwrap();
-    }
-    solver.state()
+    run_steps(problem, ExplicitSettings::new(1.0), state, steps)
 }
 
 #[test]

@@ -21,15 +21,7 @@ use nalgebra::{Matrix3, Vector3};
 fn run(problem: &Problem, dt: f64, state: Option<RunState>, steps: usize) -> RunState {
     let mut settings = ExplicitSettings::new(1.0);
     settings.time_step = Some(dt);
-    let mut solver = match state {
-        Some(s) => ExplicitSolver::resume(problem, settings, OutputSettings::default(), s),
-        None => ExplicitSolver::new(problem, settings, OutputSettings::default()),
-    }
-    .unwrap();
-    for _ in 0..steps {
-        solver.step().unwrap();
-    }
-    solver.state()
+    run_steps(problem, settings, state, steps)
 }
 
 /// The elements whose centroid lies within `radius` of `center`, grown by one layer.

@@ -46,15 +46,6 @@ fn element_strength_scales_the_peak_and_keeps_the_fracture_energy() {
     }
 }
 
-/// Strength 1 is the material itself, bit for bit.
-#[test]
-fn unit_strength_is_the_material_bit_for_bit() {
-    let model = MicroplaneConcrete::new(shipped_concrete("thesis-concrete")).unwrap();
-    let a = model.crack_band(0.05).unwrap();
-    let b = model.crack_band_with_strength(0.05, 1.0).unwrap();
-    assert_eq!(a, b);
-}
-
 /// A strong element too large for its refitted band is refused with a message that names the
 /// field.
 #[test]

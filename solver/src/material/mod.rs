@@ -202,7 +202,7 @@ pub struct RemeshedElements<'a> {
     /// Volume of each new element on its new reference (the configuration it is made in).
     pub volumes: &'a [f64],
     /// Centroid of each new element on that reference.
-    pub centroids: &'a [[f64; 3]],
+    pub centroids: &'a [nalgebra::Vector3<f64>],
 }
 
 /// The material of a body in the model. (A scene names it through `scene::MaterialSpec`, which

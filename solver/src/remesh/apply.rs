@@ -21,7 +21,7 @@ use super::mesh_check::{check_remeshed, RemeshCheck};
 use super::mesher::{remesh_region_keeping_edges, MesherOptions};
 use super::record::{kinetic_energy, momentum, MeshState, RemeshRecord};
 use super::splice::Splice;
-use super::transfer::{element_centroids, element_volumes, shape_function_transfer};
+use super::transfer::{element_volumes, shape_function_transfer};
 use crate::dynamics::RunState;
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
@@ -491,7 +491,8 @@ pub fn remesh_problem(
                 &RemeshedElements {
                     origin: &new.element_origin,
                     volumes: &new_volumes,
-                    centroids: &element_centroids(&new.nodes, &new.tets),
+                    // On the final reference, after the surface nodes moved apart, as the volumes.
+                    centroids: &centroids(&new.nodes, &new.tets),
                 },
                 elements.start,
             )?;

@@ -27,16 +27,6 @@ pub fn element_volumes(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> Vec<f64> {
         .collect()
 }
 
-/// The centroid of every tetrahedron of `tets` over `nodes`.
-pub fn element_centroids(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> Vec<[f64; 3]> {
-    tets.iter()
-        .map(|t| {
-            let x = t.map(|n| nodes[n as usize]);
-            std::array::from_fn(|i| 0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i]))
-        })
-        .collect()
-}
-
 /// T3, the nodal transfer (8.10), Box 8.3: the value of a nodal field at each new node is the
 /// old element's interpolation at the node, `u_new = sum_a N_a(xi) u_a^old`, with the
 /// barycentric coordinates `xi` of the node in the old element that holds it (`locations`, from

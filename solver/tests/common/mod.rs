@@ -7,6 +7,7 @@
 use impact_solver::contact::registry::{SolverChoice, SolverKind};
 use impact_solver::contact::solver::SolveLimits;
 use impact_solver::contact::ContactPair;
+use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
 use impact_solver::model::Model;
@@ -295,4 +296,23 @@ pub fn contact_pair(name: &str, friction: f64, solver: SolverChoice) -> ContactP
         skip_symmetry_faces: false,
         penetration_release_speed: f64::INFINITY,
     }
+}
+
+/// Runs `steps` explicit steps of `problem` under `settings`, from `state` or from the start,
+/// and returns the state reached.
+pub fn run_steps(
+    problem: &Problem,
+    settings: ExplicitSettings,
+    state: Option<RunState>,
+    steps: usize,
+) -> RunState {
+    let mut solver = match state {
+        Some(s) => ExplicitSolver::resume(problem, settings, OutputSettings::default(), s),
+        None => ExplicitSolver::new(problem, settings, OutputSettings::default()),
+    }
+    .unwrap();
+    for _ in 0..steps {
+        solver.step().unwrap();
+    }
+    solver.state()
 }

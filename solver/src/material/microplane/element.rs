@@ -55,9 +55,7 @@ impl MicroplaneMaterial {
         let mut too_large: Option<(usize, String)> = None;
         let mut count = 0;
         for (local, &v) in volumes.iter().enumerate() {
-            let strength = strength_field
-                .as_ref()
-                .map_or(1.0, |field| field.factor(centroids[local]));
+            let strength = strength_at(strength_field.as_ref(), centroids[local]);
             match model.crack_band_with_strength(MicroplaneConcrete::element_size(v), strength) {
                 Ok(band) => bands.push(band),
                 Err(message) => {
@@ -85,6 +83,11 @@ impl MicroplaneMaterial {
             strength_field,
         })
     }
+}
+
+/// The strength factor at `x`: the field's, or 1 without one.
+fn strength_at(field: Option<&StrengthField>, x: [f64; 3]) -> f64 {
+    field.map_or(1.0, |field| field.factor(x))
 }
 
 /// `[11, 22, 33, 23, 13, 12]` of a symmetric matrix (the microplane model's order, tensor shears).
@@ -195,10 +198,8 @@ impl Material for MicroplaneMaterial {
             bands.push(match o {
                 Some(o) => self.bands[*o as usize],
                 None => {
-                    let strength = self
-                        .strength_field
-                        .as_ref()
-                        .map_or(1.0, |field| field.factor(elements.centroids[e]));
+                    let centroid = elements.centroids[e].into();
+                    let strength = strength_at(self.strength_field.as_ref(), centroid);
                     self.model
                         .crack_band_with_strength(MicroplaneConcrete::element_size(*v), strength)
                         .map_err(|message| (e, message))?

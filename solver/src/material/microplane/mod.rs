@@ -14,6 +14,7 @@
 
 pub mod calibration;
 pub mod cyclic;
+mod dilatancy;
 pub mod directions;
 pub mod discontinuity;
 mod dissipation;
@@ -468,43 +469,6 @@ impl MicroplaneConcrete {
         }
     }
 
-    /// The dilatant strain the next update may use, given the one used now (`reached`), the
-    /// one the planes ask for (`wanted`, larger), the volumetric strain `e_V` of this update, the
-    /// largest compressive strain the volumetric law has reached (`compressed`) and the energy
-    /// per unit volume the planes dissipated in this update (`dissipated()`, J/m^3, evaluated
-    /// only where the shift reaches volumetric compression).
-    ///
-    /// The dilatant strain shifts the volumetric law's argument (MICROPLANE "Dilatancy"): a growth
-    /// `d` at fixed `e_V` raises the law's stored energy by `3 int p dx` over the compressive part
-    /// of the shift, energy that no work put in. The second law allows that only out of what the
-    /// planes dissipate, so the growth is capped where `3 p d` reaches `dissipated` (with `p` the
-    /// pressure at the end of the shift, the largest on it: the cap never lets the stored energy
-    /// grow by more). Under small confinement (uniaxial compression) the planes' dissipation pays
-    /// for the whole growth; under the GPa pressures of a penetrator it pays for little, and
-    /// without the cap a sheared element pushed its neighbours apart with energy it never stored.
-    #[inline(always)]
-    fn admissible_dilatancy(
-        &self,
-        reached: f64,
-        wanted: f64,
-        e_v: f64,
-        compressed: f64,
-        dissipated: impl FnOnce() -> f64,
-    ) -> f64 {
-        // Compressive strain of the volumetric law at the start and at the end of the shift.
-        let (x0, x1) = (reached - e_v, wanted - e_v);
-        if x1 <= 0.0 {
-            return wanted;
-        }
-        let pressure = self.volumetric_pressure(x1, compressed);
-        if pressure <= 0.0 {
-            return wanted;
-        }
-        // The part of the shift in volumetric tension (x < 0) stores nothing.
-        let free = (-x0).max(0.0);
-        (reached + free + dissipated().max(0.0) / (3.0 * pressure)).min(wanted)
-    }
-
     /// The planes (5.85, 5.86, 5.23, 5.100-5.104) and the homogenisation (5.36) around the
     /// volumetric stress `s_V`, advancing the plane histories.
     #[allow(clippy::too_many_arguments)]
@@ -529,28 +493,15 @@ impl MicroplaneConcrete {
         // drop tests the cracked zone pumped about 700 J into the beam in 3 ms).
         // With the tensile boundary the planes crack one by one and psi stays 1.
         let boundary = p.tension_boundary.map(|b| {
-            let (e, h_ref) = (p.youngs_modulus, p.h_ref);
-            b.scaled(e, band.size, h_ref, band.strength, f)
-                .unwrap_or_else(|| tension_boundary::PlaneBoundary {
-                    // Refused when the body was built; kept finite if a remeshed element is not.
-                    f0: f * band.strength * b.strength,
-                    softening: 1.000001 * f * band.strength * b.strength / e,
-                    youngs: e,
-                })
+            let count = self.planes.len();
+            tension_boundary::ElementBoundary::new(
+                &b,
+                p,
+                band,
+                f,
+                &planes[..state::PER_PLANE * count],
+            )
         });
-        let strain_weight = p.tension_boundary.map_or(0.0, |b| b.strain_weight);
-        // The element's largest plane damage of the previous update: it releases the shear of
-        // every plane that is not in compression (a crack on one plane lets the shear of the
-        // planes across it go, not that of the planes it compresses).
-        let element_damage = if boundary.is_some() {
-            let n = self.planes.len();
-            planes[..state::PER_PLANE * n]
-                .chunks_exact(state::PER_PLANE)
-                .map(|h| h[state::D_POSITIVE + 1])
-                .fold(0.0f32, f32::max) as f64
-        } else {
-            0.0
-        };
         let relaxation = if boundary.is_some() {
             1.0
         } else {
@@ -733,28 +684,8 @@ impl MicroplaneConcrete {
             sum_d += w * s_d;
             let (s_d, s_m, s_k) = match &boundary {
                 Some(b) => {
-                    // The plane's total normal stress s_V + s_D and its driver; the D+ slots
-                    // hold the largest driver and the damage (`tension_boundary`).
-                    let total = s_v + s_d;
-                    let driver = total + strain_weight * (b.youngs * normal[p] - total);
                     let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
-                    let damage = if driver > slot[0] as f64 {
-                        let d = b.damage(driver);
-                        slot[0] = driver as f32;
-                        slot[1] = d as f32;
-                        d
-                    } else {
-                        slot[1] as f64
-                    };
-                    if total > 0.0 {
-                        // An open crack: the normal stress falls to the boundary, and the shear
-                        // across the crack with it. The trace term keeps the uncapped s_D, so
-                        // the cap lowers the mean stress too.
-                        let open = 1.0 - element_damage.max(damage);
-                        (s_d - damage * total, open * s_m, open * s_k)
-                    } else {
-                        (s_d, s_m, s_k)
-                    }
+                    b.cap_plane(slot, s_v, s_d, s_m, s_k, normal[p])
                 }
                 None => (s_d, s_m, s_k),
             };

@@ -22,6 +22,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::{state, CrackBand, MicroplaneParameters};
+
 /// The tensile boundary of every microplane (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -122,6 +124,82 @@ impl PlaneBoundary {
             }
         }
         (e * y / kappa).clamp(0.0, 1.0)
+    }
+}
+
+/// The boundary of one element at one update: its planes' boundary, the driver's strain weight,
+/// and the element's largest plane damage of the previous update, which releases the shear of
+/// every plane that is not in compression (a crack on one plane lets the shear of the planes
+/// across it go, not that of the planes it compresses).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ElementBoundary {
+    plane: PlaneBoundary,
+    strain_weight: f64,
+    element_damage: f64,
+}
+
+impl ElementBoundary {
+    /// The boundary of an element with crack band `band` at the rate factor `f`, its plane
+    /// histories `planes` ([`state::PER_PLANE`] values per plane).
+    pub(super) fn new(
+        boundary: &TensionBoundary,
+        parameters: &MicroplaneParameters,
+        band: &CrackBand,
+        f: f64,
+        planes: &[f32],
+    ) -> Self {
+        let (e, h_ref, s) = (parameters.youngs_modulus, parameters.h_ref, band.strength);
+        let plane = boundary
+            .scaled(e, band.size, h_ref, s, f)
+            .unwrap_or_else(|| PlaneBoundary {
+                // Refused when the body was built; kept finite if a remeshed element is not.
+                f0: f * s * boundary.strength,
+                softening: 1.000001 * f * s * boundary.strength / e,
+                youngs: e,
+            });
+        let element_damage = planes
+            .chunks_exact(state::PER_PLANE)
+            .map(|h| h[state::D_POSITIVE + 1])
+            .fold(0.0f32, f32::max) as f64;
+        Self {
+            plane,
+            strain_weight: boundary.strain_weight,
+            element_damage,
+        }
+    }
+
+    /// One plane's deviatoric, `m` and `k` stresses under its boundary, from the laws' `s_d`,
+    /// `s_m`, `s_k`, the volumetric stress `s_v` and the plane's normal strain `eps_n`;
+    /// `slot` holds the plane's largest driver and its damage (the `D+` slots, unused by the
+    /// elastic tension laws). The trace term keeps the uncapped `s_D`, so a cap lowers the mean
+    /// stress too.
+    #[inline(always)]
+    pub(super) fn cap_plane(
+        &self,
+        slot: &mut [f32],
+        s_v: f64,
+        s_d: f64,
+        s_m: f64,
+        s_k: f64,
+        eps_n: f64,
+    ) -> (f64, f64, f64) {
+        let total = s_v + s_d;
+        let driver = total + self.strain_weight * (self.plane.youngs * eps_n - total);
+        let damage = if driver > slot[0] as f64 {
+            let d = self.plane.damage(driver);
+            slot[0] = driver as f32;
+            slot[1] = d as f32;
+            d
+        } else {
+            slot[1] as f64
+        };
+        if total > 0.0 {
+            // An open crack: the normal stress falls to the boundary, the shear across it too.
+            let open = 1.0 - self.element_damage.max(damage);
+            (s_d - damage * total, open * s_m, open * s_k)
+        } else {
+            (s_d, s_m, s_k)
+        }
     }
 }
 
