@@ -1,0 +1,104 @@
+// Half-notched beam D = 50 mm of Gregoire, Rojas-Solano & Pijaudier-Cabot (2013), graded toward
+// the notch: the geometry, notch (5 mm wide) and node lines of notched_beam.geo, meshed finely
+// enough that the elastic load-CMOD slope is within 2.5 % of its converged value (the 5 x 5 x 10
+// mm cells of notched_beam.geo are 24 % too stiff; solver/examples/notched_beam_elastic_slope.rs).
+// x along the span, y up, z across; SI units (metres); linear tetrahedra.
+// From this folder, with Gmsh 4.15.2:
+//   gmsh notched_beam_graded.geo -3 -format msh41 -bin -o notched_beam_d50_graded.msh
+// (or ./generate.sh). README.md lists what the mesh achieves.
+//
+// In the plane x-y: the ligament over the notch (x = 85 to 90 mm, y = 25 to 50 mm, where the
+// crack runs) is a structured strip of hb x hb squares, so that every element of the crack band
+// has one size; elsewhere triangles of size ht at the notch tip's corners growing to hm within
+// rm of the notch's mid-plane and to hf beyond (Frontal-Delaunay). The plane mesh is extruded
+// across the width in nz layers, each prism split into three tetrahedra. Linear tetrahedra in
+// bending need the fine cells over the whole hinge, not only at the tip: grading to 5 mm within
+// a few cells of the tip leaves the slope 8 % stiff (example above, rows 3d-1.25-c5-z10).
+// Each parameter can be set from the command line (gmsh ... -setnumber hb 0.00125).
+//
+// Physical group (the solver's reader turns it into a node set of the same name):
+//   Volume "beam": all tetrahedra, hence all nodes.
+
+L = 0.175;   // length, x
+D = 0.05;    // depth, y
+W = 0.05;    // width, z
+x0 = 0.085;  // notch from x0 to x1, y from 0 to a0
+x1 = 0.090;
+a0 = 0.025;
+If (!Exists(hb)) hb = 0.000625; EndIf  // the ligament strip's squares (crack band)
+If (!Exists(ht)) ht = 0.000625; EndIf  // at the notch tip's corners
+If (!Exists(hm)) hm = 0.0025; EndIf    // within rm of the notch's mid-plane
+If (!Exists(rm)) rm = 0.025; EndIf
+If (!Exists(hf)) hf = 0.005; EndIf     // elsewhere
+If (!Exists(nz)) nz = 5; EndIf         // layers across the width (10 mm)
+
+// The outline less the notch, with points at the supports (x = 25 and 150 mm, y = 0) and the
+// notch mouth and tip; the strip's sides 4-11 and 5-10 split the beam in three surfaces.
+Point(1) = {0, 0, 0};
+Point(2) = {0.025, 0, 0};
+Point(3) = {x0, 0, 0};
+Point(4) = {x0, a0, 0};
+Point(5) = {x1, a0, 0};
+Point(6) = {x1, 0, 0};
+Point(7) = {0.15, 0, 0};
+Point(8) = {L, 0, 0};
+Point(9) = {L, D, 0};
+Point(10) = {x1, D, 0};
+Point(11) = {x0, D, 0};
+Point(12) = {0, D, 0};
+For i In {1 : 11}
+  Line(i) = {i, i + 1};
+EndFor
+Line(12) = {12, 1};
+Line(13) = {5, 10};
+Line(14) = {4, 11};
+Curve Loop(1) = {4, 13, 10, -14};
+Plane Surface(1) = {1};              // the ligament strip
+Curve Loop(2) = {1, 2, 3, 14, 11, 12};
+Plane Surface(2) = {2};              // left of it
+Curve Loop(3) = {5, 6, 7, 8, 9, -13};
+Plane Surface(3) = {3};              // right of it
+
+Transfinite Curve{4, 10} = Round((x1 - x0) / hb) + 1;
+Transfinite Curve{13, 14} = Round((D - a0) / hb) + 1;
+Transfinite Surface{1};
+
+// Size: ht at the tip's corners growing by 0.15 per unit distance to hf, and at most hm in the
+// box |x - 87.5 mm| < rm (Gmsh's Box field, blending into hf over 10 mm).
+Field[1] = Distance;
+Field[1].PointsList = {4, 5};
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = ht;
+Field[2].SizeMax = hf;
+Field[2].DistMin = 0.001;
+Field[2].DistMax = 0.001 + (hf - ht) / 0.15;
+Field[3] = Box;
+Field[3].VIn = hm;
+Field[3].VOut = hf;
+Field[3].XMin = (x0 + x1) / 2 - rm;
+Field[3].XMax = (x0 + x1) / 2 + rm;
+Field[3].YMin = 0;
+Field[3].YMax = D;
+Field[3].ZMin = -1;
+Field[3].ZMax = 1;
+Field[3].Thickness = 0.01;
+Field[4] = Min;
+Field[4].FieldsList = {2, 3};
+Background Field = 4;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm = 6;
+
+volumes[] = {};
+For s In {1 : 3}
+  out[] = Extrude {0, 0, W} { Surface{s}; Layers{nz}; };
+  volumes[] += out[1];
+EndFor
+
+Mesh.ElementOrder = 1;
+Mesh.RandomSeed = 1;
+General.NumThreads = 1;
+
+Physical Volume("beam") = {volumes[]};
