@@ -1,11 +1,23 @@
 //! The runner: one job per case and variant, run by the case's kind (several at once when
 //! cores allow), each result handed on as it finishes.
+//!
+//! Parallel runs give each case a lane: a thread pool of its own, of the global pool's threads
+//! divided among the lanes (one each on two cores). A case run as a task of one shared pool can
+//! be taken up by a worker waiting inside another case's parallel loop, and the waiting case
+//! stays frozen under it until the whole taken case ends; cases run on threads of their own but
+//! one shared pool contend three threads to two cores, and a case's parallel loops queue behind
+//! the other's. Either way the nail run took about three times its time alone. A lane's pool
+//! serves its own case only. The longest cases start first, so the last to finish is a short
+//! one.
 
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 use crate::case_kind::{unfinished_result, LoadedCase, RunOptions};
 use crate::catalogue::Variant;
 use crate::results::{CaseResult, Status};
+
+type Job<'a> = (&'a LoadedCase, Option<&'a Variant>);
 
 /// Runs the cases and returns their results in the order given. `on_done` is called as each
 /// case finishes (for progress display).
@@ -15,7 +27,7 @@ pub fn run_cases(
     on_done: &(dyn Fn(&CaseResult) + Sync),
 ) -> Vec<CaseResult> {
     // One job per case and variant, in catalogue order.
-    let jobs: Vec<(&LoadedCase, Option<&Variant>)> = cases
+    let jobs: Vec<Job> = cases
         .iter()
         .flat_map(|c| {
             if c.spec.variants.is_empty() {
@@ -25,11 +37,11 @@ pub fn run_cases(
             }
         })
         .collect();
-    let run_one = |(case, variant): &(&LoadedCase, Option<&Variant>)| {
+    let run_one = |(case, variant): &Job| {
         let stopped = options
             .stop
             .as_ref()
-            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed));
+            .is_some_and(|f| f.load(Ordering::Relaxed));
         let result = if stopped {
             let mut r = unfinished_result(&case.spec, variant.map_or("default", |v| &v.name));
             r.status = Status::Interrupted;
@@ -45,9 +57,47 @@ pub fn run_cases(
         on_done(&result);
         result
     };
-    if options.parallel {
-        jobs.par_iter().map(run_one).collect()
-    } else {
-        jobs.iter().map(run_one).collect()
+    let lanes = rayon::current_num_threads().min(jobs.len());
+    if !options.parallel || lanes <= 1 {
+        return jobs.iter().map(run_one).collect();
     }
+
+    let threads_per_lane = (rayon::current_num_threads() / lanes).max(1);
+    let order = longest_first(&jobs);
+    let next = AtomicUsize::new(0);
+    let slots: Vec<Mutex<Option<CaseResult>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..lanes {
+            scope.spawn(|| {
+                let lane = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads_per_lane)
+                    .build()
+                    .expect("a thread pool for a lane of cases");
+                while let Some(&job) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let result = lane.install(|| run_one(&jobs[job]));
+                    *slots[job].lock().unwrap_or_else(|e| e.into_inner()) = Some(result);
+                }
+            });
+        }
+    });
+    slots
+        .into_iter()
+        .map(|slot| {
+            slot.into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .expect("every job ran on a lane")
+        })
+        .collect()
+}
+
+/// The jobs' indices, longest expected first: by the case's wall-time guard `time_limit_s`
+/// (each long case's guard is set from its measured length; a case without one is short), in
+/// catalogue order among equals.
+fn longest_first(jobs: &[Job]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by(|&a, &b| {
+        let limit = |j: usize| jobs[j].0.spec.time_limit_s.unwrap_or(0.0);
+        limit(b).total_cmp(&limit(a))
+    });
+    order
 }
