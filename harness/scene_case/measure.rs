@@ -77,6 +77,17 @@ pub enum Measure {
         /// Name of the history column.
         column: String,
     },
+    /// `scale` times the value of `column` in the row where `of` has its largest |value|: the
+    /// crack mouth opening at the peak load, say.
+    ValueAtPeak {
+        /// Name of the history column read.
+        column: String,
+        /// Name of the history column whose peak picks the row.
+        of: String,
+        /// Factor on the value (default 1).
+        #[serde(default = "one")]
+        scale: f64,
+    },
     /// The largest |value| of a column over the mean |value| of the five rows centred on it (the
     /// peak's row and two on each side, fewer at an end of the history): 1 for a peak that the
     /// records resolve, up to 5 for a spike of one row. A peak force that is a single-step spike

@@ -5,6 +5,8 @@
 // x along the span, y up, z across; SI units (metres); linear tetrahedra.
 // From this folder, with Gmsh 4.15.2:
 //   gmsh notched_beam_graded.geo -3 -format msh41 -bin -o notched_beam_d50_graded.msh
+//   gmsh notched_beam_graded.geo -3 -setnumber nw 0.00125 -format msh41 -bin \
+//     -o notched_beam_d50_graded_n1.25.msh
 // (or ./generate.sh). README.md lists what the mesh achieves.
 //
 // In the plane x-y: the ligament over the notch (x = 85 to 90 mm, y = 25 to 50 mm, where the
@@ -22,8 +24,15 @@
 L = 0.175;   // length, x
 D = 0.05;    // depth, y
 W = 0.05;    // width, z
-x0 = 0.085;  // notch from x0 to x1, y from 0 to a0
-x1 = 0.090;
+// The notch from x0 to x1, y from 0 to a0: 5 mm wide by default; -setnumber nw W makes it W wide,
+// centred on the same mid-plane x = 87.5 mm (the tests' notch was cast with a thin plate).
+If (!Exists(nw))
+  x0 = 0.085;
+  x1 = 0.090;
+Else
+  x0 = 0.0875 - nw / 2;
+  x1 = 0.0875 + nw / 2;
+EndIf
 a0 = 0.025;
 If (!Exists(hb)) hb = 0.000625; EndIf  // the ligament strip's squares (crack band)
 If (!Exists(ht)) ht = 0.000625; EndIf  // at the notch tip's corners

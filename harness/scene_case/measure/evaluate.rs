@@ -56,6 +56,11 @@ impl Measure {
                     .ok_or("empty history")?;
                 t[i]
             }
+            Measure::ValueAtPeak {
+                column: c,
+                of,
+                scale,
+            } => value_at_peak(&column(c)?, &column(of)?)? * scale,
             Measure::PeakOverNeighbours { column: c } => peak_over_neighbours(&column(c)?)?,
             Measure::DurationAbove {
                 column: c,
@@ -490,9 +495,26 @@ fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
     Err(format!("the signal never reaches {level}"))
 }
 
+/// `y` in the row of the largest `|peak|` (the first of equal ones; [`Measure::ValueAtPeak`]).
+fn value_at_peak(y: &[f64], peak: &[f64]) -> Result<f64, String> {
+    let p = (0..peak.len().min(y.len()))
+        .reduce(|a, b| if peak[b].abs() > peak[a].abs() { b } else { a })
+        .ok_or("empty history")?;
+    Ok(y[p])
+}
+
 #[cfg(test)]
 mod tests {
-    use super::peak_over_neighbours;
+    use super::{peak_over_neighbours, value_at_peak};
+
+    #[test]
+    fn the_value_at_a_peak_is_read_in_the_peaks_row() {
+        // A load that peaks (in magnitude, negative) at the third row: the opening there.
+        let load = [0.0, -2.0, -5.0, -3.0, 5.0];
+        let opening = [0.0, 1.0, 2.0, 3.0, 4.0];
+        assert_eq!(value_at_peak(&opening, &load).unwrap(), 2.0);
+        assert!(value_at_peak(&[], &[]).is_err());
+    }
 
     #[test]
     fn a_resolved_peak_stands_little_above_its_neighbours_and_a_spike_stands_far() {
