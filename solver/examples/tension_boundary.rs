@@ -2,15 +2,19 @@
 //! material point (h = 50 mm, quasi-static), against the calibration's targets and Kupfer's
 //! tension-compression envelope: uniaxial tension (peak, strain there, fracture energy on the
 //! crack band's path), uniaxial and equal-biaxial compression, tension under a held lateral
-//! compression, and a crack opened to `w_cr` in x and then compressed in y.
+//! compression, and a crack opened to `w_cr` in x on the crack band's path and then compressed
+//! in y with the other strains held (`crack_compression.rs`). `FRICTION` sets `crack_friction`,
+//! the shear boundary's Coulomb coefficient on the compressed planes (0 or absent: none).
 //!
-//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA`
+//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION]`
 
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
-use impact_solver::material::microplane::driver::{Control, MaterialPoint};
+use impact_solver::material::microplane::crack_compression::{
+    compression_along_crack, kupfer_gerstle, lateral_tension_ratio,
+};
 use impact_solver::material::microplane::experiments::{
-    bonded_tension, equal_biaxial_compression, tension_under_lateral_stress, uniaxial_compression,
+    bonded_tension, equal_biaxial_compression, uniaxial_compression,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, TensionBoundary};
 use impact_solver::material::read_microplane_file;
@@ -32,6 +36,10 @@ fn main() {
         softening_strain: number(3, 6e-4),
         strain_weight: number(4, 0.0),
     });
+    let friction = number(5, 0.0);
+    if friction > 0.0 {
+        parameters.crack_friction = Some(friction);
+    }
     let model = MicroplaneConcrete::new(parameters).unwrap();
     let (_, t) = bonded_tension(&model, H, 1e-6).unwrap();
     println!(
@@ -66,65 +74,27 @@ fn main() {
     println!("lateral   peak/uniaxial  Kupfer-Gerstle");
     for k in [0.5, 1.0, 2.0, 5.0] {
         let lateral = -k * FT;
-        match tension_under_lateral_stress(&model, H, lateral, 8e-4, 400) {
-            Ok(curve) => println!(
+        match lateral_tension_ratio(&model, H, lateral, uniaxial, 8e-4) {
+            Ok((ratio, passed)) => println!(
                 "{:>5.1} f_t  {:>6.3}{}        {:.3}",
                 -k,
-                curve.peak().stress[0] / uniaxial,
-                if curve.peak_passed() { "  " } else { ">=" },
-                1.0 + 0.8 * lateral / FC
+                ratio,
+                if passed { "  " } else { ">=" },
+                kupfer_gerstle(lateral, FC)
             ),
             Err(e) => println!("{:>5.1} f_t  {e}", -k),
         }
     }
-    // A crack opened in x to w_cr = 0.2 mm (eps 4e-3 at 50 mm) at sigma_yy = sigma_zz = 0, then
-    // y compressed with x held: the lateral strength of the cracked point against that of a
-    // virgin point on the same y path.
-    let crushing = |open: bool| {
-        let mut point = MaterialPoint::new(&model, H).unwrap();
-        let dt = 1.0;
-        let mut exx = 0.0;
-        if open {
-            for i in 1..=400 {
-                exx = 4e-3 * i as f64 / 400.0;
-                let c = [
-                    Control::Strain(exx),
-                    Control::Stress(0.0),
-                    Control::Stress(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                ];
-                if point.mixed_step_subdivided(&c, dt).is_err() {
-                    println!("  (opening stopped at {exx:.2e})");
-                    break;
-                }
-            }
-        }
-        let start = point.strain[1];
-        let mut peak: f64 = 0.0;
-        for i in 1..=600 {
-            let c = [
-                Control::Strain(exx),
-                Control::Strain(start - 6e-3 * i as f64 / 600.0),
-                Control::Stress(0.0),
-                Control::Strain(0.0),
-                Control::Strain(0.0),
-                Control::Strain(0.0),
-            ];
-            match point.mixed_step_subdivided(&c, dt) {
-                Ok(p) => peak = peak.max(-p.stress[1]),
-                Err(_) => break,
-            }
-        }
-        peak
-    };
-    let (virgin, cracked) = (crushing(false), crushing(true));
-    println!(
-        "compression along a crack: {:.1} MPa against {:.1} uncracked ({:.2})",
-        cracked * 1e-6,
-        virgin * 1e-6,
-        cracked / virgin
-    );
-    let _ = FC;
+    // A crack opened in x to w_cr = 0.2 mm on the crack band's path, then y compressed with x
+    // held: the lateral strength of the cracked point against that of a virgin point.
+    match compression_along_crack(&model, H, 2e-4, 6e-3) {
+        Ok(c) => println!(
+            "compression along a crack (opened to {:.2e}): {:.1} MPa against {:.1} uncracked ({:.2})",
+            c.opening_strain,
+            c.cracked * 1e-6,
+            c.virgin * 1e-6,
+            c.ratio()
+        ),
+        Err(e) => println!("compression along a crack: {e}"),
+    }
 }

@@ -15,6 +15,13 @@
 //! - `sigma_N = (1 - d) sigma_el` while `sigma_el > 0`, and `sigma_el` once the crack is closed
 //!   (secant unloading to the origin, full stiffness in compression).
 //!
+//! The shear boundary (M7's shear boundary: a cohesion that goes as the planes open, friction on
+//! the compressed ones): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the
+//! element's largest plane damage, and with `crack_friction` each compressed plane's Coulomb
+//! slider carries up to `mu <-sigma_N>` on the plane's capped normal stress once the element has
+//! cracked. Without the release of the compressed planes' shear a point under a lateral
+//! compression kept hardening after its tensile planes had cracked.
+//!
 //! Crack band: the plane dissipates `f0 eps_f` per unit volume; `eps_f` is set per
 //! element so that `h` times that is the energy at `h_ref` (Bažant & Oh 1983), with the rate
 //! factor and the element's strength scaling `f0` (and the rate factor the energy by `F^2`, as it
@@ -22,7 +29,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{state, CrackBand, MicroplaneParameters};
+use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters};
 
 /// The tensile boundary of every microplane (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -168,11 +175,24 @@ impl ElementBoundary {
         }
     }
 
-    /// One plane's deviatoric, `m` and `k` stresses under its boundary, from the laws' `s_d`,
-    /// `s_m`, `s_k`, the volumetric stress `s_v` and the plane's normal strain `eps_n`;
-    /// `slot` holds the plane's largest driver and its damage (the `D+` slots, unused by the
-    /// elastic tension laws). The trace term keeps the uncapped `s_D`, so a cap lowers the mean
-    /// stress too.
+    /// Whether the element has a cracked plane (its shear laws are then being released and a
+    /// crack friction's sliders take over on the compressed planes).
+    #[inline(always)]
+    pub(super) fn cracked(&self) -> bool {
+        self.element_damage > 0.0
+    }
+
+    /// One plane's deviatoric, `m` and `k` stresses under its boundary, and its total normal
+    /// stress after the cap, from the laws' `s_d`, `s_m`, `s_k`, the volumetric stress `s_v`
+    /// and the plane's normal strain `eps_n`; `slot` holds the plane's largest driver and its
+    /// damage (the `D+` slots, unused by the elastic tension laws). The trace term keeps the
+    /// uncapped `s_D`, so a cap lowers the mean stress too.
+    ///
+    /// The shear boundary (M7's cohesion that vanishes as the planes open, Caner & Bažant
+    /// 2013): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the largest
+    /// plane damage of the element (on an open plane, its own damage if larger). On a
+    /// compressed plane the crack friction's slider, bounded by `mu <-sigma_N>`, then carries
+    /// what friction can (`MicroplaneConcrete::crack_friction`).
     #[inline(always)]
     pub(super) fn cap_plane(
         &self,
@@ -182,7 +202,7 @@ impl ElementBoundary {
         s_m: f64,
         s_k: f64,
         eps_n: f64,
-    ) -> (f64, f64, f64) {
+    ) -> (f64, f64, f64, f64) {
         let total = s_v + s_d;
         let driver = total + self.strain_weight * (self.plane.youngs * eps_n - total);
         let damage = if driver > slot[0] as f64 {
@@ -196,9 +216,51 @@ impl ElementBoundary {
         if total > 0.0 {
             // An open crack: the normal stress falls to the boundary, the shear across it too.
             let open = 1.0 - self.element_damage.max(damage);
-            (s_d - damage * total, open * s_m, open * s_k)
+            (
+                s_d - damage * total,
+                open * s_m,
+                open * s_k,
+                (1.0 - damage) * total,
+            )
         } else {
-            (s_d, s_m, s_k)
+            let kept = 1.0 - self.element_damage;
+            (s_d, kept * s_m, kept * s_k, total)
+        }
+    }
+
+    /// One plane's deviatoric, `m` and `k` stresses under the tensile and shear boundaries:
+    /// [`ElementBoundary::cap_plane`], then, with crack friction, the Coulomb slider of the plane
+    /// (`slip`, present with crack friction; the plane's shear strains in `shear.2`) bounded by
+    /// `mu <-sigma_N>` on the plane's capped normal stress, engaged once the element has cracked
+    /// or a shear law of the plane has passed its peak strain `shear_peak` (M7's frictional
+    /// shear boundary on compressed planes; on an open plane the bound is 0 and the released
+    /// laws' stress stays).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn plane_stresses(
+        &self,
+        model: &MicroplaneConcrete,
+        history: &mut [f32],
+        slip: Option<&mut [f32]>,
+        s_v: f64,
+        s_d: f64,
+        shear: (f64, f64, [f64; 2]),
+        eps_n: f64,
+        shear_peak: f64,
+    ) -> (f64, f64, f64) {
+        let (s_m, s_k, strain) = shear;
+        let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
+        let (s_d, s_m, s_k, total) = self.cap_plane(slot, s_v, s_d, s_m, s_k, eps_n);
+        match (model.parameters.crack_friction, slip) {
+            (Some(mu), Some(slip)) => {
+                let reached = [state::M, state::M + 2, state::K, state::K + 2];
+                let cracked =
+                    self.cracked() || reached.iter().any(|&i| history[i] as f64 > shear_peak);
+                let bound = mu * (-total).max(0.0);
+                let (s_m, s_k) = model.crack_friction([s_m, s_k], strain, slip, bound, cracked);
+                (s_d, s_m, s_k)
+            }
+            _ => (s_d, s_m, s_k),
         }
     }
 }
@@ -260,6 +322,30 @@ mod tests {
             let ratio = energy(h, s) / reference;
             assert!((ratio - 1.0).abs() < 1e-3, "h {h}, s {s}: {ratio}");
         }
+    }
+
+    #[test]
+    fn a_cracked_element_releases_the_shear_of_its_compressed_planes_too() {
+        let element = ElementBoundary {
+            plane: boundary(),
+            strain_weight: 0.0,
+            element_damage: 0.75,
+        };
+        // A compressed plane keeps its normal stress; its shear laws' stress goes with 1 - D.
+        let mut slot = [0.0f32; 2];
+        let (s_d, s_m, s_k, total) = element.cap_plane(&mut slot, -4e6, 1e6, 2e6, -1e6, -1e-4);
+        assert_eq!((s_d, total), (1e6, -3e6));
+        assert_eq!((s_m, s_k), (0.25 * 2e6, 0.25 * -1e6));
+        assert_eq!(slot, [0.0, 0.0]);
+        // An open plane below its strength: the element's damage releases its shear too.
+        let (s_d, s_m, _, total) = element.cap_plane(&mut slot, 1e6, 0.5e6, 2e6, 0.0, 5e-5);
+        assert_eq!((s_d, total), (0.5e6, 1.5e6));
+        assert_eq!(s_m, 0.25 * 2e6);
+        assert!(!ElementBoundary {
+            element_damage: 0.0,
+            ..element
+        }
+        .cracked());
     }
 
     #[test]
