@@ -14,7 +14,8 @@ use impact_solver::material::microplane::crack_compression::{
     compression_along_crack, kupfer_gerstle, lateral_tension_ratio,
 };
 use impact_solver::material::microplane::experiments::{
-    bonded_tension, equal_biaxial_compression, uniaxial_compression,
+    bonded_tension, equal_biaxial_compression, tension_rate_sweep, uniaxial_compression,
+    QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, TensionBoundary};
 use impact_solver::material::read_microplane_file;
@@ -69,6 +70,19 @@ fn main() {
     match equal_biaxial_compression(&model, H, 6e-3, 600) {
         Ok((_, peak)) => println!("equal biaxial: {:.1} MPa", peak * 1e-6),
         Err(e) => println!("equal biaxial: {e}"),
+    }
+    // The rate effect: the uniaxial tensile peak at 1 and 10 /s over the quasi-static one,
+    // against the rate factor at the peak (the boundary's f0 is scaled by it).
+    if let Ok(sweep) = tension_rate_sweep(&model, H, &[QUASI_STATIC_RATE, 1.0, 10.0]) {
+        let (_, slow, f_slow) = sweep[0];
+        for (rate, r, f) in &sweep[1..] {
+            println!(
+                "rate {rate:>4} /s: peak {:.3} MPa, {:.3} of the quasi-static, rate factor {:.3}",
+                r.peak_stress * 1e-6,
+                r.peak_stress / slow.peak_stress,
+                f / f_slow
+            );
+        }
     }
     let uniaxial = t.peak_stress;
     println!("lateral   peak/uniaxial  Kupfer-Gerstle");
