@@ -6,7 +6,7 @@
 //! in y with the other strains held (`crack_compression.rs`). `FRICTION` sets `crack_friction`,
 //! the shear boundary's Coulomb coefficient on the compressed planes (0 or absent: none).
 //!
-//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION]`
+//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION [ONSET]]`
 
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
@@ -36,6 +36,7 @@ fn main() {
         strength: number(2, 2.7) * 1e6,
         softening_strain: number(3, 6e-4),
         strain_weight: number(4, 0.0),
+        onset_strain: number(6, 0.0),
     });
     let friction = number(5, 0.0);
     if friction > 0.0 {

@@ -35,6 +35,7 @@ fn boundary() -> TensionBoundary {
         strength: 2.4e6,
         softening_strain: 4e-4,
         strain_weight: 0.1,
+        onset_strain: 0.0,
     }
 }
 
@@ -143,5 +144,28 @@ fn the_tensile_peak_follows_the_rate_factor() {
             (peak_ratio / factor - 1.0).abs() < 0.01,
             "rate {rate}: peak ratio {peak_ratio}, factor {factor}"
         );
+    }
+}
+
+/// With an onset strain the planes soften on the boundary of the reference size until their
+/// crack strain reaches it, and the point's tensile peak no longer depends on the element's
+/// size (without it: 2.87 / 2.74 / 2.52 MPa at 25 / 50 / 100 mm).
+#[test]
+fn with_an_onset_the_tensile_peak_does_not_depend_on_the_element() {
+    let model = MicroplaneConcrete::new(MicroplaneParameters {
+        rate_effect: None,
+        tension_boundary: Some(TensionBoundary {
+            onset_strain: 8e-5,
+            ..boundary()
+        }),
+        crack_friction: Some(0.73),
+        ..common::shipped_concrete("thesis-concrete")
+    })
+    .unwrap();
+    let peak = |h: f64| bonded_tension(&model, h, 1e-6).unwrap().1.peak_stress;
+    let reference = peak(H);
+    for h in [0.025, 0.1] {
+        let ratio = peak(h) / reference;
+        assert!((ratio - 1.0).abs() < 0.01, "h {h}: {ratio}");
     }
 }
