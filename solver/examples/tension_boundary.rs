@@ -3,7 +3,8 @@
 //! tension-compression envelope: uniaxial tension (peak, strain there, fracture energy on the
 //! crack band's path), uniaxial and equal-biaxial compression, tension under a held lateral
 //! compression, and a crack opened to `w_cr` in x on the crack band's path and then compressed
-//! in y with the other strains held (`crack_compression.rs`). `FRICTION` sets `crack_friction`,
+//! in y with the other strains held (`crack_compression.rs`); and, along the crack band's path at
+//! 25, 50 and 100 mm, the strains at which the planes crack. `FRICTION` sets `crack_friction`,
 //! the shear boundary's Coulomb coefficient on the compressed planes (0 or absent: none).
 //!
 //! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION [ONSET]]`
@@ -13,11 +14,12 @@
 use impact_solver::material::microplane::crack_compression::{
     compression_along_crack, kupfer_gerstle, lateral_tension_ratio,
 };
+use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
     bonded_tension, equal_biaxial_compression, tension_rate_sweep, uniaxial_compression,
     QUASI_STATIC_RATE,
 };
-use impact_solver::material::microplane::{MicroplaneConcrete, TensionBoundary};
+use impact_solver::material::microplane::{state, MicroplaneConcrete, TensionBoundary};
 use impact_solver::material::read_microplane_file;
 
 const FT: f64 = 2.70e6;
@@ -58,6 +60,9 @@ fn main() {
             t.peak_stress * 1e-6,
             t.fracture_energy
         );
+    }
+    for h in [0.025, 0.05, 0.1] {
+        cracking_along_the_band(&model, h);
     }
     match uniaxial_compression(&model, H, 1e-6, 6e-3, 600) {
         Ok((_, c)) => println!(
@@ -112,4 +117,42 @@ fn main() {
         ),
         Err(e) => println!("compression along a crack: {e}"),
     }
+}
+
+/// The planes' cracking along the crack band's path at size `h`: the path replayed on a point
+/// whose plane damages are read at every increment; printed where the weighted share of cracked
+/// planes (damage above 0.5) first passes 25, 50, 75 and 95 %, with the strain and the stress
+/// over the peak there.
+fn cracking_along_the_band(model: &MicroplaneConcrete, h: f64) {
+    let (curve, t) = bonded_tension(model, h, 1e-6).unwrap();
+    let mut point = MaterialPoint::new(model, h).unwrap();
+    let planes = model.planes();
+    let total: f64 = planes.iter().map(|p| p.weight).sum();
+    let mut marks = vec![0.25, 0.5, 0.75, 0.95];
+    let mut line = format!("  cracked planes at h {:.0} mm:", h * 1e3);
+    let mut time = 0.0;
+    for p in &curve.points {
+        point.strain_step(p.strain, (p.time - time).max(1e-12));
+        time = p.time;
+        let cracked: f64 = planes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| {
+                let at = state::HEADER + i * state::PER_PLANE + state::D_POSITIVE + 1;
+                point.state.values[at] > 0.5
+            })
+            .map(|(_, plane)| plane.weight)
+            .sum::<f64>()
+            / total;
+        while let Some(&mark) = marks.first().filter(|&&m| cracked >= m) {
+            line += &format!(
+                " {:.0} % at {:.2e} ({:.2} of peak)",
+                mark * 100.0,
+                p.strain[0],
+                p.stress[0] / t.peak_stress
+            );
+            marks.remove(0);
+        }
+    }
+    println!("{line}");
 }
