@@ -2,17 +2,24 @@
 //! material point (h = 50 mm, quasi-static), against the calibration's targets and Kupfer's
 //! tension-compression envelope: uniaxial tension (peak, strain there, fracture energy on the
 //! crack band's path), uniaxial and equal-biaxial compression, tension under a held lateral
-//! compression, and a crack opened to `w_cr` in x and then compressed in y.
+//! compression, and a crack opened to `w_cr` in x on the crack band's path and then compressed
+//! in y with the other strains held (`crack_compression.rs`); and, along the crack band's path at
+//! 25, 50 and 100 mm, the strains at which the planes crack. `FRICTION` sets `crack_friction`,
+//! the shear boundary's Coulomb coefficient on the compressed planes (0 or absent: none).
 //!
-//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA`
+//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION [ONSET]]`
 
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
-use impact_solver::material::microplane::driver::{Control, MaterialPoint};
-use impact_solver::material::microplane::experiments::{
-    bonded_tension, equal_biaxial_compression, tension_under_lateral_stress, uniaxial_compression,
+use impact_solver::material::microplane::crack_compression::{
+    compression_along_crack, kupfer_gerstle, lateral_tension_ratio,
 };
-use impact_solver::material::microplane::{MicroplaneConcrete, TensionBoundary};
+use impact_solver::material::microplane::driver::MaterialPoint;
+use impact_solver::material::microplane::experiments::{
+    bonded_tension, equal_biaxial_compression, tension_rate_sweep, uniaxial_compression,
+    QUASI_STATIC_RATE,
+};
+use impact_solver::material::microplane::{state, MicroplaneConcrete, TensionBoundary};
 use impact_solver::material::read_microplane_file;
 
 const FT: f64 = 2.70e6;
@@ -31,7 +38,12 @@ fn main() {
         strength: number(2, 2.7) * 1e6,
         softening_strain: number(3, 6e-4),
         strain_weight: number(4, 0.0),
+        onset_strain: number(6, 0.0),
     });
+    let friction = number(5, 0.0);
+    if friction > 0.0 {
+        parameters.crack_friction = Some(friction);
+    }
     let model = MicroplaneConcrete::new(parameters).unwrap();
     let (_, t) = bonded_tension(&model, H, 1e-6).unwrap();
     println!(
@@ -49,6 +61,9 @@ fn main() {
             t.fracture_energy
         );
     }
+    for h in [0.025, 0.05, 0.1] {
+        cracking_along_the_band(&model, h);
+    }
     match uniaxial_compression(&model, H, 1e-6, 6e-3, 600) {
         Ok((_, c)) => println!(
             "compression: peak {:.1} MPa at {:.2e}, largest Poisson ratio after it {:.2}",
@@ -62,69 +77,82 @@ fn main() {
         Ok((_, peak)) => println!("equal biaxial: {:.1} MPa", peak * 1e-6),
         Err(e) => println!("equal biaxial: {e}"),
     }
+    // The rate effect: the uniaxial tensile peak at 1 and 10 /s over the quasi-static one,
+    // against the rate factor at the peak (the boundary's f0 is scaled by it).
+    if let Ok(sweep) = tension_rate_sweep(&model, H, &[QUASI_STATIC_RATE, 1.0, 10.0]) {
+        let (_, slow, f_slow) = sweep[0];
+        for (rate, r, f) in &sweep[1..] {
+            println!(
+                "rate {rate:>4} /s: peak {:.3} MPa, {:.3} of the quasi-static, rate factor {:.3}",
+                r.peak_stress * 1e-6,
+                r.peak_stress / slow.peak_stress,
+                f / f_slow
+            );
+        }
+    }
     let uniaxial = t.peak_stress;
     println!("lateral   peak/uniaxial  Kupfer-Gerstle");
     for k in [0.5, 1.0, 2.0, 5.0] {
         let lateral = -k * FT;
-        match tension_under_lateral_stress(&model, H, lateral, 8e-4, 400) {
-            Ok(curve) => println!(
+        match lateral_tension_ratio(&model, H, lateral, uniaxial, 8e-4) {
+            Ok((ratio, passed)) => println!(
                 "{:>5.1} f_t  {:>6.3}{}        {:.3}",
                 -k,
-                curve.peak().stress[0] / uniaxial,
-                if curve.peak_passed() { "  " } else { ">=" },
-                1.0 + 0.8 * lateral / FC
+                ratio,
+                if passed { "  " } else { ">=" },
+                kupfer_gerstle(lateral, FC)
             ),
             Err(e) => println!("{:>5.1} f_t  {e}", -k),
         }
     }
-    // A crack opened in x to w_cr = 0.2 mm (eps 4e-3 at 50 mm) at sigma_yy = sigma_zz = 0, then
-    // y compressed with x held: the lateral strength of the cracked point against that of a
-    // virgin point on the same y path.
-    let crushing = |open: bool| {
-        let mut point = MaterialPoint::new(&model, H).unwrap();
-        let dt = 1.0;
-        let mut exx = 0.0;
-        if open {
-            for i in 1..=400 {
-                exx = 4e-3 * i as f64 / 400.0;
-                let c = [
-                    Control::Strain(exx),
-                    Control::Stress(0.0),
-                    Control::Stress(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                    Control::Strain(0.0),
-                ];
-                if point.mixed_step_subdivided(&c, dt).is_err() {
-                    println!("  (opening stopped at {exx:.2e})");
-                    break;
-                }
-            }
+    // A crack opened in x to w_cr = 0.2 mm on the crack band's path, then y compressed with x
+    // held: the lateral strength of the cracked point against that of a virgin point.
+    match compression_along_crack(&model, H, 2e-4, 6e-3) {
+        Ok(c) => println!(
+            "compression along a crack (opened to {:.2e}): {:.1} MPa against {:.1} uncracked ({:.2})",
+            c.opening_strain,
+            c.cracked * 1e-6,
+            c.virgin * 1e-6,
+            c.ratio()
+        ),
+        Err(e) => println!("compression along a crack: {e}"),
+    }
+}
+
+/// The planes' cracking along the crack band's path at size `h`: the path replayed on a point
+/// whose plane damages are read at every increment; printed where the weighted share of cracked
+/// planes (damage above 0.5) first passes 25, 50, 75 and 95 %, with the strain and the stress
+/// over the peak there.
+fn cracking_along_the_band(model: &MicroplaneConcrete, h: f64) {
+    let (curve, t) = bonded_tension(model, h, 1e-6).unwrap();
+    let mut point = MaterialPoint::new(model, h).unwrap();
+    let planes = model.planes();
+    let total: f64 = planes.iter().map(|p| p.weight).sum();
+    let mut marks = vec![0.25, 0.5, 0.75, 0.95];
+    let mut line = format!("  cracked planes at h {:.0} mm:", h * 1e3);
+    let mut time = 0.0;
+    for p in &curve.points {
+        point.strain_step(p.strain, (p.time - time).max(1e-12));
+        time = p.time;
+        let cracked: f64 = planes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| {
+                let at = state::HEADER + i * state::PER_PLANE + state::D_POSITIVE + 1;
+                point.state.values[at] > 0.5
+            })
+            .map(|(_, plane)| plane.weight)
+            .sum::<f64>()
+            / total;
+        while let Some(&mark) = marks.first().filter(|&&m| cracked >= m) {
+            line += &format!(
+                " {:.0} % at {:.2e} ({:.2} of peak)",
+                mark * 100.0,
+                p.strain[0],
+                p.stress[0] / t.peak_stress
+            );
+            marks.remove(0);
         }
-        let start = point.strain[1];
-        let mut peak: f64 = 0.0;
-        for i in 1..=600 {
-            let c = [
-                Control::Strain(exx),
-                Control::Strain(start - 6e-3 * i as f64 / 600.0),
-                Control::Stress(0.0),
-                Control::Strain(0.0),
-                Control::Strain(0.0),
-                Control::Strain(0.0),
-            ];
-            match point.mixed_step_subdivided(&c, dt) {
-                Ok(p) => peak = peak.max(-p.stress[1]),
-                Err(_) => break,
-            }
-        }
-        peak
-    };
-    let (virgin, cracked) = (crushing(false), crushing(true));
-    println!(
-        "compression along a crack: {:.1} MPa against {:.1} uncracked ({:.2})",
-        cracked * 1e-6,
-        virgin * 1e-6,
-        cracked / virgin
-    );
-    let _ = FC;
+    }
+    println!("{line}");
 }

@@ -32,7 +32,7 @@ fn every_record_matches_its_parameters() {
         let mut quasi_static = file.parameters;
         quasi_static.rate_effect = None;
         let targets = &file.calibration.targets;
-        let outcomes = Evaluation::of(&quasi_static, targets)
+        let outcomes = Evaluation::checked(&quasi_static, targets)
             .unwrap()
             .outcomes(targets);
         assert_eq!(outcomes.len(), file.calibration.outcomes.len(), "{name}");

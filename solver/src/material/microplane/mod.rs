@@ -13,6 +13,7 @@
 //! - [`driver`]: a material-point driver for strain- and stress-controlled paths.
 
 pub mod calibration;
+pub mod crack_compression;
 pub mod cyclic;
 mod dilatancy;
 pub mod directions;
@@ -660,7 +661,7 @@ impl MicroplaneConcrete {
             if let Some(step) = step_k.filter(|_| dilatant) {
                 dissipated += virgin_steps.push_shear(p, step, eager_shear);
             }
-            let (s_m, s_k) = match p_friction {
+            let (s_m, s_k) = match p_friction.filter(|_| boundary.is_none()) {
                 Some(mu) => {
                     // The plane's normal stress s_V + s_D (5.36 before the trace term).
                     let bound = mu * (-(s_v + s_d)).max(0.0);
@@ -684,8 +685,18 @@ impl MicroplaneConcrete {
             sum_d += w * s_d;
             let (s_d, s_m, s_k) = match &boundary {
                 Some(b) => {
-                    let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
-                    b.cap_plane(slot, s_v, s_d, s_m, s_k, normal[p])
+                    let slip = sliders.get_mut(2 * p..2 * p + 2);
+                    let shear = (s_m, s_k, [along_m[p], along_k[p]]);
+                    b.plane_stresses(
+                        self,
+                        history,
+                        slip,
+                        s_v,
+                        s_d,
+                        shear,
+                        normal[p],
+                        shear_peak.0,
+                    )
                 }
                 None => (s_d, s_m, s_k),
             };

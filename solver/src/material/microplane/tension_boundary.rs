@@ -15,14 +15,24 @@
 //! - `sigma_N = (1 - d) sigma_el` while `sigma_el > 0`, and `sigma_el` once the crack is closed
 //!   (secant unloading to the origin, full stiffness in compression).
 //!
+//! The shear boundary (M7's shear boundary: a cohesion that goes as the planes open, friction on
+//! the compressed ones): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the
+//! element's largest plane damage, and with `crack_friction` each compressed plane's Coulomb
+//! slider carries up to `mu <-sigma_N>` on the plane's capped normal stress once the element has
+//! cracked. Without the release of the compressed planes' shear a point under a lateral
+//! compression kept hardening after its tensile planes had cracked.
+//!
 //! Crack band: the plane dissipates `f0 eps_f` per unit volume; `eps_f` is set per
 //! element so that `h` times that is the energy at `h_ref` (Bažant & Oh 1983), with the rate
 //! factor and the element's strength scaling `f0` (and the rate factor the energy by `F^2`, as it
 //! does for the thesis' tension law).
+//! With an onset strain `y0` the boundary is that of `h_ref` up to the crack strain `y0` at every
+//! size, and only the tail beyond it is scaled (`h` times the whole area still the same): the
+//! planes that soften before the point peaks then do so alike at every size, and so does the peak.
 
 use serde::{Deserialize, Serialize};
 
-use super::{state, CrackBand, MicroplaneParameters};
+use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters};
 
 /// The tensile boundary of every microplane (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -35,6 +45,15 @@ pub struct TensionBoundary {
     /// `theta` in `[0, 1)`: the weight of the plane's normal strain in its driver.
     #[serde(default)]
     pub strain_weight: f64,
+    /// `y0 >= 0`: the crack strain up to which a plane softens on the boundary of `h_ref` at
+    /// every element size; the crack band scales only the softening beyond it (0, the default:
+    /// all of it).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub onset_strain: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// What is wrong with a [`TensionBoundary`].
@@ -42,8 +61,9 @@ pub struct TensionBoundary {
 pub enum TensionBoundaryError {
     /// A non-positive strength or softening strain, or a weight outside `[0, 1)`.
     #[error(
-        "tension_boundary needs strength > 0 (Pa), softening_strain > 0 and strain_weight in \
-         [0, 1), got {strength}, {softening_strain} and {strain_weight}"
+        "tension_boundary needs strength > 0 (Pa), softening_strain > 0, strain_weight in \
+         [0, 1) and onset_strain >= 0, got {strength}, {softening_strain}, {strain_weight} and \
+         {onset_strain}"
     )]
     OutOfRange {
         /// `f0` (Pa).
@@ -52,6 +72,8 @@ pub enum TensionBoundaryError {
         softening_strain: f64,
         /// `theta`.
         strain_weight: f64,
+        /// `y0`.
+        onset_strain: f64,
     },
 }
 
@@ -62,7 +84,9 @@ impl TensionBoundary {
             && self.strength.is_finite()
             && self.softening_strain > 0.0
             && self.softening_strain.is_finite()
-            && (0.0..1.0).contains(&self.strain_weight);
+            && (0.0..1.0).contains(&self.strain_weight)
+            && self.onset_strain >= 0.0
+            && self.onset_strain.is_finite();
         if ok {
             Ok(())
         } else {
@@ -70,6 +94,7 @@ impl TensionBoundary {
                 strength: self.strength,
                 softening_strain: self.softening_strain,
                 strain_weight: self.strain_weight,
+                onset_strain: self.onset_strain,
             })
         }
     }
@@ -82,11 +107,27 @@ impl TensionBoundary {
         // elastic energy stored up to the peak is given back as the stress falls).
         let energy = f * f * (h_ref / h) * self.strength * self.softening_strain;
         let f0 = f * s * self.strength;
+        if self.onset_strain > 0.0 {
+            // Up to y0 the boundary of h_ref; beyond, the tail that leaves the element the
+            // energy of its band.
+            let first = f * f * self.strength * self.softening_strain / f0;
+            let decayed = (-self.onset_strain / first).exp();
+            let tail = (energy - f0 * first * (1.0 - decayed)) / (f0 * decayed);
+            return (first > f0 / youngs && tail > f0 * decayed / youngs).then_some(
+                PlaneBoundary {
+                    f0,
+                    softening: tail,
+                    youngs,
+                    onset: Some((self.onset_strain, first)),
+                },
+            );
+        }
         let softening = energy / f0;
         (softening > f0 / youngs).then_some(PlaneBoundary {
             f0,
             softening,
             youngs,
+            onset: None,
         })
     }
 }
@@ -100,9 +141,58 @@ pub struct PlaneBoundary {
     pub softening: f64,
     /// `E` (Pa).
     pub youngs: f64,
+    /// With an onset strain `y0`: `(y0, eps_f at h_ref)`, the boundary up to `y0`; `softening`
+    /// is then the scale of the tail beyond it.
+    pub onset: Option<(f64, f64)>,
 }
 
 impl PlaneBoundary {
+    /// The boundary `F(y)` and its slope at the crack strain `y`.
+    fn boundary(&self, y: f64) -> (f64, f64) {
+        match self.onset {
+            Some((y0, first)) if y <= y0 => {
+                let value = self.f0 * (-y / first).exp();
+                (value, -value / first)
+            }
+            Some((y0, first)) => {
+                let value = self.f0 * (-y0 / first).exp() * (-(y - y0) / self.softening).exp();
+                (value, -value / self.softening)
+            }
+            None => {
+                let value = self.f0 * (-y / self.softening).exp();
+                (value, -value / self.softening)
+            }
+        }
+    }
+
+    /// [`PlaneBoundary::damage`] with an onset strain: the root of `kappa - E y - F(y)`, which
+    /// falls from `kappa - f0 > 0` at `y = 0` to `-F <= 0` at `kappa / E`, by Newton's method
+    /// kept inside that bracket (bisection where a step leaves it: `F` has a kink at `y0`).
+    fn damage_with_onset(&self, kappa: f64) -> f64 {
+        let e = self.youngs;
+        let (mut low, mut high) = (0.0, kappa / e);
+        let mut y = 0.0;
+        for _ in 0..100 {
+            let (value, slope) = self.boundary(y);
+            let g = kappa - e * y - value;
+            if g > 0.0 {
+                low = y;
+            } else {
+                high = y;
+            }
+            let mut next = y - g / (-e - slope);
+            if !(next > low && next < high) {
+                next = 0.5 * (low + high);
+            }
+            if (next - y).abs() <= 1e-13 * kappa / e {
+                y = next;
+                break;
+            }
+            y = next;
+        }
+        (e * y / kappa).clamp(0.0, 1.0)
+    }
+
     /// Damage `d` at the largest driver `kappa` (Pa): 0 up to `f0`, else the root of
     /// `kappa - E y - f0 exp(-y / eps_f) = 0` in the crack strain `y`, `d = E y / kappa`. The
     /// function is concave and falls from `kappa - f0 > 0` (no snap-back), so Newton's method
@@ -110,6 +200,9 @@ impl PlaneBoundary {
     pub fn damage(&self, kappa: f64) -> f64 {
         if kappa <= self.f0 {
             return 0.0;
+        }
+        if self.onset.is_some() {
+            return self.damage_with_onset(kappa);
         }
         let (e, f0, ef) = (self.youngs, self.f0, self.softening);
         let mut y = 0.0;
@@ -156,6 +249,7 @@ impl ElementBoundary {
                 f0: f * s * boundary.strength,
                 softening: 1.000001 * f * s * boundary.strength / e,
                 youngs: e,
+                onset: None,
             });
         let element_damage = planes
             .chunks_exact(state::PER_PLANE)
@@ -168,11 +262,24 @@ impl ElementBoundary {
         }
     }
 
-    /// One plane's deviatoric, `m` and `k` stresses under its boundary, from the laws' `s_d`,
-    /// `s_m`, `s_k`, the volumetric stress `s_v` and the plane's normal strain `eps_n`;
-    /// `slot` holds the plane's largest driver and its damage (the `D+` slots, unused by the
-    /// elastic tension laws). The trace term keeps the uncapped `s_D`, so a cap lowers the mean
-    /// stress too.
+    /// Whether the element has a cracked plane (its shear laws are then being released and a
+    /// crack friction's sliders take over on the compressed planes).
+    #[inline(always)]
+    pub(super) fn cracked(&self) -> bool {
+        self.element_damage > 0.0
+    }
+
+    /// One plane's deviatoric, `m` and `k` stresses under its boundary, and its total normal
+    /// stress after the cap, from the laws' `s_d`, `s_m`, `s_k`, the volumetric stress `s_v`
+    /// and the plane's normal strain `eps_n`; `slot` holds the plane's largest driver and its
+    /// damage (the `D+` slots, unused by the elastic tension laws). The trace term keeps the
+    /// uncapped `s_D`, so a cap lowers the mean stress too.
+    ///
+    /// The shear boundary (M7's cohesion that vanishes as the planes open, Caner & Bažant
+    /// 2013): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the largest
+    /// plane damage of the element (on an open plane, its own damage if larger). On a
+    /// compressed plane the crack friction's slider, bounded by `mu <-sigma_N>`, then carries
+    /// what friction can (`MicroplaneConcrete::crack_friction`).
     #[inline(always)]
     pub(super) fn cap_plane(
         &self,
@@ -182,7 +289,7 @@ impl ElementBoundary {
         s_m: f64,
         s_k: f64,
         eps_n: f64,
-    ) -> (f64, f64, f64) {
+    ) -> (f64, f64, f64, f64) {
         let total = s_v + s_d;
         let driver = total + self.strain_weight * (self.plane.youngs * eps_n - total);
         let damage = if driver > slot[0] as f64 {
@@ -196,9 +303,51 @@ impl ElementBoundary {
         if total > 0.0 {
             // An open crack: the normal stress falls to the boundary, the shear across it too.
             let open = 1.0 - self.element_damage.max(damage);
-            (s_d - damage * total, open * s_m, open * s_k)
+            (
+                s_d - damage * total,
+                open * s_m,
+                open * s_k,
+                (1.0 - damage) * total,
+            )
         } else {
-            (s_d, s_m, s_k)
+            let kept = 1.0 - self.element_damage;
+            (s_d, kept * s_m, kept * s_k, total)
+        }
+    }
+
+    /// One plane's deviatoric, `m` and `k` stresses under the tensile and shear boundaries:
+    /// [`ElementBoundary::cap_plane`], then, with crack friction, the Coulomb slider of the plane
+    /// (`slip`, present with crack friction; the plane's shear strains in `shear.2`) bounded by
+    /// `mu <-sigma_N>` on the plane's capped normal stress, engaged once the element has cracked
+    /// or a shear law of the plane has passed its peak strain `shear_peak` (M7's frictional
+    /// shear boundary on compressed planes; on an open plane the bound is 0 and the released
+    /// laws' stress stays).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn plane_stresses(
+        &self,
+        model: &MicroplaneConcrete,
+        history: &mut [f32],
+        slip: Option<&mut [f32]>,
+        s_v: f64,
+        s_d: f64,
+        shear: (f64, f64, [f64; 2]),
+        eps_n: f64,
+        shear_peak: f64,
+    ) -> (f64, f64, f64) {
+        let (s_m, s_k, strain) = shear;
+        let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
+        let (s_d, s_m, s_k, total) = self.cap_plane(slot, s_v, s_d, s_m, s_k, eps_n);
+        match (model.parameters.crack_friction, slip) {
+            (Some(mu), Some(slip)) => {
+                let reached = [state::M, state::M + 2, state::K, state::K + 2];
+                let cracked =
+                    self.cracked() || reached.iter().any(|&i| history[i] as f64 > shear_peak);
+                let bound = mu * (-total).max(0.0);
+                let (s_m, s_k) = model.crack_friction([s_m, s_k], strain, slip, bound, cracked);
+                (s_d, s_m, s_k)
+            }
+            _ => (s_d, s_m, s_k),
         }
     }
 }
@@ -212,6 +361,7 @@ mod tests {
             strength: 3.0e6,
             softening_strain: 1.0e-3,
             strain_weight: 0.0,
+            onset_strain: 0.0,
         }
         .scaled(30e9, 0.05, 0.05, 1.0, 1.0)
         .unwrap()
@@ -234,12 +384,45 @@ mod tests {
     }
 
     #[test]
+    fn with_an_onset_the_damage_puts_the_plane_on_its_boundary() {
+        let spec = TensionBoundary {
+            strength: 3.0e6,
+            softening_strain: 4.0e-4,
+            strain_weight: 0.0,
+            onset_strain: 5.0e-5,
+        };
+        for h in [0.025, 0.05, 0.1] {
+            let b = spec.scaled(30e9, h, 0.05, 1.0, 1.0).unwrap();
+            for kappa in [3.05e6, 4e6, 5e6, 3e7, 3e8] {
+                let d = b.damage(kappa);
+                let y = d * kappa / b.youngs;
+                let on_boundary = b.boundary(y).0;
+                assert!(
+                    ((1.0 - d) * kappa - on_boundary).abs() < 1e-6 * b.f0,
+                    "h {h}, kappa {kappa}: {} against {on_boundary}",
+                    (1.0 - d) * kappa
+                );
+            }
+            // Up to the onset the boundary is that of h_ref at every size.
+            let reference = spec.scaled(30e9, 0.05, 0.05, 1.0, 1.0).unwrap();
+            assert_eq!(b.boundary(4e-5).0, reference.boundary(4e-5).0);
+        }
+    }
+
+    #[test]
     fn energy_per_crack_area_does_not_depend_on_the_element() {
+        for onset_strain in [0.0, 5.0e-5] {
+            energy_per_crack_area_for(onset_strain);
+        }
+    }
+
+    fn energy_per_crack_area_for(onset_strain: f64) {
         // h times the area under the plane's uniaxial curve, integrated along the strain.
         let spec = TensionBoundary {
             strength: 3.0e6,
             softening_strain: 4.0e-4,
             strain_weight: 0.0,
+            onset_strain,
         };
         let energy = |h: f64, s: f64| {
             let b = spec.scaled(30e9, h, 0.05, s, 1.0).unwrap();
@@ -258,8 +441,35 @@ mod tests {
         let reference = energy(0.05, 1.0);
         for (h, s) in [(0.025, 1.0), (0.1, 1.0), (0.05, 0.8), (0.05, 1.2)] {
             let ratio = energy(h, s) / reference;
-            assert!((ratio - 1.0).abs() < 1e-3, "h {h}, s {s}: {ratio}");
+            assert!(
+                (ratio - 1.0).abs() < 1e-3,
+                "onset {onset_strain}, h {h}, s {s}: {ratio}"
+            );
         }
+    }
+
+    #[test]
+    fn a_cracked_element_releases_the_shear_of_its_compressed_planes_too() {
+        let element = ElementBoundary {
+            plane: boundary(),
+            strain_weight: 0.0,
+            element_damage: 0.75,
+        };
+        // A compressed plane keeps its normal stress; its shear laws' stress goes with 1 - D.
+        let mut slot = [0.0f32; 2];
+        let (s_d, s_m, s_k, total) = element.cap_plane(&mut slot, -4e6, 1e6, 2e6, -1e6, -1e-4);
+        assert_eq!((s_d, total), (1e6, -3e6));
+        assert_eq!((s_m, s_k), (0.25 * 2e6, 0.25 * -1e6));
+        assert_eq!(slot, [0.0, 0.0]);
+        // An open plane below its strength: the element's damage releases its shear too.
+        let (s_d, s_m, _, total) = element.cap_plane(&mut slot, 1e6, 0.5e6, 2e6, 0.0, 5e-5);
+        assert_eq!((s_d, total), (0.5e6, 1.5e6));
+        assert_eq!(s_m, 0.25 * 2e6);
+        assert!(!ElementBoundary {
+            element_damage: 0.0,
+            ..element
+        }
+        .cracked());
     }
 
     #[test]
@@ -268,6 +478,7 @@ mod tests {
             strength: 3.0e6,
             softening_strain: 2.0e-4,
             strain_weight: 0.0,
+            onset_strain: 0.0,
         };
         // f0 / E = 1e-4: the band snaps back beyond h = 0.1 m.
         assert!(spec.scaled(30e9, 0.05, 0.05, 1.0, 1.0).is_some());

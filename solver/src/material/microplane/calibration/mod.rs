@@ -19,13 +19,16 @@ use super::experiments::{
     CompressionResult, SofteningShape, TensionResult, QUASI_STATIC_RATE,
 };
 use super::{
-    MicroplaneConcrete, MicroplaneParameters, ParameterError, RelaxationDriver, TensionDriver,
+    MicroplaneConcrete, MicroplaneParameters, ParameterError, RelaxationDriver, TensionBoundary,
+    TensionDriver,
 };
 use serde::{Deserialize, Serialize};
 
+mod boundary;
 mod optimiser;
 mod stages;
 
+pub use boundary::{BoundaryChecks, CRACK_OPENING, KUPFER_LATERAL};
 pub use optimiser::{nelder_mead, Free};
 pub use stages::{calibrate, Log};
 
@@ -109,6 +112,13 @@ pub struct Targets {
     /// while the laws are fitted around it; none (the thesis) by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub crack_friction: Option<f64>,
+    /// The tensile boundary of the calibrated parameters (docs/MICROPLANE.md "Tensile
+    /// boundary"): its `strain_weight` held, its `strength` and `softening_strain` fitted from
+    /// the values given, in place of the tension law's `e1`, `m` and the reference size; the
+    /// evaluation then also measures Kupfer's tension under lateral compression and the
+    /// compression along a crack. None (the thesis' tension laws) by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tension_boundary: Option<TensionBoundary>,
 }
 
 fn is_volumetric_relaxation(driver: &RelaxationDriver) -> bool {
@@ -145,6 +155,7 @@ impl Targets {
             dilatancy: 0.6,
             fracture_path: FracturePath::Bonded,
             crack_friction: None,
+            tension_boundary: None,
         }
     }
 }
@@ -168,6 +179,8 @@ pub struct Evaluation {
     pub hydrostatic_damage: bool,
     /// The softening branch at the element size of the strength tests, against `w1 = GF / ft`.
     pub softening: SofteningShape,
+    /// With a tensile boundary, its own checks ([`BoundaryChecks`]; [`Evaluation::checked`]).
+    pub boundary: Option<BoundaryChecks>,
 }
 
 /// One target's outcome.
@@ -245,7 +258,23 @@ impl Evaluation {
             biaxial_peak,
             hydrostatic_damage,
             softening,
+            boundary: None,
         })
+    }
+
+    /// [`Evaluation::of`] with, where the parameters have a tensile boundary, its own checks
+    /// (not part of the fit: they cost more than the rest of an evaluation).
+    pub fn checked(
+        parameters: &MicroplaneParameters,
+        targets: &Targets,
+    ) -> Result<Self, CalibrationError> {
+        let mut evaluation = Self::of(parameters, targets)?;
+        if parameters.tension_boundary.is_some() {
+            let model = MicroplaneConcrete::new(*parameters)?;
+            let uniaxial = evaluation.tension.peak_stress;
+            evaluation.boundary = Some(BoundaryChecks::of(&model, targets, uniaxial));
+        }
+        Ok(evaluation)
     }
 
     /// Squared band misfits of the tensile peak and its strain, and of the softening shape
@@ -405,6 +434,9 @@ impl Evaluation {
                 met: !self.hydrostatic_damage,
             },
         ]);
+        if let Some(b) = &self.boundary {
+            out.extend(b.outcomes(t));
+        }
         out
     }
 }

@@ -91,6 +91,9 @@ pub enum Free {
     K,
     /// The dilatancy (MICROPLANE "Dilatancy"), kept at most 10.
     Dilatancy,
+    /// The tensile boundary's `strength` `f0` (docs/MICROPLANE.md "Tensile boundary"); NaN and
+    /// left alone without a boundary.
+    BoundaryStrength,
 }
 
 impl Free {
@@ -104,6 +107,7 @@ impl Free {
             Free::E4 => p.e4,
             Free::K => p.k,
             Free::Dilatancy => p.dilatancy,
+            Free::BoundaryStrength => p.tension_boundary.map_or(f64::NAN, |b| b.strength),
         }
     }
 
@@ -120,6 +124,11 @@ impl Free {
             Free::E4 => p.e4 = v,
             Free::K => p.k = exponent,
             Free::Dilatancy => p.dilatancy = v.min(10.0),
+            Free::BoundaryStrength => {
+                if let Some(b) = &mut p.tension_boundary {
+                    b.strength = v;
+                }
+            }
         }
     }
 }

@@ -47,7 +47,17 @@ fn optimise(
 /// only the product of `h_ref` and the tail, the opening where the law ends, matters).
 fn fit_reference_size(p: &mut MicroplaneParameters, t: &Targets) -> Result<(), CalibrationError> {
     let (scaled, iterations): (fn(&mut MicroplaneParameters) -> &mut f64, usize) =
-        if p.hordijk_tail > 0.0 {
+        if p.tension_boundary.is_some() {
+            // The boundary's energy is its strength times its softening strain at h_ref.
+            p.h_ref = t.element_size;
+            (
+                |p| match &mut p.tension_boundary {
+                    Some(b) => &mut b.softening_strain,
+                    None => unreachable!("checked above"),
+                },
+                30,
+            )
+        } else if p.hordijk_tail > 0.0 {
             p.h_ref = t.element_size;
             (|p| &mut p.hordijk_tail, 60)
         } else {
@@ -82,19 +92,28 @@ pub fn calibrate(
     p.relaxation_driver = targets.relaxation_driver;
     p.dilatancy = targets.dilatancy;
     p.crack_friction = targets.crack_friction;
+    p.tension_boundary = targets.tension_boundary;
+    // With a tensile boundary the tension laws are elastic: its strength is fitted instead,
+    // and its softening strain takes the fracture energy.
+    let tension_parameters: &[Free] = if p.tension_boundary.is_some() {
+        &[Free::BoundaryStrength]
+    } else {
+        &[Free::E1, Free::M]
+    };
     let tension = |p: &mut MicroplaneParameters, stage: &str, log: &mut dyn FnMut(&str)| {
         *p = optimise(
             p,
-            &[Free::E1, Free::M],
+            tension_parameters,
             evaluations,
             &|e| e.tension_cost(targets),
             targets,
-            p.hordijk_tail > 0.0,
+            p.hordijk_tail > 0.0 || p.tension_boundary.is_some(),
         );
         fit_reference_size(p, targets)?;
         log(&format!(
-            "{stage}, tension: e1 = {:.4e}, m = {:.3}, h_ref = {:.4} m, hordijk_tail = {:.3}",
-            p.e1, p.m, p.h_ref, p.hordijk_tail
+            "{stage}, tension: e1 = {:.4e}, m = {:.3}, h_ref = {:.4} m, hordijk_tail = {:.3}, \
+             tension_boundary = {:?}",
+            p.e1, p.m, p.h_ref, p.hordijk_tail, p.tension_boundary
         ));
         Ok::<(), CalibrationError>(())
     };
@@ -133,6 +152,6 @@ pub fn calibrate(
     p.rate_effect = start.rate_effect;
     let mut quasi_static = p;
     quasi_static.rate_effect = None;
-    let evaluation = Evaluation::of(&quasi_static, targets)?;
+    let evaluation = Evaluation::checked(&quasi_static, targets)?;
     Ok((p, evaluation))
 }
