@@ -101,7 +101,7 @@ const MAX_ITERATIONS: usize = 128;
 ///
 /// Where no crossing is found, a point that comes within the minimum separation
 /// [`touch::minimum_separation`] (1e-12 of the largest coordinate) of the triangle during the
-/// step touches it ([`touch::earliest_touch`]): the hit is the first such time, with the
+/// step, from farther at its start, touches it ([`touch::earliest_touch`]): the hit is the first such time, with the
 /// weights of the triangle's point nearest the node.
 pub fn vertex_face_ccd(
     node: &Trajectory,

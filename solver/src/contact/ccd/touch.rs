@@ -37,9 +37,10 @@ pub fn minimum_separation(node: &Trajectory, face: [&Trajectory; 3]) -> f64 {
     TOUCH_SEPARATION * largest
 }
 
-/// The earliest time at which the point is within `delta` of the triangle, with the clamped
-/// weights of the triangle's point nearest it, or `None`. A face degenerate to a segment or a
-/// point at that time has no weights and gives no touch.
+/// The earliest time at which the point, farther than `delta` from the triangle at the start of
+/// the step, comes within `delta` of it, with the clamped weights of the triangle's point
+/// nearest it; `None` when it does not, or when it starts within `delta` (already in contact).
+/// A face degenerate to a segment or a point at that time has no weights and gives no touch.
 pub fn earliest_touch(node: &Trajectory, face: [&Trajectory; 3], delta: f64) -> Option<CcdHit> {
     let velocity = |q: &Trajectory| q.end - q.start;
     let vp = velocity(node);
@@ -79,7 +80,11 @@ pub fn earliest_touch(node: &Trajectory, face: [&Trajectory; 3], delta: f64) -> 
     };
     let (d0, d1) = (distance(0.0).0, distance(1.0).0);
     if d0 <= delta {
-        return hit(0.0);
+        // In contact at the start: not an approach in this step (Tight Inclusion answers such
+        // a query as initial contact without a time of impact). Detection deals with a node
+        // resting on a face by its other strategies; reporting it here would move a resting
+        // node's contact to whichever face it touches at t = 0.
+        return None;
     }
     let mut evaluations = 2;
     // Intervals still to search, the earliest on top: each popped interval has all earlier
@@ -130,6 +135,12 @@ mod tests {
         assert!(touch.weights.iter().all(|&w| w >= 0.0));
         assert!((touch.weights[0] - 0.5).abs() < 1e-9 && (touch.weights[1] - 0.5).abs() < 1e-9);
         assert!(earliest_touch(&pass(1e-11), f, 1e-12).is_none());
+        // Starting within delta is contact at the start, not a touch in the step.
+        let resting = Trajectory {
+            start: Vector3::new(0.5, -1e-13, 0.0),
+            end: Vector3::new(0.5, -1e-13, -1.0),
+        };
+        assert!(earliest_touch(&resting, f, 1e-12).is_none());
     }
 
     #[test]
