@@ -11,9 +11,11 @@
 //! Stopping: the natural-map error `||F(r)|| / ||q||` of `problem.rs`, the measure every solver
 //! is judged by, at most `tolerance`.
 //!
-//! When Newton stalls (no step decreases `psi`, or no shift makes `J` solvable), the solve goes
-//! on with nonlinear Gauss-Seidel with the exact local step from the multipliers Newton reached;
-//! the report's notes then say so, and which of the two answered.
+//! When Newton stalls (no step decreases `psi`, or no shift makes `J` solvable), nonlinear
+//! Gauss-Seidel with the exact local step continues from the multipliers Newton reached until
+//! the natural map has dropped a hundredfold, and Newton resumes from there (a hybrid in the
+//! spirit of Siconos's NSN hybrid strategies); the report's notes then say so, and which of the
+//! two answered.
 
 pub mod alart_curnier;
 mod line_search;
@@ -37,8 +39,8 @@ pub const NAME: &str = "newton/alart-curnier";
 /// Semismooth Newton on the Alart-Curnier function, with a Gauss-Seidel fallback.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AlartCurnierNewton {
-    /// Most Gauss-Seidel sweeps of the fallback after a stall; 0: no fallback (a stall ends the
-    /// solve with `Failed`).
+    /// Most Gauss-Seidel sweeps after stalls, over the whole solve; 0: no fallback (a stall
+    /// ends the solve with `Failed`).
     pub fallback_sweeps: usize,
 }
 
@@ -71,12 +73,83 @@ fn evaluate(
     (pieces, psi)
 }
 
-/// Why Newton stopped before converging.
-enum Stall {
+/// How a run of Newton iterations ended.
+enum NewtonEnd {
+    /// The solve is over with this status (converged, cap, clock, non-finite merit).
+    Done(SolveStatus),
     /// No shift made `J` solvable.
     Singular,
     /// The line search found no step that decreases the merit.
     LineSearch,
+}
+
+/// Counters over the whole solve.
+#[derive(Default)]
+struct Counts {
+    newton: usize,
+    shifted: usize,
+    sweeps: usize,
+}
+
+/// Newton iterations from `r` (updated in place) until the natural map meets the tolerance, a
+/// limit is reached, or Newton stalls.
+fn newton_run(
+    problem: &ContactProblem,
+    rho: &[[f64; 2]],
+    r: &mut [f64],
+    limits: &SolveLimits,
+    started: Instant,
+    counts: &mut Counts,
+) -> NewtonEnd {
+    let n = r.len();
+    let (mut pieces, mut psi) = evaluate(problem, rho, r);
+    loop {
+        if natural_map_error(problem, r).relative <= limits.tolerance {
+            return NewtonEnd::Done(SolveStatus::Converged);
+        }
+        if counts.newton >= limits.max_iterations {
+            return NewtonEnd::Done(SolveStatus::MaxIterations);
+        }
+        if limits.time_limit.is_some_and(|l| started.elapsed() >= l) {
+            return NewtonEnd::Done(SolveStatus::TimeLimit);
+        }
+        counts.newton += 1;
+        let triplets = linear::jacobian_triplets(&problem.w, &pieces);
+        let rhs: Vec<f64> = pieces
+            .iter()
+            .flat_map(|p| [-p.value.x, -p.value.y, -p.value.z])
+            .collect();
+        let scale = triplets
+            .iter()
+            .fold(0.0f64, |m, t| m.max(t.val.abs()))
+            .max(1e-300);
+        let direction =
+            [0.0, 1e-12, 1e-9, 1e-6, 1e-3]
+                .iter()
+                .enumerate()
+                .find_map(|(k, &delta)| {
+                    linear::solve(n, &triplets, delta * scale, &rhs).map(|d| (k > 0, d))
+                });
+        let Some((was_shifted, d)) = direction else {
+            return NewtonEnd::Singular;
+        };
+        counts.shifted += usize::from(was_shifted);
+        let trial = |t: f64| {
+            let moved: Vec<f64> = r.iter().zip(&d).map(|(r, d)| r + t * d).collect();
+            evaluate(problem, rho, &moved).1
+        };
+        let Some(t) = goldstein_price(psi, -2.0 * psi, trial, &LineSearch::default()) else {
+            return NewtonEnd::LineSearch;
+        };
+        r.iter_mut().zip(&d).for_each(|(r, d)| *r += t * d);
+        (pieces, psi) = evaluate(problem, rho, r);
+        if !psi.is_finite() {
+            return NewtonEnd::Done(SolveStatus::Failed(format!(
+                "the merit is not finite at iteration {}",
+                counts.newton
+            )));
+        }
+    }
 }
 
 impl ContactSolver for AlartCurnierNewton {
@@ -84,9 +157,9 @@ impl ContactSolver for AlartCurnierNewton {
         NAME.into()
     }
 
-    /// `limits.max_iterations` bounds the Newton iterations; the fallback's sweeps are bounded
+    /// `limits.max_iterations` bounds the Newton iterations; the sweeps after stalls are bounded
     /// by `fallback_sweeps` and by what is left of `limits.time_limit`. The reported iterations
-    /// are Newton iterations plus fallback sweeps (the notes give each).
+    /// are Newton iterations plus sweeps (the notes give each, and which method answered).
     fn solve(
         &mut self,
         problem: &ContactProblem,
@@ -115,103 +188,79 @@ impl ContactSolver for AlartCurnierNewton {
             .map(|a| weights(&problem.w.block(a, a), fallback_rho))
             .collect();
         let mut r = vec![0.0; n];
-        let (mut pieces, mut psi) = evaluate(problem, &rho, &r);
-        let mut status = SolveStatus::MaxIterations;
-        let mut stall = None;
-        let mut iterations = 0;
-        let mut shifted = 0usize;
+        let mut counts = Counts::default();
         let mut notes = Vec::new();
-        loop {
-            if natural_map_error(problem, &r).relative <= limits.tolerance {
-                status = SolveStatus::Converged;
-                break;
-            }
-            if iterations >= limits.max_iterations {
-                break;
-            }
-            if limits.time_limit.is_some_and(|l| started.elapsed() >= l) {
-                status = SolveStatus::TimeLimit;
-                break;
-            }
-            iterations += 1;
-            let triplets = linear::jacobian_triplets(&problem.w, &pieces);
-            let rhs: Vec<f64> = pieces
-                .iter()
-                .flat_map(|p| [-p.value.x, -p.value.y, -p.value.z])
-                .collect();
-            let scale = triplets
-                .iter()
-                .fold(0.0f64, |m, t| m.max(t.val.abs()))
-                .max(1e-300);
-            let direction =
-                [0.0, 1e-12, 1e-9, 1e-6, 1e-3]
-                    .iter()
-                    .enumerate()
-                    .find_map(|(k, &delta)| {
-                        linear::solve(n, &triplets, delta * scale, &rhs).map(|d| (k > 0, d))
-                    });
-            let Some((was_shifted, d)) = direction else {
-                stall = Some(Stall::Singular);
-                break;
-            };
-            shifted += usize::from(was_shifted);
-            let search = LineSearch::default();
-            let trial = |t: f64| {
-                let moved: Vec<f64> = r.iter().zip(&d).map(|(r, d)| r + t * d).collect();
-                evaluate(problem, &rho, &moved).1
-            };
-            let Some(t) = goldstein_price(psi, -2.0 * psi, trial, &search) else {
-                stall = Some(Stall::LineSearch);
-                break;
-            };
-            r.iter_mut().zip(&d).for_each(|(r, d)| *r += t * d);
-            (pieces, psi) = evaluate(problem, &rho, &r);
-            if !psi.is_finite() {
-                status = SolveStatus::Failed(format!(
-                    "the merit is not finite at iteration {iterations}"
-                ));
-                break;
-            }
-        }
-        if shifted > 0 {
-            notes.push(format!(
-                "{shifted} of {iterations} Newton systems were singular and took a Levenberg-Marquardt shift"
-            ));
-        }
-        let mut total_iterations = iterations;
-        if let Some(stall) = stall {
-            let why = match stall {
-                Stall::Singular => "no shift made the Jacobian solvable",
-                Stall::LineSearch => "the line search found no decrease of the merit",
+        let mut stalls = 0usize;
+        // Newton, and on each stall Gauss-Seidel sweeps from where Newton stopped until the
+        // natural map has dropped a hundredfold (or meets the tolerance), then Newton again
+        // from there: the sweeps move the multipliers off the point where the merit's model
+        // failed, and Newton's fast local convergence resumes nearer the solution.
+        let status = loop {
+            let why = match newton_run(problem, &rho, &mut r, limits, started, &mut counts) {
+                NewtonEnd::Done(status) => break status,
+                NewtonEnd::Singular => "no shift made the Jacobian solvable",
+                NewtonEnd::LineSearch => "the line search found no decrease of the merit",
             };
             let error = natural_map_error(problem, &r).relative;
+            stalls += 1;
             if self.fallback_sweeps == 0 {
-                status = SolveStatus::Failed(format!(
-                    "Newton stalled at iteration {iterations} (natural map {error:.2e}): {why}"
+                break SolveStatus::Failed(format!(
+                    "Newton stalled at iteration {} (natural map {error:.2e}): {why}",
+                    counts.newton
                 ));
-            } else {
-                let fallback_limits = SolveLimits {
-                    max_iterations: self.fallback_sweeps,
-                    ..*limits
-                };
-                let gs = NonsmoothGaussSeidel::new(LocalSolver::Exact).solve_from(
-                    problem,
-                    r,
-                    &fallback_limits,
-                    started,
-                );
-                notes.push(format!(
-                    "Newton stalled at iteration {iterations} (natural map {error:.2e}): {why}; \
-                     gauss-seidel/exact answered after {} sweeps ({})",
-                    gs.iterations,
-                    gs.status.label()
-                ));
-                notes.extend(gs.notes);
-                total_iterations += gs.iterations;
-                status = gs.status;
-                r = gs.r;
             }
+            let sweeps_left = self.fallback_sweeps.saturating_sub(counts.sweeps);
+            let gs_limits = SolveLimits {
+                tolerance: (1e-2 * error).max(limits.tolerance),
+                max_iterations: sweeps_left,
+                time_limit: limits.time_limit,
+            };
+            let gs = NonsmoothGaussSeidel::new(LocalSolver::Exact).solve_from(
+                problem,
+                std::mem::take(&mut r),
+                &gs_limits,
+                started,
+            );
+            counts.sweeps += gs.iterations;
+            r = gs.r;
+            if stalls == 1 {
+                notes.push(format!(
+                    "Newton stalled at iteration {} (natural map {error:.2e}): {why}; \
+                     gauss-seidel/exact sweeps took over",
+                    counts.newton
+                ));
+            }
+            let reached = natural_map_error(problem, &r).relative;
+            if reached <= limits.tolerance {
+                notes.push(format!(
+                    "gauss-seidel/exact answered after {} Newton iterations, {} sweeps, {stalls} stalls",
+                    counts.newton, counts.sweeps
+                ));
+                break SolveStatus::Converged;
+            }
+            if !gs.status.converged() {
+                notes.push(format!(
+                    "gauss-seidel/exact answered ({}) after {} Newton iterations, {} sweeps, {stalls} stalls",
+                    gs.status.label(),
+                    counts.newton,
+                    counts.sweeps
+                ));
+                break gs.status;
+            }
+        };
+        if stalls > 0 && status.converged() && !notes.iter().any(|n| n.contains("answered")) {
+            notes.push(format!(
+                "Newton answered after {} iterations, {} Gauss-Seidel sweeps, {stalls} stalls",
+                counts.newton, counts.sweeps
+            ));
         }
+        if counts.shifted > 0 {
+            notes.push(format!(
+                "{} of {} Newton systems were singular and took a Levenberg-Marquardt shift",
+                counts.shifted, counts.newton
+            ));
+        }
+        let total_iterations = counts.newton + counts.sweeps;
         Ok(SolverReport {
             r,
             status,
