@@ -17,6 +17,9 @@ use super::{describe, Comparison, ComparisonRow, Unreadable, NORMALISATION};
 pub const GAUSS_SEIDEL_MAX_SWEEPS: usize = 100_000;
 /// Interior-point iteration cap of each conic solve (Clarabel needs 10-40).
 pub const CONIC_MAX_ITERATIONS: usize = 200;
+/// Newton iteration cap of `newton/alart-curnier`: the tolerance or the time limit should stop
+/// it first.
+pub const NEWTON_MAX_ITERATIONS: usize = 1000;
 
 /// A solver to compare: its name, its iteration cap, and how to make a fresh one.
 pub struct SolverEntry {
@@ -50,6 +53,7 @@ pub fn solver_entries(names: &[String]) -> Result<Vec<SolverEntry>, String> {
                     GAUSS_SEIDEL_MAX_SWEEPS
                 }
                 SolverKind::ConicRelaxed | SolverKind::ConicCoulomb => CONIC_MAX_ITERATIONS,
+                SolverKind::NewtonAlartCurnier => NEWTON_MAX_ITERATIONS,
             },
             make: Box::new(move || -> Box<dyn ContactSolver> { kind.build() }),
         })

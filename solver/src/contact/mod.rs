@@ -8,6 +8,7 @@ pub mod gauss_seidel;
 pub mod geometry;
 pub mod local;
 pub use detection::normals;
+pub mod newton;
 pub mod nsgs;
 mod phase;
 pub mod problem;

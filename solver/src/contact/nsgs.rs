@@ -73,8 +73,48 @@ impl ContactSolver for NonsmoothGaussSeidel {
                 ),
             });
         }
+        Ok(self.solve_from(problem, vec![0.0; 3 * nc], limits, started))
+    }
+
+    /// The thesis variant runs the stepper's matrix-free iteration
+    /// ([`super::gauss_seidel::gauss_seidel`], Box 6.1) with `limits.tolerance`
+    /// and `limits.max_iterations` as its stopping rule; it has no clock, so `time_limit` is not
+    /// read. The exact local step needs the off-diagonal terms of each block, hence W: `None`.
+    fn solve_matrix_free(
+        &mut self,
+        problem: &PositionProblem<'_>,
+        x: &mut [Vector3<f64>],
+        limits: &SolveLimits,
+    ) -> Option<ContactSolution> {
+        (self.local == LocalSolver::Thesis).then(|| {
+            let settings = GaussSeidelSettings {
+                tolerance: limits.tolerance,
+                max_iterations: limits.max_iterations,
+            };
+            gauss_seidel(
+                problem.constraints,
+                problem.inverse_mass,
+                problem.beta_dt2,
+                x,
+                &settings,
+            )
+        })
+    }
+}
+
+impl NonsmoothGaussSeidel {
+    /// The sweeps of [`ContactSolver::solve`] from the multipliers `r` (`3 nc` values, sizes
+    /// checked by the caller) instead of zero, with the clock of `limits.time_limit` started at
+    /// `started`: the fallback of a Newton solve that stalled continues from where it stopped.
+    pub fn solve_from(
+        &self,
+        problem: &ContactProblem,
+        mut r: Vec<f64>,
+        limits: &SolveLimits,
+        started: Instant,
+    ) -> SolverReport {
+        let nc = problem.contacts();
         let blocks: Vec<Matrix3<f64>> = (0..nc).map(|a| problem.w.block(a, a)).collect();
-        let mut r = vec![0.0; 3 * nc];
         let mut fallbacks = 0usize;
         let mut status = SolveStatus::MaxIterations;
         let mut iterations = 0;
@@ -130,39 +170,14 @@ impl ContactSolver for NonsmoothGaussSeidel {
                 "{fallbacks} local solves found no slip direction and took the thesis step"
             ));
         }
-        Ok(SolverReport {
+        SolverReport {
             r,
             status,
             iterations,
             outer_iterations: 1,
             seconds: started.elapsed().as_secs_f64(),
             notes,
-        })
-    }
-
-    /// The thesis variant runs the stepper's matrix-free iteration
-    /// ([`super::gauss_seidel::gauss_seidel`], Box 6.1) with `limits.tolerance`
-    /// and `limits.max_iterations` as its stopping rule; it has no clock, so `time_limit` is not
-    /// read. The exact local step needs the off-diagonal terms of each block, hence W: `None`.
-    fn solve_matrix_free(
-        &mut self,
-        problem: &PositionProblem<'_>,
-        x: &mut [Vector3<f64>],
-        limits: &SolveLimits,
-    ) -> Option<ContactSolution> {
-        (self.local == LocalSolver::Thesis).then(|| {
-            let settings = GaussSeidelSettings {
-                tolerance: limits.tolerance,
-                max_iterations: limits.max_iterations,
-            };
-            gauss_seidel(
-                problem.constraints,
-                problem.inverse_mass,
-                problem.beta_dt2,
-                x,
-                &settings,
-            )
-        })
+        }
     }
 }
 

@@ -5,6 +5,7 @@
 use std::fmt;
 
 use super::conic::{ConicMode, ConicSolver};
+use super::newton::AlartCurnierNewton;
 use super::nsgs::{LocalSolver, NonsmoothGaussSeidel};
 use super::solver::{ContactSolver, SolveLimits};
 
@@ -21,15 +22,19 @@ pub enum SolverKind {
     ConicRelaxed,
     /// The Tresca fixed point of conic programs, converging to Coulomb's law (Clarabel).
     ConicCoulomb,
+    /// Semismooth Newton on the Alart-Curnier function with a Goldstein-Price line search
+    /// (`faer` LU), falling back to `GaussSeidelExact` when it stalls (the notes say so).
+    NewtonAlartCurnier,
 }
 
 impl SolverKind {
     /// Every solver, in the order tables list them.
-    pub const ALL: [SolverKind; 4] = [
+    pub const ALL: [SolverKind; 5] = [
         SolverKind::GaussSeidelThesis,
         SolverKind::GaussSeidelExact,
         SolverKind::ConicRelaxed,
         SolverKind::ConicCoulomb,
+        SolverKind::NewtonAlartCurnier,
     ];
 
     /// The one spelling of this solver.
@@ -39,6 +44,7 @@ impl SolverKind {
             SolverKind::GaussSeidelExact => "gauss-seidel/exact",
             SolverKind::ConicRelaxed => "conic/relaxed",
             SolverKind::ConicCoulomb => "conic/coulomb",
+            SolverKind::NewtonAlartCurnier => super::newton::NAME,
         }
     }
 
@@ -59,16 +65,19 @@ impl SolverKind {
             SolverKind::GaussSeidelExact => Box::new(NonsmoothGaussSeidel::new(LocalSolver::Exact)),
             SolverKind::ConicRelaxed => Box::new(ConicSolver::new(ConicMode::Relaxed)),
             SolverKind::ConicCoulomb => Box::new(ConicSolver::new(ConicMode::Coulomb)),
+            SolverKind::NewtonAlartCurnier => Box::new(AlartCurnierNewton::default()),
         }
     }
 
     /// The iteration cap a contact pair gets when its scene gives none: sweeps for Gauss-Seidel
     /// (one step's problem is small and warm; 500 is the thesis-era default), interior-point
-    /// iterations per conic solve for Clarabel (it needs 10-40).
+    /// iterations per conic solve for Clarabel (it needs 10-40), Newton iterations for
+    /// `newton/alart-curnier` (a solve from zero needs a few to a few tens).
     pub fn default_max_iterations(self) -> usize {
         match self {
             SolverKind::GaussSeidelThesis | SolverKind::GaussSeidelExact => 500,
             SolverKind::ConicRelaxed | SolverKind::ConicCoulomb => 200,
+            SolverKind::NewtonAlartCurnier => 100,
         }
     }
 }
