@@ -366,8 +366,8 @@ fn contact_compare_writes_tables_profiles_and_measures_every_solve() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     let rows = json["rows"].as_array().unwrap();
-    // 4 problems x 4 solvers x 3 tolerances, in that nesting.
-    assert_eq!(rows.len(), 48);
+    // 4 problems x 5 solvers x 3 tolerances, in that nesting.
+    assert_eq!(rows.len(), 60);
     assert_eq!(json["problems"][0]["name"], "frictioncontact3d_1c");
     assert_eq!(json["problems"][0]["contacts"], 1);
     assert_eq!(json["problems"][0]["unknowns"], 3);
@@ -379,18 +379,19 @@ fn contact_compare_writes_tables_profiles_and_measures_every_solve() {
         // tolerance (within the time limit, which these small problems stay under).
         assert_eq!(r["solved"], error.is_some_and(|e| e <= tol), "{r}");
     }
-    // Issue 5: nonlinear Gauss-Seidel with the exact local solver reaches 1e-8 on these.
+    // Nonlinear Gauss-Seidel with the exact local solver, and semismooth Newton on the
+    // Alart-Curnier function, reach 1e-8 on these.
     for p in SMALL_PROBLEMS {
-        let row = rows
-            .iter()
-            .find(|r| {
-                r["problem"] == p && r["solver"] == "gauss-seidel/exact" && r["tolerance"] == 1e-8
-            })
-            .unwrap();
-        assert_eq!(row["solved"], true, "{row}");
+        for solver in ["gauss-seidel/exact", "newton/alart-curnier"] {
+            let row = rows
+                .iter()
+                .find(|r| r["problem"] == p && r["solver"] == solver && r["tolerance"] == 1e-8)
+                .unwrap();
+            assert_eq!(row["solved"], true, "{row}");
+        }
     }
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 49, "a header and one line per solve");
+    assert_eq!(csv.lines().count(), 61, "a header and one line per solve");
     let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
     for s in [
         "## Problems",
