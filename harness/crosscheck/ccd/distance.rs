@@ -10,10 +10,10 @@ use crate::crosscheck::ccd_queries::CcdQuery;
 /// algorithms, which never call it.
 pub use impact_solver::contact::geometry::point_triangle_distance;
 
-/// The distance below which the point counts as touching the triangle: the minimum separation
-/// of our CCD (`contact::ccd::touch`), `1e-12` times the largest coordinate of the query.
+/// The distance below which the point counts as touching the triangle: the rounding level of
+/// the query's coordinates, `1e-12` times the largest.
 pub fn touch_level(q: &CcdQuery) -> f64 {
-    impact_solver::contact::ccd::touch::TOUCH_SEPARATION
+    1e-12
         * q.points
             .iter()
             .flatten()
