@@ -182,13 +182,15 @@ impl NonsmoothGaussSeidel {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::contact::gauss_seidel::ContactConstraint;
     use crate::contact::problem::SparseMatrix;
 
     /// Three slaves over one shared face, with friction, as in the stepper.
-    fn coupled(friction: f64) -> (Vec<ContactConstraint>, Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+    pub(in crate::contact) fn coupled(
+        friction: f64,
+    ) -> (Vec<ContactConstraint>, Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
         let x = vec![
             Vector3::new(0.0, 0.0, 0.0),
             Vector3::new(1.0, 0.0, 0.0),

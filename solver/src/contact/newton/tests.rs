@@ -1,9 +1,8 @@
 //! The Newton solver against Gauss-Seidel on problems both solve, and its convergence rate.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Matrix3;
 
 use super::*;
-use crate::contact::gauss_seidel::ContactConstraint;
 use crate::contact::problem::SparseMatrix;
 
 fn limits(tolerance: f64) -> SolveLimits {
@@ -14,34 +13,10 @@ fn limits(tolerance: f64) -> SolveLimits {
     }
 }
 
-/// Three slaves over one shared face, as the stepper builds them (lumped masses).
+/// Three slaves over one shared face, as the stepper builds them (lumped masses): the
+/// Gauss-Seidel tests' fixture, assembled.
 fn coupled(friction: f64) -> ContactProblem {
-    let x = vec![
-        Vector3::new(0.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.0, 0.0),
-        Vector3::new(0.0, 1.0, 0.0),
-        Vector3::new(0.2, 0.2, -2e-3),
-        Vector3::new(0.5, 0.3, -1e-3),
-        Vector3::new(0.3, 0.5, 5e-4),
-    ];
-    let inverse_mass: Vec<Vector3<f64>> = [1.0, 0.5, 2.0, 1.0, 3.0, 1.5]
-        .iter()
-        .map(|&m| Vector3::repeat(m))
-        .collect();
-    let normal = Vector3::new(0.2, -0.1, 1.0).normalize();
-    let make = |slave: u32, weights: [f64; 3]| ContactConstraint {
-        slave,
-        face: [0, 1, 2],
-        weights,
-        normal,
-        friction,
-        allowance: 0.0,
-    };
-    let c = vec![
-        make(3, [0.6, 0.2, 0.2]),
-        make(4, [0.2, 0.5, 0.3]),
-        make(5, [0.2, 0.3, 0.5]),
-    ];
+    let (c, inverse_mass, x) = crate::contact::nsgs::tests::coupled(friction);
     ContactProblem::from_constraints(&c, &inverse_mass, 1e-2, &x, "coupled".into())
 }
 
