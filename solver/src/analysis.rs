@@ -280,12 +280,6 @@ fn explicit_remeshing(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, SolverError> {
     let policy = remeshing.policy(problem)?;
-    if problem.contact.iter().any(|p| p.record_every.is_some()) {
-        return Err(SolverError::InvalidScene {
-            entity: "contact.record_problems_every".into(),
-            message: "recording contact problems is not supported in a run that remeshes".into(),
-        });
-    }
     if let Some(spec) = &remeshing.section {
         spec.check()?;
     }
@@ -328,7 +322,8 @@ fn explicit_remeshing(
         )?),
         _ => None,
     };
-    let mut watches: Vec<&mut dyn RemeshWatch> = Vec::new();
+    let mut recorded = RecordedProblems::default();
+    let mut watches: Vec<&mut dyn RemeshWatch> = vec![&mut recorded];
     watches.extend(csv.as_mut().map(|w| w as &mut dyn RemeshWatch));
     watches.extend(pictures.as_mut().map(|w| w as &mut dyn RemeshWatch));
     watches.extend(near_tip.as_mut().map(|w| w as &mut dyn RemeshWatch));
@@ -359,10 +354,19 @@ fn explicit_remeshing(
         Ok(())
     };
     let closed = closed();
+    // Recorded problems are written whether or not the run completed: they are results too.
+    let contact_problems = recorded.0;
+    let written_problems = match options.out {
+        Some(dir) if !contact_problems.is_empty() => {
+            write_contact_problems(dir, options.stem, &contact_problems)
+        }
+        _ => Ok(Vec::new()),
+    };
     let run = outcome?;
     closed?;
     let mut summary = run.summary;
     summary.written.extend(written);
+    summary.written.extend(written_problems?);
     if let Some(p) = run.problem {
         *problem = p;
     }
@@ -374,10 +378,21 @@ fn explicit_remeshing(
         written: summary.written.clone(),
         summary: Some(summary),
         static_solution: None,
-        contact_problems: Vec::new(),
+        contact_problems,
         material_history: Some(run.state.history),
         remeshings: run.records,
     })
+}
+
+/// The contact problems a run that remeshes records, stretch by stretch (pairs with
+/// `record_problems_every`).
+#[derive(Default)]
+struct RecordedProblems(Vec<RecordedProblem>);
+
+impl RemeshWatch for RecordedProblems {
+    fn contact_problems(&mut self, problems: &[RecordedProblem]) {
+        self.0.extend_from_slice(problems);
+    }
 }
 
 fn statics(

@@ -479,7 +479,10 @@ pub fn run_remeshing_watched(
                     }
                 }
                 false
-            })?;
+            });
+            // The stretch's recorded contact problems go to the watch before its error does.
+            watch.contact_problems(&solver.take_recorded_problems());
+            let end = end?;
             let summary = (end == SegmentEnd::Finished)
                 .then(|| solver.summary(&schedule, started, Recorder::default(), Vec::new()));
             (end, solver.into_state(), pause, summary)

@@ -12,6 +12,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use super::record::RemeshRecord;
+use crate::contact::RecordedProblem;
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
 use crate::problem::Problem;
@@ -29,6 +30,12 @@ pub trait RemeshWatch {
     /// After a remeshing: its record, and the problem and state the run goes on with (the new
     /// reference is the current configuration: displacements zero).
     fn remeshed(&mut self, _record: &RemeshRecord, _problem: &Problem, _state: &RunState) {}
+
+    /// At the end of each stretch of steps on one mesh (before a remeshing, a change of time
+    /// step or the run's end, and when the stretch fails), the contact problems its pairs with
+    /// `record_every` recorded, in step order: they are results too, written whether or not the
+    /// run completes.
+    fn contact_problems(&mut self, _problems: &[RecordedProblem]) {}
 }
 
 /// No watch.
@@ -50,6 +57,10 @@ impl RemeshWatch for Watches<'_> {
         self.0
             .iter_mut()
             .for_each(|w| w.remeshed(record, problem, state));
+    }
+
+    fn contact_problems(&mut self, problems: &[RecordedProblem]) {
+        self.0.iter_mut().for_each(|w| w.contact_problems(problems));
     }
 }
 
