@@ -343,3 +343,25 @@ fn both_checkpoints_damaged_another_version_or_changed_inputs_are_refused() {
         "{text}"
     );
 }
+
+/// A checkpoint whose write a kill cut short is a temporary file: it is not resumed from, and the
+/// next checkpoint written removes it.
+#[test]
+fn a_write_cut_short_leaves_the_last_good_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    plain(&a);
+    let kept = two_checkpoints(&b);
+    let folder = file::folder(&b, STEM);
+    let half = std::fs::read(&kept[0]).unwrap();
+    let cut = folder.join("step999999999999.ckpt.tmp");
+    std::fs::write(&cut, &half[..half.len() / 2]).unwrap();
+    let resumed = checkpointed(&b, 50, true, None, &Log::default()).unwrap();
+    assert!(
+        resumed.plan.contains(&*kept[0].to_string_lossy()),
+        "{}",
+        resumed.plan
+    );
+    assert!(!cut.exists(), "the cut-short write is left");
+    same_files(&a, &b);
+}

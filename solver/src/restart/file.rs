@@ -99,6 +99,14 @@ pub fn write(
     }
     std::fs::rename(&temporary, &path).map_err(io(&path, "renaming the temporary file"))?;
     sync_folder(folder)?;
+    // Temporary files of writes a kill cut short are no checkpoints: removed, not listed.
+    let stale = std::fs::read_dir(folder)
+        .map_err(io(folder, "listing the checkpoints"))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p != &temporary && p.extension().is_some_and(|x| x == "tmp"));
+    for old in stale {
+        std::fs::remove_file(&old).map_err(io(&old, "removing a cut-short checkpoint"))?;
+    }
     for old in list(folder)?.into_iter().skip(KEEP) {
         std::fs::remove_file(&old).map_err(io(&old, "removing an old checkpoint"))?;
     }
