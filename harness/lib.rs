@@ -35,4 +35,5 @@ pub mod results;
 pub mod run_log;
 pub mod runner;
 pub mod scene_case;
+pub mod scene_restart;
 pub mod scene_run;

@@ -125,6 +125,17 @@ enum Command {
         /// Skip the VTU field frames.
         #[arg(long)]
         no_fields: bool,
+        /// Write a checkpoint every SECONDS of wall time into OUT/<scene>-checkpoints (the
+        /// last two kept); overrides the scene's `analysis.explicit.checkpoint`.
+        #[arg(long, value_name = "SECONDS")]
+        checkpoint_every: Option<f64>,
+        /// Write a checkpoint every N steps.
+        #[arg(long, value_name = "N")]
+        checkpoint_every_steps: Option<usize>,
+        /// Go on from the newest good checkpoint in OUT (from the start when there is none):
+        /// the result is bitwise that of the run never stopped.
+        #[arg(long)]
+        resume: bool,
     },
     /// One rank of a case variant with `ranks: N`, started by the harness under `mpirun`
     /// (`impact_vv::rank_case`); rank 0 writes the judged result to `--result`.
@@ -486,16 +497,25 @@ fn main() -> ExitCode {
             path,
             out,
             no_fields,
+            checkpoint_every,
+            checkpoint_every_steps,
+            resume,
         } => {
             let ranks = mpi_ranks();
             let comm = ranks.as_ref().map(|(_, world)| world as &dyn Communicator);
             let root = comm.is_none_or(|c| c.rank() == 0);
-            match impact_vv::scene_run::run_scene_file(
+            let restart = impact_vv::scene_restart::RestartRequest {
+                every_s: checkpoint_every,
+                every_steps: checkpoint_every_steps,
+                resume,
+            };
+            match impact_vv::scene_run::run_scene_file_with(
                 &path,
                 &out,
                 !no_fields,
                 Some(stop_on_signal()),
                 comm,
+                &restart,
             ) {
                 Ok(report) => {
                     if root {

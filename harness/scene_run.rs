@@ -9,9 +9,11 @@ use impact_solver::scene::{build_problem, Scene};
 use impact_solver::SolverError;
 
 use crate::progress::fraction_bar;
+use crate::scene_restart::{run_with_checkpoints, RestartRequest};
 use impact_solver::analysis::{execute, log_to_stderr, ExecuteOptions};
 use impact_solver::distributed::Communicator;
 use impact_solver::dynamics::StopWhen;
+use impact_solver::restart::RestartError;
 use impact_solver::scene::Analysis;
 
 /// Why a scene run stopped.
@@ -26,6 +28,10 @@ pub enum SceneRunError {
     /// A signal (SIGINT, SIGTERM) stopped the run, which wrote what it had: exit status 130.
     #[error("{0}")]
     Interrupted(SolverError),
+    /// A checkpoint could not be written, or none could be resumed from: exit status 2 (1 when
+    /// the disk failed).
+    #[error("{0}")]
+    Checkpoint(impact_solver::restart::CheckpointError),
 }
 
 impl SceneRunError {
@@ -35,6 +41,8 @@ impl SceneRunError {
             SceneRunError::Input(_) => 2,
             SceneRunError::Run(_) => 1,
             SceneRunError::Interrupted(_) => 130,
+            SceneRunError::Checkpoint(impact_solver::restart::CheckpointError::Io { .. }) => 1,
+            SceneRunError::Checkpoint(_) => 2,
         }
     }
 }
@@ -139,6 +147,19 @@ pub fn run_scene_file(
     stop: Option<Arc<AtomicBool>>,
     ranks: Option<&dyn Communicator>,
 ) -> Result<SceneReport, SceneRunError> {
+    run_scene_file_with(path, out, fields, stop, ranks, &RestartRequest::default())
+}
+
+/// [`run_scene_file`] with the checkpoints and resume of `restart`
+/// ([`crate::scene_restart`]).
+pub fn run_scene_file_with(
+    path: &Path,
+    out: &Path,
+    fields: bool,
+    stop: Option<Arc<AtomicBool>>,
+    ranks: Option<&dyn Communicator>,
+    restart: &RestartRequest,
+) -> Result<SceneReport, SceneRunError> {
     let scene = if is_case_file(path) {
         Scene::from_yaml_file_entry(path, "scene")?
     } else {
@@ -159,11 +180,23 @@ pub fn run_scene_file(
         // As a scene run always has: each remeshing's summary on stderr, the bar kept whole.
         log: &|line| bar.suspend(|| log_to_stderr(line)),
     };
-    let result = execute(&mut problem, &scene.analysis, &options, &mut |x| {
-        bar.set_position((1000.0 * x) as u64)
-    });
-    bar.finish_and_clear();
-    let run = result.map_err(|e| in_file(path, e))?;
+    let mut progress = |x: f64| bar.set_position((1000.0 * x) as u64);
+    let checkpointed =
+        run_with_checkpoints(path, &scene, &problem, &options, restart, &mut progress);
+    let run = match checkpointed {
+        Some(result) => {
+            bar.finish_and_clear();
+            result.map_err(|e| match e {
+                RestartError::Run(e) => SceneRunError::from(in_file(path, e)),
+                RestartError::Checkpoint(e) => SceneRunError::Checkpoint(e),
+            })?
+        }
+        None => {
+            let result = execute(&mut problem, &scene.analysis, &options, &mut progress);
+            bar.finish_and_clear();
+            result.map_err(|e| in_file(path, e))?
+        }
+    };
     let mut lines = vec![run.plan.clone()];
     if let Some(s) = &run.summary {
         lines.push(format!(

@@ -36,6 +36,7 @@ const SOLVER_LAYERS: &[&[&str]] = &[
     &["remesh"],
     &["scene"],
     &["analysis"],
+    &["restart"],
 ];
 
 /// A module path from the crate root: `["report", "beam", "plots"]`.

@@ -27,6 +27,7 @@ pub mod model;
 pub mod output;
 pub mod problem;
 pub mod remesh;
+pub mod restart;
 pub mod rng;
 pub mod scene;
 pub mod statics;

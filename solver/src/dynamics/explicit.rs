@@ -7,6 +7,7 @@ mod contact_phase;
 mod ledger;
 mod ranks;
 mod records;
+mod restart;
 mod resume;
 mod run_loop;
 mod stopping;
@@ -24,6 +25,7 @@ use crate::model::{MaterialHistory, Motion};
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use crate::problem::Problem;
 use contact_phase::ContactScratch;
+pub use restart::{RestartState, ScheduleRecord};
 pub use resume::RunState;
 pub use run_loop::{OutputSchedule, SegmentEnd};
 

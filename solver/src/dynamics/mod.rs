@@ -1,6 +1,7 @@
 //! Explicit dynamics: lumped mass, central differences, energies and instability detection
 //! (thesis chapter 4, FORMULATION sections 2 and 3).
 
+mod checkpoint_every;
 mod energy;
 mod explicit;
 mod settings;
@@ -8,7 +9,10 @@ mod stop_when;
 
 pub use crate::error::InstabilityReport;
 pub use crate::output::Snapshot;
+pub use checkpoint_every::CheckpointEvery;
 pub use energy::EnergyLedger;
-pub use explicit::{ExplicitSolver, OutputSchedule, RunState, SegmentEnd};
+pub use explicit::{
+    ExplicitSolver, OutputSchedule, RestartState, RunState, ScheduleRecord, SegmentEnd,
+};
 pub use settings::{ContactTotals, ExplicitSettings, OutputSettings, PhaseTimes, RunSummary};
 pub use stop_when::{StopProgress, StopWhen};

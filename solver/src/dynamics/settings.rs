@@ -58,6 +58,10 @@ pub struct ExplicitSettings {
     /// altitude of its elements are counted.
     #[serde(default = "default_eta")]
     pub mesh_stability_eta: f64,
+    /// How often the run writes a checkpoint to resume from (`impact-vv scene --resume`);
+    /// `None`: never (the command line's `--checkpoint-every` may still ask for them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint: Option<super::CheckpointEvery>,
 }
 
 /// The default safety, 0.8. The estimate `dt_cr` (smallest altitude over the wave speed,
@@ -93,6 +97,7 @@ impl ExplicitSettings {
             snapshot_refined: None,
             instability_energy_tolerance: default_energy_tolerance(),
             mesh_stability_eta: default_eta(),
+            checkpoint: None,
         }
     }
 }

@@ -72,6 +72,20 @@ impl StopProgress {
     pub fn reached_at(&self) -> Option<f64> {
         self.reached_at
     }
+
+    /// The two facts it keeps (the first row's side, the time of the row that reached the
+    /// level), for a checkpoint; [`Self::from_parts`] rebuilds it.
+    pub fn parts(&self) -> (Option<bool>, Option<f64>) {
+        (self.started_below, self.reached_at)
+    }
+
+    /// The progress of [`Self::parts`].
+    pub fn from_parts(started_below: Option<bool>, reached_at: Option<f64>) -> Self {
+        Self {
+            started_below,
+            reached_at,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -276,7 +276,8 @@ mod tests {
         let unknown = parse("end_time: 1.0e-3\nsafty: 0.5\n").unwrap_err();
         assert!(
             unknown.starts_with("unknown field `safty`, expected one of `end_time`,")
-                && unknown.contains("`mesh_stability_eta`, `remeshing` at line 2 column 1"),
+                && unknown
+                    .contains("`mesh_stability_eta`, `checkpoint`, `remeshing` at line 2 column 1"),
             "{unknown}"
         );
         let twice = parse("{ end_time: 1.0, remeshing: { body: a }, remeshing: { body: b } }");

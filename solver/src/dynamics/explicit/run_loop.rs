@@ -24,14 +24,14 @@ pub enum SegmentEnd {
 /// stability check, and the steps taken (over every segment).
 #[derive(Debug, Clone, Default)]
 pub struct OutputSchedule {
-    next_history: f64,
-    next_field: f64,
-    next_snapshot: f64,
-    max_scale: f64,
-    max_abs_error: f64,
-    flags: usize,
-    steps: usize,
-    stop: StopProgress,
+    pub(super) next_history: f64,
+    pub(super) next_field: f64,
+    pub(super) next_snapshot: f64,
+    pub(super) max_scale: f64,
+    pub(super) max_abs_error: f64,
+    pub(super) flags: usize,
+    pub(super) steps: usize,
+    pub(super) stop: StopProgress,
 }
 
 impl OutputSchedule {
@@ -121,7 +121,9 @@ impl<'p> ExplicitSolver<'p> {
             None => None,
         };
 
-        for n in 0..=steps {
+        // A segment goes on from the step its solver took over at (`restart.rs` restores a
+        // solver mid-segment; every other solver starts at its origin, `n = 0`).
+        for n in (self.step - self.step_origin)..=steps {
             let mut last = n == steps;
             let first = schedule.steps == 0;
             match self.advance() {

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Kill and resume a scene run: run SCENE once uninterrupted, then again with checkpoints,
+# killed with SIGKILL at KILLS seeded random times and resumed with --resume after each kill,
+# and run to its end; then compare every output file (history CSV, VTU frames, PVD) byte for
+# byte with the uninterrupted run. Exits 0 when all are identical.
+#
+#   scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S]
+#   scripts/kill-resume.sh cases/beam/drop-2ms.yaml 10 1 20
+#
+# The kill times are drawn uniformly over the uninterrupted run's wall time divided by KILLS,
+# so that the kills fall across the whole run. Needs target/release/impact-vv
+# (cargo build --release). Output under reports/kill-resume/<scene name>/.
+set -euo pipefail
+
+scene=${1:?usage: scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S]}
+kills=${2:-10}
+seed=${3:-1}
+every=${4:-20}
+bin=${IMPACT_VV:-target/release/impact-vv}
+name=$(basename "$scene" .yaml)
+out=reports/kill-resume/$name
+rm -rf "$out"
+mkdir -p "$out"
+
+start=$(date +%s.%N)
+"$bin" scene "$scene" --out "$out/reference" >"$out/reference.log" 2>&1
+full=$(echo "$(date +%s.%N) - $start" | bc)
+echo "uninterrupted: $full s"
+
+RANDOM=$seed
+interrupted=0
+for k in $(seq 1 "$kills"); do
+    resume=()
+    [ "$k" -gt 1 ] && resume=(--resume)
+    "$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" "${resume[@]}" \
+        >>"$out/killed.log" 2>&1 &
+    pid=$!
+    # Uniform in [0.5, 1.5] times full / kills.
+    after=$(echo "scale=3; $full / $kills * (0.5 + $RANDOM / 32767)" | bc)
+    sleep "$after"
+    if kill -9 "$pid" 2>/dev/null; then
+        interrupted=$((interrupted + 1))
+    fi
+    wait "$pid" 2>/dev/null || true
+    echo "kill $k after $after s: $(ls "$out"/killed/*-checkpoints 2>/dev/null | tr '\n' ' ')"
+done
+"$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" --resume >>"$out/killed.log" 2>&1
+echo "$interrupted of $kills kills stopped a run"
+
+status=0
+for f in "$out/reference"/*; do
+    base=$(basename "$f")
+    if ! cmp -s "$f" "$out/killed/$base"; then
+        echo "DIFFERS: $base"
+        status=1
+    fi
+done
+[ "$status" -eq 0 ] && echo "identical: every output file of the resumed run is that of the uninterrupted run"
+exit "$status"

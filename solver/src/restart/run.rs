@@ -1,0 +1,291 @@
+//! An explicit run that writes checkpoints as it goes and can start from one: the step loop of
+//! [`crate::dynamics::ExplicitSolver::run_with`], paused between two steps whenever a
+//! checkpoint falls due (every so many steps or seconds of wall time), the checkpoint written,
+//! and the loop resumed. The pause changes nothing in the run: the same steps are taken with the
+//! same numbers, so a run with checkpoints is bitwise the run without, and a resumed run
+//! bitwise the one that was never stopped.
+
+use std::path::Path;
+use std::time::Instant;
+
+use super::error::{CheckpointError, RestartError};
+use super::file;
+use super::frames::CheckpointFrames;
+use super::inputs::Inputs;
+use super::payload::{OutputMarks, Payload};
+use crate::analysis::{ExecuteOptions, Execution};
+use crate::dynamics::{
+    CheckpointEvery, ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
+};
+use crate::output::{
+    Deadline, HistoryFile, ObserverSet, Progress, Recorder, RunObserver, StopFlag,
+};
+use crate::problem::Problem;
+use crate::scene::{Analysis, ExplicitAnalysis};
+
+/// What a run does with checkpoints.
+#[derive(Debug, Clone, Default)]
+pub struct CheckpointPlan {
+    /// When a checkpoint falls due; nothing set: none is written.
+    pub every: CheckpointEvery,
+    /// Start from the newest good checkpoint in the output folder (from the beginning when there
+    /// is none).
+    pub resume: bool,
+    /// The inputs the run reads, stored in each checkpoint and compared on a resume.
+    pub inputs: Inputs,
+}
+
+/// The observers of a run that checkpoints, owned here so that the checkpoint can read what
+/// the output holds between two segments.
+struct Observers<'p> {
+    history: Option<HistoryFile>,
+    frames: Option<CheckpointFrames>,
+    deadline: Option<Deadline>,
+    stop: Option<StopFlag>,
+    progress: Progress<'p>,
+    recorder: Recorder,
+}
+
+impl<'p> Observers<'p> {
+    fn set<'a>(&'a mut self) -> ObserverSet<'a, 'p> {
+        let mut all: Vec<&'a mut (dyn RunObserver + 'p)> = Vec::new();
+        all.extend(self.history.as_mut().map(|o| o as &mut dyn RunObserver));
+        all.extend(self.frames.as_mut().map(|o| o as &mut dyn RunObserver));
+        all.extend(self.deadline.as_mut().map(|o| o as &mut dyn RunObserver));
+        all.extend(self.stop.as_mut().map(|o| o as &mut dyn RunObserver));
+        all.push(&mut self.progress);
+        all.push(&mut self.recorder);
+        ObserverSet::new(all)
+    }
+
+    fn marks(&self) -> OutputMarks {
+        let (columns, rows) = match &self.recorder.history {
+            Some(h) => (h.columns().to_vec(), h.rows().to_vec()),
+            None => (Vec::new(), Vec::new()),
+        };
+        OutputMarks {
+            columns,
+            rows,
+            frames: self
+                .frames
+                .as_ref()
+                .map(|f| f.frames.clone())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// Whether this run can be checkpointed: an explicit analysis on one process, on its initial
+/// mesh, with an output folder, recording no contact problems.
+fn supported<'a>(
+    problem: &Problem,
+    analysis: &'a Analysis,
+    options: &ExecuteOptions,
+) -> Result<&'a ExplicitSettings, CheckpointError> {
+    let unsupported = |what: &str| CheckpointError::Unsupported { what: what.into() };
+    let settings = match analysis {
+        Analysis::Explicit(ExplicitAnalysis {
+            settings,
+            remeshing: None,
+        }) => settings,
+        Analysis::Explicit(_) => return Err(unsupported("a run that remeshes")),
+        Analysis::Static(_) => return Err(unsupported("a static analysis")),
+        Analysis::Release { .. } => return Err(unsupported("a static preload and release")),
+    };
+    if options.ranks.is_some_and(|c| c.size() > 1) {
+        return Err(unsupported("a run over several MPI ranks"));
+    }
+    if options.out.is_none() {
+        return Err(unsupported("a run without an output folder"));
+    }
+    if problem.contact.iter().any(|p| p.record_every.is_some()) {
+        return Err(unsupported(
+            "a run recording contact problems (`record_problems_every`)",
+        ));
+    }
+    Ok(settings)
+}
+
+/// Runs `analysis` on `problem` as [`crate::analysis::execute`] does, writing checkpoints as
+/// `plan` says into `<out>/<stem>-checkpoints/` and, with `plan.resume`, starting from the
+/// newest good one there. Refusals of damaged checkpoints (an older one is then used) and each
+/// checkpoint written go to `options.log`.
+pub fn execute_checkpointed(
+    problem: &Problem,
+    analysis: &Analysis,
+    options: &ExecuteOptions,
+    plan: &CheckpointPlan,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Execution, RestartError> {
+    let settings = supported(problem, analysis, options)?;
+    plan.every
+        .check()
+        .map_err(|message| crate::SolverError::InvalidScene {
+            entity: "checkpoint".into(),
+            message,
+        })?;
+    if let Some(limit) = options
+        .time_limit_s
+        .filter(|t| !(*t > 0.0 && t.is_finite()))
+    {
+        return Err(crate::SolverError::InvalidScene {
+            entity: "time limit".into(),
+            message: format!("must be a positive, finite number of seconds, got {limit}"),
+        }
+        .into());
+    }
+    let out = options.out.unwrap_or(Path::new("."));
+    let folder = file::folder(out, options.stem);
+    let output = OutputSettings {
+        dir: Some(out.to_path_buf()),
+        stem: options.stem.to_string(),
+        fields: options.fields,
+    };
+    let start = if plan.resume {
+        let (found, refused) = file::newest_good(&folder, &plan.inputs)?;
+        refused.iter().for_each(|line| (options.log)(line));
+        found
+    } else {
+        None
+    };
+    if start.is_none() {
+        if plan.resume {
+            (options.log)(&format!(
+                "no checkpoint in `{}`: the run starts from the beginning",
+                folder.display()
+            ));
+        }
+        // A run from the start leaves no checkpoint of an earlier run to be resumed by mistake.
+        for old in file::list(&folder)? {
+            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
+                path: old.clone(),
+                action: "removing an earlier run's checkpoint",
+                source,
+            })?;
+        }
+    }
+    let (mut solver, mut schedule, marks, mut plan_line) = match start {
+        Some((path, bytes)) => {
+            let payload = Payload::decode(&bytes).map_err(|e| CheckpointError::Mismatch {
+                path: path.clone(),
+                detail: format!("its payload does not read back: {}", e.0),
+            })?;
+            let step = payload.state.step;
+            let (solver, schedule) =
+                ExplicitSolver::restored(problem, settings.clone(), output, payload.state)
+                    .map_err(|e| CheckpointError::Mismatch {
+                        path: path.clone(),
+                        detail: e.to_string(),
+                    })?;
+            let columns = solver.history_columns();
+            if payload.marks.columns != columns {
+                return Err(CheckpointError::Mismatch {
+                    path,
+                    detail: "its history columns differ from this scene's".into(),
+                }
+                .into());
+            }
+            let line = format!("; resumed from `{}` at step {step}", path.display());
+            (solver, schedule, Some(payload.marks), line)
+        }
+        None => (
+            ExplicitSolver::new(problem, settings.clone(), output)?,
+            OutputSchedule::default(),
+            None,
+            String::new(),
+        ),
+    };
+    let marks = marks.unwrap_or_default();
+    if let Some(s) = plan.every.every_s {
+        plan_line += &format!("; a checkpoint every {s} s of wall time");
+    }
+    if let Some(n) = plan.every.every_steps {
+        plan_line += &format!("; a checkpoint every {n} steps");
+    }
+    let plan_text = solver.plan() + &plan_line;
+
+    let started = Instant::now();
+    let mut observers = Observers {
+        history: Some(HistoryFile::new(
+            out.join(format!("{}_history.csv", options.stem)),
+        )),
+        frames: if options.fields {
+            Some(CheckpointFrames::new(out, options.stem, &marks.frames)?)
+        } else {
+            None
+        },
+        deadline: options.time_limit_s.map(Deadline::after),
+        stop: options.stop.clone().map(StopFlag),
+        progress: Progress(progress),
+        recorder: Recorder::default(),
+    };
+    let mut written = Vec::new();
+    {
+        // The history file is rewritten from the checkpoint's rows, which are the rows the
+        // stopped run wrote up to its checkpoint, whatever of them reached the disk.
+        let mut set = observers.set();
+        set.history_columns(&solver.history_columns())?;
+        for row in &marks.rows {
+            set.history_row(row)?;
+        }
+    }
+    let (mut count, mut seconds) = (0usize, 0.0f64);
+    let mut last = Instant::now();
+    loop {
+        let mut set = observers.set();
+        set.written = std::mem::take(&mut written);
+        let every = plan.every;
+        let since = last;
+        let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
+            every.every_steps.is_some_and(|n| s.step % n == 0)
+                || every
+                    .every_s
+                    .is_some_and(|t| since.elapsed().as_secs_f64() >= t)
+        })?;
+        if end == SegmentEnd::Finished {
+            set.finish()?;
+            written = std::mem::take(&mut set.written);
+            break;
+        }
+        written = std::mem::take(&mut set.written);
+        drop(set);
+        let clock = Instant::now();
+        let payload = Payload {
+            state: solver.restart_state(&schedule),
+            marks: observers.marks(),
+        }
+        .encode();
+        let path = file::write(&folder, solver.step, &plan.inputs, &payload)?;
+        let took = clock.elapsed().as_secs_f64();
+        count += 1;
+        seconds += took;
+        (options.log)(&format!(
+            "checkpoint `{}`: step {}, t = {:.6e} s, {:.1} MB in {took:.3} s",
+            path.display(),
+            solver.step,
+            solver.time,
+            payload.len() as f64 / 1e6
+        ));
+        last = Instant::now();
+    }
+    if count > 0 {
+        (options.log)(&format!(
+            "{count} checkpoints written in {seconds:.3} s of the run's {:.3} s of wall time",
+            started.elapsed().as_secs_f64()
+        ));
+    }
+    let recorder = std::mem::take(&mut observers.recorder);
+    let summary = solver.summary(&schedule, started, recorder, written);
+    Ok(Execution {
+        plan: plan_text,
+        u: solver.u.clone(),
+        v: Some(solver.v_full.clone()),
+        history: Some(summary.history.clone()),
+        written: summary.written.clone(),
+        summary: Some(summary),
+        static_solution: None,
+        contact_problems: Vec::new(),
+        material_history: Some(solver.history().clone()),
+        remeshings: Vec::new(),
+    })
+}
