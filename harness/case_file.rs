@@ -39,7 +39,7 @@ pub fn load_case(path: &Path, kinds: &Registry) -> Result<LoadedCase, CatalogueE
         }
         None => (kinds.default)(None, &spec, base),
     }
-    .map_err(fail)?;
+    .map_err(|e| fail(e.to_string()))?;
     Ok(LoadedCase {
         path: path.to_path_buf(),
         spec,
@@ -89,7 +89,7 @@ fn read<'k>(
     let base = path.parent().unwrap_or(Path::new("."));
     resolve_paths(&mut spec, base);
     for curve in spec.plots.iter().flat_map(|p| p.reference_curves.iter()) {
-        curve.read().map_err(&fail)?;
+        curve.read().map_err(|e| fail(e.to_string()))?;
     }
     if spec.metrics.is_empty() {
         return Err(fail(

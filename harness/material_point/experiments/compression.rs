@@ -1,6 +1,7 @@
 //! The compression experiments: uniaxial compression (peak, Poisson ratios, dilatancy, MC2010
 //! curve) and equal biaxial compression beside it.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::{
     equal_biaxial_compression, uniaxial_compression, QUASI_STATIC_RATE,
 };
@@ -25,12 +26,11 @@ pub(super) fn compression(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let rate = rate_of(mp, out);
     let (end, steps) = compression_paths(mp, out);
-    let (curve, r) =
-        uniaxial_compression(&model, h, rate, end, steps).map_err(|e| e.to_string())?;
+    let (curve, r) = uniaxial_compression(&model, h, rate, end, steps)?;
     let at = Selector::default();
     note_stop(&curve, "compression", out);
     let (peak, peak_strain) = established_peak(&curve, "compression", out);
@@ -192,13 +192,11 @@ pub(super) fn biaxial(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let (end, steps) = compression_paths(mp, out);
-    let (bi, peak_bi) =
-        equal_biaxial_compression(&model, h, end, steps).map_err(|e| e.to_string())?;
-    let (uni, r) = uniaxial_compression(&model, h, QUASI_STATIC_RATE, end, steps)
-        .map_err(|e| e.to_string())?;
+    let (bi, peak_bi) = equal_biaxial_compression(&model, h, end, steps)?;
+    let (uni, r) = uniaxial_compression(&model, h, QUASI_STATIC_RATE, end, steps)?;
     note_stop(&bi, "equal biaxial compression", out);
     note_stop(&uni, "uniaxial compression", out);
     let (bi_peak, _) = established_peak(&bi, "equal biaxial compression", out);

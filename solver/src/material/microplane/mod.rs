@@ -51,6 +51,60 @@ use dissipation::{Law, VirginSteps};
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
 use shear::ShearScale;
 
+/// Why an element is too large for the crack band of the microplane laws: its softening laws
+/// would have to snap back to dissipate the calibrated energy per unit crack area. Each message
+/// gives the sizes (mm) and says to refine the mesh there.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CrackBandError {
+    /// Too large for the calibrated tension boundary.
+    #[error(
+        "element size h = (6 V)^(1/3) = {h_mm:.1} mm (tensile strength {strength:.3} of the \
+         material's) is too large for the tension boundary calibrated at h_ref = {h_ref_mm:.1} \
+         mm: its planes would have to snap back to dissipate no more than the fracture energy; \
+         refine the mesh there"
+    )]
+    TensionBoundary {
+        /// The element size (mm).
+        h_mm: f64,
+        /// The element's tensile strength over the material's.
+        strength: f64,
+        /// The calibration size (mm).
+        h_ref_mm: f64,
+    },
+    /// Too large once a strength field scales its tensile strength.
+    #[error(
+        "element size h = (6 V)^(1/3) = {h_mm:.1} mm with a tensile strength {strength:.3} times \
+         the material's (strength_field) would need a crack band of an element of \
+         {equivalent_mm:.1} mm, above the {largest_mm:.1} mm at which the tension law would have \
+         to snap back to dissipate no more than the fracture energy; refine the mesh there or \
+         lower the strength field's coefficient_of_variation"
+    )]
+    StrongElement {
+        /// The element size (mm).
+        h_mm: f64,
+        /// The element's tensile strength over the material's.
+        strength: f64,
+        /// The size of the element whose band it needs, `h s^2` (mm).
+        equivalent_mm: f64,
+        /// The largest element the tension law admits (mm).
+        largest_mm: f64,
+    },
+    /// Too large for the laws calibrated at `h_ref`.
+    #[error(
+        "element size h = (6 V)^(1/3) = {h_mm:.1} mm exceeds the {largest_mm:.1} mm above which \
+         the microplane laws (calibrated at h_ref = {h_ref_mm:.1} mm) would have to snap back to \
+         dissipate no more than the fracture energy; refine the mesh there"
+    )]
+    TooLarge {
+        /// The element size (mm).
+        h_mm: f64,
+        /// The largest element the laws admit (mm).
+        largest_mm: f64,
+        /// The calibration size (mm).
+        h_ref_mm: f64,
+    },
+}
+
 /// The relaxation `psi` below which an element's cracks count as open for crack friction
 /// (MICROPLANE "Crack friction"): 1 less the `f32` epsilon. The tension law's secant falls below
 /// its initial modulus at any tension, by rounding first (`2^-25` at the elastic path's limit),
@@ -226,7 +280,7 @@ impl MicroplaneConcrete {
 
     /// The crack band of an element of size `h`, or why the element is too large: its softening
     /// laws would have to snap back to dissipate the calibrated energy per unit crack area.
-    pub fn crack_band(&self, h: f64) -> Result<CrackBand, String> {
+    pub fn crack_band(&self, h: f64) -> Result<CrackBand, CrackBandError> {
         self.crack_band_with_strength(h, 1.0)
     }
 
@@ -236,21 +290,22 @@ impl MicroplaneConcrete {
     /// band's factor is the one of an element of size `h s^2`: the element still dissipates the
     /// calibrated fracture energy per unit crack area, and a strong element too large for its
     /// band is refused like a large one.
-    pub fn crack_band_with_strength(&self, h: f64, strength: f64) -> Result<CrackBand, String> {
+    pub fn crack_band_with_strength(
+        &self,
+        h: f64,
+        strength: f64,
+    ) -> Result<CrackBand, CrackBandError> {
         let h_ref = self.parameters.h_ref;
         let tension = self.tension.band_factor(h * (strength * strength), h_ref);
         let shear = self.shear.band_factor(h, h_ref);
         if let Some(boundary) = &self.parameters.tension_boundary {
             let e = self.parameters.youngs_modulus;
             if boundary.scaled(e, h, h_ref, strength, 1.0).is_none() {
-                return Err(format!(
-                    "element size h = (6 V)^(1/3) = {:.1} mm (tensile strength {strength:.3} of \
-                     the material's) is too large for the tension boundary calibrated at h_ref \
-                     = {:.1} mm: its planes would have to snap back to dissipate no more than \
-                     the fracture energy; refine the mesh there",
-                    h * 1e3,
-                    h_ref * 1e3
-                ));
+                return Err(CrackBandError::TensionBoundary {
+                    h_mm: h * 1e3,
+                    strength,
+                    h_ref_mm: h_ref * 1e3,
+                });
             }
         }
         match (tension, shear) {
@@ -260,24 +315,17 @@ impl MicroplaneConcrete {
                 shear,
                 strength,
             }),
-            (None, Some(_)) if strength != 1.0 => Err(format!(
-                "element size h = (6 V)^(1/3) = {:.1} mm with a tensile strength {strength:.3} \
-                 times the material's (strength_field) would need a crack band of an element of \
-                 {:.1} mm, above the {:.1} mm at which the tension law would have to snap back \
-                 to dissipate no more than the fracture energy; refine the mesh there or lower \
-                 the strength field's coefficient_of_variation",
-                h * 1e3,
-                h * strength * strength * 1e3,
-                self.tension.largest_element(h_ref) * 1e3,
-            )),
-            _ => Err(format!(
-                "element size h = (6 V)^(1/3) = {:.1} mm exceeds the {:.1} mm above which the \
-                 microplane laws (calibrated at h_ref = {:.1} mm) would have to snap back to \
-                 dissipate no more than the fracture energy; refine the mesh there",
-                h * 1e3,
-                self.largest_element() * 1e3,
-                h_ref * 1e3
-            )),
+            (None, Some(_)) if strength != 1.0 => Err(CrackBandError::StrongElement {
+                h_mm: h * 1e3,
+                strength,
+                equivalent_mm: h * strength * strength * 1e3,
+                largest_mm: self.tension.largest_element(h_ref) * 1e3,
+            }),
+            _ => Err(CrackBandError::TooLarge {
+                h_mm: h * 1e3,
+                largest_mm: self.largest_element() * 1e3,
+                h_ref_mm: h_ref * 1e3,
+            }),
         }
     }
 
