@@ -142,7 +142,7 @@ enum ArgError {
     Number(#[from] std::num::ParseFloatError),
     /// Not a positive, finite number of seconds.
     #[error("{0}")]
-    TimeLimit(String),
+    TimeLimit(#[from] impact_vv::case_file::RangeError),
     /// A tier nobody knows.
     #[error("unknown tier `{0}`: use quick, nightly, stress or long")]
     Tier(String),
@@ -152,7 +152,7 @@ fn parse_time_limit(s: &str) -> Result<f64, ArgError> {
     let limit: f64 = s.parse()?;
     impact_vv::case_file::check_time_limit(limit)
         .map(|()| limit)
-        .map_err(ArgError::TimeLimit)
+        .map_err(ArgError::from)
 }
 
 fn parse_tier(s: &str) -> Result<Tier, ArgError> {

@@ -308,6 +308,19 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
+    print_summary(&results);
+    if stop.load(Ordering::Relaxed) {
+        // The finished cases are judged, reported and in the history; the others are marked
+        // interrupted. A status of its own, whatever the verdicts.
+        eprintln!("interrupted: the report holds the cases that finished");
+        return ExitCode::from(130);
+    }
+    ExitCode::from(results.exit_code())
+}
+
+/// The run's summary on the terminal: the counts, every case that did not pass with its
+/// message, the wall time, and the known failures.
+fn print_summary(results: &RunResults) {
     let passed = results
         .cases
         .iter()
@@ -328,11 +341,4 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
             println!("  known failure {}: {why}", c.id);
         }
     }
-    if stop.load(Ordering::Relaxed) {
-        // The finished cases are judged, reported and in the history; the others are marked
-        // interrupted. A status of its own, whatever the verdicts.
-        eprintln!("interrupted: the report holds the cases that finished");
-        return ExitCode::from(130);
-    }
-    ExitCode::from(results.exit_code())
 }
