@@ -3,7 +3,7 @@
 
 use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::{
-    equal_biaxial_compression, uniaxial_compression, QUASI_STATIC_RATE,
+    equal_biaxial_compression, uniaxial_compression, CompressionResult, QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -98,37 +98,7 @@ pub(super) fn compression(
     if let Some((x, y)) = peak_box(targets, &at) {
         stress_plot = stress_plot.target("target: peak stress x peak strain", x, y);
     }
-    rows.splice(
-        0..0,
-        [
-            vec![
-                "initial apparent Poisson ratio".to_string(),
-                format!(
-                    "{} (file's nu {})",
-                    num(r.initial_poisson),
-                    num(params.poisson_ratio)
-                ),
-            ],
-            vec![
-                "apparent Poisson ratio at the largest stress".into(),
-                num(r.poisson_at_peak),
-            ],
-            vec![
-                "largest apparent Poisson ratio after it".into(),
-                num(r.largest_poisson_after_peak),
-            ],
-            vec![
-                "onset of dilatancy (axial strain of the smallest volume)".into(),
-                r.dilatancy_onset
-                    .map_or("volume still falling at the end".into(), |d| {
-                        format!(
-                            "{d:.3e} ({} % of the strain at the largest stress)",
-                            num(100.0 * d / r.peak_strain)
-                        )
-                    }),
-            ],
-        ],
-    );
+    rows.splice(0..0, reported_rows(&r, params));
     out.tables.push(RecordTable {
         title: "Uniaxial compression: reported, not judged".into(),
         head: vec!["quantity".into(), "value".into()],
@@ -183,6 +153,39 @@ pub(super) fn compression(
     }
     out.plots.extend([stress_plot, strain_plot, poisson_plot]);
     Ok(())
+}
+
+/// The rows of the compression quantities that are reported, not judged: the apparent Poisson
+/// ratios and the onset of dilatancy.
+fn reported_rows(r: &CompressionResult, params: &MicroplaneParameters) -> [Vec<String>; 4] {
+    [
+        vec![
+            "initial apparent Poisson ratio".to_string(),
+            format!(
+                "{} (file's nu {})",
+                num(r.initial_poisson),
+                num(params.poisson_ratio)
+            ),
+        ],
+        vec![
+            "apparent Poisson ratio at the largest stress".into(),
+            num(r.poisson_at_peak),
+        ],
+        vec![
+            "largest apparent Poisson ratio after it".into(),
+            num(r.largest_poisson_after_peak),
+        ],
+        vec![
+            "onset of dilatancy (axial strain of the smallest volume)".into(),
+            r.dilatancy_onset
+                .map_or("volume still falling at the end".into(), |d| {
+                    format!(
+                        "{d:.3e} ({} % of the strain at the largest stress)",
+                        num(100.0 * d / r.peak_strain)
+                    )
+                }),
+        ],
+    ]
 }
 
 /// Equal biaxial compression beside uniaxial compression on the same grid.
