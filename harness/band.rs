@@ -24,6 +24,54 @@ use impact_solver::material::MaterialModel;
 use impact_solver::scene::Scene;
 use serde::{Deserialize, Serialize};
 
+use crate::beam::history::HistoryError;
+use crate::curve::CurveError;
+
+/// Why a crack-band measure has no value: the material point fails, the band's body is not
+/// microplane concrete, or the run's history lacks what the band needs.
+#[derive(Debug, thiserror::Error)]
+pub enum BandError {
+    /// The band's microplane parameters are refused.
+    #[error(transparent)]
+    Parameters(#[from] impact_solver::material::microplane::ParameterError),
+    /// The material point cannot be driven along the path.
+    #[error(transparent)]
+    Point(#[from] impact_solver::material::microplane::driver::DriverError),
+    /// The scene's material of the band cannot be read.
+    #[error(transparent)]
+    Material(impact_solver::SolverError),
+    /// The scene has no body or region of that name.
+    #[error("the scene has no body or region `{name}`")]
+    NoRegion {
+        /// The name asked for.
+        name: String,
+    },
+    /// The model has no body or region of that name.
+    #[error("the model has no body or region `{name}`")]
+    NoModelRegion {
+        /// The name asked for.
+        name: String,
+    },
+    /// The band's material is not microplane concrete.
+    #[error("`{name}` is not microplane concrete")]
+    NotMicroplane {
+        /// The body or region.
+        name: String,
+    },
+    /// A history column of the band is missing.
+    #[error(transparent)]
+    Column(#[from] CurveError),
+    /// A stiffness of the band's history cannot be fitted.
+    #[error(transparent)]
+    History(#[from] HistoryError),
+    /// The history has no record.
+    #[error("empty history")]
+    Empty,
+    /// The run's softening branch and the point's curve do not overlap.
+    #[error("no softening record of the run lies within the point's w")]
+    NoSoftening,
+}
+
 /// Which material-point path stands for the band.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
@@ -86,11 +134,11 @@ pub fn point_curve(
     h: f64,
     path: PointPath,
     end: f64,
-) -> Result<PointCurve, String> {
+) -> Result<PointCurve, BandError> {
     let mut params = *params;
     params.rate_effect = None;
-    let model = MicroplaneConcrete::new(params).map_err(|e| e.to_string())?;
-    let mut point = MaterialPoint::new(&model, h).map_err(|e| e.to_string())?;
+    let model = MicroplaneConcrete::new(params)?;
+    let mut point = MaterialPoint::new(&model, h)?;
     let mut pts = vec![([0.0; 6], [0.0; 6])];
     let mut peak: f64 = 0.0;
     let mut shear_from: Option<(f64, [f64; 6])> = None;
@@ -99,15 +147,11 @@ pub fn point_curve(
         let dt = (e - previous) / QUASI_STATIC_RATE;
         previous = e;
         let p = match path {
-            PointPath::UniaxialStress => point
-                .mixed_step_subdivided(&uniaxial_controls(e), dt)
-                .map_err(|err| err.to_string())?,
+            PointPath::UniaxialStress => point.mixed_step_subdivided(&uniaxial_controls(e), dt)?,
             PointPath::UniaxialStrain => point.strain_step([e, 0.0, 0.0, 0.0, 0.0, 0.0], dt),
             PointPath::Bonded | PointPath::TensionShear { .. } => match shear_from {
                 None => {
-                    let p = point
-                        .mixed_step_subdivided(&uniaxial_controls(e), dt)
-                        .map_err(|err| err.to_string())?;
+                    let p = point.mixed_step_subdivided(&uniaxial_controls(e), dt)?;
                     if p.stress[0] < peak && e > 4e-5 {
                         shear_from = Some((e, p.strain));
                     }
@@ -165,7 +209,7 @@ pub fn point_curve(
 }
 
 /// Microplane parameters of the body or material region `name` of `scene`.
-pub fn region_parameters(scene: &Scene, name: &str) -> Result<MicroplaneParameters, String> {
+pub fn region_parameters(scene: &Scene, name: &str) -> Result<MicroplaneParameters, BandError> {
     let spec = scene
         .bodies
         .iter()
@@ -175,10 +219,10 @@ pub fn region_parameters(scene: &Scene, name: &str) -> Result<MicroplaneParamete
         })
         .find(|(n, _)| *n == name)
         .map(|(_, m)| m)
-        .ok_or_else(|| format!("the scene has no body or region `{name}`"))?;
-    match spec.model(name).map_err(|e| e.to_string())? {
+        .ok_or_else(|| BandError::NoRegion { name: name.into() })?;
+    match spec.model(name).map_err(BandError::Material)? {
         MaterialModel::Microplane(p) => Ok(p),
-        _ => Err(format!("`{name}` is not microplane concrete")),
+        _ => Err(BandError::NotMicroplane { name: name.into() }),
     }
 }
 
@@ -186,13 +230,13 @@ pub fn region_parameters(scene: &Scene, name: &str) -> Result<MicroplaneParamete
 pub fn model_parameters(
     model: &impact_solver::model::Model,
     name: &str,
-) -> Result<MicroplaneParameters, String> {
+) -> Result<MicroplaneParameters, BandError> {
     let b = model
         .body_index(name)
-        .ok_or_else(|| format!("the model has no body or region `{name}`"))?;
+        .ok_or_else(|| BandError::NoModelRegion { name: name.into() })?;
     match model.bodies[b].material.model() {
         Some(MaterialModel::Microplane(p)) => Ok(p),
-        _ => Err(format!("`{name}` is not microplane concrete")),
+        _ => Err(BandError::NotMicroplane { name: name.into() }),
     }
 }
 
@@ -267,8 +311,8 @@ pub struct RunCurve {
 /// `column(name)` gives a history column.
 pub fn run_curve(
     spec: &BandSpec,
-    column: &dyn Fn(&str) -> Result<Vec<f64>, String>,
-) -> Result<RunCurve, String> {
+    column: &dyn Fn(&str) -> Result<Vec<f64>, CurveError>,
+) -> Result<RunCurve, BandError> {
     let force = column(&spec.force)?;
     let end = column(&spec.end_displacement)?;
     let (left, right) = (column(&spec.band_left)?, column(&spec.band_right)?);
@@ -290,10 +334,10 @@ pub fn run_curve(
         .zip(end.windows(2))
         .map(|(f, u)| 0.5 * (f[0] + f[1]) * (u[1] - u[0]))
         .sum();
-    let last = *force.last().ok_or("empty history")?;
+    let last = *force.last().ok_or(BandError::Empty)?;
     let peak = (0..t.len())
         .max_by(|&a, &b| t[a].total_cmp(&t[b]))
-        .ok_or("empty history")?;
+        .ok_or(BandError::Empty)?;
     Ok(RunCurve {
         w,
         t,
@@ -333,11 +377,11 @@ impl BandMeasure {
     pub fn evaluate(
         &self,
         model: &impact_solver::model::Model,
-        column: &dyn Fn(&str) -> Result<Vec<f64>, String>,
-    ) -> Result<f64, String> {
+        column: &dyn Fn(&str) -> Result<Vec<f64>, CurveError>,
+    ) -> Result<f64, BandError> {
         let spec = &self.spec;
         let run = run_curve(spec, column)?;
-        let point = || -> Result<PointCurve, String> {
+        let point = || -> Result<PointCurve, BandError> {
             point_curve(
                 &model_parameters(model, &spec.band)?,
                 spec.element_size,
@@ -356,7 +400,7 @@ impl BandMeasure {
                 let point = point()?;
                 let pairs = softening_pairs(&run, &point);
                 if pairs.is_empty() {
-                    return Err("no softening record of the run lies within the point's w".into());
+                    return Err(BandError::NoSoftening);
                 }
                 let d = pairs.iter().map(|(_, t, s)| (t - s) / point.peak);
                 if self.quantity == BandQuantity::TractionOpeningMax {
@@ -409,7 +453,7 @@ pub enum PointQuantity {
 
 impl PointMeasure {
     /// Drives the point with the band's parameters from `model` and returns the quantity.
-    pub fn evaluate(&self, model: &impact_solver::model::Model) -> Result<f64, String> {
+    pub fn evaluate(&self, model: &impact_solver::model::Model) -> Result<f64, BandError> {
         let c = point_curve(
             &model_parameters(model, &self.band)?,
             self.element_size,
@@ -431,8 +475,8 @@ impl PointMeasure {
 pub fn plot_series(
     spec: &BandSpec,
     scene: &Scene,
-    column: &dyn Fn(&str) -> Result<Vec<f64>, String>,
-) -> Result<Vec<crate::results::Series>, String> {
+    column: &dyn Fn(&str) -> Result<Vec<f64>, CurveError>,
+) -> Result<Vec<crate::results::Series>, BandError> {
     let run = run_curve(spec, column)?;
     let point = point_curve(
         &region_parameters(scene, &spec.band)?,

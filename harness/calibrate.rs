@@ -35,10 +35,49 @@ pub struct TargetsFile {
     pub targets: Targets,
 }
 
+/// Why the calibration cannot run or write its result: each message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrateError {
+    /// The targets file cannot be read.
+    #[error("cannot read {path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+    /// The targets file is not valid YAML of targets.
+    #[error("{path}: {message}")]
+    Targets {
+        /// The file.
+        path: String,
+        /// The YAML reader's error.
+        message: String,
+    },
+    /// The optimiser failed.
+    #[error("calibration failed: {0}")]
+    Failed(impact_solver::material::microplane::calibration::CalibrationError),
+    /// The parameters cannot be written as YAML.
+    #[error(transparent)]
+    Yaml(#[from] serde_norway::Error),
+    /// The parameter file cannot be written.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+}
+
 /// Runs the calibration with `evaluations` optimiser evaluations per stage and writes the result
 /// to `out`; returns whether every target is met. `targets_file`: another concrete than the
 /// thesis's ([`TargetsFile`]).
-pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Result<bool, String> {
+pub fn run(
+    out: &Path,
+    evaluations: usize,
+    targets_file: Option<&Path>,
+) -> Result<bool, CalibrateError> {
     let (targets, start, header) = match targets_file {
         None => (
             Targets::thesis_concrete(),
@@ -46,10 +85,15 @@ pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Resul
             HEADER.to_string(),
         ),
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            let text = std::fs::read_to_string(path).map_err(|e| CalibrateError::Read {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })?;
             let file: TargetsFile =
-                serde_norway::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+                serde_norway::from_str(&text).map_err(|e| CalibrateError::Targets {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })?;
             let mut start = starting_guess();
             start.density = file.density;
             start.youngs_modulus = file.youngs_modulus;
@@ -67,7 +111,7 @@ pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Resul
     let (parameters, evaluation) = calibrate(&start, &targets, evaluations, &mut |line| {
         eprintln!("[{:6.1} s] {line}", started.elapsed().as_secs_f64())
     })
-    .map_err(|e| format!("calibration failed: {e}"))?;
+    .map_err(CalibrateError::Failed)?;
     let outcomes = evaluation.outcomes(&targets);
     let met = outcomes.iter().all(|o| o.met);
     for o in &outcomes {
@@ -95,9 +139,11 @@ pub fn run(out: &Path, evaluations: usize, targets_file: Option<&Path>) -> Resul
             outcomes,
         },
     };
-    let yaml = serde_norway::to_string(&file).map_err(|e| e.to_string())?;
-    std::fs::write(out, format!("{header}{yaml}"))
-        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    let yaml = serde_norway::to_string(&file)?;
+    std::fs::write(out, format!("{header}{yaml}")).map_err(|e| CalibrateError::Write {
+        path: out.display().to_string(),
+        message: e.to_string(),
+    })?;
     println!(
         "wrote {} in {:.0} s",
         out.display(),

@@ -17,6 +17,100 @@ pub struct CatalogueError {
     pub message: String,
 }
 
+/// A number of the common part of a case out of its range, or a part that does not fit the
+/// rest: each message names the key (`time_limit_s`, `sweep.mesh[2]`, `variant \`v\` ranks`)
+/// and what to give instead.
+#[derive(Debug, thiserror::Error)]
+pub enum RangeError {
+    /// A wall-time limit that is not a positive, finite number.
+    #[error("a wall-time limit must be a positive, finite number of seconds, got {0}")]
+    TimeLimit(f64),
+    /// The time limit of the case.
+    #[error("time_limit_s: {0}")]
+    CaseTimeLimit(Box<RangeError>),
+    /// The scene or a variant's analysis refused by the solver (`key` prefixes the solver's
+    /// entity).
+    #[error("{key}{message}")]
+    Scene {
+        /// `scene.` or `variant \`v\` `.
+        key: String,
+        /// The solver's entity and message.
+        message: String,
+    },
+    /// A strength seed without a strength field.
+    #[error(
+        "variant `{variant}` strength_seed: no body of the scene has a strength field to seed; \
+         give a microplane body `strength_field: {{ coefficient_of_variation, \
+         correlation_length, seed }}` or remove `strength_seed`"
+    )]
+    SeedWithoutField {
+        /// The variant.
+        variant: String,
+    },
+    /// A rank count out of range.
+    #[error(
+        "variant `{variant}` ranks: must lie in 1 to {max} (the ranks of a distributed run), got \
+         {ranks}"
+    )]
+    Ranks {
+        /// The variant.
+        variant: String,
+        /// The most ranks.
+        max: usize,
+        /// The ranks given.
+        ranks: usize,
+    },
+    /// Several ranks for an analysis that runs on one.
+    #[error(
+        "variant `{variant}` ranks: {ranks} ranks need an explicit analysis without remeshing; \
+         a static, release or remeshing analysis runs on one rank: remove `ranks`"
+    )]
+    RanksNeedExplicit {
+        /// The variant.
+        variant: String,
+        /// The ranks given.
+        ranks: usize,
+    },
+    /// A sweep without levels.
+    #[error("sweep.{key}: lists no level; give at least one, or no sweep")]
+    EmptySweep {
+        /// The sweep's key.
+        key: &'static str,
+    },
+    /// A mesh level out of range.
+    #[error(
+        "sweep.mesh[{index}]: {divisions:?} must be at least 1 per axis and make at most {max} \
+         tetrahedra"
+    )]
+    MeshLevel {
+        /// The level's index.
+        index: usize,
+        /// Its divisions.
+        divisions: [usize; 3],
+        /// The most tetrahedra.
+        max: usize,
+    },
+    /// A time-step factor out of range.
+    #[error(
+        "sweep.time_step_factor[{index}]: a factor on the stable step must be positive and \
+         finite, got {factor}"
+    )]
+    StepFactor {
+        /// The level's index.
+        index: usize,
+        /// The factor given.
+        factor: f64,
+    },
+    /// A mesh-file level's size out of range.
+    #[error("sweep.mesh_files[{index}].size: must be a positive, finite length (m), got {size}")]
+    MeshFileSize {
+        /// The level's index.
+        index: usize,
+        /// The size given (m).
+        size: f64,
+    },
+}
+
 /// Parses one case file in two passes: the top-level key of its kind (one of `kinds`, or none
 /// for the default kind) picks the kind; the rest of the file is read strictly as the common
 /// part (`CaseSpec`), then the kind's block by the kind (`crate::case_kind::ParseKind`). Both
@@ -39,7 +133,7 @@ pub fn load_case(path: &Path, kinds: &Registry) -> Result<LoadedCase, CatalogueE
         }
         None => (kinds.default)(None, &spec, base),
     }
-    .map_err(fail)?;
+    .map_err(|e| fail(e.to_string()))?;
     Ok(LoadedCase {
         path: path.to_path_buf(),
         spec,
@@ -89,7 +183,7 @@ fn read<'k>(
     let base = path.parent().unwrap_or(Path::new("."));
     resolve_paths(&mut spec, base);
     for curve in spec.plots.iter().flat_map(|p| p.reference_curves.iter()) {
-        curve.read().map_err(&fail)?;
+        curve.read().map_err(|e| fail(e.to_string()))?;
     }
     if spec.metrics.is_empty() {
         return Err(fail(
@@ -106,7 +200,7 @@ fn read<'k>(
             return Err(fail(format!("metric `{}` appears twice", m.name)));
         }
     }
-    check_ranges(&spec).map_err(fail)?;
+    check_ranges(&spec).map_err(|e| fail(e.to_string()))?;
     Ok((spec, block))
 }
 
@@ -115,15 +209,18 @@ pub const MAX_RANKS: usize = 1024;
 
 /// The ranges of the common part's numbers, each error naming its key: the time limit, the
 /// sweep's levels, the variants' ranks and analyses, and the scene (`Scene::validate`).
-fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
-    let scene_error = |key: &str, e: impact_solver::SolverError| match e {
-        impact_solver::SolverError::InvalidScene { entity, message } => {
-            format!("{key}{entity}: {message}")
-        }
-        other => format!("{key}{other}"),
+fn check_ranges(spec: &CaseSpec) -> Result<(), RangeError> {
+    let scene_error = |key: &str, e: impact_solver::SolverError| RangeError::Scene {
+        key: key.into(),
+        message: match e {
+            impact_solver::SolverError::InvalidScene { entity, message } => {
+                format!("{entity}: {message}")
+            }
+            other => other.to_string(),
+        },
     };
     if let Some(limit) = spec.time_limit_s {
-        check_time_limit(limit).map_err(|m| format!("time_limit_s: {m}"))?;
+        check_time_limit(limit).map_err(|m| RangeError::CaseTimeLimit(Box::new(m)))?;
     }
     if let Some(sweep) = &spec.sweep {
         check_sweep(sweep)?;
@@ -140,11 +237,9 @@ fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
             })
         });
         if v.strength_seed.is_some() && !has_field {
-            return Err(format!(
-                "{key} strength_seed: no body of the scene has a strength field to seed; give a \
-                 microplane body `strength_field: {{ coefficient_of_variation, \
-                 correlation_length, seed }}` or remove `strength_seed`"
-            ));
+            return Err(RangeError::SeedWithoutField {
+                variant: v.name.clone(),
+            });
         }
         if let Some(analysis) = &v.analysis {
             analysis
@@ -153,10 +248,11 @@ fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
         }
         if let Some(n) = v.ranks {
             if !(1..=MAX_RANKS).contains(&n) {
-                return Err(format!(
-                    "{key} ranks: must lie in 1 to {MAX_RANKS} (the ranks of a distributed run), \
-                     got {n}"
-                ));
+                return Err(RangeError::Ranks {
+                    variant: v.name.clone(),
+                    max: MAX_RANKS,
+                    ranks: n,
+                });
             }
             let analysis = v
                 .analysis
@@ -167,10 +263,10 @@ fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
                 Some(impact_solver::scene::Analysis::Explicit(s)) if s.remeshing.is_none()
             );
             if n > 1 && !explicit_only {
-                return Err(format!(
-                    "{key} ranks: {n} ranks need an explicit analysis without remeshing; a \
-                     static, release or remeshing analysis runs on one rank: remove `ranks`"
-                ));
+                return Err(RangeError::RanksNeedExplicit {
+                    variant: v.name.clone(),
+                    ranks: n,
+                });
             }
         }
     }
@@ -178,20 +274,18 @@ fn check_ranges(spec: &CaseSpec) -> Result<(), String> {
 }
 
 /// A wall-time limit (s) must be positive and finite (`time_limit_s`, `--time-limit`).
-pub fn check_time_limit(limit: f64) -> Result<(), String> {
+pub fn check_time_limit(limit: f64) -> Result<(), RangeError> {
     if limit > 0.0 && limit.is_finite() {
         Ok(())
     } else {
-        Err(format!(
-            "a wall-time limit must be a positive, finite number of seconds, got {limit}"
-        ))
+        Err(RangeError::TimeLimit(limit))
     }
 }
 
 /// Every level of a sweep must be a run: at least one level, factors and sizes positive and
 /// finite, divisions at least 1 and within the mesh limit.
-fn check_sweep(sweep: &Sweep) -> Result<(), String> {
-    let empty = |key: &str| format!("sweep.{key}: lists no level; give at least one, or no sweep");
+fn check_sweep(sweep: &Sweep) -> Result<(), RangeError> {
+    let empty = |key| RangeError::EmptySweep { key };
     match sweep {
         Sweep::Mesh(levels) if levels.is_empty() => Err(empty("mesh")),
         Sweep::TimeStepFactor(f) if f.is_empty() => Err(empty("time_step_factor")),
@@ -203,31 +297,31 @@ fn check_sweep(sweep: &Sweep) -> Result<(), String> {
                 .filter(|&t| t <= impact_solver::scene::MAX_ELEMENTS);
             match tets {
                 Some(t) if t > 0 => Ok(()),
-                _ => Err(format!(
-                    "sweep.mesh[{i}]: {d:?} must be at least 1 per axis and make at most {} \
-                     tetrahedra",
-                    impact_solver::scene::MAX_ELEMENTS
-                )),
+                _ => Err(RangeError::MeshLevel {
+                    index: i,
+                    divisions: *d,
+                    max: impact_solver::scene::MAX_ELEMENTS,
+                }),
             }
         }),
         Sweep::TimeStepFactor(factors) => factors.iter().enumerate().try_for_each(|(i, f)| {
             if *f > 0.0 && f.is_finite() {
                 Ok(())
             } else {
-                Err(format!(
-                    "sweep.time_step_factor[{i}]: a factor on the stable step must be positive \
-                     and finite, got {f}"
-                ))
+                Err(RangeError::StepFactor {
+                    index: i,
+                    factor: *f,
+                })
             }
         }),
         Sweep::MeshFiles(levels) => levels.iter().enumerate().try_for_each(|(i, l)| {
             if l.size > 0.0 && l.size.is_finite() {
                 Ok(())
             } else {
-                Err(format!(
-                    "sweep.mesh_files[{i}].size: must be a positive, finite length (m), got {}",
-                    l.size
-                ))
+                Err(RangeError::MeshFileSize {
+                    index: i,
+                    size: l.size,
+                })
             }
         }),
     }

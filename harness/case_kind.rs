@@ -18,6 +18,52 @@ use serde::de::DeserializeOwned;
 use crate::catalogue::{CaseSpec, Variant};
 use crate::results::CaseResult;
 
+/// Why a kind's block or the common part of a case file does not fit the kind: each kind's
+/// parser returns its own error type, boxed here so that the registry knows no kind's error.
+pub type KindParseError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Why a cache of independent answers cannot be recomputed (`impact-vv crosscheck-refresh`),
+/// boxed as [`KindParseError`] is: the kind's own error type.
+pub type RefreshError = Box<dyn std::error::Error + Send + Sync>;
+
+/// What every kind refuses in the same words: a block that does not parse, a part of the common
+/// schema the kind does not use, a metric whose measure is not one of the kind's.
+#[derive(Debug, thiserror::Error)]
+pub enum KindError {
+    /// The kind's block does not read as the kind's schema.
+    #[error("`{key}`: {source}")]
+    Block {
+        /// The kind's key.
+        key: String,
+        /// The YAML reader's error, with the file's line.
+        source: serde_norway::Error,
+    },
+    /// The kind's block is empty.
+    #[error("`{key}`: the block is empty")]
+    EmptyBlock {
+        /// The kind's key.
+        key: String,
+    },
+    /// A part of the common schema that the kind does not use.
+    #[error("{why}: remove `{part}`")]
+    RefusedPart {
+        /// Why the kind does not use it.
+        why: String,
+        /// The part (`scene`, `sweep`, `variants`, `plots`).
+        part: String,
+    },
+    /// A metric whose measure is not one of the kind's.
+    #[error("metric `{metric}`: not a measure of a {kind} case: {source}")]
+    Measure {
+        /// The metric.
+        metric: String,
+        /// The kind's name.
+        kind: String,
+        /// The YAML reader's error.
+        source: serde_norway::Error,
+    },
+}
+
 /// Options of a harness run, as each case sees them.
 #[derive(Debug, Clone)]
 pub struct RunOptions {
@@ -64,7 +110,7 @@ pub trait CaseKind: std::fmt::Debug + Send + Sync {
     /// Recomputes the independent answers a case keeps in a cache (`impact-vv
     /// crosscheck-refresh`): a line saying what was written, or why not. `None`: this kind keeps
     /// no cache.
-    fn refresh(&self, _case: &LoadedCase) -> Option<Result<String, String>> {
+    fn refresh(&self, _case: &LoadedCase) -> Option<Result<String, RefreshError>> {
         None
     }
 }
@@ -81,13 +127,18 @@ pub struct Block {
 
 impl Block {
     /// The block's value, read strictly (the kind's types deny unknown fields).
-    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, String> {
+    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, KindError> {
         let de = serde_norway::Deserializer::from_str(&self.text);
         let mut map: std::collections::BTreeMap<String, T> =
-            serde_norway::with::singleton_map_recursive::deserialize(de)
-                .map_err(|e| format!("`{}`: {e}", self.key))?;
-        map.remove(&self.key)
-            .ok_or_else(|| format!("`{}`: the block is empty", self.key))
+            serde_norway::with::singleton_map_recursive::deserialize(de).map_err(|source| {
+                KindError::Block {
+                    key: self.key.clone(),
+                    source,
+                }
+            })?;
+        map.remove(&self.key).ok_or_else(|| KindError::EmptyBlock {
+            key: self.key.clone(),
+        })
     }
 }
 
@@ -122,7 +173,7 @@ pub type ParseKind = fn(
     block: Option<&Block>,
     case: &CaseSpec,
     base: &std::path::Path,
-) -> Result<Arc<dyn CaseKind>, String>;
+) -> Result<Arc<dyn CaseKind>, KindParseError>;
 
 /// A kind registered under its key in a case file.
 #[derive(Debug, Clone, Copy)]
@@ -146,7 +197,7 @@ pub struct Registry {
 /// Refuses the parts of the common schema that a kind does not use: the first of `parts`
 /// (`scene`, `sweep`, `variants`, `plots`) that `case` gives is an error, `why` followed by
 /// the part to remove.
-pub fn refuse_parts(case: &CaseSpec, parts: &[&str], why: &str) -> Result<(), String> {
+pub fn refuse_parts(case: &CaseSpec, parts: &[&str], why: &str) -> Result<(), KindError> {
     let given = |part: &&&str| match **part {
         "scene" => case.scene.is_some(),
         "sweep" => case.sweep.is_some(),
@@ -155,19 +206,30 @@ pub fn refuse_parts(case: &CaseSpec, parts: &[&str], why: &str) -> Result<(), St
         other => unreachable!("`{other}` is not an optional part of a case"),
     };
     match parts.iter().find(given) {
-        Some(part) => Err(format!("{why}: remove `{part}`")),
+        Some(part) => Err(KindError::RefusedPart {
+            why: why.into(),
+            part: part.to_string(),
+        }),
         None => Ok(()),
     }
 }
 
 /// The metrics' measures of `case` read as the kind's measure type `M`, in the metrics' order.
 /// The error names the metric.
-pub fn parse_measures<M: DeserializeOwned>(case: &CaseSpec, kind: &str) -> Result<Vec<M>, String> {
+pub fn parse_measures<M: DeserializeOwned>(
+    case: &CaseSpec,
+    kind: &str,
+) -> Result<Vec<M>, KindError> {
     case.metrics
         .iter()
         .map(|m| {
-            serde_norway::with::singleton_map_recursive::deserialize(m.measure.clone())
-                .map_err(|e| format!("metric `{}`: not a measure of a {kind} case: {e}", m.name))
+            serde_norway::with::singleton_map_recursive::deserialize(m.measure.clone()).map_err(
+                |source| KindError::Measure {
+                    metric: m.name.clone(),
+                    kind: kind.into(),
+                    source,
+                },
+            )
         })
         .collect()
 }

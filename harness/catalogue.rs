@@ -271,7 +271,7 @@ fn one() -> f64 {
 
 impl ReferenceCurve {
     /// Reads the curve's two columns, scaled.
-    pub fn read(&self) -> Result<(Vec<f64>, Vec<f64>), String> {
+    pub fn read(&self) -> Result<(Vec<f64>, Vec<f64>), crate::curve::CurveError> {
         let mut c = crate::curve::read_columns(&self.file, &[&self.x, &self.y])?.into_iter();
         let (xs, ys) = (c.next().unwrap_or_default(), c.next().unwrap_or_default());
         Ok((
@@ -308,10 +308,10 @@ mod tests {
         let (x, y) = curve("load_max").read().unwrap();
         assert_eq!(x, vec![0.0, 0.5e-3]);
         assert_eq!(y, vec![4.0, 8.0]);
-        let missing = curve("load").read().unwrap_err();
+        let missing = curve("load").read().unwrap_err().to_string();
         assert!(missing.contains("no column `load`"), "{missing}");
         std::fs::write(&file, "cmod_mm, load_max\n0.0, x\n").unwrap();
-        let bad = curve("load_max").read().unwrap_err();
+        let bad = curve("load_max").read().unwrap_err().to_string();
         assert!(
             bad.contains("bad data row 1") && bad.contains("curve.csv"),
             "{bad}"

@@ -22,6 +22,7 @@
 
 pub mod command;
 pub mod descriptors;
+pub mod error;
 pub mod output;
 pub mod profile;
 pub mod report;

@@ -11,7 +11,8 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, KindParseError, LoadedCase,
+    RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::contact_compare::output::write_outputs;
@@ -21,6 +22,73 @@ use crate::contact_compare::{
 };
 use crate::judge::judge_metrics;
 use crate::results::{case_dir, CaseResult};
+
+/// Why a `contact_problems` case is refused or a metric of it has no value; each message names
+/// the key or metric and what to change.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactProblemsError {
+    /// The kind's block is missing.
+    #[error("a contact_problems case needs its `contact_problems` block")]
+    NoBlock,
+    /// Tolerances empty or not positive.
+    #[error("contact_problems: tolerances must be positive and at least one, got {tolerances:?}")]
+    Tolerances {
+        /// The tolerances given.
+        tolerances: Vec<f64>,
+    },
+    /// A time limit that is not positive and finite.
+    #[error("contact_problems: time_limit_s must be positive and finite, got {limit}")]
+    TimeLimit {
+        /// The limit given (s).
+        limit: f64,
+    },
+    /// A solver list the registry refuses.
+    #[error("contact_problems: {0}")]
+    Solvers(crate::contact_compare::error::CompareError),
+    /// A metric's solver that the comparison does not run.
+    #[error(
+        "metric `{metric}` names solver `{solver}`, which the comparison does not run ({solvers})"
+    )]
+    MetricSolver {
+        /// The metric.
+        metric: String,
+        /// The solver it names.
+        solver: String,
+        /// The solvers run, comma separated.
+        solvers: String,
+    },
+    /// A metric's tolerance that the comparison does not run.
+    #[error(
+        "metric `{metric}` asks for tolerance {tolerance:e}, which the comparison does not run \
+         (tolerances {tolerances:?}): add it to `contact_problems.tolerances`"
+    )]
+    MetricTolerance {
+        /// The metric.
+        metric: String,
+        /// The tolerance it asks for.
+        tolerance: f64,
+        /// The tolerances run.
+        tolerances: Vec<f64>,
+    },
+    /// A problem the comparison did not read.
+    #[error("problem `{problem}` is not among the problems read ({read})")]
+    UnknownProblem {
+        /// The problem named.
+        problem: String,
+        /// The problems read, comma separated.
+        read: String,
+    },
+    /// A solver that did not run on a problem at a tolerance.
+    #[error("solver `{solver}` did not run on `{problem}` at {tolerance:e}")]
+    NotRun {
+        /// The solver.
+        solver: String,
+        /// The problem.
+        problem: String,
+        /// The tolerance.
+        tolerance: f64,
+    },
+}
 
 /// What a `contact_problems` case measures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -87,10 +155,9 @@ pub fn parse(
     block: Option<&Block>,
     case: &CaseSpec,
     base: &Path,
-) -> Result<Arc<dyn CaseKind>, String> {
-    let mut comparison: ContactProblemsSpec = block
-        .ok_or("a contact_problems case needs its `contact_problems` block")?
-        .parse()?;
+) -> Result<Arc<dyn CaseKind>, KindParseError> {
+    let mut comparison: ContactProblemsSpec =
+        block.ok_or(ContactProblemsError::NoBlock)?.parse()?;
     if comparison.folder.is_relative() {
         comparison.folder = base.join(&comparison.folder);
     }
@@ -100,19 +167,19 @@ pub fn parse(
         "a `contact_problems` case runs no scene",
     )?;
     if comparison.tolerances.is_empty() || comparison.tolerances.iter().any(|t| !(*t > 0.0)) {
-        return Err(format!(
-            "contact_problems: tolerances must be positive and at least one, got {:?}",
-            comparison.tolerances
-        ));
+        return Err(ContactProblemsError::Tolerances {
+            tolerances: comparison.tolerances.clone(),
+        }
+        .into());
     }
     if !(comparison.time_limit_s > 0.0 && comparison.time_limit_s.is_finite()) {
-        return Err(format!(
-            "contact_problems: time_limit_s must be positive and finite, got {}",
-            comparison.time_limit_s
-        ));
+        return Err(ContactProblemsError::TimeLimit {
+            limit: comparison.time_limit_s,
+        }
+        .into());
     }
     let solvers: Vec<String> = solver_entries(&comparison.solvers)
-        .map_err(|e| format!("contact_problems: {e}"))?
+        .map_err(ContactProblemsError::Solvers)?
         .into_iter()
         .map(|s| s.name)
         .collect();
@@ -122,22 +189,24 @@ pub fn parse(
             solver, tolerance, ..
         } = measure;
         if !solvers.contains(solver) {
-            return Err(format!(
-                "metric `{}` names solver `{solver}`, which the comparison does not run ({})",
-                m.name,
-                solvers.join(", ")
-            ));
+            return Err(ContactProblemsError::MetricSolver {
+                metric: m.name.clone(),
+                solver: solver.clone(),
+                solvers: solvers.join(", "),
+            }
+            .into());
         }
         if !comparison
             .tolerances
             .iter()
             .any(|t| same_tolerance(*t, *tolerance))
         {
-            return Err(format!(
-                "metric `{}` asks for tolerance {tolerance:e}, which the comparison does not \
-                 run (tolerances {:?}): add it to `contact_problems.tolerances`",
-                m.name, comparison.tolerances
-            ));
+            return Err(ContactProblemsError::MetricTolerance {
+                metric: m.name.clone(),
+                tolerance: *tolerance,
+                tolerances: comparison.tolerances.clone(),
+            }
+            .into());
         }
     }
     Ok(Arc::new(ContactProblemsCase {
@@ -163,7 +232,10 @@ impl CaseKind for ContactProblemsCase {
 /// The value of a comparison measure: the error `solver` reached at `tolerance` on each named
 /// problem (infinite for a solve that returned nothing), reduced by the statistic. A problem the
 /// comparison lacks is an error naming it.
-pub fn measure_value(measure: &ComparisonMeasure, c: &Comparison) -> Result<f64, String> {
+pub fn measure_value(
+    measure: &ComparisonMeasure,
+    c: &Comparison,
+) -> Result<f64, ContactProblemsError> {
     let ComparisonMeasure::ContactProblemError {
         solver,
         problems,
@@ -179,10 +251,10 @@ pub fn measure_value(measure: &ComparisonMeasure, c: &Comparison) -> Result<f64,
         .iter()
         .map(|p| {
             if !c.problems.iter().any(|d| &d.name == p) {
-                return Err(format!(
-                    "problem `{p}` is not among the problems read ({})",
-                    c.problem_names().join(", ")
-                ));
+                return Err(ContactProblemsError::UnknownProblem {
+                    problem: p.clone(),
+                    read: c.problem_names().join(", "),
+                });
             }
             c.row(p, solver, *tolerance)
                 .map(|r| {
@@ -192,9 +264,13 @@ pub fn measure_value(measure: &ComparisonMeasure, c: &Comparison) -> Result<f64,
                         r.error
                     }
                 })
-                .ok_or_else(|| format!("solver `{solver}` did not run on `{p}` at {tolerance:e}"))
+                .ok_or_else(|| ContactProblemsError::NotRun {
+                    solver: solver.clone(),
+                    problem: p.clone(),
+                    tolerance: *tolerance,
+                })
         })
-        .collect::<Result<Vec<f64>, String>>()?;
+        .collect::<Result<Vec<f64>, _>>()?;
     Ok(statistic.of(&errors))
 }
 
@@ -221,7 +297,7 @@ fn run_case(kind: &ContactProblemsCase, case: &LoadedCase, options: &RunOptions)
     let (files, solvers) = match prepared {
         Ok(p) => p,
         Err(e) => {
-            result.message = Some(e);
+            result.message = Some(e.to_string());
             return result;
         }
     };
@@ -314,27 +390,32 @@ mod tests {
             statistic,
         };
         assert_eq!(
-            measure_value(&measure(&["a", "b"], Statistic::Max), &c),
-            Ok(4e-9)
+            measure_value(&measure(&["a", "b"], Statistic::Max), &c).ok(),
+            Some(4e-9)
         );
         assert_eq!(
-            measure_value(&measure(&["a", "b"], Statistic::Min), &c),
-            Ok(1e-9)
+            measure_value(&measure(&["a", "b"], Statistic::Min), &c).ok(),
+            Some(1e-9)
         );
         assert_eq!(
-            measure_value(&measure(&["a", "b"], Statistic::Mean), &c),
-            Ok(2.5e-9)
+            measure_value(&measure(&["a", "b"], Statistic::Mean), &c).ok(),
+            Some(2.5e-9)
         );
         // A solve that returned nothing counts as an infinite error; empty means all problems.
         assert_eq!(
-            measure_value(&measure(&[], Statistic::Max), &c),
-            Ok(f64::INFINITY)
+            measure_value(&measure(&[], Statistic::Max), &c).ok(),
+            Some(f64::INFINITY)
         );
-        let e = measure_value(&measure(&["a", "zz"], Statistic::Max), &c).unwrap_err();
+        let e = measure_value(&measure(&["a", "zz"], Statistic::Max), &c)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("`zz`") && e.contains("a, b, c"), "{e}");
         let mut other = measure(&["a"], Statistic::Max);
         let ComparisonMeasure::ContactProblemError { solver, .. } = &mut other;
         *solver = "conic".into();
-        assert!(measure_value(&other, &c).unwrap_err().contains("conic"));
+        assert!(measure_value(&other, &c)
+            .unwrap_err()
+            .to_string()
+            .contains("conic"));
     }
 }

@@ -15,6 +15,7 @@ pub mod cache;
 pub mod ccd;
 pub mod ccd_queries;
 pub mod elastic_beam;
+pub mod error;
 pub mod python;
 pub mod report;
 
@@ -25,12 +26,43 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, KindParseError, LoadedCase,
+    RefreshError, RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
 use crate::results::{case_dir, CaseResult};
 use crate::results::{MaterialPlot, RecordTable};
+use error::CrosscheckError;
+
+/// Why a `crosscheck` case is refused: each message names the part or metric and what to change.
+#[derive(Debug, thiserror::Error)]
+pub enum CrosscheckKindError {
+    /// The kind's block is missing.
+    #[error("a crosscheck case needs its `crosscheck` block")]
+    NoBlock,
+    /// An elastic-beam cross-check without a scene.
+    #[error("crosscheck elastic_beam compares solutions of the case's `scene`: add one")]
+    ElasticBeamNeedsScene,
+    /// A CCD cross-check with a scene.
+    #[error(
+        "crosscheck ccd runs no scene of its own: remove `scene` (the runs it records are named \
+         under `record`)"
+    )]
+    CcdRunsNoScene,
+    /// A metric whose quantity the cross-check does not give.
+    #[error("metric `{metric}` measures `{quantity}`, which crosscheck {crosscheck} does not give; it gives {gives}")]
+    NotGiven {
+        /// The metric.
+        metric: String,
+        /// The quantity it measures.
+        quantity: String,
+        /// The cross-check's name.
+        crosscheck: String,
+        /// The quantities it gives, comma separated.
+        gives: String,
+    },
+}
 pub use cache::{AnswerMode, Provenance};
 
 /// The `crosscheck:` entry of a case: which independent comparison it runs.
@@ -120,8 +152,8 @@ impl CaseKind for CrosscheckCase {
         run_case(self, case, options)
     }
 
-    fn refresh(&self, case: &LoadedCase) -> Option<Result<String, String>> {
-        Some(refresh(self, case).map(|p| p.line()))
+    fn refresh(&self, case: &LoadedCase) -> Option<Result<String, RefreshError>> {
+        Some(refresh(self, case).map(|p| p.line()).map_err(Into::into))
     }
 }
 
@@ -132,19 +164,16 @@ pub fn parse(
     block: Option<&Block>,
     spec: &CaseSpec,
     _base: &Path,
-) -> Result<Arc<dyn CaseKind>, String> {
-    let c: CrosscheckSpec = block
-        .ok_or("a crosscheck case needs its `crosscheck` block")?
-        .parse()?;
+) -> Result<Arc<dyn CaseKind>, KindParseError> {
+    let c: CrosscheckSpec = block.ok_or(CrosscheckKindError::NoBlock)?.parse()?;
     let needs_scene = matches!(c, CrosscheckSpec::ElasticBeam(_));
     if needs_scene != spec.scene.is_some() {
         return Err(if needs_scene {
-            "crosscheck elastic_beam compares solutions of the case's `scene`: add one".into()
+            CrosscheckKindError::ElasticBeamNeedsScene
         } else {
-            "crosscheck ccd runs no scene of its own: remove `scene` (the runs it records are \
-             named under `record`)"
-                .into()
-        });
+            CrosscheckKindError::CcdRunsNoScene
+        }
+        .into());
     }
     refuse_parts(
         spec,
@@ -155,12 +184,13 @@ pub fn parse(
     let mut quantities = Vec::new();
     for (m, CrosscheckMeasure::Crosscheck(q)) in spec.metrics.iter().zip(measures) {
         if !c.quantities().contains(&q.as_str()) {
-            return Err(format!(
-                "metric `{}` measures `{q}`, which crosscheck {} does not give; it gives {}",
-                m.name,
-                c.name(),
-                c.quantities().join(", ")
-            ));
+            return Err(CrosscheckKindError::NotGiven {
+                metric: m.name.clone(),
+                quantity: q.clone(),
+                crosscheck: c.name().to_string(),
+                gives: c.quantities().join(", "),
+            }
+            .into());
         }
         quantities.push(q);
     }
@@ -182,7 +212,7 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
         CrosscheckSpec::ElasticBeam(b) => spec
             .scene
             .as_ref()
-            .ok_or_else(|| "elastic_beam needs a scene".to_string())
+            .ok_or(CrosscheckError::NeedsScene)
             .and_then(|scene| elastic_beam::run(b, scene, time_limit))
             .map(|o| {
                 (
@@ -234,7 +264,9 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
             quantities
                 .get(q)
                 .copied()
-                .ok_or_else(|| format!("`{q}` was not measured"))
+                .ok_or_else(|| CrosscheckError::NotMeasured {
+                    quantity: q.clone(),
+                })
         },
         &|_| None,
     );
@@ -263,7 +295,7 @@ fn run_case(kind: &CrosscheckCase, case: &LoadedCase, options: &RunOptions) -> C
 
 /// Recomputes the independent answers of the cases and writes them to the cache
 /// (`impact-vv crosscheck-refresh`; needs the `python` feature).
-fn refresh(kind: &CrosscheckCase, case: &LoadedCase) -> Result<Provenance, String> {
+fn refresh(kind: &CrosscheckCase, case: &LoadedCase) -> Result<Provenance, CrosscheckError> {
     let case_folder = case.path.parent().unwrap_or(Path::new("."));
     match &kind.spec {
         CrosscheckSpec::ElasticBeam(b) => {
@@ -271,7 +303,7 @@ fn refresh(kind: &CrosscheckCase, case: &LoadedCase) -> Result<Provenance, Strin
                 .spec
                 .scene
                 .as_ref()
-                .ok_or("elastic_beam needs a scene")?;
+                .ok_or(CrosscheckError::NeedsScene)?;
             let request = elastic_beam::request(b, scene)?;
             cache::refresh("skfem_beam.py", &request, &cache::cache_path(&b.cache))
         }

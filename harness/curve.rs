@@ -4,19 +4,94 @@
 
 use std::path::Path;
 
+/// Why a history column, a data file's columns or a curve's slope cannot be read: each message
+/// names the column or file and what it holds.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CurveError {
+    /// The measure reads a history, and the run kept none (a static run).
+    #[error("this measure needs an explicit run's history")]
+    NoHistory,
+    /// The history lacks a column: the message lists those it has.
+    #[error("the history has no column `{name}`; it has {columns:?}")]
+    NoColumn {
+        /// The column asked for.
+        name: String,
+        /// The history's columns.
+        columns: Vec<String>,
+    },
+    /// A data file cannot be read.
+    #[error("cannot read {path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+    /// A data file has no header line.
+    #[error("{path}: no header line")]
+    NoHeader {
+        /// The file.
+        path: String,
+    },
+    /// A data file lacks a column.
+    #[error("{path}: no column `{name}` in {header:?}")]
+    NoFileColumn {
+        /// The file.
+        path: String,
+        /// The column asked for.
+        name: String,
+        /// The file's header.
+        header: Vec<String>,
+    },
+    /// A data row that is not a number in every column asked for.
+    #[error("{path}: bad data row {row}")]
+    BadRow {
+        /// The file.
+        path: String,
+        /// The data row (1-based, comments and blank lines not counted).
+        row: usize,
+    },
+    /// Loads and openings of different lengths, or none.
+    #[error("{loads} loads against {openings} openings")]
+    Lengths {
+        /// Number of loads.
+        loads: usize,
+        /// Number of openings.
+        openings: usize,
+    },
+    /// Fewer than two records in the fitting window.
+    #[error(
+        "{records} records of the rising branch have a load in [{from}, {to}]: too few to fit"
+    )]
+    TooFewInWindow {
+        /// Records in the window.
+        records: usize,
+        /// Lower load of the window.
+        from: f64,
+        /// Upper load of the window.
+        to: f64,
+    },
+    /// The opening is constant over the fitted records.
+    #[error("the opening does not change over the fitted records")]
+    OpeningConstant,
+}
+
 /// The named columns of a CSV file (a header line of column names, `#` comment lines and blank
 /// lines skipped), each as a vector in the file's units. An error names the file and the
 /// missing column or the bad data row.
-pub fn read_columns(file: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, String> {
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+pub fn read_columns(file: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, CurveError> {
+    let path = || file.display().to_string();
+    let text = std::fs::read_to_string(file).map_err(|e| CurveError::Read {
+        path: path(),
+        message: e.to_string(),
+    })?;
     let mut lines = text
         .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty() && !l.starts_with('#'));
     let header: Vec<&str> = lines
         .next()
-        .ok_or_else(|| format!("{}: no header line", file.display()))?
+        .ok_or_else(|| CurveError::NoHeader { path: path() })?
         .split(',')
         .map(str::trim)
         .collect();
@@ -26,17 +101,25 @@ pub fn read_columns(file: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, String
             header
                 .iter()
                 .position(|h| h == name)
-                .ok_or_else(|| format!("{}: no column `{name}` in {header:?}", file.display()))
+                .ok_or_else(|| CurveError::NoFileColumn {
+                    path: path(),
+                    name: name.to_string(),
+                    header: header.iter().map(|h| h.to_string()).collect(),
+                })
         })
         .collect::<Result<_, _>>()?;
     let mut columns = vec![Vec::new(); names.len()];
     for (k, line) in lines.enumerate() {
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         for (column, &i) in columns.iter_mut().zip(&index) {
-            let value = fields
-                .get(i)
-                .and_then(|f| f.parse().ok())
-                .ok_or_else(|| format!("{}: bad data row {}", file.display(), k + 1))?;
+            let value =
+                fields
+                    .get(i)
+                    .and_then(|f| f.parse().ok())
+                    .ok_or_else(|| CurveError::BadRow {
+                        path: path(),
+                        row: k + 1,
+                    })?;
             column.push(value);
         }
     }
@@ -55,13 +138,12 @@ pub fn rising_branch_slope(
     opening: &[f64],
     from: f64,
     to: f64,
-) -> Result<(f64, usize), String> {
+) -> Result<(f64, usize), CurveError> {
     if load.is_empty() || load.len() != opening.len() {
-        return Err(format!(
-            "{} loads against {} openings",
-            load.len(),
-            opening.len()
-        ));
+        return Err(CurveError::Lengths {
+            loads: load.len(),
+            openings: opening.len(),
+        });
     }
     let peak_at = load
         .iter()
@@ -82,12 +164,13 @@ pub fn rising_branch_slope(
         .unzip();
     let n = w.len();
     if n < 2 {
-        return Err(format!(
-            "{n} records of the rising branch have a load in [{from}, {to}]: too few to fit"
-        ));
+        return Err(CurveError::TooFewInWindow {
+            records: n,
+            from,
+            to,
+        });
     }
-    let slope =
-        least_squares_slope(&w, &f).ok_or("the opening does not change over the fitted records")?;
+    let slope = least_squares_slope(&w, &f).ok_or(CurveError::OpeningConstant)?;
     Ok((slope, n))
 }
 
@@ -140,9 +223,9 @@ mod tests {
     #[test]
     fn too_few_records_in_the_window_is_an_error() {
         let e = rising_branch_slope(&[0.0, 1.0, 2.0], &[0.0, 1.0, 2.0], 5.0, 9.0).unwrap_err();
-        assert!(e.contains("too few"), "{e}");
+        assert!(e.to_string().contains("too few"), "{e}");
         let e = rising_branch_slope(&[1.0, 2.0], &[0.0], 0.0, 9.0).unwrap_err();
-        assert!(e.contains("against"), "{e}");
+        assert!(e.to_string().contains("against"), "{e}");
     }
 
     /// Columns are read by name, in the order asked, with comments and blank lines skipped.
@@ -159,7 +242,7 @@ mod tests {
         let c = read_columns(&file, &["load_min", "cmod"]).unwrap();
         assert_eq!(c, vec![vec![2.0], vec![0.0]]);
         let e = read_columns(&file, &["load"]).unwrap_err();
-        assert!(e.contains("no column `load`"), "{e}");
+        assert!(e.to_string().contains("no column `load`"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -14,13 +14,43 @@ use impact_solver::scene::{build_problem, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::case_kind::{
-    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, KindParseError, LoadedCase,
+    RunOptions,
 };
 use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
 use crate::results::CaseResult;
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
+
+/// Why a `determinism` case is refused or one of its runs fails.
+#[derive(Debug, thiserror::Error)]
+pub enum DeterminismError {
+    /// The kind's block is missing.
+    #[error("a determinism case needs its `determinism` block")]
+    NoBlock,
+    /// Fewer than two thread counts, or a zero.
+    #[error("determinism: give two thread counts or more, each at least 1, got {threads:?}")]
+    Threads {
+        /// The thread counts given.
+        threads: Vec<usize>,
+    },
+    /// No scene to run.
+    #[error("a determinism case runs the case's `scene`: add one")]
+    NoScene,
+    /// The thread pool cannot be started.
+    #[error(transparent)]
+    Pool(#[from] rayon::ThreadPoolBuildError),
+    /// The scene cannot be built or run.
+    #[error(transparent)]
+    Solver(#[from] impact_solver::SolverError),
+    /// The run panicked.
+    #[error("the run on {threads} thread(s) panicked")]
+    Panicked {
+        /// The thread count of the run.
+        threads: usize,
+    },
+}
 
 /// The `determinism:` block: the thread counts to compare, the first one the reference.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -62,18 +92,16 @@ pub fn parse(
     block: Option<&Block>,
     case: &CaseSpec,
     _base: &Path,
-) -> Result<Arc<dyn CaseKind>, String> {
-    let spec: DeterminismSpec = block
-        .ok_or("a determinism case needs its `determinism` block")?
-        .parse()?;
+) -> Result<Arc<dyn CaseKind>, KindParseError> {
+    let spec: DeterminismSpec = block.ok_or(DeterminismError::NoBlock)?.parse()?;
     if spec.threads.len() < 2 || spec.threads.contains(&0) {
-        return Err(format!(
-            "determinism: give two thread counts or more, each at least 1, got {:?}",
-            spec.threads
-        ));
+        return Err(DeterminismError::Threads {
+            threads: spec.threads.clone(),
+        }
+        .into());
     }
     if case.scene.is_none() {
-        return Err("a determinism case runs the case's `scene`: add one".into());
+        return Err(DeterminismError::NoScene.into());
     }
     refuse_parts(
         case,
@@ -123,7 +151,7 @@ impl CaseKind for DeterminismCase {
             &spec.metrics,
             Some(scene),
             &mut |i, _, _| {
-                Ok(match self.measures[i] {
+                Ok::<_, DeterminismError>(match self.measures[i] {
                     Quantity::DifferingValues => differing as f64,
                     Quantity::MaxDifference => max_difference,
                 })
@@ -153,14 +181,13 @@ fn run_on(
     time_limit_s: f64,
     options: &RunOptions,
     log: &CaseLog,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, DeterminismError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
-        .build()
-        .map_err(|e| e.to_string())?;
+        .build()?;
     let run = || {
         pool.install(|| {
-            let mut problem = build_problem(scene).map_err(|e| e.to_string())?;
+            let mut problem = build_problem(scene)?;
             let opts = ExecuteOptions {
                 out: None,
                 stem: "run",
@@ -170,15 +197,14 @@ fn run_on(
                 ranks: None,
                 log: &log.sink(),
             };
-            let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
-                .map_err(|e| e.to_string())?;
+            let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {})?;
             Ok(numbers(&run))
         })
     };
     // From a plain thread: a worker of the catalogue's pool that called `install` itself would
     // run other cases' jobs while it waits, and this case's wall time would count them.
     std::thread::scope(|s| s.spawn(run).join())
-        .map_err(|_| format!("the run on {threads} thread(s) panicked"))?
+        .map_err(|_| DeterminismError::Panicked { threads })?
 }
 
 fn numbers(run: &Execution) -> Vec<f64> {

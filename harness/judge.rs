@@ -49,10 +49,10 @@ pub struct Judgement {
 /// metric's index and spec and the reference value, for kinds that also record errors per sweep
 /// level), and the
 /// verdict of `judge`. A metric without a reference is a failure, never skipped.
-pub fn judge_metrics(
+pub fn judge_metrics<E: std::fmt::Display>(
     metrics: &[MetricSpec],
     scene: Option<&Scene>,
-    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<f64, String>,
+    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<f64, E>,
     peak: &dyn Fn(&str) -> Option<f64>,
 ) -> Judgement {
     judge_readings(
@@ -64,10 +64,10 @@ pub fn judge_metrics(
 }
 
 /// [`judge_metrics`] for kinds whose measures may give their own verdict ([`Measured`]).
-pub fn judge_readings(
+pub fn judge_readings<E: std::fmt::Display>(
     metrics: &[MetricSpec],
     scene: Option<&Scene>,
-    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<Measured, String>,
+    measure: &mut dyn FnMut(usize, &MetricSpec, f64) -> Result<Measured, E>,
     peak: &dyn Fn(&str) -> Option<f64>,
 ) -> Judgement {
     let mut judgement = Judgement::default();

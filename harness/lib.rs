@@ -16,6 +16,7 @@ pub mod case_file;
 pub mod case_kind;
 pub mod case_log;
 pub mod catalogue;
+pub mod commands;
 pub mod contact_compare;
 pub mod contact_problems;
 pub mod crosscheck;

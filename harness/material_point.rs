@@ -23,6 +23,7 @@
 //! and plots with the targets drawn, for the report's "Concrete material" section. Stresses are
 //! in MPa, moduli in MPa, fracture energies in N/mm, dissipation in J/m^3, strains plain.
 
+mod error;
 pub mod experiments;
 pub mod plots;
 mod quantity;
@@ -31,6 +32,7 @@ pub mod report;
 mod select;
 mod spec;
 
+pub use error::MaterialPointError;
 pub use quantity::{Quantity, Value};
 pub use record::{MaterialPlot, MaterialRecord, Outcome, RecordTable, RecordedValue, TargetBox};
 use select::close;
@@ -45,7 +47,8 @@ use std::time::Instant;
 use impact_solver::material::microplane::MicroplaneParameters;
 
 use crate::case_kind::{
-    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, refuse_parts, unfinished_result, Block, CaseKind, KindParseError, LoadedCase,
+    RunOptions,
 };
 use crate::catalogue::{CaseSpec, Variant};
 use crate::judge::judge_metrics;
@@ -54,8 +57,8 @@ use crate::results::CaseResult;
 /// Reads the parameters of a parameter file with the solver's loader
 /// ([`impact_solver::material::read_microplane_file`]: `parameters:` checked, an optional
 /// `calibration:` record ignored, any other top-level key an error naming it).
-pub fn read_parameters(path: &Path) -> Result<MicroplaneParameters, String> {
-    impact_solver::material::read_microplane_file(path).map_err(|e| e.to_string())
+pub fn read_parameters(path: &Path) -> Result<MicroplaneParameters, MaterialPointError> {
+    Ok(impact_solver::material::read_microplane_file(path)?)
 }
 
 /// The options of `spec` that are given (non-default), by name.
@@ -82,11 +85,14 @@ fn given_options(spec: &MaterialPointSpec) -> Vec<&'static str> {
     .collect()
 }
 
-fn positive(name: &str, v: f64) -> Result<(), String> {
+fn positive(name: &str, v: f64) -> Result<(), MaterialPointError> {
     if v > 0.0 && v.is_finite() {
         Ok(())
     } else {
-        Err(format!("material_point: {name} must be positive, got {v}"))
+        Err(MaterialPointError::NotPositive {
+            name: name.into(),
+            value: v,
+        })
     }
 }
 
@@ -119,10 +125,8 @@ pub fn parse(
     block: Option<&Block>,
     spec: &CaseSpec,
     base: &Path,
-) -> Result<Arc<dyn CaseKind>, String> {
-    let mut mp: MaterialPointSpec = block
-        .ok_or("a material_point case needs its `material_point` block")?
-        .parse()?;
+) -> Result<Arc<dyn CaseKind>, KindParseError> {
+    let mut mp: MaterialPointSpec = block.ok_or(MaterialPointError::NoBlock)?.parse()?;
     if mp.material.is_relative() {
         mp.material = base.join(&mp.material);
     }
@@ -130,7 +134,10 @@ pub fn parse(
     Ok(Arc::new(MaterialPointCase { spec: mp, measures }))
 }
 
-fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasure>, String> {
+fn validate(
+    mp: &MaterialPointSpec,
+    spec: &CaseSpec,
+) -> Result<Vec<MaterialMeasure>, KindParseError> {
     refuse_parts(
         spec,
         &["scene", "sweep", "variants", "plots"],
@@ -138,11 +145,12 @@ fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasu
     )?;
     let accepted = mp.experiment.options();
     if let Some(o) = given_options(mp).iter().find(|o| !accepted.contains(o)) {
-        return Err(format!(
-            "material_point: experiment `{}` does not read `{o}`; it reads {}",
-            mp.experiment.name(),
-            accepted.join(", ")
-        ));
+        return Err(MaterialPointError::UnreadOption {
+            experiment: mp.experiment.name().into(),
+            option: o.to_string(),
+            accepted: accepted.join(", "),
+        }
+        .into());
     }
     for (name, v) in [
         ("element_size", mp.element_size),
@@ -165,49 +173,50 @@ fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasu
         }
     }
     if mp.steps == Some(0) || mp.samples == Some(0) {
-        return Err("material_point: steps and samples must be at least 1".into());
+        return Err(MaterialPointError::ZeroSteps.into());
     }
     match mp.experiment {
         Experiment::CrackBand if mp.element_sizes.is_empty() => {
-            return Err("material_point: crack_band needs `element_sizes`".into())
+            return Err(needs("crack_band", "element_sizes"))
         }
-        Experiment::Cyclic if mp.cycles.is_empty() => {
-            return Err("material_point: cyclic needs `cycles`".into())
-        }
+        Experiment::Cyclic if mp.cycles.is_empty() => return Err(needs("cyclic", "cycles")),
         Experiment::TensionCompression
             if mp
                 .lateral_stresses
                 .iter()
                 .any(|s| !s.is_finite() || *s > 0.0) =>
         {
-            return Err(format!(
-                "material_point: lateral_stresses {:?}: give lateral compressions in Pa (0 or \
-                 negative)",
-                mp.lateral_stresses
-            ))
+            return Err(MaterialPointError::LateralStresses {
+                stresses: mp.lateral_stresses.clone(),
+            }
+            .into())
         }
         Experiment::RateEffect => {
             let Some(r) = mp.relative_to else {
-                return Err("material_point: rate_effect needs `relative_to`".into());
+                return Err(needs("rate_effect", "relative_to"));
             };
             if !mp.rates.iter().any(|&x| close(x, r)) {
-                return Err(format!(
-                    "material_point: relative_to = {r:e} must be one of `rates` {:?}",
-                    mp.rates
-                ));
+                return Err(MaterialPointError::RelativeTo {
+                    relative_to: r,
+                    rates: mp.rates.clone(),
+                }
+                .into());
             }
         }
         _ => {}
     }
     for c in &mp.cycles {
         if c.corners.len() < 2 || c.repeat == 0 || c.steps == 0 {
-            return Err(format!(
-                "material_point: cycle `{}` needs two corners or more, repeat >= 1 and steps >= 1",
-                c.name
-            ));
+            return Err(MaterialPointError::ShortCycle {
+                cycle: c.name.clone(),
+            }
+            .into());
         }
         if mp.cycles.iter().filter(|d| d.name == c.name).count() > 1 {
-            return Err(format!("material_point: cycle `{}` appears twice", c.name));
+            return Err(MaterialPointError::CycleTwice {
+                cycle: c.name.clone(),
+            }
+            .into());
         }
     }
     let quantities = mp.experiment.quantities();
@@ -218,20 +227,29 @@ fn validate(mp: &MaterialPointSpec, spec: &CaseSpec) -> Result<Vec<MaterialMeasu
         .collect();
     for (m, measure) in spec.metrics.iter().zip(&measures) {
         if !quantities.contains(&measure.quantity) {
-            return Err(format!(
-                "metric `{}`: experiment `{}` does not measure `{}`; it measures {}",
-                m.name,
-                mp.experiment.name(),
-                measure.quantity.name(),
-                quantities
+            return Err(MaterialPointError::NotMeasured {
+                metric: m.name.clone(),
+                experiment: mp.experiment.name().into(),
+                quantity: measure.quantity.name(),
+                measured: quantities
                     .iter()
                     .map(|q| q.name())
                     .collect::<Vec<_>>()
-                    .join(", ")
-            ));
+                    .join(", "),
+            }
+            .into());
         }
     }
     Ok(measures)
+}
+
+/// The error of an experiment that lacks an option it needs.
+fn needs(experiment: &str, option: &str) -> KindParseError {
+    MaterialPointError::Needs {
+        experiment: experiment.into(),
+        option: option.into(),
+    }
+    .into()
 }
 
 /// `path` with `a/../` pairs removed (for display: `cases/material/../materials/x.yaml` reads
@@ -261,7 +279,7 @@ fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
     let parameters = match read_parameters(&mp.material) {
         Ok(p) => p,
         Err(e) => {
-            result.message = Some(e);
+            result.message = Some(e.to_string());
             return result;
         }
     };
@@ -298,7 +316,7 @@ fn run_case(kind: &MaterialPointCase, case: &LoadedCase) -> CaseResult {
                     judged_by[i].push(m.name.clone());
                 }
             }
-            Ok(value)
+            Ok::<_, MaterialPointError>(value)
         },
         &|_| None,
     );

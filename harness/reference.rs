@@ -10,6 +10,68 @@ use serde::{Deserialize, Serialize};
 // use too; re-exported here so that the harness names them `crate::reference::analytic` etc.
 pub use impact_references::{analytic, concrete, elastic_refinement, hinge, static_path};
 
+/// Why a metric's reference has no value: the scene lacks what it names, a data file cannot be
+/// read, or a structural reference cannot be computed. Each message names the body, file or
+/// key and what to change.
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceEvalError {
+    /// A structural reference (hinge, elastic refinement, static path) cannot be computed.
+    #[error(transparent)]
+    Structural(#[from] impact_references::error::ReferenceError),
+    /// A published curve cannot be read or fitted.
+    #[error(transparent)]
+    Curve(#[from] crate::curve::CurveError),
+    /// The reference names a body the scene does not have.
+    #[error("the reference names body `{body}`, which the scene does not have")]
+    NoSceneBody {
+        /// The body named.
+        body: String,
+    },
+    /// The body's material cannot be read.
+    #[error(transparent)]
+    Material(#[from] impact_solver::SolverError),
+    /// The reference names a body in a case that has no scene.
+    #[error(
+        "the reference names body `{body}`, but the case has no scene: state the material instead"
+    )]
+    BodyWithoutScene {
+        /// The body named.
+        body: String,
+    },
+    /// A structural reference in a case without a scene.
+    #[error("the {reference} reference needs the case's scene")]
+    NeedsScene {
+        /// The reference (`elastic refinement`, `hinge`, `static path`).
+        reference: &'static str,
+    },
+    /// A published-data file cannot be read.
+    #[error("cannot read {path}: {message}")]
+    ReadPublished {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+    /// A published-data file is not valid YAML of values.
+    #[error("{path}: {message}")]
+    ParsePublished {
+        /// The file.
+        path: String,
+        /// The YAML reader's error.
+        message: String,
+    },
+    /// A published-data file lacks the key.
+    #[error("{path} has no entry `{key}`; it has {keys:?}")]
+    NoEntry {
+        /// The file.
+        path: String,
+        /// The key named.
+        key: String,
+        /// The keys it has.
+        keys: Vec<String>,
+    },
+}
+
 /// Where a metric's expected value comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
@@ -77,7 +139,7 @@ fn one() -> f64 {
 }
 
 /// The slope of [`CurveSlopeSpec`] and the line saying how it was computed.
-fn curve_slope(spec: &CurveSlopeSpec) -> Result<(f64, String), String> {
+fn curve_slope(spec: &CurveSlopeSpec) -> Result<(f64, String), ReferenceEvalError> {
     let path = published_dir().join(&spec.file);
     let columns = crate::curve::read_columns(&path, &[&spec.x, &spec.y])?;
     let w: Vec<f64> = columns[0].iter().map(|x| spec.x_scale * x).collect();
@@ -113,19 +175,25 @@ pub fn published_dir() -> std::path::PathBuf {
         .join("published")
 }
 
-fn published(file: &str, key: &str) -> Result<PublishedValue, String> {
+fn published(file: &str, key: &str) -> Result<PublishedValue, ReferenceEvalError> {
     let path = published_dir().join(file);
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let values: std::collections::BTreeMap<String, PublishedValue> =
-        serde_norway::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    values.get(key).cloned().ok_or_else(|| {
-        format!(
-            "{} has no entry `{key}`; it has {:?}",
-            path.display(),
-            values.keys().collect::<Vec<_>>()
-        )
-    })
+    let text = std::fs::read_to_string(&path).map_err(|e| ReferenceEvalError::ReadPublished {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let values: std::collections::BTreeMap<String, PublishedValue> = serde_norway::from_str(&text)
+        .map_err(|e| ReferenceEvalError::ParsePublished {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+    values
+        .get(key)
+        .cloned()
+        .ok_or_else(|| ReferenceEvalError::NoEntry {
+            path: path.display().to_string(),
+            key: key.into(),
+            keys: values.keys().cloned().collect(),
+        })
 }
 
 /// Quantities of the uniaxial Saint-Venant-Kirchhoff solution.
@@ -262,7 +330,10 @@ pub enum HertzQuantity {
 }
 
 /// The elastic constants named by a reference.
-pub fn body_constants(scene: &Scene, of: &MaterialRef) -> Result<IsotropicElastic, String> {
+pub fn body_constants(
+    scene: &Scene,
+    of: &MaterialRef,
+) -> Result<IsotropicElastic, ReferenceEvalError> {
     let body = match of {
         MaterialRef::Material(c) => return Ok(*c),
         MaterialRef::Body(b) => b,
@@ -271,33 +342,37 @@ pub fn body_constants(scene: &Scene, of: &MaterialRef) -> Result<IsotropicElasti
         .bodies
         .iter()
         .find(|b| &b.name == body)
-        .ok_or_else(|| format!("the reference names body `{body}`, which the scene does not have"))
+        .ok_or_else(|| ReferenceEvalError::NoSceneBody { body: body.clone() })
         .and_then(|b| {
-            let model = b.material.model(&b.name).map_err(|e| e.to_string())?;
+            let model = b.material.model(&b.name)?;
             Ok(model.constants())
         })
 }
 
 /// The constants of `of` when there may be no scene (cases that run none, such as a contact-problem
 /// comparison): a reference naming a body then is an error saying so.
-fn constants_of(scene: Option<&Scene>, of: &MaterialRef) -> Result<IsotropicElastic, String> {
+fn constants_of(
+    scene: Option<&Scene>,
+    of: &MaterialRef,
+) -> Result<IsotropicElastic, ReferenceEvalError> {
     match (scene, of) {
         (_, MaterialRef::Material(c)) => Ok(*c),
         (Some(scene), of) => body_constants(scene, of),
-        (None, MaterialRef::Body(b)) => Err(format!(
-            "the reference names body `{b}`, but the case has no scene: state the material instead"
-        )),
+        (None, MaterialRef::Body(b)) => {
+            Err(ReferenceEvalError::BodyWithoutScene { body: b.clone() })
+        }
     }
 }
 
 impl Reference {
     /// The reference value and a line saying where it comes from.
-    pub fn evaluate(&self, scene: &Scene) -> Result<(f64, String), String> {
+    pub fn evaluate(&self, scene: &Scene) -> Result<(f64, String), ReferenceEvalError> {
         self.evaluate_for(Some(scene))
     }
 
     /// As [`Reference::evaluate`], for a case that may have no scene.
-    pub fn evaluate_for(&self, scene: Option<&Scene>) -> Result<(f64, String), String> {
+    pub fn evaluate_for(&self, scene: Option<&Scene>) -> Result<(f64, String), ReferenceEvalError> {
+        let needs = |reference| ReferenceEvalError::NeedsScene { reference };
         use analytic::*;
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
@@ -313,15 +388,15 @@ impl Reference {
                 (p.value, format!("{} ({file}: {key})", p.source))
             }
             Reference::ElasticRefinement(spec) => elastic_refinement::elastic_stiffness(
-                scene.ok_or("the elastic refinement reference needs the case's scene")?,
+                scene.ok_or_else(|| needs("elastic refinement"))?,
                 spec,
             )?,
             Reference::Hinge(spec) => hinge::hinge_reference(
-                scene.ok_or("the hinge reference needs the case's scene")?,
+                scene.ok_or_else(|| needs("hinge"))?,
                 spec,
             )?,
             Reference::StaticPath(spec) => static_path::static_path_peak(
-                scene.ok_or("the static path reference needs the case's scene")?,
+                scene.ok_or_else(|| needs("static path"))?,
                 spec,
             )?,
             Reference::CurveSlope(spec) => curve_slope(spec)?,

@@ -7,7 +7,25 @@ use impact_solver::contact::solver::SolveLimits;
 use impact_solver::contact::RecordedProblem;
 use serde::{Deserialize, Serialize};
 
+use crate::contact_compare::error::CompareError;
 use crate::contact_compare::run::solver_entries;
+
+/// Why recorded contact problems cannot be replayed.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// The run recorded no problem.
+    #[error(
+        "the run recorded no contact problem: set `record_problems_every` on the scene's contact \
+         pair, and make sure the bodies touch"
+    )]
+    NothingRecorded,
+    /// The replaying solver is unknown.
+    #[error(transparent)]
+    Solver(#[from] CompareError),
+    /// The replaying solver refuses a recorded problem.
+    #[error(transparent)]
+    Solve(#[from] impact_solver::contact::solver::ContactSolverError),
+}
 
 /// What a replay measures, worst over the recorded problems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -40,13 +58,9 @@ pub fn evaluate(
     quantity: ReplayQuantity,
     tolerance: f64,
     only_converged: bool,
-) -> Result<f64, String> {
+) -> Result<f64, ReplayError> {
     if problems.is_empty() {
-        return Err(
-            "the run recorded no contact problem: set `record_problems_every` on the scene's \
-             contact pair, and make sure the bodies touch"
-                .into(),
-        );
+        return Err(ReplayError::NothingRecorded);
     }
     if quantity == ReplayQuantity::ConvergedFraction {
         let converged = problems.iter().filter(|p| p.converged).count();
@@ -78,10 +92,7 @@ pub fn evaluate(
                     max_iterations: entry.max_iterations,
                     ..limits
                 };
-                (entry.make)()
-                    .solve(&recorded.problem, &limits)
-                    .map_err(|e| e.to_string())?
-                    .r
+                (entry.make)().solve(&recorded.problem, &limits)?.r
             }
         };
         let value = match quantity {

@@ -10,6 +10,37 @@ use std::sync::Mutex;
 
 use crate::results::{CaseResult, RunResults};
 
+/// Why a killed run's results cannot be rebuilt or written: each message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum RebuildError {
+    /// A file of the run cannot be read.
+    #[error("cannot read {path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+    /// A file of the run is not valid JSON of its type.
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file, with the line for `cases.jsonl`.
+        path: String,
+        /// The JSON reader's error.
+        message: String,
+    },
+    /// A file cannot be written or appended to.
+    #[error("cannot {action} {path}: {message}")]
+    Write {
+        /// `write` or `append to`.
+        action: &'static str,
+        /// The file.
+        path: String,
+        /// The reason.
+        message: String,
+    },
+}
+
 /// The run's facts, without cases.
 pub const RUN_FILE: &str = "run.json";
 /// One finished case per line.
@@ -59,13 +90,18 @@ impl RunLog {
 /// The run in `dir` from `run.json` and `cases.jsonl`: the cases in the order they finished, a
 /// last line cut by the kill skipped (with a warning on standard error). The wall time of the
 /// run is unknown (NaN).
-pub fn rebuild(dir: &Path) -> Result<RunResults, String> {
+pub fn rebuild(dir: &Path) -> Result<RunResults, RebuildError> {
     let read = |name: &str| {
-        std::fs::read_to_string(dir.join(name))
-            .map_err(|e| format!("cannot read {}: {e}", dir.join(name).display()))
+        std::fs::read_to_string(dir.join(name)).map_err(|e| RebuildError::Read {
+            path: dir.join(name).display().to_string(),
+            message: e.to_string(),
+        })
     };
-    let mut run: RunResults = serde_json::from_str(&read(RUN_FILE)?)
-        .map_err(|e| format!("{}: {e}", dir.join(RUN_FILE).display()))?;
+    let mut run: RunResults =
+        serde_json::from_str(&read(RUN_FILE)?).map_err(|e| RebuildError::Parse {
+            path: dir.join(RUN_FILE).display().to_string(),
+            message: e.to_string(),
+        })?;
     let text = read(CASES_FILE)?;
     let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     for (i, line) in lines.iter().enumerate() {
@@ -77,11 +113,10 @@ pub fn rebuild(dir: &Path) -> Result<RunResults, String> {
                 i + 1
             ),
             Err(e) => {
-                return Err(format!(
-                    "{} line {}: {e}",
-                    dir.join(CASES_FILE).display(),
-                    i + 1
-                ))
+                return Err(RebuildError::Parse {
+                    path: format!("{} line {}", dir.join(CASES_FILE).display(), i + 1),
+                    message: e.to_string(),
+                })
             }
         }
     }

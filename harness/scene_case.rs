@@ -13,7 +13,7 @@ use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::SolverError;
 
 use crate::case_kind::{
-    parse_measures, unfinished_result, Block, CaseKind, LoadedCase, RunOptions,
+    parse_measures, unfinished_result, Block, CaseKind, KindParseError, LoadedCase, RunOptions,
 };
 use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Sweep, Variant};
@@ -25,7 +25,30 @@ use crate::results::{
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::output::HistoryTable;
-use measure::Measure;
+use measure::{Measure, MeasureError};
+
+/// Why a case's scene is refused before it runs.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneCaseError {
+    /// A scene case without a scene.
+    #[error(
+        "the case has no `scene`: add one, or the block of another kind of case \
+         (docs/catalogue.md, 'The case format')"
+    )]
+    NoScene,
+    /// A mesh sweep over a body not meshed as a box.
+    #[error("a mesh sweep needs a box mesh on the first body")]
+    MeshSweepNeedsBox,
+    /// A mesh-file sweep without a Gmsh body.
+    #[error("a mesh_files sweep needs a body meshed from a Gmsh file")]
+    MeshFilesNeedGmsh,
+    /// A time-step sweep of a static analysis.
+    #[error("a time-step sweep needs an explicit analysis")]
+    TimeStepSweepNeedsExplicit,
+    /// The scene cannot be built to find its stable step.
+    #[error(transparent)]
+    Build(#[from] SolverError),
+}
 
 /// The pool a rank thread of a threaded distributed run computes in: one thread, its own, so that
 /// no rank waits on workers that other cases hold.
@@ -51,13 +74,9 @@ pub fn parse(
     _block: Option<&Block>,
     spec: &CaseSpec,
     _base: &Path,
-) -> Result<Arc<dyn CaseKind>, String> {
+) -> Result<Arc<dyn CaseKind>, KindParseError> {
     if spec.scene.is_none() {
-        return Err(
-            "the case has no `scene`: add one, or the block of another kind of case \
-             (docs/catalogue.md, 'The case format')"
-                .into(),
-        );
+        return Err(SceneCaseError::NoScene.into());
     }
     let measures = parse_measures(spec, "scene")?;
     Ok(Arc::new(SceneCase { measures }))
@@ -161,7 +180,7 @@ fn run_logged(
     let levels = match level_scenes(&scene, spec.sweep.as_ref()) {
         Ok(l) => l,
         Err(message) => {
-            result.message = Some(message);
+            result.message = Some(message.to_string());
             return result;
         }
     };
@@ -406,7 +425,7 @@ fn stem_of(variant: Option<&Variant>, i: usize, levels: usize) -> String {
 }
 
 /// The scene of every level: the case's scene with the sweep's parameter applied.
-fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)>, String> {
+fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)>, SceneCaseError> {
     match sweep {
         None => Ok(vec![(1.0, scene.clone())]),
         Some(Sweep::Mesh(divisions)) => divisions
@@ -414,7 +433,7 @@ fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)
             .map(|d| {
                 let mut s = scene.clone();
                 let MeshSource::Box(b) = &mut s.bodies[0].mesh else {
-                    return Err("a mesh sweep needs a box mesh on the first body".to_string());
+                    return Err(SceneCaseError::MeshSweepNeedsBox);
                 };
                 b.divisions = *d;
                 Ok((b.size[0] / d[0] as f64, s))
@@ -432,20 +451,20 @@ fn level_scenes(scene: &Scene, sweep: Option<&Sweep>) -> Result<Vec<(f64, Scene)
                     }
                 }
                 if replaced == 0 {
-                    return Err("a mesh_files sweep needs a body meshed from a Gmsh file".into());
+                    return Err(SceneCaseError::MeshFilesNeedGmsh);
                 }
                 Ok((level.size, s))
             })
             .collect(),
         Some(Sweep::TimeStepFactor(factors)) => {
-            let problem = build_problem(scene).map_err(|e| e.to_string())?;
+            let problem = build_problem(scene)?;
             let (dt_cr, _) = problem.model.critical_time_step();
             factors
                 .iter()
                 .map(|f| {
                     let mut s = scene.clone();
                     let Analysis::Explicit(settings) = &mut s.analysis else {
-                        return Err("a time-step sweep needs an explicit analysis".to_string());
+                        return Err(SceneCaseError::TimeStepSweepNeedsExplicit);
                     };
                     settings.settings.time_step = Some(f * dt_cr);
                     settings.settings.allow_unstable_time_step = *f > 1.0;
@@ -461,9 +480,9 @@ fn sweep_measure(
     spec: &crate::catalogue::CaseSpec,
     runs: &[LevelRun],
     levels: &[SweepLevel],
-) -> Result<f64, String> {
+) -> Result<f64, MeasureError> {
     let Some(sweep) = &spec.sweep else {
-        return Err("this measure needs a sweep in the case".into());
+        return Err(MeasureError::NeedsSweep);
     };
     let unstable = |r: &LevelRun| matches!(r.outcome, Err(SolverError::Unstable(_)));
     match measure {
@@ -472,8 +491,8 @@ fn sweep_measure(
                 .iter()
                 .filter_map(|l| l.errors.get(metric).map(|e| (l.parameter, *e)))
                 .collect();
-            observed_order(&pts).ok_or_else(|| {
-                format!("metric `{metric}` has fewer than two levels with a positive error")
+            observed_order(&pts).ok_or_else(|| MeasureError::FewLevels {
+                metric: metric.clone(),
             })
         }
         Measure::StableUpToEstimate => Ok(runs
@@ -482,7 +501,7 @@ fn sweep_measure(
             .all(|r| r.outcome.is_ok()) as u8 as f64),
         Measure::MeasuredStabilityLimit => {
             let Sweep::TimeStepFactor(factors) = sweep else {
-                return Err("needs a time-step sweep".into());
+                return Err(MeasureError::NeedsTimeStepSweep);
             };
             Ok(runs.iter().find(|r| unstable(r)).map_or_else(
                 || factors.iter().cloned().fold(0.0, f64::max) + 0.1,
@@ -524,7 +543,10 @@ fn plots(
                 (Some(band), Some(scene)) => crate::band::plot_series(band, scene, &|c| {
                     history
                         .column(c)
-                        .ok_or_else(|| format!("the history has no column `{c}`"))
+                        .ok_or_else(|| crate::curve::CurveError::NoColumn {
+                            name: c.into(),
+                            columns: history.columns().to_vec(),
+                        })
                 })
                 .unwrap_or_else(|e| {
                     log.line(&format!("plot `{}`: {e}", p.title));

@@ -13,6 +13,7 @@
 //! different integrator (static equilibrium, no inertia) and a finer discretisation (linear
 //! tetrahedra are too stiff on coarse meshes, so the refined value lies below the coarse one).
 
+use crate::error::ReferenceError;
 use impact_solver::material::MaterialModel;
 use impact_solver::model::TimeFunction;
 use impact_solver::scene::{build_problem, Analysis, MaterialSpec, MeshSource, MotionSpec, Scene};
@@ -40,7 +41,7 @@ pub struct ElasticStiffnessSpec {
 pub fn elastic_stiffness(
     scene: &Scene,
     spec: &ElasticStiffnessSpec,
-) -> Result<(f64, String), String> {
+) -> Result<(f64, String), ReferenceError> {
     let solved = solve_elastic(scene, spec, LinearSolver::conjugate_gradient())?;
     Ok((solved.stiffness, solved.description))
 }
@@ -67,34 +68,31 @@ pub fn solve_elastic(
     scene: &Scene,
     spec: &ElasticStiffnessSpec,
     linear_solver: LinearSolver,
-) -> Result<ElasticSolve, String> {
+) -> Result<ElasticSolve, ReferenceError> {
     let mut elastic = scene.clone();
     elastic.gravity = None;
     elastic.loads.clear();
     elastic.contact.clear();
     elastic.probes.clear();
     for body in &mut elastic.bodies {
-        let constants = body
-            .material
-            .model(&body.name)
-            .map_err(|e| e.to_string())?
-            .constants();
+        let constants = body.material.model(&body.name)?.constants();
         body.material = MaterialSpec::LinearElastic(constants);
         body.initial_velocity = None;
     }
-    let first = elastic.bodies.first_mut().ok_or("the scene has no body")?;
+    let first = elastic.bodies.first_mut().ok_or(ReferenceError::NoBody)?;
     let MeshSource::Box(mesh) = &mut first.mesh else {
-        return Err(format!(
-            "body `{}` is not a box mesh: the elastic refinement reference refines box meshes only",
-            first.name
-        ));
+        return Err(ReferenceError::NotABox {
+            body: first.name.clone(),
+        });
     };
     mesh.divisions = spec.divisions;
     let condition = elastic
         .boundary_conditions
         .iter_mut()
         .find(|c| c.name.as_deref() == Some(spec.condition.as_str()))
-        .ok_or_else(|| format!("the scene has no boundary condition `{}`", spec.condition))?;
+        .ok_or_else(|| ReferenceError::NoCondition {
+            condition: spec.condition.clone(),
+        })?;
     condition.motion = MotionSpec::Displacement {
         components: vec![spec.component],
         value: TimeFunction::Constant(spec.displacement),
@@ -104,13 +102,15 @@ pub fn solve_elastic(
         ..StaticSettings::default()
     };
     elastic.analysis = Analysis::Static(settings.clone());
-    let problem = build_problem(&elastic).map_err(|e| e.to_string())?;
+    let problem = build_problem(&elastic)?;
     let index = problem
         .constraints
         .iter()
         .position(|c| c.name == spec.condition)
-        .ok_or_else(|| format!("no constraint `{}` in the built problem", spec.condition))?;
-    let solution = solve_static(&problem, &settings).map_err(|e| e.to_string())?;
+        .ok_or_else(|| ReferenceError::NoConstraint {
+            condition: spec.condition.clone(),
+        })?;
+    let solution = solve_static(&problem, &settings)?;
     let axis = spec.component as usize;
     let reaction = solution.constraint_reaction(&problem, index)[axis];
     let microplane = scene

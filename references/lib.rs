@@ -19,6 +19,7 @@
 pub mod analytic;
 pub mod concrete;
 pub mod elastic_refinement;
+pub mod error;
 pub mod hinge;
 pub mod queries;
 pub mod static_path;

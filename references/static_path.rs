@@ -6,6 +6,7 @@
 //! integrator (equilibrium at every step instead of a slow dynamic loading), on the same mesh and
 //! material.
 
+use crate::error::ReferenceError;
 use impact_solver::scene::{build_problem, Analysis, Scene};
 use impact_solver::statics::{solve_static, StaticSettings};
 use serde::{Deserialize, Serialize};
@@ -24,22 +25,21 @@ pub struct StaticPathSpec {
 
 /// Largest magnitude of the `peak_of` column along the static path of the case's scene, and a
 /// line saying how it was computed.
-pub fn static_path_peak(scene: &Scene, spec: &StaticPathSpec) -> Result<(f64, String), String> {
+pub fn static_path_peak(
+    scene: &Scene,
+    spec: &StaticPathSpec,
+) -> Result<(f64, String), ReferenceError> {
     let mut statics = scene.clone();
     statics.analysis = Analysis::Static(spec.settings.clone());
-    let problem = build_problem(&statics).map_err(|e| e.to_string())?;
-    let solution = solve_static(&problem, &spec.settings).map_err(|e| e.to_string())?;
-    let history = solution
-        .history
-        .as_ref()
-        .ok_or("the static path records a history only for bodies with a history")?;
-    let column = history.column(&spec.peak_of).ok_or_else(|| {
-        format!(
-            "the static path's history has no column `{}`; it has {:?}",
-            spec.peak_of,
-            history.columns()
-        )
-    })?;
+    let problem = build_problem(&statics)?;
+    let solution = solve_static(&problem, &spec.settings)?;
+    let history = solution.history.as_ref().ok_or(ReferenceError::NoHistory)?;
+    let column = history
+        .column(&spec.peak_of)
+        .ok_or_else(|| ReferenceError::NoColumn {
+            column: spec.peak_of.clone(),
+            columns: history.columns().to_vec(),
+        })?;
     let (index, peak) = column
         .iter()
         .enumerate()

@@ -19,6 +19,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
+mod source_text;
+use source_text::{is_ident, strip};
+
 /// The solver's layers, lowest first: a top-level module of `solver/src` imports only from the
 /// layers before its own (`docs/architecture.md`, "The modules as layers").
 const SOLVER_LAYERS: &[&[&str]] = &[
@@ -61,108 +64,6 @@ struct Crate {
     modules: BTreeSet<ModPath>,
     /// Every path into the crate, outside test code.
     imports: Vec<Import>,
-}
-
-/// Rust source with comments, string and character literals blanked (each replaced by spaces
-/// or an empty literal), so that braces and paths in them are not read as code.
-fn strip(text: &str) -> String {
-    let b = text.as_bytes();
-    let mut out = String::with_capacity(text.len());
-    let mut i = 0;
-    while i < b.len() {
-        let c = b[i];
-        if c == b'/' && b.get(i + 1) == Some(&b'/') {
-            while i < b.len() && b[i] != b'\n' {
-                i += 1;
-            }
-        } else if c == b'/' && b.get(i + 1) == Some(&b'*') {
-            let mut depth = 0;
-            while i < b.len() {
-                if b[i] == b'/' && b.get(i + 1) == Some(&b'*') {
-                    depth += 1;
-                    i += 2;
-                } else if b[i] == b'*' && b.get(i + 1) == Some(&b'/') {
-                    depth -= 1;
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    i += 1;
-                }
-            }
-            out.push(' ');
-        } else if c == b'r'
-            && (i == 0 || !is_ident(b[i - 1]))
-            && matches!(b.get(i + 1), Some(b'"') | Some(b'#'))
-        {
-            // A raw string r"..." or r#"..."#.
-            let mut j = i + 1;
-            let mut hashes = 0;
-            while b.get(j) == Some(&b'#') {
-                hashes += 1;
-                j += 1;
-            }
-            if b.get(j) != Some(&b'"') {
-                out.push('r');
-                i += 1;
-                continue;
-            }
-            j += 1;
-            loop {
-                if j >= b.len() {
-                    break;
-                }
-                if b[j] == b'"' && (0..hashes).all(|k| b.get(j + 1 + k) == Some(&b'#')) {
-                    j += 1 + hashes;
-                    break;
-                }
-                j += 1;
-            }
-            out.push_str("\"\"");
-            i = j;
-        } else if c == b'"' {
-            i += 1;
-            while i < b.len() && b[i] != b'"' {
-                if b[i] == b'\\' {
-                    i += 1;
-                }
-                i += 1;
-            }
-            i += 1;
-            out.push_str("\"\"");
-        } else if c == b'\'' {
-            // A character literal ('x', '\n', '\u{7f}'), or else a lifetime.
-            let end = if b.get(i + 1) == Some(&b'\\') {
-                b[i + 2..]
-                    .iter()
-                    .position(|&x| x == b'\'')
-                    .map(|p| i + 2 + p)
-            } else {
-                let ch = text[i + 1..].chars().next().map_or(1, char::len_utf8);
-                (b.get(i + 1 + ch) == Some(&b'\'')).then_some(i + 1 + ch)
-            };
-            match end {
-                Some(e) => {
-                    out.push_str("' '");
-                    i = e + 1;
-                }
-                None => {
-                    out.push('\'');
-                    i += 1;
-                }
-            }
-        } else {
-            let ch = text[i..].chars().next().unwrap();
-            out.push(ch);
-            i += ch.len_utf8();
-        }
-    }
-    out
-}
-
-fn is_ident(c: u8) -> bool {
-    c.is_ascii_alphanumeric() || c == b'_'
 }
 
 /// Reads an identifier at `i` (after spaces); returns it and the index after it.

@@ -272,10 +272,10 @@ fn the_remeshing_csv_reads_by_its_header_and_bad_files_are_errors() {
     assert_eq!(r.kinetic_restored, 0.125);
 
     fs::write(&path, "time,elements\n1,2\n").unwrap();
-    let e = read_remeshings(&path).unwrap_err();
+    let e = read_remeshings(&path).unwrap_err().to_string();
     assert!(e.contains("header"), "{e}");
     fs::write(&path, format!("{REMESHING_CSV_HEADER}\n1,2,3\n")).unwrap();
-    let e = read_remeshings(&path).unwrap_err();
+    let e = read_remeshings(&path).unwrap_err().to_string();
     assert!(e.contains("line 2") && e.contains("3 values"), "{e}");
     let _ = fs::remove_dir_all(&dir);
 }

@@ -13,6 +13,7 @@
 //! per cube).
 
 mod classify;
+mod error;
 #[cfg(test)]
 mod fixtures;
 mod frame;
@@ -21,6 +22,7 @@ mod tip;
 pub use classify::{
     classify, contact_end, failure_mode_at, failure_mode_details, failure_mode_judged, zones,
 };
+pub use error::CrackError;
 pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
     cohesive_opening, crack_tip_report, opening_at_stress_fraction, CrackTipMeasure,
@@ -229,7 +231,7 @@ fn indicator_at(
     problem: &Problem,
     spec: &BeamSpec,
     u: &[Vector3<f64>],
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, CrackError> {
     let range = beam_elements(problem, spec)?;
     let indicator = problem.model.element_fields(u).crack_indicator;
     Ok(indicator[range].to_vec())
@@ -242,7 +244,7 @@ pub fn first_crack_time(
     problem: &Problem,
     spec: &BeamSpec,
     snapshots: &[impact_solver::dynamics::Snapshot],
-) -> Result<Option<f64>, String> {
+) -> Result<Option<f64>, CrackError> {
     let (frame, elements) = BeamFrame::of(problem, spec)?;
     for s in snapshots {
         let indicator = indicator_at(problem, spec, &s.u)?;
@@ -258,11 +260,13 @@ pub fn first_crack_time(
 }
 
 /// The model's element range of the beam body.
-fn beam_elements(problem: &Problem, spec: &BeamSpec) -> Result<std::ops::Range<usize>, String> {
+fn beam_elements(problem: &Problem, spec: &BeamSpec) -> Result<std::ops::Range<usize>, CrackError> {
     let b = problem
         .model
         .body_index(&spec.body)
-        .ok_or_else(|| format!("no body named `{}`", spec.body))?;
+        .ok_or_else(|| CrackError::NoBody {
+            body: spec.body.clone(),
+        })?;
     Ok(problem.model.bodies[b].elements.clone())
 }
 

@@ -1,11 +1,96 @@
 //! Checks on history columns for the beam cases: quasi-static loading, elastic stiffness, peak
 //! ratios, and the force balance of a body (thesis 6.48).
 
+/// Why a history check has no value: the history is too short, a column is zero, or a force
+/// is named wrongly. Each message says what to change in the case (the column, the window or
+/// the run's length).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HistoryError {
+    /// Both reactions are zero over the window: nothing to compare.
+    #[error("both reactions stay zero in the window")]
+    ReactionsZero,
+    /// The contact force stays zero.
+    #[error("the contact force never rises above zero")]
+    ContactNeverRises,
+    /// The contact force stays above `fraction` of its peak to the end of the run.
+    #[error(
+        "the contact force never falls below {fraction} of its peak {peak:.4e} N after it: the \
+         contact lasts to the end of the run"
+    )]
+    ContactNeverEnds {
+        /// The fraction of the peak the force must fall below.
+        fraction: f64,
+        /// The peak contact force (N).
+        peak: f64,
+    },
+    /// The internal work is never positive.
+    #[error("the internal work never becomes positive")]
+    WorkNeverPositive,
+    /// The force column is zero throughout.
+    #[error("the force is zero throughout")]
+    ForceZero,
+    /// The force reaches the fit's end at the first record.
+    #[error("the force reaches {fraction} of its peak at the first record: no points to fit")]
+    NoPointsToFit {
+        /// The fraction of the peak that ends the fit.
+        fraction: f64,
+    },
+    /// The displacement is constant over the fit.
+    #[error("the displacement does not change before the fit's end")]
+    DisplacementConstant,
+    /// No condition or reaction probe of that name.
+    #[error("no boundary condition and no `quantity: reaction` probe named `{name}`")]
+    NoForceNamed {
+        /// The name looked for.
+        name: String,
+    },
+    /// The nodes of a force do not lie on one line `x = const`.
+    #[error(
+        "`{name}` has nodes from x = {lo} to {hi} m: a bending moment needs each force on one \
+         line of nodes; split it into lines of constant x (conditions or reaction probes)"
+    )]
+    ForceNotOnALine {
+        /// The condition or probe.
+        name: String,
+        /// Its smallest node x (m).
+        lo: f64,
+        /// Its largest node x (m).
+        hi: f64,
+    },
+    /// A moment without forces.
+    #[error("no forces given")]
+    NoForces,
+    /// The forces of a moment lie on both sides of its section.
+    #[error("the forces lie on both sides of the section x = {section_x}: name those of one side")]
+    ForcesOnBothSides {
+        /// The section (m).
+        section_x: f64,
+    },
+    /// The history has no record.
+    #[error("empty history")]
+    Empty,
+    /// The load stays above `fraction` of its peak to the end of the run.
+    #[error("the load never falls below {fraction} of its peak after it: run longer")]
+    LoadNeverFalls {
+        /// The fraction of the peak the load must fall below.
+        fraction: f64,
+    },
+    /// The denominator of a ratio is zero.
+    #[error("the denominator column is zero throughout")]
+    DenominatorZero,
+    /// Fewer than three records.
+    #[error("fewer than three records: no central difference")]
+    TooFewRecords,
+    /// The contact force is zero throughout.
+    #[error("the contact force is zero throughout")]
+    ContactZero,
+}
+
 /// `max |l - r| / max(|l|, |r|)` over the records of two reaction histories.
-pub fn reaction_asymmetry(left: &[f64], right: &[f64]) -> Result<f64, String> {
+pub fn reaction_asymmetry(left: &[f64], right: &[f64]) -> Result<f64, HistoryError> {
     let scale = left.iter().chain(right).fold(0.0f64, |a, v| a.max(v.abs()));
     if !(scale > 0.0) {
-        return Err("both reactions stay zero in the window".into());
+        return Err(HistoryError::ReactionsZero);
     }
     Ok(left
         .iter()
@@ -18,7 +103,7 @@ pub fn reaction_asymmetry(left: &[f64], right: &[f64]) -> Result<f64, String> {
 /// below `fraction` of that peak, interpolated linearly between the two records around it
 /// (thesis 10.3.2.1 judges the failure mode "up to the moment when the beam-hammer contact force
 /// drops approximately to zero"). An error when the force never rises or never falls that low.
-pub fn contact_end_time(time: &[f64], force: &[f64], fraction: f64) -> Result<f64, String> {
+pub fn contact_end_time(time: &[f64], force: &[f64], fraction: f64) -> Result<f64, HistoryError> {
     let magnitude: Vec<f64> = force.iter().map(|f| f.abs()).collect();
     let (peak_at, peak) = magnitude
         .iter()
@@ -29,17 +114,12 @@ pub fn contact_end_time(time: &[f64], force: &[f64], fraction: f64) -> Result<f6
             |best, (i, f)| if f > best.1 { (i, f) } else { best },
         );
     if !(peak > 0.0) {
-        return Err("the contact force never rises above zero".into());
+        return Err(HistoryError::ContactNeverRises);
     }
     let level = fraction * peak;
     let end = (peak_at + 1..magnitude.len())
         .find(|&i| magnitude[i] < level)
-        .ok_or_else(|| {
-            format!(
-                "the contact force never falls below {fraction} of its peak {peak:.4e} N after \
-                 it: the contact lasts to the end of the run"
-            )
-        })?;
+        .ok_or(HistoryError::ContactNeverEnds { fraction, peak })?;
     let (f0, f1) = (magnitude[end - 1], magnitude[end]);
     Ok(time[end - 1] + (f0 - level) / (f0 - f1) * (time[end] - time[end - 1]))
 }
@@ -52,10 +132,10 @@ pub fn kinetic_over_internal_work(
     kinetic: &[f64],
     work: &[f64],
     fraction: f64,
-) -> Result<f64, String> {
+) -> Result<f64, HistoryError> {
     let peak = work.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if !(peak > 0.0) {
-        return Err("the internal work never becomes positive".into());
+        return Err(HistoryError::WorkNeverPositive);
     }
     Ok(kinetic
         .iter()
@@ -68,10 +148,14 @@ pub fn kinetic_over_internal_work(
 /// Least-squares slope `sum (d - d_m)(F - F_m) / sum (d - d_m)^2` of `force` against
 /// `displacement` over the records up to the first at which `|force|` reaches `fraction` of
 /// its largest absolute value: the secant (elastic) stiffness before cracking.
-pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> Result<f64, String> {
+pub fn secant_stiffness(
+    force: &[f64],
+    displacement: &[f64],
+    fraction: f64,
+) -> Result<f64, HistoryError> {
     let peak = force.iter().fold(0.0f64, |a, f| a.max(f.abs()));
     if !(peak > 0.0) {
-        return Err("the force is zero throughout".into());
+        return Err(HistoryError::ForceZero);
     }
     let end = force
         .iter()
@@ -79,12 +163,10 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
         .unwrap_or(force.len() - 1);
     let n = end + 1;
     if n < 2 {
-        return Err(format!(
-            "the force reaches {fraction} of its peak at the first record: no points to fit"
-        ));
+        return Err(HistoryError::NoPointsToFit { fraction });
     }
     crate::curve::least_squares_slope(&displacement[..n], &force[..n])
-        .ok_or_else(|| "the displacement does not change before the fit's end".into())
+        .ok_or(HistoryError::DisplacementConstant)
 }
 
 /// A line force of the moment measure: the history column of its y force and the x of its
@@ -94,7 +176,7 @@ pub fn secant_stiffness(force: &[f64], displacement: &[f64], fraction: f64) -> R
 pub fn force_line(
     problem: &impact_solver::problem::Problem,
     name: &str,
-) -> Result<(String, f64), String> {
+) -> Result<(String, f64), HistoryError> {
     use impact_solver::model::ProbeQuantity;
     let (nodes, column) = if let Some(c) = problem.constraints.iter().find(|c| c.name == name) {
         (&c.nodes, format!("{name}_reaction_y"))
@@ -105,9 +187,7 @@ pub fn force_line(
     {
         (&p.nodes, format!("{name}_y"))
     } else {
-        return Err(format!(
-            "no boundary condition and no `quantity: reaction` probe named `{name}`"
-        ));
+        return Err(HistoryError::NoForceNamed { name: name.into() });
     };
     let xs: Vec<f64> = nodes
         .iter()
@@ -119,10 +199,11 @@ pub fn force_line(
             (lo.min(x), hi.max(x))
         });
     if xs.is_empty() || hi - lo > 1e-9 {
-        return Err(format!(
-            "`{name}` has nodes from x = {lo} to {hi} m: a bending moment needs each force on \
-             one line of nodes; split it into lines of constant x (conditions or reaction probes)"
-        ));
+        return Err(HistoryError::ForceNotOnALine {
+            name: name.into(),
+            lo,
+            hi,
+        });
     }
     Ok((column, lo))
 }
@@ -131,16 +212,17 @@ pub fn force_line(
 /// z axis at the section `x = section_x` of the forces `R_c` (y reactions, one column each)
 /// acting at `x_c` on one side of it (statics of the free body cut at the section). An error
 /// if the forces lie on both sides.
-pub fn peak_bending_moment(section_x: f64, forces: &[(Vec<f64>, f64)]) -> Result<f64, String> {
+pub fn peak_bending_moment(
+    section_x: f64,
+    forces: &[(Vec<f64>, f64)],
+) -> Result<f64, HistoryError> {
     if forces.is_empty() {
-        return Err("no forces given".into());
+        return Err(HistoryError::NoForces);
     }
     let left = forces.iter().all(|(_, x)| *x <= section_x);
     let right = forces.iter().all(|(_, x)| *x >= section_x);
     if !(left || right) {
-        return Err(format!(
-            "the forces lie on both sides of the section x = {section_x}: name those of one side"
-        ));
+        return Err(HistoryError::ForcesOnBothSides { section_x });
     }
     let records = forces.iter().map(|(f, _)| f.len()).min().unwrap_or(0);
     Ok((0..records)
@@ -161,42 +243,40 @@ pub fn peak_bending_moment(section_x: f64, forces: &[(Vec<f64>, f64)]) -> Result
 pub fn records_through_peak(
     load: &[f64],
     after_peak_down_to: Option<f64>,
-) -> Result<usize, String> {
+) -> Result<usize, HistoryError> {
     let peak = (0..load.len())
         .max_by(|&a, &b| load[a].abs().total_cmp(&load[b].abs()))
-        .ok_or("empty history")?;
+        .ok_or(HistoryError::Empty)?;
     let end = match after_peak_down_to {
         None => peak,
         Some(f) => {
             let bound = f * load[peak].abs();
             (peak..load.len())
                 .find(|&i| load[i].abs() < bound)
-                .ok_or_else(|| {
-                    format!("the load never falls below {f} of its peak after it: run longer")
-                })?
+                .ok_or(HistoryError::LoadNeverFalls { fraction: f })?
         }
     };
     Ok(end + 1)
 }
 
 /// `max |numerator| / max |denominator|`.
-pub fn peak_ratio(numerator: &[f64], denominator: &[f64]) -> Result<f64, String> {
+pub fn peak_ratio(numerator: &[f64], denominator: &[f64]) -> Result<f64, HistoryError> {
     let max_abs = |y: &[f64]| y.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let den = max_abs(denominator);
     if !(den > 0.0) {
-        return Err("the denominator column is zero throughout".into());
+        return Err(HistoryError::DenominatorZero);
     }
     Ok(max_abs(numerator) / den)
 }
 
 /// Time of the largest |column| minus the time of the largest |after|: positive when `column`
 /// peaks later.
-pub fn peak_time_lag(time: &[f64], column: &[f64], after: &[f64]) -> Result<f64, String> {
+pub fn peak_time_lag(time: &[f64], column: &[f64], after: &[f64]) -> Result<f64, HistoryError> {
     let at = |y: &[f64]| {
         (0..y.len())
             .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
             .map(|i| time[i])
-            .ok_or_else(|| "empty history".to_string())
+            .ok_or(HistoryError::Empty)
     };
     Ok(at(column)? - at(after)?)
 }
@@ -217,14 +297,14 @@ pub fn force_equilibrium_error(
     reactions: &[Vec<f64>],
     momentum: &[f64],
     weight: f64,
-) -> Result<f64, String> {
+) -> Result<f64, HistoryError> {
     let n = time.len();
     if n < 3 {
-        return Err("fewer than three records: no central difference".into());
+        return Err(HistoryError::TooFewRecords);
     }
     let scale = contact_on_other.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     if !(scale > 0.0) {
-        return Err("the contact force is zero throughout".into());
+        return Err(HistoryError::ContactZero);
     }
     let force =
         |i: usize| -contact_on_other[i] + weight + reactions.iter().map(|c| c[i]).sum::<f64>();
@@ -288,9 +368,11 @@ analysis:
         assert!((x - 0.1).abs() < 1e-12);
         assert!(force_line(&problem, "strip")
             .unwrap_err()
+            .to_string()
             .contains("split it into lines"));
         assert!(force_line(&problem, "moved")
             .unwrap_err()
+            .to_string()
             .contains("no boundary condition"));
         assert!(force_line(&problem, "nothing").is_err());
     }

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+use super::error::CompareError;
 use super::output::write_outputs_noting;
 use super::run::compare_until;
 use super::tables::solver_summary;
@@ -46,18 +47,17 @@ pub fn run(args: &CompareArgs) -> u8 {
     }
 }
 
-fn run_inner(args: &CompareArgs) -> Result<u8, String> {
+fn run_inner(args: &CompareArgs) -> Result<u8, CompareError> {
     if let Some(t) = args.tolerances.iter().find(|t| !(**t > 0.0)) {
-        return Err(format!("tolerance {t} is not positive"));
+        return Err(CompareError::Tolerance { tolerance: *t });
     }
     if args.tolerances.is_empty() {
-        return Err("no tolerance given (--tolerances 1e-4,1e-6,1e-8)".into());
+        return Err(CompareError::NoTolerance);
     }
     if !(args.time_limit_s > 0.0 && args.time_limit_s.is_finite()) {
-        return Err(format!(
-            "--time-limit {} must be a positive, finite number of seconds (e.g. --time-limit 10)",
-            args.time_limit_s
-        ));
+        return Err(CompareError::TimeLimit {
+            limit: args.time_limit_s,
+        });
     }
     let solvers = solver_entries(&args.solvers)?;
     let files = collect_problem_files(&args.inputs)?;
@@ -66,10 +66,7 @@ fn run_inner(args: &CompareArgs) -> Result<u8, String> {
         eprintln!("error: {}", u.message);
     }
     if problems.is_empty() {
-        return Err(format!(
-            "none of the {} file(s) could be read as a contact problem",
-            files.len()
-        ));
+        return Err(CompareError::NothingReadable { files: files.len() });
     }
     // Before any solve: a comparison can take minutes, and an unwritable folder found only at
     // the end would lose them.
@@ -111,8 +108,12 @@ fn run_inner(args: &CompareArgs) -> Result<u8, String> {
             comparison.rows.len()
         )
     });
-    write_outputs_noting(&args.out, &comparison, note.as_deref())
-        .map_err(|e| format!("cannot write into `{}`: {e}", args.out.display()))?;
+    write_outputs_noting(&args.out, &comparison, note.as_deref()).map_err(|e| {
+        CompareError::Write {
+            out: args.out.display().to_string(),
+            message: e.to_string(),
+        }
+    })?;
     println!("{}", solver_summary(&comparison).to_markdown());
     println!(
         "report: {}",
@@ -134,12 +135,10 @@ fn run_inner(args: &CompareArgs) -> Result<u8, String> {
 }
 
 /// Creates `out` if needed and checks that a file can be written in it.
-fn check_writable(out: &Path) -> Result<(), String> {
-    let cannot = |e: std::io::Error| {
-        format!(
-            "cannot write into `{}`: {e}; give a writable folder with --out",
-            out.display()
-        )
+fn check_writable(out: &Path) -> Result<(), CompareError> {
+    let cannot = |e: std::io::Error| CompareError::NotWritable {
+        out: out.display().to_string(),
+        message: e.to_string(),
     };
     std::fs::create_dir_all(out).map_err(cannot)?;
     let probe = out.join(".contact-compare-write-check");
@@ -195,10 +194,10 @@ mod tests {
             if limit == 1e300 {
                 // Finite and positive: a legal (if long) limit, beyond what a Duration holds;
                 // the comparison runs without a limit instead of panicking.
-                assert_eq!(e, Ok(0));
+                assert_eq!(e.ok(), Some(0));
                 continue;
             }
-            let e = e.unwrap_err();
+            let e = e.unwrap_err().to_string();
             assert!(e.contains("--time-limit"), "{limit}: {e}");
         }
     }
@@ -211,13 +210,15 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("a-file");
         std::fs::write(&file, "").unwrap();
-        let e = run_inner(&args(dir.path(), file.join("out"), 10.0)).unwrap_err();
+        let e = run_inner(&args(dir.path(), file.join("out"), 10.0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("a-file/out") && e.contains("--out"), "{e}");
 
         let out = dir.path().join("out");
         let mut stopped = args(dir.path(), out.clone(), 10.0);
         stopped.stop = Some(Arc::new(AtomicBool::new(true)));
-        assert_eq!(run_inner(&stopped), Ok(INTERRUPTED));
+        assert_eq!(run_inner(&stopped).ok(), Some(INTERRUPTED));
         let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
         assert!(
             readme.contains("Interrupted by a signal: 0 of the 1 solves"),

@@ -10,6 +10,7 @@ use impact_solver::contact::problem_file::read_problem;
 use impact_solver::contact::registry::SolverKind;
 use impact_solver::contact::solver::{ContactSolver, SolveLimits};
 
+use super::error::CompareError;
 use super::{describe, Comparison, ComparisonRow, Unreadable, NORMALISATION};
 
 /// Sweep cap of the Gauss-Seidel solvers: the tolerance or the time limit should stop them
@@ -33,13 +34,13 @@ pub struct SolverEntry {
 
 /// The entries of `names` (every solver of the registry when empty); an unknown name is the
 /// registry's error listing the known ones.
-pub fn solver_entries(names: &[String]) -> Result<Vec<SolverEntry>, String> {
+pub fn solver_entries(names: &[String]) -> Result<Vec<SolverEntry>, CompareError> {
     let kinds: Vec<SolverKind> = if names.is_empty() {
         SolverKind::ALL.to_vec()
     } else {
         names
             .iter()
-            .map(|name| SolverKind::from_name(name).map_err(|e| e.to_string()))
+            .map(|name| SolverKind::from_name(name))
             .collect::<Result<_, _>>()?
     };
     Ok(kinds
@@ -97,35 +98,35 @@ pub struct LoadedProblem {
 
 /// The problem files named by `inputs`: files as given, folders replaced by their `*.json`
 /// files sorted by name. A missing path, or nothing found at all, is an error naming it.
-pub fn collect_problem_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub fn collect_problem_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CompareError> {
     if inputs.is_empty() {
-        return Err("no contact-problem files or folders given".into());
+        return Err(CompareError::NoInputs);
     }
     let mut files = Vec::new();
     for input in inputs {
         if input.is_dir() {
-            let entries = std::fs::read_dir(input)
-                .map_err(|e| format!("cannot list folder `{}`: {e}", input.display()))?;
+            let entries = std::fs::read_dir(input).map_err(|e| CompareError::ListFolder {
+                folder: input.display().to_string(),
+                message: e.to_string(),
+            })?;
             let mut found: Vec<PathBuf> = entries
                 .flatten()
                 .map(|e| e.path())
                 .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "json"))
                 .collect();
             if found.is_empty() {
-                return Err(format!(
-                    "folder `{}` holds no contact-problem files (*.json)",
-                    input.display()
-                ));
+                return Err(CompareError::EmptyFolder {
+                    folder: input.display().to_string(),
+                });
             }
             found.sort();
             files.extend(found);
         } else if input.exists() {
             files.push(input.clone());
         } else {
-            return Err(format!(
-                "contact-problem file or folder `{}` does not exist",
-                input.display()
-            ));
+            return Err(CompareError::Missing {
+                path: input.display().to_string(),
+            });
         }
     }
     Ok(files)
@@ -498,13 +499,18 @@ mod tests {
 
     #[test]
     fn unknown_solver_names_and_missing_inputs_are_errors_naming_them() {
-        let e = solver_entries(&["conic/fast".into()]).err().unwrap();
+        let e = solver_entries(&["conic/fast".into()])
+            .err()
+            .unwrap()
+            .to_string();
         assert!(
             e.contains("conic/fast") && e.contains("gauss-seidel/exact"),
             "{e}"
         );
         assert_eq!(solver_entries(&[]).unwrap().len(), registry::names().len());
-        let e = collect_problem_files(&["/no/such/problem.json".into()]).unwrap_err();
+        let e = collect_problem_files(&["/no/such/problem.json".into()])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("/no/such/problem.json"), "{e}");
         assert!(collect_problem_files(&[]).is_err());
     }

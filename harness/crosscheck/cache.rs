@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+use super::error::CrosscheckError;
 use super::python;
 
 /// How an independent answer was obtained.
@@ -87,15 +88,19 @@ fn relative(path: &Path) -> String {
 }
 
 /// The provenance the script wrote into its answer.
-fn provenance(answer: &Value, mode: AnswerMode, cache: &Path) -> Result<Provenance, String> {
+fn provenance(
+    answer: &Value,
+    mode: AnswerMode,
+    cache: &Path,
+) -> Result<Provenance, CrosscheckError> {
     let p = answer
         .get("provenance")
-        .ok_or("the answer has no `provenance`")?;
+        .ok_or(CrosscheckError::NoProvenance)?;
     let text = |key: &str| {
         p.get(key)
             .and_then(Value::as_str)
             .map(str::to_string)
-            .ok_or_else(|| format!("the answer's provenance has no `{key}`"))
+            .ok_or_else(|| CrosscheckError::ProvenanceKey { key: key.into() })
     };
     let packages = p
         .get("packages")
@@ -117,16 +122,15 @@ fn provenance(answer: &Value, mode: AnswerMode, cache: &Path) -> Result<Provenan
 }
 
 /// Reads the cache file at `path`; the error names the file.
-pub fn read_cache(path: &Path) -> Result<CacheEntry, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        format!(
-            "no cached answer at {} ({e}). Fix: refresh it with `cargo run --release --features \
-             python --bin impact-vv -- crosscheck-refresh` (needs the packages of \
-             references/crosscheck/requirements.txt)",
-            relative(path)
-        )
+pub fn read_cache(path: &Path) -> Result<CacheEntry, CrosscheckError> {
+    let text = std::fs::read_to_string(path).map_err(|e| CrosscheckError::NoCache {
+        path: relative(path),
+        message: e.to_string(),
     })?;
-    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", relative(path)))
+    serde_json::from_str(&text).map_err(|e| CrosscheckError::File {
+        path: relative(path),
+        message: e.to_string(),
+    })
 }
 
 /// The keys at which two requests differ, for a message.
@@ -150,7 +154,11 @@ fn differences(a: &Value, b: &Value, at: &str, out: &mut Vec<String>) {
 /// The answer of `script` to `request`: computed now when this build has Python, otherwise the
 /// cached one, which must have been computed for the same request (else an error says what
 /// changed and how to refresh).
-pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Provenance), String> {
+pub fn obtain(
+    script: &str,
+    request: &Value,
+    cache: &Path,
+) -> Result<(Value, Provenance), CrosscheckError> {
     if python::ENABLED {
         let answer = python::call_script(script, request)?;
         let p = provenance(&answer, AnswerMode::Fresh, cache)?;
@@ -160,12 +168,10 @@ pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Pro
     if &entry.request != request {
         let mut diff = Vec::new();
         differences(request, &entry.request, "request", &mut diff);
-        return Err(format!(
-            "the cached answer in {} was computed for another request ({}). Fix: refresh it \
-             with `cargo run --release --features python --bin impact-vv -- crosscheck-refresh`",
-            relative(cache),
-            diff.join("; ")
-        ));
+        return Err(CrosscheckError::StaleCache {
+            path: relative(cache),
+            differences: diff.join("; "),
+        });
     }
     let p = provenance(&entry.answer, AnswerMode::Cached, cache)?;
     Ok((entry.answer, p))
@@ -173,7 +179,7 @@ pub fn obtain(script: &str, request: &Value, cache: &Path) -> Result<(Value, Pro
 
 /// Computes the answer of `script` to `request` now and writes it, with the request, to
 /// `cache`.
-pub fn refresh(script: &str, request: &Value, cache: &Path) -> Result<Provenance, String> {
+pub fn refresh(script: &str, request: &Value, cache: &Path) -> Result<Provenance, CrosscheckError> {
     let answer = python::call_script(script, request)?;
     let p = provenance(&answer, AnswerMode::Fresh, cache)?;
     let entry = CacheEntry {
@@ -181,10 +187,16 @@ pub fn refresh(script: &str, request: &Value, cache: &Path) -> Result<Provenance
         answer,
     };
     if let Some(dir) = cache.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| CrosscheckError::File {
+            path: dir.display().to_string(),
+            message: e.to_string(),
+        })?;
     }
-    let text = serde_json::to_string_pretty(&entry).map_err(|e| e.to_string())?;
-    std::fs::write(cache, text + "\n").map_err(|e| format!("{}: {e}", relative(cache)))?;
+    let text = serde_json::to_string_pretty(&entry)?;
+    std::fs::write(cache, text + "\n").map_err(|e| CrosscheckError::File {
+        path: relative(cache),
+        message: e.to_string(),
+    })?;
     Ok(p)
 }
 
@@ -218,13 +230,15 @@ mod tests {
         assert!(p.line().contains("2026-11-21"));
 
         let other = json!({"size": [3.0, 0.5], "young": 3.0e10});
-        let e = obtain("s.py", &other, &path).unwrap_err();
+        let e = obtain("s.py", &other, &path).unwrap_err().to_string();
         assert!(
             e.contains("request.size") && e.contains("crosscheck-refresh"),
             "{e}"
         );
 
-        let e = obtain("s.py", &other, &dir.join("missing.json")).unwrap_err();
+        let e = obtain("s.py", &other, &dir.join("missing.json"))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("no cached answer") && e.contains("missing.json"),
             "{e}"
@@ -237,7 +251,9 @@ mod tests {
         if python::ENABLED {
             return;
         }
-        let e = python::call_script("skfem_beam.py", &json!({})).unwrap_err();
+        let e = python::call_script("skfem_beam.py", &json!({}))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("--features python") && e.contains("requirements.txt"),
             "{e}"

@@ -30,6 +30,7 @@ use super::cache::{cache_path, obtain, Provenance};
 use super::ccd_queries::{
     random_queries, read_queries, record_from_case, write_queries, CcdQuery, QuerySource,
 };
+use super::error::CrosscheckError;
 use crate::results::{MaterialPlot, RecordTable};
 
 /// The `crosscheck: { ccd: ... }` entry of a case.
@@ -79,7 +80,7 @@ pub fn checksum(bytes: &[u8]) -> String {
 }
 
 /// The queries made afresh: the recorded runs, then the random ones.
-pub fn fresh_queries(spec: &CcdSpec, case_dir: &Path) -> Result<Vec<CcdQuery>, String> {
+pub fn fresh_queries(spec: &CcdSpec, case_dir: &Path) -> Result<Vec<CcdQuery>, CrosscheckError> {
     let mut queries = Vec::new();
     for r in &spec.record {
         let file = case_dir.join(&r.case);
@@ -103,11 +104,11 @@ fn request(spec: &CcdSpec, file: &str, bytes: &[u8], count: usize) -> Value {
 }
 
 /// Writes the queries to the cache and ipctk's answer beside them (`crosscheck-refresh`).
-pub fn refresh(spec: &CcdSpec, case_dir: &Path) -> Result<Provenance, String> {
+pub fn refresh(spec: &CcdSpec, case_dir: &Path) -> Result<Provenance, CrosscheckError> {
     let queries = fresh_queries(spec, case_dir)?;
     let path = cache_path(&spec.queries);
     write_queries(&path, &queries)?;
-    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let bytes = std::fs::read(&path).map_err(|e| file_error(&path, e))?;
     let req = request(
         spec,
         &format!("cache/{}", spec.queries),
@@ -148,20 +149,20 @@ pub struct Outcome {
 
 /// Runs the cross-check: queries and ipctk's answers (fresh with Python, else cached), our CCD
 /// on every query, the comparison.
-pub fn run(spec: &CcdSpec, case_dir: &Path, scratch: &Path) -> Result<Outcome, String> {
+pub fn run(spec: &CcdSpec, case_dir: &Path, scratch: &Path) -> Result<Outcome, CrosscheckError> {
     let (queries, answer, provenance) = if super::python::ENABLED {
         let queries = fresh_queries(spec, case_dir)?;
-        std::fs::create_dir_all(scratch).map_err(|e| format!("{}: {e}", scratch.display()))?;
+        std::fs::create_dir_all(scratch).map_err(|e| file_error(scratch, e))?;
         let file = scratch.join("ccd-queries.bin");
         write_queries(&file, &queries)?;
-        let bytes = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+        let bytes = std::fs::read(&file).map_err(|e| file_error(&file, e))?;
         let req = request(spec, &file.display().to_string(), &bytes, queries.len());
         let (answer, p) = obtain("ipctk_ccd.py", &req, &cache_path(&spec.cache))?;
         (queries, answer, p)
     } else {
         let path = cache_path(&spec.queries);
         let queries = read_queries(&path)?;
-        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let bytes = std::fs::read(&path).map_err(|e| file_error(&path, e))?;
         let req = request(
             spec,
             &format!("cache/{}", spec.queries),
@@ -244,6 +245,14 @@ pub fn run(spec: &CcdSpec, case_dir: &Path, scratch: &Path) -> Result<Outcome, S
         plots: vec![toi_plot(&compared)],
         notes: vec![],
     })
+}
+
+/// A file of the cross-check that cannot be read or written.
+fn file_error(path: &Path, e: std::io::Error) -> CrosscheckError {
+    CrosscheckError::File {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
 }
 
 #[cfg(test)]

@@ -30,6 +30,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::cache::{cache_path, obtain, Provenance};
+use super::error::CrosscheckError;
 use crate::results::RecordTable;
 
 /// The `crosscheck: { elastic_beam: ... }` entry of a case.
@@ -127,7 +128,11 @@ pub const QUANTITIES: [&str; 13] = [
 
 /// Runs the cross-check: the reference (fresh or cached), our implicit levels and our explicit
 /// run.
-pub fn run(spec: &ElasticBeamSpec, scene: &Scene, time_limit_s: f64) -> Result<Outcome, String> {
+pub fn run(
+    spec: &ElasticBeamSpec,
+    scene: &Scene,
+    time_limit_s: f64,
+) -> Result<Outcome, CrosscheckError> {
     let req = request(spec, scene)?;
     let delta = req["plate"]["displacement"].as_f64().unwrap_or(f64::NAN);
     let (answer, provenance) = obtain("skfem_beam.py", &req, &cache_path(&spec.cache))?;
@@ -136,7 +141,9 @@ pub fn run(spec: &ElasticBeamSpec, scene: &Scene, time_limit_s: f64) -> Result<O
     for cells in &spec.implicit_levels {
         implicit_rows.push(implicit(spec, scene, *cells, delta)?);
     }
-    let finest = implicit_rows.last().ok_or("implicit_levels is empty")?;
+    let finest = implicit_rows.last().ok_or(CrosscheckError::NoLevels {
+        levels: "implicit_levels",
+    })?;
     let mut explicit_rows = Vec::new();
     let mut notes = Vec::new();
     for cells in &spec.explicit_levels {
@@ -144,7 +151,9 @@ pub fn run(spec: &ElasticBeamSpec, scene: &Scene, time_limit_s: f64) -> Result<O
         explicit_rows.push(row);
         notes.extend(n);
     }
-    let explicit_row = explicit_rows.last().ok_or("explicit_levels is empty")?;
+    let explicit_row = explicit_rows.last().ok_or(CrosscheckError::NoLevels {
+        levels: "explicit_levels",
+    })?;
     let mut q = BTreeMap::new();
     let (d, r, s) = differences(finest, &reference);
     q.insert("implicit_deflection_difference".into(), d);

@@ -8,6 +8,8 @@
 
 use std::path::Path;
 
+use super::error::CrosscheckError;
+
 /// Whether this build can call Python (the `python` feature).
 pub const ENABLED: bool = cfg!(feature = "python");
 
@@ -20,14 +22,24 @@ pub fn scripts_dir() -> std::path::PathBuf {
 
 /// Runs `run(request)` of the script `name` (a file of [`scripts_dir`]) and parses its answer.
 #[cfg(feature = "python")]
-pub fn call_script(name: &str, request: &serde_json::Value) -> Result<serde_json::Value, String> {
+pub fn call_script(
+    name: &str,
+    request: &serde_json::Value,
+) -> Result<serde_json::Value, CrosscheckError> {
     use pyo3::prelude::*;
     use std::ffi::CString;
 
     let path = scripts_dir().join(name);
-    let code = std::fs::read_to_string(&path)
-        .map_err(|e| format!("cannot read the reference script {}: {e}", path.display()))?;
-    let cstring = |s: &str| CString::new(s).map_err(|e| format!("{}: {e}", path.display()));
+    let code = std::fs::read_to_string(&path).map_err(|e| CrosscheckError::ReadScript {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let cstring = |s: &str| {
+        CString::new(s).map_err(|e| CrosscheckError::File {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })
+    };
     let (code, file, module) = (
         cstring(&code)?,
         cstring(&path.display().to_string())?,
@@ -63,16 +75,23 @@ pub fn call_script(name: &str, request: &serde_json::Value) -> Result<serde_json
         } else {
             String::new()
         };
-        format!("{name} raised {e}{hint}")
+        CrosscheckError::Raised {
+            name: name.into(),
+            error: e.to_string(),
+            hint,
+        }
     })?;
-    serde_json::from_str(&answer).map_err(|e| format!("{name} answered invalid JSON: {e}"))
+    serde_json::from_str(&answer).map_err(|e| CrosscheckError::InvalidJson {
+        name: name.into(),
+        message: e.to_string(),
+    })
 }
 
 /// Without the `python` feature no script can run: the caller uses the cached answer.
 #[cfg(not(feature = "python"))]
-pub fn call_script(name: &str, _request: &serde_json::Value) -> Result<serde_json::Value, String> {
-    Err(format!(
-        "{name} cannot run: this build has no Python. Fix: build with `--features python` and \
-         install the packages: `python3 -m pip install -r references/crosscheck/requirements.txt`"
-    ))
+pub fn call_script(
+    name: &str,
+    _request: &serde_json::Value,
+) -> Result<serde_json::Value, CrosscheckError> {
+    Err(CrosscheckError::NoPython { name: name.into() })
 }

@@ -11,6 +11,7 @@ mod rate_effect;
 mod tension;
 mod tension_compression;
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::driver::PathPoint;
 use impact_solver::material::microplane::experiments::{Curve, QUASI_STATIC_RATE};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
@@ -57,7 +58,7 @@ pub fn run(
     mp: &MaterialPointSpec,
     params: &MicroplaneParameters,
     targets: &Targets,
-) -> Result<Outcome, String> {
+) -> Result<Outcome, MaterialPointError> {
     let mut out = Outcome::default();
     let h = match mp.element_size {
         Some(h) => {
@@ -80,7 +81,7 @@ pub fn run(
     match mp.experiment {
         Experiment::Isotropy => isotropy(mp, params, targets, &mut out)?,
         Experiment::UniaxialTension => {
-            let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+            let model = MicroplaneConcrete::new(*params)?;
             let rate = rate_of(mp, &mut out);
             let (curve, values) = tension_run(
                 &model,

@@ -4,7 +4,7 @@
 use impact_solver::material::microplane::SphereRule;
 use serde::{Deserialize, Serialize};
 
-use super::{Quantity, Value};
+use super::{MaterialPointError, Quantity, Value};
 use crate::catalogue::{CaseSpec, Tolerance};
 
 /// What a `material_point` metric measures: a quantity of the experiment, and which of its runs
@@ -138,7 +138,7 @@ pub enum PointMeasure {
 }
 
 /// The value a measure selects among an experiment's values: exactly one must match.
-pub fn select(measure: &MaterialMeasure, values: &[Value]) -> Result<f64, String> {
+pub fn select(measure: &MaterialMeasure, values: &[Value]) -> Result<f64, MaterialPointError> {
     let of_quantity: Vec<&Value> = values
         .iter()
         .filter(|v| v.quantity == measure.quantity)
@@ -156,22 +156,18 @@ pub fn select(measure: &MaterialMeasure, values: &[Value]) -> Result<f64, String
     };
     match chosen.as_slice() {
         [one] => Ok(one.value),
-        [] if of_quantity.is_empty() => Err(format!(
-            "the experiment measured no `{}` (its path may have stopped early)",
-            measure.quantity.name()
-        )),
-        [] => Err(format!(
-            "no `{}` at {}; measured at {}",
-            measure.quantity.name(),
-            measure.at().label(),
-            available()
-        )),
-        _ => Err(format!(
-            "`{}` was measured at {}: say which (element_size, rate, rule, cycle, \
-             deviatoric_trace_term or lateral_stress)",
-            measure.quantity.name(),
-            available()
-        )),
+        [] if of_quantity.is_empty() => Err(MaterialPointError::NothingMeasured {
+            quantity: measure.quantity.name(),
+        }),
+        [] => Err(MaterialPointError::NotAt {
+            quantity: measure.quantity.name(),
+            at: measure.at().label(),
+            available: available(),
+        }),
+        _ => Err(MaterialPointError::Ambiguous {
+            quantity: measure.quantity.name(),
+            available: available(),
+        }),
     }
 }
 

@@ -1,9 +1,12 @@
 //! Measurements: numbers taken from a run's histories and final fields.
 
+mod error;
 mod evaluate;
 mod field;
 
 use serde::{Deserialize, Serialize};
+
+pub use error::MeasureError;
 
 /// Nodes a field measure looks at.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]

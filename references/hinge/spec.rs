@@ -2,6 +2,7 @@
 //! the pre-peak is modelled) and [`hinge_reference`], which builds the law from the scene and
 //! evaluates the hinge's peak load.
 
+use crate::error::ReferenceError;
 use impact_solver::material::microplane::experiments::{tension_branches, TensionBranches};
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::MaterialModel;
@@ -126,7 +127,7 @@ pub struct SceneHinge {
 }
 
 /// The hinge of `spec` on the material of `scene` (see [`hinge_reference`]).
-pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, String> {
+pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, ReferenceError> {
     let (name, parameters) = scene
         .bodies
         .iter()
@@ -146,21 +147,17 @@ pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, String
                 })
         })
         .ok_or_else(|| match &spec.body {
-            Some(n) => format!(
-                "the hinge reference names body `{n}`, which is no microplane body of the scene"
-            ),
-            None => {
-                "the hinge reference needs a microplane body or region in the scene".to_string()
-            }
+            Some(n) => ReferenceError::HingeBody { body: n.clone() },
+            None => ReferenceError::HingeNeedsMicroplane,
         })?;
-    let model = MicroplaneConcrete::new(parameters).map_err(|e| e.to_string())?;
+    let model = MicroplaneConcrete::new(parameters)?;
     let branches = tension_branches(&model, spec.element_size);
     let (w, sigma) = branches.opening.clone();
     if w.len() < 2 {
-        return Err(format!(
-            "the uniaxial tension of body `{name}` at element size {} m gave no crack-opening curve",
-            spec.element_size
-        ));
+        return Err(ReferenceError::NoOpeningCurve {
+            body: name,
+            element_size: spec.element_size,
+        });
     }
     // The curve starts at the test's peak stress: that is the material's f_t.
     let own = SofteningLaw::Tabulated { w, sigma };
@@ -172,21 +169,16 @@ pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, String
     };
     let e = parameters.youngs_modulus;
     if !(0.0..0.9 * spec.depth).contains(&spec.notch) {
-        return Err(format!(
-            "the hinge reference's notch {} m must lie in [0, 0.9 depth = {} m)",
-            spec.notch,
-            0.9 * spec.depth
-        ));
+        return Err(ReferenceError::Notch {
+            notch: spec.notch,
+            limit: 0.9 * spec.depth,
+        });
     }
     let hinge = match spec.pre_peak {
         HingePrePeak::Linear => Hinge::new(spec.depth, spec.width, spec.span, e, law),
         HingePrePeak::Own => {
             if spec.law != HingeLaw::Own {
-                return Err(
-                    "the hinge reference's `pre_peak: own` needs `law: own`: the rising \
-                     branch and the crack-opening law must come from the same test"
-                        .to_string(),
-                );
+                return Err(ReferenceError::PrePeakNeedsOwnLaw);
             }
             let (law, pre) = counted_from_peak(branches, spec.element_size, e);
             Hinge::new(spec.depth, spec.width, spec.span, e, law).with_pre_peak(pre)
@@ -207,7 +199,7 @@ pub fn scene_hinge(scene: &Scene, spec: &HingeSpec) -> Result<SceneHinge, String
 }
 
 /// The reference value and a line saying how it was computed.
-pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String), String> {
+pub fn hinge_reference(scene: &Scene, spec: &HingeSpec) -> Result<(f64, String), ReferenceError> {
     let SceneHinge {
         hinge,
         body: name,

@@ -8,8 +8,8 @@ use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 
 use super::{
-    indicator_at, BeamElement, BeamFrame, BeamSpec, Crack, CrackKind, FailureMode, JudgedAt, Side,
-    DAMAGE_LEVEL,
+    indicator_at, BeamElement, BeamFrame, BeamSpec, Crack, CrackError, CrackKind, FailureMode,
+    JudgedAt, Side, DAMAGE_LEVEL,
 };
 
 /// Connected zones of the flagged elements: elements sharing a node (hence also those sharing
@@ -215,7 +215,7 @@ pub fn failure_mode_at(
     problem: &Problem,
     spec: &BeamSpec,
     u: &[Vector3<f64>],
-) -> Result<(FailureMode, Vec<Crack>, BeamFrame), String> {
+) -> Result<(FailureMode, Vec<Crack>, BeamFrame), CrackError> {
     let (frame, elements) = BeamFrame::of(problem, spec)?;
     let indicator = indicator_at(problem, spec, u)?;
     let (mode, cracks) = classify(&frame, &elements, &indicator);
@@ -228,7 +228,7 @@ pub fn failure_mode_judged(
     problem: &Problem,
     spec: &BeamSpec,
     run: &Execution,
-) -> Result<(FailureMode, Vec<Crack>, BeamFrame, f64), String> {
+) -> Result<(FailureMode, Vec<Crack>, BeamFrame, f64), CrackError> {
     let (u, time) = match &spec.at {
         JudgedAt::End => (&run.u, run.summary.as_ref().map_or(f64::NAN, |s| s.time)),
         JudgedAt::ContactEnd { column, fraction } => {
@@ -237,13 +237,7 @@ pub fn failure_mode_judged(
                 .snapshots()
                 .iter()
                 .find(|s| s.time >= end)
-                .ok_or_else(|| {
-                    format!(
-                        "no snapshot at or after the end of the contact ({:.4} ms): set the \
-                         explicit analysis' snapshot_interval",
-                        end * 1e3
-                    )
-                })?;
+                .ok_or(CrackError::NoSnapshotAfterContact { end_ms: end * 1e3 })?;
             (&s.u, s.time)
         }
     };
@@ -252,18 +246,20 @@ pub fn failure_mode_judged(
 }
 
 /// End of the contact in a run's history (`crate::beam::history::contact_end_time`).
-pub fn contact_end(run: &Execution, column: &str, fraction: f64) -> Result<f64, String> {
-    let history = run.history.as_ref().ok_or("the run kept no history")?;
+pub fn contact_end(run: &Execution, column: &str, fraction: f64) -> Result<f64, CrackError> {
+    let history = run.history.as_ref().ok_or(CrackError::NoHistory)?;
     let (time, force) = (
-        history
-            .column("time")
-            .ok_or("the history has no `time` column")?,
-        history
-            .column(column)
-            .ok_or_else(|| format!("the history has no column `{column}`"))?,
+        history.column("time").ok_or(CrackError::NoTime)?,
+        history.column(column).ok_or_else(|| CrackError::NoColumn {
+            column: column.into(),
+        })?,
     );
-    crate::beam::history::contact_end_time(&time, &force, fraction)
-        .map_err(|e| format!("`{column}`: {e}"))
+    crate::beam::history::contact_end_time(&time, &force, fraction).map_err(|source| {
+        CrackError::ContactEnd {
+            column: column.into(),
+            source,
+        }
+    })
 }
 
 /// The mode by name and the table of cracks, for the report.

@@ -4,7 +4,7 @@
 use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 
-use super::{BeamSpec, Side};
+use super::{BeamSpec, CrackError, Side};
 
 /// The geometry the classification works in (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
@@ -36,11 +36,16 @@ pub struct BeamElement {
 
 impl BeamFrame {
     /// The frame of `spec.body` in `problem`, with its elements (global ids `first..`).
-    pub fn of(problem: &Problem, spec: &BeamSpec) -> Result<(BeamFrame, Vec<BeamElement>), String> {
+    pub fn of(
+        problem: &Problem,
+        spec: &BeamSpec,
+    ) -> Result<(BeamFrame, Vec<BeamElement>), CrackError> {
         let model = &problem.model;
         let b = model
             .body_index(&spec.body)
-            .ok_or_else(|| format!("no body named `{}`", spec.body))?;
+            .ok_or_else(|| CrackError::NoBody {
+                body: spec.body.clone(),
+            })?;
         let body = &model.bodies[b];
         let (mut lo, mut hi) = (
             Vector3::repeat(f64::INFINITY),
@@ -66,7 +71,9 @@ impl BeamFrame {
             })
             .collect();
         if elements.is_empty() {
-            return Err(format!("body `{}` has no elements", spec.body));
+            return Err(CrackError::NoElements {
+                body: spec.body.clone(),
+            });
         }
         let mean_volume =
             body.elements.clone().map(|e| model.volume[e]).sum::<f64>() / elements.len() as f64;

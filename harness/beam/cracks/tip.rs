@@ -46,7 +46,7 @@ use impact_solver::material::MaterialModel;
 use impact_solver::problem::Problem;
 use serde::{Deserialize, Serialize};
 
-use super::{beam_elements, BeamFrame, BeamSpec};
+use super::{beam_elements, BeamFrame, BeamSpec, CrackError};
 
 /// The opening of the traction-free tip, as a fraction of the critical opening `w_cr` of the
 /// crack indicator: with `w_cr` = 0.2 mm, 0.1 mm, where the calibrated concrete's law keeps
@@ -77,17 +77,18 @@ pub fn opening_at_stress_fraction(w: &[f64], sigma: &[f64], fraction: f64) -> Op
 /// [`COHESIVE_STRESS_FRACTION`] `f_t`. The quasi-static law, not the rate-raised one: the
 /// threshold marks a place on the softening branch, which the rate effect scales but does not
 /// move much.
-pub fn cohesive_opening(model: &MaterialModel, cell: f64) -> Result<f64, String> {
+pub fn cohesive_opening(model: &MaterialModel, cell: f64) -> Result<f64, CrackError> {
     let MaterialModel::Microplane(parameters) = model else {
-        return Err("the cohesive tip needs a microplane concrete beam".into());
+        return Err(CrackError::NotMicroplane);
     };
-    let concrete = MicroplaneConcrete::new(*parameters).map_err(|e| e.to_string())?;
+    let concrete = MicroplaneConcrete::new(*parameters)?;
     let (w, sigma) = crack_opening_curve(&concrete, cell);
-    opening_at_stress_fraction(&w, &sigma, COHESIVE_STRESS_FRACTION).ok_or_else(|| {
-        format!(
-            "the material's crack-opening law at {cell} m never falls to {COHESIVE_STRESS_FRACTION} f_t"
-        )
-    })
+    opening_at_stress_fraction(&w, &sigma, COHESIVE_STRESS_FRACTION).ok_or(
+        CrackError::NoCohesiveOpening {
+            cell,
+            fraction: COHESIVE_STRESS_FRACTION,
+        },
+    )
 }
 
 /// A tip's speed reading.
@@ -263,22 +264,24 @@ pub fn crack_tip_report(
     problem: &Problem,
     snapshots: &[impact_solver::dynamics::Snapshot],
     spec: &BeamSpec,
-) -> Result<CrackTipReport, String> {
+) -> Result<CrackTipReport, CrackError> {
     if snapshots.is_empty() {
-        return Err("the crack tips need snapshots: set the explicit analysis' \
-                    snapshot_interval"
-            .into());
+        return Err(CrackError::NoSnapshots);
     }
     let (frame, elements) = BeamFrame::of(problem, spec)?;
     let range = beam_elements(problem, spec)?;
     let b = problem
         .model
         .body_index(&spec.body)
-        .ok_or_else(|| format!("no body named `{}`", spec.body))?;
+        .ok_or_else(|| CrackError::NoBody {
+            body: spec.body.clone(),
+        })?;
     let material = &problem.model.bodies[b].material;
     let model = material
         .model()
-        .ok_or_else(|| format!("body `{}` has no built-in material model", spec.body))?;
+        .ok_or_else(|| CrackError::NoMaterialModel {
+            body: spec.body.clone(),
+        })?;
     let w_p = cohesive_opening(&model, frame.cell)?;
     let w_tf = TIP_OPENING_FRACTION * problem.model.crack_indicator.crack_width;
     let c_r = impact_references::analytic::rayleigh_wave_speed(&material.constants());
@@ -288,12 +291,8 @@ pub fn crack_tip_report(
         s.crack_opening
             .get(range.clone())
             .map(|w| w.iter().map(|&w| f64::from(w)).collect())
-            .ok_or_else(|| {
-                format!(
-                    "the snapshots hold no crack openings for body `{}`: only a body whose \
-                     material keeps a history (microplane concrete) can open a crack",
-                    spec.body
-                )
+            .ok_or_else(|| CrackError::NoCrackOpenings {
+                body: spec.body.clone(),
             })
     });
     let track = track(&path, &times, openings, w_p, w_tf)?;

@@ -5,6 +5,7 @@ use serde_json::Value;
 
 use super::min_distance;
 use crate::crosscheck::ccd_queries::{our_time_of_impact, CcdQuery, QuerySource};
+use crate::crosscheck::error::CrosscheckError;
 
 /// How one query's answers compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,25 +45,18 @@ pub fn compare(
     queries: &[CcdQuery],
     answer: &Value,
     tolerance: f64,
-) -> Result<Vec<Compared>, String> {
-    let hits = answer["hit"]
-        .as_array()
-        .ok_or("ipctk's answer has no `hit`")?;
-    let tois = answer["toi"]
-        .as_array()
-        .ok_or("ipctk's answer has no `toi`")?;
-    let initial = answer["initial"]
-        .as_array()
-        .ok_or("ipctk's answer has no `initial`")?;
+) -> Result<Vec<Compared>, CrosscheckError> {
+    let hits = answer["hit"].as_array().ok_or(ipctk_field("hit"))?;
+    let tois = answer["toi"].as_array().ok_or(ipctk_field("toi"))?;
+    let initial = answer["initial"].as_array().ok_or(ipctk_field("initial"))?;
     if [hits.len(), tois.len(), initial.len()]
         .iter()
         .any(|&n| n != queries.len())
     {
-        return Err(format!(
-            "ipctk answered {} queries, there are {}",
-            hits.len(),
-            queries.len()
-        ));
+        return Err(CrosscheckError::AnswerCount {
+            answered: hits.len(),
+            queries: queries.len(),
+        });
     }
     Ok(queries
         .iter()
@@ -86,6 +80,14 @@ pub fn compare(
             }
         })
         .collect())
+}
+
+/// A list missing from ipctk's answer.
+fn ipctk_field(field: &'static str) -> CrosscheckError {
+    CrosscheckError::AnswerField {
+        script: "ipctk",
+        field,
+    }
 }
 
 #[cfg(test)]
@@ -116,6 +118,7 @@ mod tests {
         let short = json!({"hit": [1], "toi": [0.5], "initial": [0]});
         assert!(compare(&queries, &short, 1e-9)
             .unwrap_err()
+            .to_string()
             .contains("answered 1"));
     }
 }

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::{CcdQuery, QuerySource};
+use crate::crosscheck::error::{CrosscheckError, QueryProblem};
 
 /// The file's first 8 bytes.
 pub const MAGIC: &[u8; 8] = b"CCDQ0001";
@@ -13,7 +14,7 @@ pub const HEADER_BYTES: usize = 16;
 pub const QUERY_BYTES: usize = 1 + 24 * 8;
 
 /// Writes `queries` to `path` in the `CCDQ0001` format (module documentation).
-pub fn write_queries(path: &Path, queries: &[CcdQuery]) -> Result<(), String> {
+pub fn write_queries(path: &Path, queries: &[CcdQuery]) -> Result<(), CrosscheckError> {
     let mut bytes = Vec::with_capacity(HEADER_BYTES + QUERY_BYTES * queries.len());
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&(queries.len() as u64).to_le_bytes());
@@ -23,24 +24,29 @@ pub fn write_queries(path: &Path, queries: &[CcdQuery]) -> Result<(), String> {
             bytes.extend_from_slice(&x.to_le_bytes());
         }
     }
-    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    std::fs::write(path, bytes).map_err(|e| problem(path, QueryProblem::Write(e.to_string())))
 }
 
 /// Reads a file written by [`write_queries`].
-pub fn read_queries(path: &Path) -> Result<Vec<CcdQuery>, String> {
-    let name = path.display();
-    let bytes = std::fs::read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+pub fn read_queries(path: &Path) -> Result<Vec<CcdQuery>, CrosscheckError> {
+    let bytes =
+        std::fs::read(path).map_err(|e| problem(path, QueryProblem::Read(e.to_string())))?;
     if bytes.len() < HEADER_BYTES {
-        return Err(format!(
-            "{name}: truncated: {} bytes, shorter than the {HEADER_BYTES}-byte header",
-            bytes.len()
+        return Err(problem(
+            path,
+            QueryProblem::ShortHeader {
+                bytes: bytes.len(),
+                header: HEADER_BYTES,
+            },
         ));
     }
     if &bytes[..8] != MAGIC {
-        return Err(format!(
-            "{name}: bad magic {:?}: not a CCD query file (expected {:?})",
-            String::from_utf8_lossy(&bytes[..8]),
-            String::from_utf8_lossy(MAGIC)
+        return Err(problem(
+            path,
+            QueryProblem::Magic {
+                found: String::from_utf8_lossy(&bytes[..8]).into_owned(),
+                expected: String::from_utf8_lossy(MAGIC).into_owned(),
+            },
         ));
     }
     let count = u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes"));
@@ -51,26 +57,38 @@ pub fn read_queries(path: &Path) -> Result<Vec<CcdQuery>, String> {
     match expected {
         Some(e) if e == bytes.len() => {}
         Some(e) if e > bytes.len() => {
-            return Err(format!(
-                "{name}: truncated: the header announces {count} queries ({e} bytes), the file \
-                 has {} bytes",
-                bytes.len()
+            return Err(problem(
+                path,
+                QueryProblem::Truncated {
+                    count,
+                    expected: e,
+                    bytes: bytes.len(),
+                },
             ))
         }
         Some(e) => {
-            return Err(format!(
-                "{name}: {} bytes after the {count} queries the header announces",
-                bytes.len() - e
+            return Err(problem(
+                path,
+                QueryProblem::Trailing {
+                    extra: bytes.len() - e,
+                    count,
+                },
             ))
         }
-        None => return Err(format!("{name}: impossible query count {count}")),
+        None => return Err(problem(path, QueryProblem::Count(count))),
     }
     bytes[HEADER_BYTES..]
         .chunks_exact(QUERY_BYTES)
         .enumerate()
         .map(|(i, record)| {
             let source = QuerySource::from_code(record[0]).ok_or_else(|| {
-                format!("{name}: query {i} has unknown source code {}", record[0])
+                problem(
+                    path,
+                    QueryProblem::Source {
+                        index: i,
+                        code: record[0],
+                    },
+                )
             })?;
             let mut points = [[0.0; 3]; 8];
             for (k, chunk) in record[1..].chunks_exact(8).enumerate() {
@@ -79,6 +97,14 @@ pub fn read_queries(path: &Path) -> Result<Vec<CcdQuery>, String> {
             Ok(CcdQuery { source, points })
         })
         .collect()
+}
+
+/// A problem of the query file `path`.
+pub(crate) fn problem(path: &Path, problem: QueryProblem) -> CrosscheckError {
+    CrosscheckError::Queries {
+        file: path.display().to_string(),
+        problem,
+    }
 }
 
 #[cfg(test)]
@@ -125,21 +151,21 @@ mod tests {
         let mut bad = good.clone();
         bad[..8].copy_from_slice(b"CCDQ0002");
         std::fs::write(&path, &bad).unwrap();
-        let e = read_queries(&path).unwrap_err();
+        let e = read_queries(&path).unwrap_err().to_string();
         assert!(e.contains("broken.ccdq") && e.contains("bad magic"), "{e}");
 
         std::fs::write(&path, &good[..good.len() - 1]).unwrap();
-        let e = read_queries(&path).unwrap_err();
+        let e = read_queries(&path).unwrap_err().to_string();
         assert!(e.contains("broken.ccdq") && e.contains("truncated"), "{e}");
 
         std::fs::write(&path, &good[..10]).unwrap();
-        let e = read_queries(&path).unwrap_err();
+        let e = read_queries(&path).unwrap_err().to_string();
         assert!(e.contains("broken.ccdq") && e.contains("truncated"), "{e}");
 
         let mut extra = good.clone();
         extra.push(0);
         std::fs::write(&path, &extra).unwrap();
-        let e = read_queries(&path).unwrap_err();
+        let e = read_queries(&path).unwrap_err().to_string();
         assert!(
             e.contains("broken.ccdq") && e.contains("1 bytes after"),
             "{e}"
@@ -148,10 +174,10 @@ mod tests {
         let mut unknown = good.clone();
         unknown[16] = 9;
         std::fs::write(&path, &unknown).unwrap();
-        let e = read_queries(&path).unwrap_err();
+        let e = read_queries(&path).unwrap_err().to_string();
         assert!(e.contains("unknown source code 9"), "{e}");
 
-        let e = read_queries(&temp("missing.ccdq")).unwrap_err();
+        let e = read_queries(&temp("missing.ccdq")).unwrap_err().to_string();
         assert!(
             e.contains("missing.ccdq") && e.contains("cannot read"),
             "{e}"

@@ -8,7 +8,9 @@ use std::time::Instant;
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
 use impact_solver::scene::{build_problem, Analysis};
 
+use super::file::problem;
 use super::{CcdQuery, QuerySource};
+use crate::crosscheck::error::{CrosscheckError, QueryProblem};
 
 /// What [`record_case`] recorded.
 #[derive(Debug, Clone)]
@@ -37,7 +39,7 @@ pub fn record_from_case(
     every: usize,
     max: usize,
     source: QuerySource,
-) -> Result<Vec<CcdQuery>, String> {
+) -> Result<Vec<CcdQuery>, CrosscheckError> {
     record_case(case_file, end_time, every, max, source).map(|r| r.queries)
 }
 
@@ -53,43 +55,36 @@ pub fn record_case(
     every: usize,
     max: usize,
     source: QuerySource,
-) -> Result<Recording, String> {
-    let name = case_file.display();
+) -> Result<Recording, CrosscheckError> {
+    let fail = |p| problem(case_file, p);
     if every == 0 {
-        return Err(format!("{name}: record every 0 steps: give 1 or more"));
+        return Err(fail(QueryProblem::EveryZero));
     }
     if end_time.is_nan() || end_time <= 0.0 {
-        return Err(format!("{name}: end time {end_time} s must be positive"));
+        return Err(fail(QueryProblem::EndTime(end_time)));
     }
-    let spec = crate::case_file::load_spec(case_file).map_err(|e| e.to_string())?;
-    let mut scene = spec
-        .scene
-        .ok_or_else(|| format!("{name}: the case has no scene to record CCD queries from"))?;
+    let spec = crate::case_file::load_spec(case_file)?;
+    let mut scene = spec.scene.ok_or_else(|| fail(QueryProblem::NoScene))?;
     let settings = match &mut scene.analysis {
         Analysis::Explicit(a) => {
             a.settings.end_time = end_time;
             a.settings.clone()
         }
-        _ => {
-            return Err(format!(
-                "{name}: the scene's analysis is not explicit dynamics; CCD queries are recorded \
-                 from explicit runs"
-            ))
-        }
+        _ => return Err(fail(QueryProblem::NotExplicit)),
     };
     if scene.contact.is_empty() {
-        return Err(format!("{name}: the scene has no contact pair"));
+        return Err(fail(QueryProblem::NoContact));
     }
     for pair in &mut scene.contact {
         pair.record_ccd_every = Some(every);
     }
-    let problem = build_problem(&scene).map_err(|e| format!("{name}: {e}"))?;
-    let mut solver = ExplicitSolver::new(&problem, settings, OutputSettings::default())
-        .map_err(|e| format!("{name}: {e}"))?;
+    let built = build_problem(&scene).map_err(|e| fail(QueryProblem::Solver(e)))?;
+    let mut solver = ExplicitSolver::new(&built, settings, OutputSettings::default())
+        .map_err(|e| fail(QueryProblem::Solver(e)))?;
     let started = Instant::now();
     let outcome = solver.run(&mut |_| {});
     let wall_seconds = started.elapsed().as_secs_f64();
-    let summary = outcome.map_err(|e| format!("{name}: the run failed: {e}"))?;
+    let summary = outcome.map_err(|e| fail(QueryProblem::RunFailed(e.to_string())))?;
     let recorded = solver.take_recorded_ccd_queries();
     let recorded_hits = recorded.iter().filter(|q| q.hit.is_some()).count();
     let mut seen = HashSet::new();

@@ -8,32 +8,34 @@ use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::statics::{solve_static, LinearSolver, StaticSettings};
 
 use super::{values_of, BeamValues, ElasticBeamSpec};
+use crate::crosscheck::error::CrosscheckError;
 
 /// The node of body `body` at `point`, or an error (deflections are read at nodes).
-fn node_at(problem: &Problem, body: &str, point: &[f64; 3]) -> Result<usize, String> {
+fn node_at(problem: &Problem, body: &str, point: &[f64; 3]) -> Result<usize, CrosscheckError> {
     let b = problem
         .model
         .bodies
         .iter()
         .find(|b| b.name == body)
-        .ok_or_else(|| format!("no body `{body}`"))?;
+        .ok_or_else(|| CrosscheckError::NoBody { body: body.into() })?;
     b.nodes
         .clone()
         .find(|&n| {
             let x = problem.model.reference[n];
             (0..3).all(|k| (x[k] - point[k]).abs() <= 1e-9)
         })
-        .ok_or_else(|| {
-            format!("no node of `{body}` at {point:?}: choose mesh divisions that put one there")
+        .ok_or_else(|| CrosscheckError::NoNodeAt {
+            body: body.into(),
+            point: *point,
         })
 }
 
-fn constraint_index(problem: &Problem, name: &str) -> Result<usize, String> {
+fn constraint_index(problem: &Problem, name: &str) -> Result<usize, CrosscheckError> {
     problem
         .constraints
         .iter()
         .position(|c| c.name == name)
-        .ok_or_else(|| format!("no constraint `{name}` in the built problem"))
+        .ok_or_else(|| CrosscheckError::NoConstraint { name: name.into() })
 }
 
 /// The scene with the beam's box divisions replaced.
@@ -55,7 +57,7 @@ pub fn implicit(
     scene: &Scene,
     cells: [usize; 3],
     delta: f64,
-) -> Result<BeamValues, String> {
+) -> Result<BeamValues, CrosscheckError> {
     let started = Instant::now();
     let mut s = at_level(scene, &spec.body, cells);
     let settings = StaticSettings {
@@ -63,21 +65,21 @@ pub fn implicit(
         ..StaticSettings::default()
     };
     s.analysis = Analysis::Static(settings.clone());
-    let problem = build_problem(&s).map_err(|e| e.to_string())?;
-    let solution = solve_static(&problem, &settings).map_err(|e| e.to_string())?;
-    let y = |name: &str| -> Result<f64, String> {
+    let problem = build_problem(&s)?;
+    let solution = solve_static(&problem, &settings)?;
+    let y = |name: &str| -> Result<f64, CrosscheckError> {
         Ok(solution.constraint_reaction(&problem, constraint_index(&problem, name)?)[1])
     };
     let reactions = spec
         .supports
         .iter()
         .map(|n| Ok((n.clone(), y(n)?)))
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CrosscheckError>>()?;
     let deflections = spec
         .deflection_points
         .iter()
         .map(|(k, p)| Ok((k.clone(), solution.u[node_at(&problem, &spec.body, p)?][1])))
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CrosscheckError>>()?;
     Ok(values_of(
         format!(
             "ours, implicit static, linear tets {}x{}x{}",
@@ -99,10 +101,10 @@ pub fn explicit(
     cells: [usize; 3],
     delta: f64,
     time_limit_s: f64,
-) -> Result<(BeamValues, Vec<String>), String> {
+) -> Result<(BeamValues, Vec<String>), CrosscheckError> {
     let started = Instant::now();
     let scene = &at_level(scene, &spec.body, cells);
-    let mut problem = build_problem(scene).map_err(|e| e.to_string())?;
+    let mut problem = build_problem(scene)?;
     let options = impact_solver::analysis::ExecuteOptions {
         out: None,
         stem: "explicit",
@@ -113,28 +115,26 @@ pub fn explicit(
         log: &impact_solver::analysis::log_to_stderr,
     };
     let run =
-        impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})
-            .map_err(|e| e.to_string())?;
-    let history = run
-        .history
-        .as_ref()
-        .ok_or("the explicit run kept no history")?;
-    let last = |column: &str| -> Result<f64, String> {
+        impact_solver::analysis::execute(&mut problem, &scene.analysis, &options, &mut |_| {})?;
+    let history = run.history.as_ref().ok_or(CrosscheckError::NoHistory)?;
+    let last = |column: &str| -> Result<f64, CrosscheckError> {
         history
             .column(column)
             .and_then(|c| c.last().copied())
-            .ok_or_else(|| format!("the history has no column `{column}`"))
+            .ok_or_else(|| CrosscheckError::NoColumn {
+                column: column.into(),
+            })
     };
     let reactions = spec
         .supports
         .iter()
         .map(|n| Ok((n.clone(), last(&format!("{n}_reaction_y"))?)))
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CrosscheckError>>()?;
     let deflections = spec
         .deflection_points
         .iter()
         .map(|(k, p)| Ok((k.clone(), run.u[node_at(&problem, &spec.body, p)?][1])))
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CrosscheckError>>()?;
     // How far from rest the end is: kinetic energy over the work done.
     let notes = match (history.column("kinetic"), history.column("external_work")) {
         (Some(k), Some(w)) => vec![format!(

@@ -5,23 +5,33 @@ use impact_solver::scene::{Component, MaterialSpec, MeshSource, MotionSpec, Scen
 use serde_json::{json, Value};
 
 use super::{values_of, BeamValues, ElasticBeamSpec};
+use crate::crosscheck::error::CrosscheckError;
 
 /// A box selector's corners, or an error naming the condition.
 fn box_of<'s>(
     scene: &'s Scene,
     name: &str,
-) -> Result<([f64; 3], [f64; 3], &'s MotionSpec), String> {
+) -> Result<([f64; 3], [f64; 3], &'s MotionSpec), CrosscheckError> {
     let c = scene
         .boundary_conditions
         .iter()
         .find(|c| c.name.as_deref() == Some(name))
-        .ok_or_else(|| format!("the scene has no boundary condition `{name}`"))?;
+        .ok_or_else(|| CrosscheckError::NoCondition { name: name.into() })?;
     match &c.nodes {
         Selector::Box { min, max } => Ok((*min, *max, &c.motion)),
-        other => Err(format!(
-            "boundary condition `{name}` selects {other:?}: the elastic-beam cross-check needs a \
-             box selector, which the reference script can reproduce"
-        )),
+        other => Err(CrosscheckError::NotABoxSelector {
+            name: name.into(),
+            selector: format!("{other:?}"),
+        }),
+    }
+}
+
+/// A condition whose motion the reference script cannot reproduce.
+fn motion_error(role: &'static str, name: &str, requirement: &'static str) -> CrosscheckError {
+    CrosscheckError::Motion {
+        role,
+        name: name.into(),
+        requirement,
     }
 }
 
@@ -30,36 +40,41 @@ fn component_index(c: &Component) -> usize {
 }
 
 /// The request to `skfem_beam.py`: the scene's beam, material, supports, plate and pins.
-pub fn request(spec: &ElasticBeamSpec, scene: &Scene) -> Result<Value, String> {
+pub fn request(spec: &ElasticBeamSpec, scene: &Scene) -> Result<Value, CrosscheckError> {
     let body = scene
         .bodies
         .iter()
         .find(|b| b.name == spec.body)
-        .ok_or_else(|| format!("the scene has no body `{}`", spec.body))?;
+        .ok_or_else(|| CrosscheckError::NoSceneBody {
+            body: spec.body.clone(),
+        })?;
     let MeshSource::Box(mesh) = &body.mesh else {
-        return Err(format!("body `{}` needs a box mesh", spec.body));
+        return Err(CrosscheckError::BodyNotBox {
+            body: spec.body.clone(),
+        });
     };
     if mesh.origin != [0.0; 3] {
-        return Err(format!(
-            "body `{}`: the box must start at the origin (it starts at {:?})",
-            spec.body, mesh.origin
-        ));
+        return Err(CrosscheckError::NotAtOrigin {
+            body: spec.body.clone(),
+            origin: mesh.origin,
+        });
     }
     let MaterialSpec::LinearElastic(c) = &body.material else {
-        return Err(format!(
-            "body `{}` must be linear elastic: the cross-check is an elastic solution",
-            spec.body
-        ));
+        return Err(CrosscheckError::NotElastic {
+            body: spec.body.clone(),
+        });
     };
     let [_, depth, width] = mesh.size;
-    let strip = |name: &str, y: f64| -> Result<[f64; 2], String> {
+    let strip = |name: &str, y: f64| -> Result<[f64; 2], CrosscheckError> {
         let (min, max, _) = box_of(scene, name)?;
         let full_width = min[2] <= 0.0 && max[2] >= width;
         if min[1] != y || max[1] != y || !full_width {
-            return Err(format!(
-                "boundary condition `{name}` must select a full-width strip of the face y = {y} \
-                 (it selects {min:?} to {max:?})"
-            ));
+            return Err(CrosscheckError::NotAStrip {
+                name: name.into(),
+                y,
+                min,
+                max,
+            });
         }
         Ok([min[0], max[0]])
     };
@@ -69,20 +84,21 @@ pub fn request(spec: &ElasticBeamSpec, scene: &Scene) -> Result<Value, String> {
         .map(|s| {
             let (_, _, motion) = box_of(scene, s)?;
             if !matches!(motion, MotionSpec::Fixed(c) if c == &[Component::Y]) {
-                return Err(format!("support `{s}` must be `fixed: [y]`"));
+                return Err(motion_error("support", s, "be `fixed: [y]`"));
             }
             Ok(json!({"name": s, "x": strip(s, 0.0)?}))
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, CrosscheckError>>()?;
     let (_, _, motion) = box_of(scene, &spec.plate)?;
     let MotionSpec::Displacement { components, value } = motion else {
-        return Err(format!(
-            "plate `{}` must prescribe a displacement",
-            spec.plate
+        return Err(motion_error(
+            "plate",
+            &spec.plate,
+            "prescribe a displacement",
         ));
     };
     if components != &[Component::Y] {
-        return Err(format!("plate `{}` must move along y only", spec.plate));
+        return Err(motion_error("plate", &spec.plate, "move along y only"));
     }
     // The static solver evaluates the function at load factor 1; the explicit run ends holding
     // the same value.
@@ -93,14 +109,14 @@ pub fn request(spec: &ElasticBeamSpec, scene: &Scene) -> Result<Value, String> {
         .map(|p| {
             let (min, max, motion) = box_of(scene, p)?;
             let MotionSpec::Fixed(components) = motion else {
-                return Err(format!("pin `{p}` must be `fixed`"));
+                return Err(motion_error("pin", p, "be `fixed`"));
             };
             if min != max {
-                return Err(format!("pin `{p}` must select one point (min = max)"));
+                return Err(motion_error("pin", p, "select one point (min = max)"));
             }
             Ok(json!({"point": min, "components": components.iter().map(component_index).collect::<Vec<_>>()}))
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, CrosscheckError>>()?;
     Ok(json!({
         "size": mesh.size,
         "young": c.youngs_modulus,
@@ -118,43 +134,49 @@ pub fn reference_values(
     spec: &ElasticBeamSpec,
     answer: &Value,
     delta: f64,
-) -> Result<(BeamValues, Vec<BeamValues>, String), String> {
+) -> Result<(BeamValues, Vec<BeamValues>, String), CrosscheckError> {
     let number = |v: &Value, what: &str| {
         v.as_f64()
-            .ok_or_else(|| format!("scikit-fem's answer has no number at {what}"))
+            .ok_or_else(|| CrosscheckError::AnswerNumber { at: what.into() })
     };
-    let values =
-        |v: &Value, label: String, elements: usize, seconds: f64| -> Result<BeamValues, String> {
-            let deflections = spec
-                .deflection_points
-                .keys()
-                .map(|k| {
-                    Ok((
-                        k.clone(),
-                        number(&v["deflection"][k], &format!("deflection.{k}"))?,
-                    ))
-                })
-                .collect::<Result<_, String>>()?;
-            let reactions = spec
-                .supports
-                .iter()
-                .map(|s| Ok((s.clone(), number(&v[s], s)?)))
-                .collect::<Result<_, String>>()?;
-            Ok(values_of(
-                label,
-                delta,
-                number(&v["plate_force"], "plate_force")?,
-                reactions,
-                deflections,
-                elements,
-                seconds,
-            ))
-        };
+    let values = |v: &Value,
+                  label: String,
+                  elements: usize,
+                  seconds: f64|
+     -> Result<BeamValues, CrosscheckError> {
+        let deflections = spec
+            .deflection_points
+            .keys()
+            .map(|k| {
+                Ok((
+                    k.clone(),
+                    number(&v["deflection"][k], &format!("deflection.{k}"))?,
+                ))
+            })
+            .collect::<Result<_, CrosscheckError>>()?;
+        let reactions = spec
+            .supports
+            .iter()
+            .map(|s| Ok((s.clone(), number(&v[s], s)?)))
+            .collect::<Result<_, CrosscheckError>>()?;
+        Ok(values_of(
+            label,
+            delta,
+            number(&v["plate_force"], "plate_force")?,
+            reactions,
+            deflections,
+            elements,
+            seconds,
+        ))
+    };
     let converged = &answer["converged"];
     let method = converged["method"].as_str().unwrap_or("").to_string();
     let levels = answer["levels"]
         .as_array()
-        .ok_or("scikit-fem's answer has no `levels`")?
+        .ok_or(CrosscheckError::AnswerField {
+            script: "scikit-fem",
+            field: "levels",
+        })?
         .iter()
         .map(|l| {
             let cells: Vec<u64> = l["cells"]
@@ -176,7 +198,7 @@ pub fn reference_values(
                 l["seconds"].as_f64().unwrap_or(f64::NAN),
             )
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, CrosscheckError>>()?;
     let total: f64 = levels.iter().map(|l| l.seconds).sum();
     let elements = levels.last().map_or(0, |l| l.elements);
     Ok((

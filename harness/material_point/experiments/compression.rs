@@ -1,8 +1,9 @@
 //! The compression experiments: uniaxial compression (peak, Poisson ratios, dilatancy, MC2010
 //! curve) and equal biaxial compression beside it.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::{
-    equal_biaxial_compression, uniaxial_compression, QUASI_STATIC_RATE,
+    equal_biaxial_compression, uniaxial_compression, CompressionResult, QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -25,12 +26,11 @@ pub(super) fn compression(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let rate = rate_of(mp, out);
     let (end, steps) = compression_paths(mp, out);
-    let (curve, r) =
-        uniaxial_compression(&model, h, rate, end, steps).map_err(|e| e.to_string())?;
+    let (curve, r) = uniaxial_compression(&model, h, rate, end, steps)?;
     let at = Selector::default();
     note_stop(&curve, "compression", out);
     let (peak, peak_strain) = established_peak(&curve, "compression", out);
@@ -98,37 +98,7 @@ pub(super) fn compression(
     if let Some((x, y)) = peak_box(targets, &at) {
         stress_plot = stress_plot.target("target: peak stress x peak strain", x, y);
     }
-    rows.splice(
-        0..0,
-        [
-            vec![
-                "initial apparent Poisson ratio".to_string(),
-                format!(
-                    "{} (file's nu {})",
-                    num(r.initial_poisson),
-                    num(params.poisson_ratio)
-                ),
-            ],
-            vec![
-                "apparent Poisson ratio at the largest stress".into(),
-                num(r.poisson_at_peak),
-            ],
-            vec![
-                "largest apparent Poisson ratio after it".into(),
-                num(r.largest_poisson_after_peak),
-            ],
-            vec![
-                "onset of dilatancy (axial strain of the smallest volume)".into(),
-                r.dilatancy_onset
-                    .map_or("volume still falling at the end".into(), |d| {
-                        format!(
-                            "{d:.3e} ({} % of the strain at the largest stress)",
-                            num(100.0 * d / r.peak_strain)
-                        )
-                    }),
-            ],
-        ],
-    );
+    rows.splice(0..0, reported_rows(&r, params));
     out.tables.push(RecordTable {
         title: "Uniaxial compression: reported, not judged".into(),
         head: vec!["quantity".into(), "value".into()],
@@ -185,6 +155,39 @@ pub(super) fn compression(
     Ok(())
 }
 
+/// The rows of the compression quantities that are reported, not judged: the apparent Poisson
+/// ratios and the onset of dilatancy.
+fn reported_rows(r: &CompressionResult, params: &MicroplaneParameters) -> [Vec<String>; 4] {
+    [
+        vec![
+            "initial apparent Poisson ratio".to_string(),
+            format!(
+                "{} (file's nu {})",
+                num(r.initial_poisson),
+                num(params.poisson_ratio)
+            ),
+        ],
+        vec![
+            "apparent Poisson ratio at the largest stress".into(),
+            num(r.poisson_at_peak),
+        ],
+        vec![
+            "largest apparent Poisson ratio after it".into(),
+            num(r.largest_poisson_after_peak),
+        ],
+        vec![
+            "onset of dilatancy (axial strain of the smallest volume)".into(),
+            r.dilatancy_onset
+                .map_or("volume still falling at the end".into(), |d| {
+                    format!(
+                        "{d:.3e} ({} % of the strain at the largest stress)",
+                        num(100.0 * d / r.peak_strain)
+                    )
+                }),
+        ],
+    ]
+}
+
 /// Equal biaxial compression beside uniaxial compression on the same grid.
 pub(super) fn biaxial(
     mp: &MaterialPointSpec,
@@ -192,13 +195,11 @@ pub(super) fn biaxial(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let (end, steps) = compression_paths(mp, out);
-    let (bi, peak_bi) =
-        equal_biaxial_compression(&model, h, end, steps).map_err(|e| e.to_string())?;
-    let (uni, r) = uniaxial_compression(&model, h, QUASI_STATIC_RATE, end, steps)
-        .map_err(|e| e.to_string())?;
+    let (bi, peak_bi) = equal_biaxial_compression(&model, h, end, steps)?;
+    let (uni, r) = uniaxial_compression(&model, h, QUASI_STATIC_RATE, end, steps)?;
     note_stop(&bi, "equal biaxial compression", out);
     note_stop(&uni, "uniaxial compression", out);
     let (bi_peak, _) = established_peak(&bi, "equal biaxial compression", out);

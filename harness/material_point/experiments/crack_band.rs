@@ -1,6 +1,7 @@
 //! The crack-band experiment: uniaxial tension at several element sizes, its energy and its
 //! softening shape against MC2010 and Hordijk.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::{softening_shape, Curve};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -21,8 +22,8 @@ pub(super) fn crack_band(
     params: &MicroplaneParameters,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let rate = rate_of(mp, out);
     out.setup.push(format!(
         "element sizes {} mm; the parameters were calibrated at h_ref = {} mm",

@@ -1,6 +1,7 @@
 //! The cyclic experiment: closed strain cycles with and without the deviatoric trace term,
 //! and the unloading stiffness after the tensile peak.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
     closed_strain_cycle, uniaxial_tension, QUASI_STATIC_RATE,
@@ -33,7 +34,7 @@ pub(super) fn cyclic(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
+) -> Result<(), MaterialPointError> {
     out.setup.push(
         "each cycle runs with the deviatoric trace term on (the default, judged) and off \
          (reported), whatever the parameter file says"
@@ -72,10 +73,8 @@ pub(super) fn cyclic(
             let model = MicroplaneConcrete::new(MicroplaneParameters {
                 deviatoric_trace_term: trace,
                 ..*params
-            })
-            .map_err(|e| e.to_string())?;
-            let (curve, _, healed) =
-                closed_strain_cycle(&model, h, &corners, cycle.steps).map_err(|e| e.to_string())?;
+            })?;
+            let (curve, _, healed) = closed_strain_cycle(&model, h, &corners, cycle.steps)?;
             let per = n * cycle.steps;
             let last = curve.points.len() - 1;
             let reps: Vec<(f64, f64)> = (0..cycle.repeat)
@@ -176,10 +175,9 @@ fn unloading(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
-    let (monotonic, r) =
-        uniaxial_tension(&model, h, QUASI_STATIC_RATE).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
+    let (monotonic, r) = uniaxial_tension(&model, h, QUASI_STATIC_RATE)?;
     let unload_at = mp.unload_at.unwrap_or(2.5 * r.peak_strain);
     out.setup.push(format!(
         "unloading stiffness: uniaxial tension to {unload_at:.3e} ({}), one unloading increment \
@@ -190,13 +188,11 @@ fn unloading(
             "2.5 times the peak strain"
         }
     ));
-    let mut point = MaterialPoint::new(&model, h).map_err(|e| e.to_string())?;
+    let mut point = MaterialPoint::new(&model, h)?;
     let de = 2e-6;
     let n = (unload_at / de).ceil() as usize;
     let ramp: Vec<f64> = (1..=n).map(|i| unload_at * i as f64 / n as f64).collect();
-    let mut path = point
-        .uniaxial_stress(&ramp, QUASI_STATIC_RATE)
-        .map_err(|e| e.to_string())?;
+    let mut path = point.uniaxial_stress(&ramp, QUASI_STATIC_RATE)?;
     let top = *path.last().expect("a ramp has points");
     let peak_before = path.iter().map(|p| p.stress[0]).fold(0.0, f64::max);
     if top.stress[0] >= peak_before {
@@ -204,9 +200,7 @@ fn unloading(
             "unloading starts at {unload_at:.3e}, not past the tensile peak of this path"
         ));
     }
-    let probe = point
-        .uniaxial_stress(&[unload_at - UNLOADING_PROBE], QUASI_STATIC_RATE)
-        .map_err(|e| e.to_string())?;
+    let probe = point.uniaxial_stress(&[unload_at - UNLOADING_PROBE], QUASI_STATIC_RATE)?;
     let slope = (top.stress[0] - probe[1].stress[0]) / UNLOADING_PROBE;
     let secant = top.stress[0] / top.strain[0];
     let e = params.youngs_modulus;

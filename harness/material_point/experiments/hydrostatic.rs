@@ -1,6 +1,7 @@
 //! The hydrostatic experiment: compression and unloading, damage, compaction and the work
 //! given back.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::hydrostatic_compression;
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -19,8 +20,8 @@ pub(super) fn hydrostatic(
     params: &MicroplaneParameters,
     h: f64,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let end = mp.end.unwrap_or(HYDROSTATIC_END);
     let steps = mp.steps.unwrap_or(HYDROSTATIC_STEPS);
     out.setup.push(format!(
@@ -28,8 +29,7 @@ pub(super) fn hydrostatic(
         num(end),
         num(3.0 * end)
     ));
-    let (curve, damaged) =
-        hydrostatic_compression(&model, h, end, steps).map_err(|e| e.to_string())?;
+    let (curve, damaged) = hydrostatic_compression(&model, h, end, steps)?;
     note_stop(&curve, "hydrostatic compression", out);
     let pv: Vec<(f64, f64)> = curve
         .points

@@ -1,6 +1,7 @@
 //! The isotropy experiment: the model's update and elastic stiffness against Hooke's law in
 //! random strain directions.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::isotropy_error;
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters, SphereRule};
 use impact_solver::rng::SplitMix64;
@@ -39,7 +40,7 @@ pub(super) fn isotropy(
     params: &MicroplaneParameters,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
+) -> Result<(), MaterialPointError> {
     let samples = mp.samples.unwrap_or(ISOTROPY_SAMPLES);
     let rules = if mp.rules.is_empty() {
         vec![SphereRule::BazantOh21, SphereRule::Bazant37]
@@ -61,8 +62,7 @@ pub(super) fn isotropy(
     .log_y();
     let mut rows = Vec::new();
     for rule in rules {
-        let model = MicroplaneConcrete::new(MicroplaneParameters { rule, ..*params })
-            .map_err(|e| e.to_string())?;
+        let model = MicroplaneConcrete::new(MicroplaneParameters { rule, ..*params })?;
         let band = model.crack_band(params.h_ref)?;
         let c = model.elastic_stiffness();
         // A seed of our own, so that the directions differ from the solver's check.

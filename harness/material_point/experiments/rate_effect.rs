@@ -1,6 +1,7 @@
 //! The rate-effect experiment: the unit check of the rate law and the peaks over strain rates
 //! against the fib MC2010 dynamic increase factors.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
     rate_scaling, uniaxial_compression, uniaxial_tension, QUASI_STATIC_RATE,
@@ -29,8 +30,8 @@ fn initial_stiffness(
     h: f64,
     rate: f64,
     nu: f64,
-) -> Result<f64, String> {
-    let mut point = MaterialPoint::new(model, h).map_err(|e| e.to_string())?;
+) -> Result<f64, MaterialPointError> {
+    let mut point = MaterialPoint::new(model, h)?;
     let e = STIFFNESS_PROBE;
     let p = point.strain_step([e, -nu * e, -nu * e, 0.0, 0.0, 0.0], e / rate);
     Ok(p.stress[0] / e)
@@ -44,9 +45,12 @@ pub(super) fn rate_effect(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
-    let relative_to = mp.relative_to.ok_or("rate_effect needs relative_to")?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
+    let relative_to = mp.relative_to.ok_or_else(|| MaterialPointError::Needs {
+        experiment: "rate_effect".into(),
+        option: "relative_to".into(),
+    })?;
     let (end, steps) = compression_paths(mp, out);
     match params.rate_effect {
         Some(r) => out.setup.push(format!(
@@ -66,8 +70,7 @@ pub(super) fn rate_effect(
     let mut unit_rows = Vec::new();
     for &rate in &mp.unit_check_rates {
         let (solver_ratio, peak_ratio, misfit) =
-            rate_scaling(&model, h, rate, UNIT_CHECK_END, UNIT_CHECK_STEPS)
-                .map_err(|e| e.to_string())?;
+            rate_scaling(&model, h, rate, UNIT_CHECK_END, UNIT_CHECK_STEPS)?;
         let g = |r: f64| r / std::f64::consts::SQRT_2;
         let ratio = law(g(rate)) / law(g(QUASI_STATIC_RATE));
         let error = (peak_ratio / ratio - 1.0).abs();
@@ -114,15 +117,14 @@ pub(super) fn rate_effect(
     let mut compression_passed = Vec::new();
     let mut tension_curves = Vec::new();
     for &rate in &mp.rates {
-        let (curve, r) = uniaxial_tension(&model, h, rate).map_err(|e| e.to_string())?;
+        let (curve, r) = uniaxial_tension(&model, h, rate)?;
         let what = format!("tension at {rate:e} /s");
         note_stop(&curve, &what, out);
         let (peak, _) = established_peak(&curve, &what, out);
         let stiffness = initial_stiffness(&model, h, rate, params.poisson_ratio)?;
         tension.push((rate, peak, stiffness, r.initial_slope));
         tension_curves.push((rate, curve));
-        let (c, _) =
-            uniaxial_compression(&model, h, rate, end, steps).map_err(|e| e.to_string())?;
+        let (c, _) = uniaxial_compression(&model, h, rate, end, steps)?;
         note_stop(&c, &format!("compression at {rate:e} /s"), out);
         // Compression is reported, not judged: a path that did not pass its peak still shows its
         // largest stress, marked as a lower bound.

@@ -1,6 +1,7 @@
 //! Uniaxial tension on one fracture path: its measured values and its plots, shared by the
 //! tension and crack-band experiments.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::{Curve, FracturePath};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -20,8 +21,8 @@ pub(super) fn tension_run(
     path: FracturePath,
     at: Selector,
     out: &mut Outcome,
-) -> Result<(Curve, Vec<Value>), String> {
-    let (curve, r) = path.tension(model, h, rate).map_err(|e| e.to_string())?;
+) -> Result<(Curve, Vec<Value>), MaterialPointError> {
+    let (curve, r) = path.tension(model, h, rate)?;
     let what = format!("tension{}", label_suffix(&at));
     note_stop(&curve, &what, out);
     let (peak, peak_strain) = established_peak(&curve, &what, out);

@@ -1,6 +1,7 @@
 //! Tension under a held lateral compression (Kupfer, Hilsdorf & Rüsch 1969): the tensile peak
 //! at each lateral stress of the case, over the same point's uniaxial tensile peak.
 
+use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::experiments::tension_under_lateral_stress;
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -24,8 +25,8 @@ pub(super) fn tension_compression(
     h: f64,
     targets: &Targets,
     out: &mut Outcome,
-) -> Result<(), String> {
-    let model = MicroplaneConcrete::new(*params).map_err(|e| e.to_string())?;
+) -> Result<(), MaterialPointError> {
+    let model = MicroplaneConcrete::new(*params)?;
     let end = mp.end.unwrap_or(TENSION_COMPRESSION_END);
     let steps = mp.steps.unwrap_or(TENSION_COMPRESSION_STEPS);
     out.setup.push(format!(
@@ -40,8 +41,7 @@ pub(super) fn tension_compression(
 
     let mut runs = Vec::new();
     for &s in &lateral {
-        let curve =
-            tension_under_lateral_stress(&model, h, s, end, steps).map_err(|e| e.to_string())?;
+        let curve = tension_under_lateral_stress(&model, h, s, end, steps)?;
         let what = format!("tension under sigma_22 = {} MPa", num(s / MPA));
         note_stop(&curve, &what, out);
         let (peak, strain) = established_peak(&curve, &what, out);

@@ -95,6 +95,33 @@ fn title_lines(t1: &[String], t2: &[String], cx: f64, font: f64, step: f64) -> S
         .collect()
 }
 
+/// A legend entry: its label, its colours (fill, edge), its x (px) and its row.
+type LegendEntry = (String, (&'static str, &'static str), f64, usize);
+
+/// The legend's entries, one per body with its element count, wrapped to the width `w` (px)
+/// from `left`; and the last row's index.
+fn legend_entries(frame: &SectionFrame, left: f64, w: f64, font: f64) -> (Vec<LegendEntry>, usize) {
+    let mut entries = Vec::new();
+    let (mut x, mut row) = (left, 0usize);
+    let mut others = OTHERS.iter().cycle();
+    for body in &frame.bodies {
+        let colours = if body.remeshed {
+            REMESHED
+        } else {
+            *others.next().unwrap_or(&OTHERS[0])
+        };
+        let label = format!("{} ({} elements)", body.name, body.elements);
+        let entry_w = font + 12.0 + 6.2 * label.chars().count() as f64;
+        if x > left && x + entry_w > w {
+            x = left;
+            row += 1;
+        }
+        entries.push((label, colours, x, row));
+        x += entry_w;
+    }
+    (entries, row)
+}
+
 /// The picture as an SVG `width` px wide; `id` makes its clip path's id unique on the page.
 pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> String {
     let font = 11.0;
@@ -138,25 +165,7 @@ pub fn mesh_svg(frame: &SectionFrame, title: &str, id: &str, width: u32) -> Stri
     // A tall window is shrunk to at most 1.8 times the width.
     let scale = scale.min(1.8 * plot_w / span[1]);
     let (pw, ph) = (span[0] * scale, span[1] * scale);
-    // Legend entries, wrapped to the width: (label, colours, x, row).
-    let mut entries = Vec::new();
-    let (mut x, mut row) = (left, 0usize);
-    let mut others = OTHERS.iter().cycle();
-    for body in &frame.bodies {
-        let colours = if body.remeshed {
-            REMESHED
-        } else {
-            *others.next().unwrap_or(&OTHERS[0])
-        };
-        let label = format!("{} ({} elements)", body.name, body.elements);
-        let entry_w = font + 12.0 + 6.2 * label.chars().count() as f64;
-        if x > left && x + entry_w > w {
-            x = left;
-            row += 1;
-        }
-        entries.push((label, colours, x, row));
-        x += entry_w;
-    }
+    let (entries, row) = legend_entries(frame, left, w, font);
     // Tick labels, the horizontal axis's name, then the legend.
     let legend_y = top + ph + font * 5.0;
     let height = legend_y + font * 1.5 * (row as f64 + 1.0);

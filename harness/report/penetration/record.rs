@@ -83,17 +83,64 @@ pub struct PenetrationRecord {
     pub pictures: Vec<String>,
 }
 
+/// Why a remeshing record of a run does not read: each message names the file and the line.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordFileError {
+    /// The file cannot be read.
+    #[error("{path}: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+    /// The file's header is not the solver's.
+    #[error("{path}: the header is not `{header}` (written by another version?)")]
+    Header {
+        /// The file.
+        path: String,
+        /// The header expected.
+        header: String,
+    },
+    /// A value that is not a number.
+    #[error("{path} line {line}: {source}")]
+    Number {
+        /// The file.
+        path: String,
+        /// The line (1-based, the header is line 1).
+        line: usize,
+        /// The number reader's error.
+        source: std::num::ParseFloatError,
+    },
+    /// A row of the wrong width.
+    #[error("{path} line {line}: {values} values for {columns} columns")]
+    Width {
+        /// The file.
+        path: String,
+        /// The line (1-based, the header is line 1).
+        line: usize,
+        /// Values in the row.
+        values: usize,
+        /// Columns of the header.
+        columns: usize,
+    },
+}
+
 /// The rows of a CSV whose header must be `header`, as numbers by column name; an empty cell is
 /// a missing value, NaN (the near-tip stresses of a step with no element within the radius),
 /// which the plots leave out.
-fn read_csv(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+fn read_csv(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, RecordFileError> {
+    let file = || path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| RecordFileError::Read {
+        path: file(),
+        message: e.to_string(),
+    })?;
     let mut lines = text.lines();
     if lines.next() != Some(header) {
-        return Err(format!(
-            "{}: the header is not `{header}` (written by another version?)",
-            path.display()
-        ));
+        return Err(RecordFileError::Header {
+            path: file(),
+            header: header.into(),
+        });
     }
     let columns = header.split(',').count();
     lines
@@ -107,14 +154,18 @@ fn read_csv(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, String> {
                     v => v.parse::<f64>(),
                 })
                 .collect::<Result<_, _>>()
-                .map_err(|e| format!("{} line {}: {e}", path.display(), i + 2))?;
+                .map_err(|source| RecordFileError::Number {
+                    path: file(),
+                    line: i + 2,
+                    source,
+                })?;
             if row.len() != columns {
-                return Err(format!(
-                    "{} line {}: {} values for {columns} columns",
-                    path.display(),
-                    i + 2,
-                    row.len()
-                ));
+                return Err(RecordFileError::Width {
+                    path: file(),
+                    line: i + 2,
+                    values: row.len(),
+                    columns,
+                });
             }
             Ok(row)
         })
@@ -130,7 +181,7 @@ fn col(header: &str, name: &str) -> usize {
 }
 
 /// The remeshings of `<stem>_remeshing.csv` ([`REMESHING_CSV_HEADER`]).
-pub fn read_remeshings(path: &Path) -> Result<Vec<RemeshRow>, String> {
+pub fn read_remeshings(path: &Path) -> Result<Vec<RemeshRow>, RecordFileError> {
     let h = REMESHING_CSV_HEADER;
     let c = |name| col(h, name);
     Ok(read_csv(path, h)?
@@ -153,7 +204,7 @@ pub fn read_remeshings(path: &Path) -> Result<Vec<RemeshRow>, String> {
 }
 
 /// The rows of `<stem>_near_tip.csv` ([`NEAR_TIP_CSV_HEADER`]).
-pub fn read_near_tip(path: &Path) -> Result<Vec<NearTipPoint>, String> {
+pub fn read_near_tip(path: &Path) -> Result<Vec<NearTipPoint>, RecordFileError> {
     let h = NEAR_TIP_CSV_HEADER;
     let c = |name| col(h, name);
     Ok(read_csv(path, h)?
@@ -173,7 +224,7 @@ pub fn read_near_tip(path: &Path) -> Result<Vec<NearTipPoint>, String> {
 /// The record of the run whose files, stem `stem`, are in `dir` (a case's folder): `None`
 /// when it wrote no `<stem>_remeshing.csv` (it did not remesh), an error when a file does not
 /// read.
-pub fn read_record(dir: &Path, stem: &str) -> Result<Option<PenetrationRecord>, String> {
+pub fn read_record(dir: &Path, stem: &str) -> Result<Option<PenetrationRecord>, RecordFileError> {
     let remeshing = dir.join(format!("{stem}_remeshing.csv"));
     if !remeshing.is_file() {
         return Ok(None);

@@ -6,7 +6,8 @@ use impact_solver::Vector3;
 use nalgebra::Matrix3;
 
 use super::field::{boundary_node_flags, element_stress_in_box, max_abs};
-use super::{FieldQuantity, Measure, NodeScope};
+use super::{FieldQuantity, Measure, MeasureError, NodeScope};
+use crate::curve::CurveError;
 use crate::judge::{Measured, Reading};
 use crate::reference::analytic::{corotated_cauchy, svk_cauchy};
 use impact_solver::analysis::Execution;
@@ -14,24 +15,21 @@ use impact_solver::kinematics::matrix_from_voigt;
 
 impl Measure {
     /// Evaluates a per-run measure.
-    pub fn evaluate(&self, problem: &Problem, run: &Execution) -> Result<f64, String> {
+    pub fn evaluate(&self, problem: &Problem, run: &Execution) -> Result<f64, MeasureError> {
         self.evaluate_read(problem, run).map(|m| m.value)
     }
 
     /// Evaluates a per-run measure, with its own verdict where it gives one (the crack tips).
-    pub fn evaluate_read(&self, problem: &Problem, run: &Execution) -> Result<Measured, String> {
-        let history = || {
-            run.history
-                .as_ref()
-                .ok_or("this measure needs an explicit run's history".to_string())
-        };
-        let column = |name: &str| -> Result<Vec<f64>, String> {
-            let h = history()?;
-            h.column(name).ok_or_else(|| {
-                format!(
-                    "the history has no column `{name}`; it has {:?}",
-                    h.columns()
-                )
+    pub fn evaluate_read(
+        &self,
+        problem: &Problem,
+        run: &Execution,
+    ) -> Result<Measured, MeasureError> {
+        let column = |name: &str| -> Result<Vec<f64>, CurveError> {
+            let h = run.history.as_ref().ok_or(CurveError::NoHistory)?;
+            h.column(name).ok_or_else(|| CurveError::NoColumn {
+                name: name.into(),
+                columns: h.columns().to_vec(),
             })
         };
         let time = || column("time");
@@ -47,13 +45,13 @@ impl Measure {
                 column(c)?.into_iter().fold(f64::INFINITY, f64::min)
             }
             Measure::HistoryFinal { column: c, scale } => {
-                column(c)?.last().ok_or("empty history")? * scale
+                column(c)?.last().ok_or(MeasureError::Empty)? * scale
             }
             Measure::PeakTime { column: c } => {
                 let (t, y) = (time()?, column(c)?);
                 let i = (0..y.len())
                     .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
-                    .ok_or("empty history")?;
+                    .ok_or(MeasureError::Empty)?;
                 t[i]
             }
             Measure::ValueAtPeak {
@@ -83,7 +81,11 @@ impl Measure {
                     .map(|i| y[i])
                     .collect();
                 if window.is_empty() {
-                    return Err(format!("no record of `{c}` between t = {from} and {to}"));
+                    return Err(MeasureError::NoRecordInWindow {
+                        column: c.clone(),
+                        from: *from,
+                        to: *to,
+                    });
                 }
                 window.iter().sum::<f64>() / window.len() as f64
             }
@@ -101,14 +103,14 @@ impl Measure {
             Measure::EnergyBalanceError => {
                 run.summary
                     .as_ref()
-                    .ok_or("needs an explicit run")?
+                    .ok_or(MeasureError::NeedsExplicitRun)?
                     .max_relative_energy_error
             }
             Measure::KineticEnergyDrift => {
                 let k = column("kinetic")?;
                 let k0 = k[0];
                 if !(k0 > 0.0) {
-                    return Err("the initial kinetic energy is zero".into());
+                    return Err(MeasureError::KineticZero);
                 }
                 k.iter().map(|x| (x - k0).abs() / k0).fold(0.0, f64::max)
             }
@@ -125,7 +127,7 @@ impl Measure {
                 let at = |i: usize| Vector3::new(c[0][i], c[1][i], c[2][i]);
                 let initial = at(0).norm();
                 if initial == 0.0 {
-                    return Err("the vector is zero at the start: no relative drift".into());
+                    return Err(MeasureError::VectorZero);
                 }
                 (0..c[0].len())
                     .map(|i| (at(i) - at(0)).norm())
@@ -140,8 +142,8 @@ impl Measure {
                 let b = problem
                     .model
                     .body_index(body)
-                    .ok_or_else(|| format!("no body named `{body}`"))?;
-                let v = run.v.as_ref().ok_or("needs an explicit run")?;
+                    .ok_or_else(|| MeasureError::NoBody { body: body.clone() })?;
+                let v = run.v.as_ref().ok_or(MeasureError::NeedsExplicitRun)?;
                 let nodes = problem.model.bodies[b].nodes.clone();
                 let (mass, x) = (&problem.model.mass, |n: usize| {
                     problem.model.reference[n] + run.u[n]
@@ -162,10 +164,7 @@ impl Measure {
                     inertia +=
                         (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * mass[n];
                 }
-                let omega = inertia
-                    .try_inverse()
-                    .ok_or("the body's inertia tensor is singular")?
-                    * l;
+                let omega = inertia.try_inverse().ok_or(MeasureError::SingularInertia)? * l;
                 omega.norm() * scale
             }
             Measure::AffineFieldError {
@@ -185,7 +184,7 @@ impl Measure {
                         },
                     ),
                     FieldQuantity::Velocity => {
-                        (run.v.as_ref().ok_or("needs an explicit run")?, 1.0)
+                        (run.v.as_ref().ok_or(MeasureError::NeedsExplicitRun)?, 1.0)
                     }
                 };
                 let g = Matrix3::from_row_slice(&gradient.concat());
@@ -222,10 +221,9 @@ impl Measure {
                         Some(MaterialModel::SaintVenantKirchhoff(c)) => svk_cauchy(&c, &f),
                         Some(MaterialModel::LinearElastic(c)) => corotated_cauchy(&c, &f),
                         _ => {
-                            return Err(format!(
-                                "uniform_stress_error has no closed form for {}",
-                                material.name()
-                            ))
+                            return Err(MeasureError::NoClosedForm {
+                                material: material.name().to_string(),
+                            })
                         }
                     };
                     let diff = matrix_from_voigt(s) - exact;
@@ -285,13 +283,15 @@ impl Measure {
                     .constraints
                     .iter()
                     .position(|c| &c.name == constraint)
-                    .ok_or_else(|| format!("no constraint named `{constraint}`"))?;
+                    .ok_or_else(|| MeasureError::NoConstraint {
+                        constraint: constraint.clone(),
+                    })?;
                 let axis = *component as usize;
                 let value = match (&run.static_solution, &run.summary) {
                     (Some(s), None) => s.constraint_reaction(problem, c)[axis],
                     _ => *column(&format!("{constraint}_reaction_{}", ["x", "y", "z"][axis]))?
                         .last()
-                        .ok_or("empty history")?,
+                        .ok_or(MeasureError::Empty)?,
                 };
                 value / divide_by
             }
@@ -303,7 +303,7 @@ impl Measure {
                     .map(|i| t[i - 1] + (mean - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
                     .collect();
                 if ups.len() < 2 {
-                    return Err(format!("`{c}` crosses its mean fewer than twice"));
+                    return Err(MeasureError::FewCrossings { column: c.clone() });
                 }
                 (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0])
             }
@@ -341,7 +341,7 @@ impl Measure {
                     ..Default::default()
                 };
                 let first = crate::beam::cracks::first_crack_time(problem, &spec, run.snapshots())?
-                    .ok_or("no element of the beam cracks in the snapshots: no window")?;
+                    .ok_or(MeasureError::NoCrackWindow)?;
                 let (t, l, r) = (time()?, column(left)?, column(right)?);
                 let upto = t.partition_point(|&t| t <= first);
                 crate::beam::history::reaction_asymmetry(&l[..upto], &r[..upto])?
@@ -359,7 +359,10 @@ impl Measure {
                         &column(c)?,
                         *after_peak_down_to,
                     )
-                    .map_err(|e| format!("`{c}`: {e}"))?;
+                    .map_err(|source| MeasureError::OfColumn {
+                        column: c.clone(),
+                        source,
+                    })?;
                     k.truncate(end);
                     w.truncate(end);
                 }
@@ -428,7 +431,7 @@ impl Measure {
                 let b = problem
                     .model
                     .body_index(body)
-                    .ok_or_else(|| format!("no body named `{body}`"))?;
+                    .ok_or_else(|| MeasureError::NoBody { body: body.clone() })?;
                 let mass: f64 = problem.model.bodies[b]
                     .nodes
                     .clone()
@@ -454,9 +457,9 @@ impl Measure {
             Measure::CrackBand(m) => m.evaluate(&problem.model, &|c| column(c))?,
             Measure::CrackBandPoint(m) => m.evaluate(&problem.model)?,
             sweep => {
-                return Err(format!(
-                    "{sweep:?} is a sweep measure: the case needs a sweep"
-                ))
+                return Err(MeasureError::SweepMeasure {
+                    measure: format!("{sweep:?}"),
+                })
             }
         }))
     }
@@ -466,19 +469,19 @@ impl Measure {
 /// `|y_p| / mean(|y_i|, |i - p| <= 2)` at the row `p` of the largest `|y|` (the first of equal
 /// ones): how far the peak stands above the rows around it
 /// ([`Measure::PeakOverNeighbours`]).
-fn peak_over_neighbours(y: &[f64]) -> Result<f64, String> {
+fn peak_over_neighbours(y: &[f64]) -> Result<f64, MeasureError> {
     let p = (0..y.len())
         .reduce(|a, b| if y[b].abs() > y[a].abs() { b } else { a })
-        .ok_or("empty history")?;
+        .ok_or(MeasureError::Empty)?;
     let around = &y[p.saturating_sub(2)..(p + 3).min(y.len())];
     let mean = around.iter().map(|v| v.abs()).sum::<f64>() / around.len() as f64;
     if mean == 0.0 {
-        return Err("the column is zero throughout".into());
+        return Err(MeasureError::ColumnZero);
     }
     Ok(y[p].abs() / mean)
 }
 
-fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
+fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, MeasureError> {
     let start = signal.first().copied().unwrap_or(0.0);
     let up = level >= start;
     for i in 1..signal.len() {
@@ -492,14 +495,14 @@ fn crossing(time: &[f64], signal: &[f64], level: f64) -> Result<f64, String> {
             return Ok(time[i - 1] + s * (time[i] - time[i - 1]));
         }
     }
-    Err(format!("the signal never reaches {level}"))
+    Err(MeasureError::NeverReaches { level })
 }
 
 /// `y` in the row of the largest `|peak|` (the first of equal ones; [`Measure::ValueAtPeak`]).
-fn value_at_peak(y: &[f64], peak: &[f64]) -> Result<f64, String> {
+fn value_at_peak(y: &[f64], peak: &[f64]) -> Result<f64, MeasureError> {
     let p = (0..peak.len().min(y.len()))
         .reduce(|a, b| if peak[b].abs() > peak[a].abs() { b } else { a })
-        .ok_or("empty history")?;
+        .ok_or(MeasureError::Empty)?;
     Ok(y[p])
 }
 

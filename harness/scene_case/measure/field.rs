@@ -5,7 +5,7 @@ use impact_solver::problem::Problem;
 use impact_solver::Vector3;
 use nalgebra::Matrix3;
 
-use super::TensorComponent;
+use super::{MeasureError, TensorComponent};
 use impact_solver::analysis::Execution;
 
 pub(super) fn boundary_node_flags(problem: &Problem) -> Vec<bool> {
@@ -30,7 +30,7 @@ pub(super) fn element_stress_in_box(
     component: TensorComponent,
     min: &[f64; 3],
     max: &[f64; 3],
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, MeasureError> {
     let fields = run.element_fields(&problem.model);
     let values: Vec<f64> = problem
         .model
@@ -48,9 +48,10 @@ pub(super) fn element_stress_in_box(
         .map(|(e, _)| fields.cauchy[e][component as usize])
         .collect();
     if values.is_empty() {
-        return Err(format!(
-            "no element centroid lies in the box {min:?} - {max:?}"
-        ));
+        return Err(MeasureError::EmptyBox {
+            min: *min,
+            max: *max,
+        });
     }
     Ok(values)
 }

@@ -30,14 +30,27 @@ pub struct SparseMatrix {
     pub values: Vec<f64>,
 }
 
+/// A triplet whose row or column lies outside the matrix.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("triplet ({i}, {j}) lies outside the {size} x {size} matrix")]
+pub struct TripletOutside {
+    /// The row.
+    pub i: usize,
+    /// The column.
+    pub j: usize,
+    /// The matrix's size.
+    pub size: usize,
+}
+
 impl SparseMatrix {
     /// From `(row, column, value)` triplets; an index out of range is an error naming it.
-    pub fn from_triplets(size: usize, triplets: &[(usize, usize, f64)]) -> Result<Self, String> {
+    pub fn from_triplets(
+        size: usize,
+        triplets: &[(usize, usize, f64)],
+    ) -> Result<Self, TripletOutside> {
         let mut sorted = triplets.to_vec();
         if let Some(&(i, j, _)) = sorted.iter().find(|(i, j, _)| *i >= size || *j >= size) {
-            return Err(format!(
-                "triplet ({i}, {j}) lies outside the {size} x {size} matrix"
-            ));
+            return Err(TripletOutside { i, j, size });
         }
         sorted.sort_by_key(|&(i, j, _)| (i, j));
         let mut row_start = vec![0; size + 1];

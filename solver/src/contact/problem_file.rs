@@ -113,7 +113,7 @@ pub enum InvalidProblem {
     Compliance(f64),
     /// A triplet of `W` outside the matrix (the message of [`SparseMatrix::from_triplets`]).
     #[error("{0}")]
-    Matrix(String),
+    Matrix(#[from] super::problem::TripletOutside),
 }
 
 const CONVENTION: &str = "find r, u with u = W r + q, r in K_mu (per contact [normal, t1, t2], \

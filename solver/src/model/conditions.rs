@@ -92,39 +92,72 @@ impl TimeFunction {
 
     /// Checks the parameters: every number finite, a ramp's `t1 > t0`, a table's times
     /// increasing.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), TimeFunctionError> {
+        use TimeFunctionError as E;
         match self {
-            TimeFunction::Constant(v) if !v.is_finite() => {
-                Err(format!("constant {v} is not finite"))
-            }
+            TimeFunction::Constant(v) if !v.is_finite() => Err(E::Constant(*v)),
             TimeFunction::Ramp { t0, t1, from, to }
                 if ![t0, t1, from, to].iter().all(|v| v.is_finite()) =>
             {
-                Err(format!(
-                    "ramp needs finite t0, t1, from and to, got {t0}, {t1}, {from}, {to}"
-                ))
+                Err(E::RampNotFinite([*t0, *t1, *from, *to]))
             }
             TimeFunction::Table(p) if p.iter().flatten().any(|v| !v.is_finite()) => {
-                Err("table points must be finite".into())
+                Err(E::TableNotFinite)
             }
             TimeFunction::Ramp { t0, t1, .. } if !(t1 > t0) => {
-                Err(format!("ramp needs t1 > t0, got t0 = {t0}, t1 = {t1}"))
+                Err(E::RampOrder { t0: *t0, t1: *t1 })
             }
-            TimeFunction::Table(p) if p.is_empty() => Err("table has no points".into()),
+            TimeFunction::Table(p) if p.is_empty() => Err(E::TableEmpty),
             TimeFunction::Table(p) if p.windows(2).any(|w| !(w[1][0] > w[0][0])) => {
-                Err("table times must increase strictly".into())
+                Err(E::TableOrder)
             }
             TimeFunction::ConstantRate { rate, lead_in }
                 if !(rate.is_finite() && lead_in.is_finite() && *lead_in >= 0.0) =>
             {
-                Err(format!(
-                    "constant_rate needs a finite rate and lead_in >= 0, got rate = {rate}, \
-                     lead_in = {lead_in}"
-                ))
+                Err(E::ConstantRate {
+                    rate: *rate,
+                    lead_in: *lead_in,
+                })
             }
             _ => Ok(()),
         }
     }
+}
+
+/// Why a time function's parameters are refused (the caller names the condition or load).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TimeFunctionError {
+    /// A constant that is not finite.
+    #[error("constant {0} is not finite")]
+    Constant(f64),
+    /// A ramp with a number that is not finite.
+    #[error("ramp needs finite t0, t1, from and to, got {}, {}, {}, {}", .0[0], .0[1], .0[2], .0[3])]
+    RampNotFinite([f64; 4]),
+    /// A table with a point that is not finite.
+    #[error("table points must be finite")]
+    TableNotFinite,
+    /// A ramp that ends before it starts.
+    #[error("ramp needs t1 > t0, got t0 = {t0}, t1 = {t1}")]
+    RampOrder {
+        /// Start of the ramp (s).
+        t0: f64,
+        /// End of the ramp (s).
+        t1: f64,
+    },
+    /// A table without points.
+    #[error("table has no points")]
+    TableEmpty,
+    /// A table whose times do not increase.
+    #[error("table times must increase strictly")]
+    TableOrder,
+    /// A constant rate with a bad rate or lead-in.
+    #[error("constant_rate needs a finite rate and lead_in >= 0, got rate = {rate}, lead_in = {lead_in}")]
+    ConstantRate {
+        /// The rate.
+        rate: f64,
+        /// The lead-in (s).
+        lead_in: f64,
+    },
 }
 
 /// Which displacement components a condition acts on.

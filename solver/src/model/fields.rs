@@ -36,21 +36,29 @@ impl Default for CrackIndicator {
     }
 }
 
+/// Why a crack indicator's settings are refused (the caller names `crack_indicator`).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CrackIndicatorError {
+    /// A crack width that is not a positive opening.
+    #[error("crack_width must be a positive opening in m (default 2.0e-4), got {0}")]
+    Width(f64),
+    /// A length that is not positive.
+    #[error(
+        "length must be a positive length in m, or left out for each element's own size (6 \
+         V)^(1/3), got {0}"
+    )]
+    Length(f64),
+}
+
 impl CrackIndicator {
     /// Checks that the width and the length are positive.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), CrackIndicatorError> {
         if !(self.crack_width > 0.0 && self.crack_width.is_finite()) {
-            return Err(format!(
-                "crack_width must be a positive opening in m (default 2.0e-4), got {}",
-                self.crack_width
-            ));
+            return Err(CrackIndicatorError::Width(self.crack_width));
         }
         if let Some(l) = self.length {
             if !(l > 0.0 && l.is_finite()) {
-                return Err(format!(
-                    "length must be a positive length in m, or left out for each element's own \
-                     size (6 V)^(1/3), got {l}"
-                ));
+                return Err(CrackIndicatorError::Length(l));
             }
         }
         Ok(())

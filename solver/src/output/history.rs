@@ -86,7 +86,7 @@ impl HistoryTable {
         if text.trim().is_empty() {
             return Err(invalid("the file is empty; expected a header line".into()));
         }
-        let (columns, body) = split_header(&text).map_err(invalid)?;
+        let (columns, body) = split_header(&text).map_err(|e| invalid(e.to_string()))?;
         let mut table = Self::new(columns);
         let lines = body.lines().filter(|line| !line.trim().is_empty());
         for (i, line) in lines.enumerate() {
@@ -227,8 +227,19 @@ fn quote_field(name: &str) -> String {
     }
 }
 
+/// Why a history header does not read (the caller names the file).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum HeaderError {
+    /// A quoted column name without its closing quote.
+    #[error("unterminated quoted column name in the header")]
+    Unterminated,
+    /// Something other than a comma or the line's end after a quoted name.
+    #[error("unexpected `{0}` after a quoted column name")]
+    AfterQuote(char),
+}
+
 /// Splits the header line off `text`, undoing [`quote_field`]; returns the names and the rest.
-fn split_header(text: &str) -> std::result::Result<(Vec<String>, &str), String> {
+fn split_header(text: &str) -> std::result::Result<(Vec<String>, &str), HeaderError> {
     let mut names = Vec::new();
     let mut chars = text.char_indices().peekable();
     loop {
@@ -249,7 +260,7 @@ fn split_header(text: &str) -> std::result::Result<(Vec<String>, &str), String> 
                         break;
                     }
                     Some((_, c)) => name.push(c),
-                    None => return Err("unterminated quoted column name in the header".into()),
+                    None => return Err(HeaderError::Unterminated),
                 }
             }
         } else {
@@ -267,7 +278,7 @@ fn split_header(text: &str) -> std::result::Result<(Vec<String>, &str), String> 
             Some((_, ',')) => continue,
             Some((i, '\n')) => return Ok((names, &text[i + 1..])),
             None => return Ok((names, "")),
-            Some((_, c)) => return Err(format!("unexpected `{c}` after a quoted column name")),
+            Some((_, c)) => return Err(HeaderError::AfterQuote(c)),
         }
     }
 }

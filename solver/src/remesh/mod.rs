@@ -70,6 +70,7 @@ mod run;
 mod section;
 mod smoothing;
 mod splice;
+mod subdivision;
 mod transfer;
 mod watch;
 

@@ -17,13 +17,28 @@ fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError
     }
 }
 
+/// Nodes of a symmetry condition that do not lie on one plane.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "a symmetry plane needs nodes on one plane normal to axis {axis}; they span {mean:.9e} and \
+     {off:.9e} m. Fix: pick the nodes of the cut face only"
+)]
+pub struct SymmetryPlaneError {
+    /// The plane's normal axis.
+    pub axis: usize,
+    /// The nodes' mean coordinate (m).
+    pub mean: f64,
+    /// A node's coordinate off the plane (m).
+    pub off: f64,
+}
+
 /// The coordinate `axis` shared by `nodes` (their mean), or why they do not lie on one plane
 /// normal to it (to 1e-9 of the model's size).
 fn symmetry_plane(
     reference: &[Vector3<f64>],
     nodes: &[u32],
     axis: usize,
-) -> std::result::Result<f64, String> {
+) -> std::result::Result<f64, SymmetryPlaneError> {
     let size = reference
         .iter()
         .fold(0.0_f64, |m, p| m.max(p.amax()))
@@ -31,10 +46,11 @@ fn symmetry_plane(
     let values: Vec<f64> = nodes.iter().map(|&n| reference[n as usize][axis]).collect();
     let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
     match values.iter().find(|v| (*v - mean).abs() > 1e-9 * size) {
-        Some(v) => Err(format!(
-            "a symmetry plane needs nodes on one plane normal to axis {axis}; they span \
-             {mean:.9e} and {v:.9e} m. Fix: pick the nodes of the cut face only"
-        )),
+        Some(v) => Err(SymmetryPlaneError {
+            axis,
+            mean,
+            off: *v,
+        }),
         None => Ok(mean),
     }
 }
@@ -187,7 +203,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
     scene
         .crack_indicator
         .validate()
-        .map_err(|m| invalid("crack_indicator", m))?;
+        .map_err(|m| invalid("crack_indicator", m.to_string()))?;
     model.crack_indicator = scene.crack_indicator;
     let mut problem = Problem::new(model);
 
@@ -272,7 +288,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 let axis = *c as usize;
                 symmetry_plane(&problem.model.reference, &nodes, axis)
                     .map(|value| Motion::Symmetry { axis, value })
-                    .map_err(|m| invalid(&entity, m))?
+                    .map_err(|m| invalid(&entity, m.to_string()))?
             }
             MotionSpec::Velocity { components, value } => {
                 Motion::Velocity(dofs(components), value.clone())
@@ -317,7 +333,9 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
         if let MotionSpec::Velocity { value, .. } | MotionSpec::Displacement { value, .. } =
             &bc.motion
         {
-            value.validate().map_err(|m| invalid(&entity, m))?;
+            value
+                .validate()
+                .map_err(|m| invalid(&entity, m.to_string()))?;
         }
         constraints.push(Constraint {
             name,

@@ -257,8 +257,8 @@ impl<'de, K: DeserializeSeed<'de>> Visitor<'de> for KeyOrRemeshing<K> {
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> std::result::Result<ExplicitAnalysis, String> {
-        serde_norway::from_str(text).map_err(|e| e.to_string())
+    fn parse(text: &str) -> std::result::Result<ExplicitAnalysis, serde_norway::Error> {
+        serde_norway::from_str(text)
     }
 
     #[test]
@@ -273,7 +273,9 @@ mod tests {
 
     #[test]
     fn every_key_keeps_its_message() {
-        let unknown = parse("end_time: 1.0e-3\nsafty: 0.5\n").unwrap_err();
+        let unknown = parse("end_time: 1.0e-3\nsafty: 0.5\n")
+            .unwrap_err()
+            .to_string();
         assert!(
             unknown.starts_with("unknown field `safty`, expected one of `end_time`,")
                 && unknown
@@ -281,12 +283,16 @@ mod tests {
             "{unknown}"
         );
         let twice = parse("{ end_time: 1.0, remeshing: { body: a }, remeshing: { body: b } }");
-        assert!(twice.unwrap_err().contains("duplicate field `remeshing`"));
+        assert!(twice
+            .unwrap_err()
+            .to_string()
+            .contains("duplicate field `remeshing`"));
         let wrong = parse("{ end_time: 1.0, remeshing: { body: a, check_every: x } }");
         assert!(wrong
             .unwrap_err()
+            .to_string()
             .starts_with("remeshing.check_every: invalid type"));
-        let missing = parse("{ remeshing: { body: a } }").unwrap_err();
+        let missing = parse("{ remeshing: { body: a } }").unwrap_err().to_string();
         assert!(missing.starts_with("missing field `end_time`"), "{missing}");
     }
 }

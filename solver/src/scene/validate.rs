@@ -168,8 +168,9 @@ fn check_conditions(conditions: &[BoundaryCondition]) -> Result<()> {
         let entity = format!("boundary condition `{}`", name(i, bc));
         check_selector(&entity, &bc.nodes)?;
         let motion = format!("{entity} motion");
-        let function =
-            |f: &crate::model::TimeFunction| f.validate().map_err(|m| invalid(&motion, m));
+        let function = |f: &crate::model::TimeFunction| {
+            f.validate().map_err(|m| invalid(&motion, m.to_string()))
+        };
         match &bc.motion {
             MotionSpec::Fixed(_) | MotionSpec::Symmetry(_) => {}
             MotionSpec::Velocity { value, .. } | MotionSpec::Displacement { value, .. } => {
@@ -222,7 +223,7 @@ fn check_loads(loads: &[LoadSpec]) -> Result<()> {
         finite(&format!("{entity} force_per_node"), &load.force_per_node)?;
         load.function
             .validate()
-            .map_err(|m| invalid(format!("{entity} function"), m))?;
+            .map_err(|m| invalid(format!("{entity} function"), m.to_string()))?;
     }
     Ok(())
 }

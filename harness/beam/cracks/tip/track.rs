@@ -2,6 +2,7 @@
 //! connected crack, which joins are coalescence, and how high each tip has reached.
 
 use super::path::CrackPath;
+use crate::beam::cracks::CrackError;
 
 /// Per-snapshot heights of the two tips and the coalescence along them.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -31,9 +32,9 @@ pub fn track<I>(
     openings: I,
     w_cohesive: f64,
     w_traction_free: f64,
-) -> Result<TipTrack, String>
+) -> Result<TipTrack, CrackError>
 where
-    I: IntoIterator<Item = Result<Vec<f64>, String>>,
+    I: IntoIterator<Item = Result<Vec<f64>, CrackError>>,
 {
     let n = path.height.len();
     let mut w_max = vec![0.0f64; n];
@@ -44,10 +45,10 @@ where
     for (k, w) in openings.into_iter().enumerate() {
         let w = w?;
         if w.len() != n {
-            return Err(format!(
-                "a snapshot holds {} openings for the beam's {n} elements",
-                w.len()
-            ));
+            return Err(CrackError::OpeningCount {
+                openings: w.len(),
+                elements: n,
+            });
         }
         for (m, x) in w_max.iter_mut().zip(&w) {
             *m = m.max(*x);
@@ -60,10 +61,10 @@ where
         count += 1;
     }
     if count != times.len() {
-        return Err(format!(
-            "{count} snapshots of openings for {} times",
-            times.len()
-        ));
+        return Err(CrackError::SnapshotCount {
+            snapshots: count,
+            times: times.len(),
+        });
     }
     let coalesced = coalesced(path, &past_p, &in_cohesive);
     let (cohesive, cohesive_coalescence) = heights(path, &in_cohesive, &coalesced, count);

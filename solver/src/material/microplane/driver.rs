@@ -37,8 +37,8 @@ pub struct PathPoint {
 pub enum DriverError {
     /// The point's size `h` does not fit the model's crack band (the regularised softening
     /// would snap back); holds the model's explanation.
-    #[error("{0}")]
-    CrackBand(String),
+    #[error(transparent)]
+    CrackBand(#[from] super::CrackBandError),
     /// Newton's method on the stress-controlled components did not converge.
     #[error(
         "stress control did not converge at t = {time:e} s: residual {residual:e} Pa after \

@@ -127,3 +127,36 @@ pub(super) fn elastic_limit_of(p: &MicroplaneParameters) -> f64 {
         .min(linear(p.e2, p.n))
         .min(linear(p.e3, p.k))
 }
+
+impl MicroplaneConcrete {
+    /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
+    /// shears: `sigma = C : E` homogenised from the elastic split (5.37 with undamaged moduli).
+    pub fn elastic_stiffness(&self) -> [[f64; 6]; 6] {
+        let mut c = [[0.0; 6]; 6];
+        let unit: [Sym; 6] = std::array::from_fn(|j| {
+            let mut e = [0.0; 6];
+            e[j] = if j < 3 { 1.0 } else { 0.5 };
+            e
+        });
+        for (j, e) in unit.iter().enumerate() {
+            let e_v = (e[0] + e[1] + e[2]) / 3.0;
+            let mut s = [0.0; 6];
+            for plane in &self.planes {
+                let w = 6.0 * plane.weight;
+                let s_d = self.e_d0 * (contract(&plane.nn, e) - e_v);
+                let s_m = self.e_t0 * contract(&plane.mn, e);
+                let s_k = self.e_t0 * contract(&plane.kn, e);
+                for i in 0..6 {
+                    s[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
+                }
+            }
+            for v in &mut s[..3] {
+                *v += self.e_v0 * e_v;
+            }
+            for i in 0..6 {
+                c[i][j] = s[i];
+            }
+        }
+        c
+    }
+}

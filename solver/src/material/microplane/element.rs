@@ -60,7 +60,7 @@ impl MicroplaneMaterial {
                 Ok(band) => bands.push(band),
                 Err(message) => {
                     count += 1;
-                    too_large.get_or_insert((local, message));
+                    too_large.get_or_insert((local, message.to_string()));
                 }
             }
         }
@@ -202,7 +202,7 @@ impl Material for MicroplaneMaterial {
                     let strength = strength_at(self.strength_field.as_ref(), centroid);
                     self.model
                         .crack_band_with_strength(MicroplaneConcrete::element_size(*v), strength)
-                        .map_err(|message| (e, message))?
+                        .map_err(|message| (e, message.to_string()))?
                 }
             });
         }

@@ -13,6 +13,7 @@
 //! - [`driver`]: a material-point driver for strain- and stress-controlled paths.
 
 pub mod calibration;
+mod crack_band;
 pub mod crack_compression;
 pub mod cyclic;
 mod dilatancy;
@@ -33,6 +34,7 @@ pub mod tabulated;
 pub mod tension_boundary;
 pub mod volumetric;
 
+pub use crack_band::{CrackBand, CrackBandError};
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
 pub use parameters::{
@@ -99,21 +101,6 @@ pub struct MicroplaneConcrete {
     /// Whether the planes' dissipation is counted in the plane loop of every update, not only
     /// where the dilatancy reads it (see [`MicroplaneConcrete::with_dissipation_always_counted`]).
     always_count_dissipation: bool,
-}
-
-/// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CrackBand {
-    /// Element size `h = (6 V)^(1/3)` (m).
-    pub size: f64,
-    /// Crack-band factor of the tension law (exponent `m`): its post-peak area is divided by it
-    /// so that `h` times its energy equals that at `h_ref` (dimensionless, 1 at `h = h_ref`).
-    pub tension: f64,
-    /// The same factor for the shear law (exponent `k`).
-    pub shear: f64,
-    /// The element's tensile strength over the material's (1 without a strength field,
-    /// `strength_field.rs`): the tension law's strain scale `e1` is multiplied by it.
-    pub strength: f64,
 }
 
 /// What one update gives besides the stress: enough for output and for checks.
@@ -216,77 +203,6 @@ impl MicroplaneConcrete {
     /// A virgin state.
     pub fn initial_state(&self) -> MicroplaneState {
         MicroplaneState::new(self.state_len())
-    }
-
-    /// Element size of the crack band, `h = (6 V)^(1/3)` (the edge of a cube cut into six
-    /// tetrahedra).
-    pub fn element_size(volume: f64) -> f64 {
-        (6.0 * volume).cbrt()
-    }
-
-    /// The crack band of an element of size `h`, or why the element is too large: its softening
-    /// laws would have to snap back to dissipate the calibrated energy per unit crack area.
-    pub fn crack_band(&self, h: f64) -> Result<CrackBand, String> {
-        self.crack_band_with_strength(h, 1.0)
-    }
-
-    /// The crack band of an element of size `h` whose tensile strength is `strength` times the
-    /// material's (a strength field, `strength_field.rs`). Scaling `e1` by `s` scales the tension
-    /// law's energy per unit volume by `s^2` (the law is `E e1 x g(x)` in `x = e / e1`), so the
-    /// band's factor is the one of an element of size `h s^2`: the element still dissipates the
-    /// calibrated fracture energy per unit crack area, and a strong element too large for its
-    /// band is refused like a large one.
-    pub fn crack_band_with_strength(&self, h: f64, strength: f64) -> Result<CrackBand, String> {
-        let h_ref = self.parameters.h_ref;
-        let tension = self.tension.band_factor(h * (strength * strength), h_ref);
-        let shear = self.shear.band_factor(h, h_ref);
-        if let Some(boundary) = &self.parameters.tension_boundary {
-            let e = self.parameters.youngs_modulus;
-            if boundary.scaled(e, h, h_ref, strength, 1.0).is_none() {
-                return Err(format!(
-                    "element size h = (6 V)^(1/3) = {:.1} mm (tensile strength {strength:.3} of \
-                     the material's) is too large for the tension boundary calibrated at h_ref \
-                     = {:.1} mm: its planes would have to snap back to dissipate no more than \
-                     the fracture energy; refine the mesh there",
-                    h * 1e3,
-                    h_ref * 1e3
-                ));
-            }
-        }
-        match (tension, shear) {
-            (Some(tension), Some(shear)) => Ok(CrackBand {
-                size: h,
-                tension,
-                shear,
-                strength,
-            }),
-            (None, Some(_)) if strength != 1.0 => Err(format!(
-                "element size h = (6 V)^(1/3) = {:.1} mm with a tensile strength {strength:.3} \
-                 times the material's (strength_field) would need a crack band of an element of \
-                 {:.1} mm, above the {:.1} mm at which the tension law would have to snap back \
-                 to dissipate no more than the fracture energy; refine the mesh there or lower \
-                 the strength field's coefficient_of_variation",
-                h * 1e3,
-                h * strength * strength * 1e3,
-                self.tension.largest_element(h_ref) * 1e3,
-            )),
-            _ => Err(format!(
-                "element size h = (6 V)^(1/3) = {:.1} mm exceeds the {:.1} mm above which the \
-                 microplane laws (calibrated at h_ref = {:.1} mm) would have to snap back to \
-                 dissipate no more than the fracture energy; refine the mesh there",
-                h * 1e3,
-                self.largest_element() * 1e3,
-                h_ref * 1e3
-            )),
-        }
-    }
-
-    /// Largest element size the crack band admits.
-    pub fn largest_element(&self) -> f64 {
-        let h_ref = self.parameters.h_ref;
-        self.tension
-            .largest_element(h_ref)
-            .min(self.shear.largest_element(h_ref))
     }
 
     /// The rate factor `F(gamma_dot)` (1 with the rate effect off).
@@ -745,37 +661,6 @@ impl MicroplaneConcrete {
                 psi: relaxation,
             },
         )
-    }
-
-    /// The initial (elastic) stiffness as a 6 x 6 matrix on `[11, 22, 33, 23, 13, 12]` with tensor
-    /// shears: `sigma = C : E` homogenised from the elastic split (5.37 with undamaged moduli).
-    pub fn elastic_stiffness(&self) -> [[f64; 6]; 6] {
-        let mut c = [[0.0; 6]; 6];
-        let unit: [Sym; 6] = std::array::from_fn(|j| {
-            let mut e = [0.0; 6];
-            e[j] = if j < 3 { 1.0 } else { 0.5 };
-            e
-        });
-        for (j, e) in unit.iter().enumerate() {
-            let e_v = (e[0] + e[1] + e[2]) / 3.0;
-            let mut s = [0.0; 6];
-            for plane in &self.planes {
-                let w = 6.0 * plane.weight;
-                let s_d = self.e_d0 * (contract(&plane.nn, e) - e_v);
-                let s_m = self.e_t0 * contract(&plane.mn, e);
-                let s_k = self.e_t0 * contract(&plane.kn, e);
-                for i in 0..6 {
-                    s[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
-                }
-            }
-            for v in &mut s[..3] {
-                *v += self.e_v0 * e_v;
-            }
-            for i in 0..6 {
-                c[i][j] = s[i];
-            }
-        }
-        c
     }
 }
 
