@@ -35,7 +35,6 @@ const KNOWN: &[(&str, &str, usize)] = &[
     ("harness/report/beam/plots.rs", "plots", 178),
     ("solver/src/statics/path.rs", "solve_path", 164),
     ("solver/src/statics/mod.rs", "solve_static_until", 164),
-    ("solver/src/remesh/run.rs", "run_remeshing_watched", 152),
 ];
 
 /// The folders read, from the repository root.

@@ -480,7 +480,6 @@ pub fn run_remeshing_watched(
                 }
                 false
             });
-            // The stretch's recorded contact problems go to the watch before its error does.
             watch.contact_problems(&solver.take_recorded_problems());
             let end = end?;
             let summary = (end == SegmentEnd::Finished)
@@ -510,13 +509,7 @@ pub fn run_remeshing_watched(
         }
         if records.len() >= policy.max_remeshings {
             let _ = set.finish();
-            return Err(SolverError::Remesh {
-                entity: "run".to_string(),
-                message: format!(
-                    "needs more than the {} remeshings allowed (at t = {:.6e} s)",
-                    policy.max_remeshings, now.time
-                ),
-            });
+            return Err(too_many_remeshings(policy, now.time));
         }
         // The stable limit that gives the step `mass_scaling_step` at the run's safety.
         let critical_step = policy.mass_scaling_step / settings.safety;
@@ -554,4 +547,15 @@ pub fn run_remeshing_watched(
         state: last_state,
         records,
     })
+}
+
+/// The error of a run that needs more remeshings than `policy` allows, at time `time` (s).
+fn too_many_remeshings(policy: &RemeshPolicy, time: f64) -> SolverError {
+    SolverError::Remesh {
+        entity: "run".to_string(),
+        message: format!(
+            "needs more than the {} remeshings allowed (at t = {time:.6e} s)",
+            policy.max_remeshings
+        ),
+    }
 }

@@ -5,7 +5,7 @@
 //! same numbers, so a run with checkpoints is bitwise the run without, and a resumed run
 //! bitwise the one that was never stopped.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::error::{CheckpointError, RestartError};
@@ -118,22 +118,7 @@ pub fn execute_checkpointed(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, RestartError> {
     let settings = supported(problem, analysis, options)?;
-    plan.every
-        .check()
-        .map_err(|message| crate::SolverError::InvalidScene {
-            entity: "checkpoint".into(),
-            message,
-        })?;
-    if let Some(limit) = options
-        .time_limit_s
-        .filter(|t| !(*t > 0.0 && t.is_finite()))
-    {
-        return Err(crate::SolverError::InvalidScene {
-            entity: "time limit".into(),
-            message: format!("must be a positive, finite number of seconds, got {limit}"),
-        }
-        .into());
-    }
+    check_plan(plan, options)?;
     let out = options.out.unwrap_or(Path::new("."));
     let folder = file::folder(out, options.stem);
     let output = OutputSettings {
@@ -141,60 +126,9 @@ pub fn execute_checkpointed(
         stem: options.stem.to_string(),
         fields: options.fields,
     };
-    let start = if plan.resume {
-        let (found, refused) = file::newest_good(&folder, &plan.inputs)?;
-        refused.iter().for_each(|line| (options.log)(line));
-        found
-    } else {
-        None
-    };
-    if start.is_none() {
-        if plan.resume {
-            (options.log)(&format!(
-                "no checkpoint in `{}`: the run starts from the beginning",
-                folder.display()
-            ));
-        }
-        // A run from the start leaves no checkpoint of an earlier run to be resumed by mistake.
-        for old in file::list(&folder)? {
-            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
-                path: old.clone(),
-                action: "removing an earlier run's checkpoint",
-                source,
-            })?;
-        }
-    }
-    let (mut solver, mut schedule, marks, mut plan_line) = match start {
-        Some((path, bytes)) => {
-            let payload = Payload::decode(&bytes).map_err(|e| CheckpointError::Mismatch {
-                path: path.clone(),
-                detail: format!("its payload does not read back: {}", e.0),
-            })?;
-            let step = payload.state.step;
-            let (solver, schedule) =
-                ExplicitSolver::restored(problem, settings.clone(), output, payload.state)
-                    .map_err(|e| CheckpointError::Mismatch {
-                        path: path.clone(),
-                        detail: e.to_string(),
-                    })?;
-            let columns = solver.history_columns();
-            if payload.marks.columns != columns {
-                return Err(CheckpointError::Mismatch {
-                    path,
-                    detail: "its history columns differ from this scene's".into(),
-                }
-                .into());
-            }
-            let line = format!("; resumed from `{}` at step {step}", path.display());
-            (solver, schedule, Some(payload.marks), line)
-        }
-        None => (
-            ExplicitSolver::new(problem, settings.clone(), output)?,
-            OutputSchedule::default(),
-            None,
-            String::new(),
-        ),
-    };
+    let start = starting_checkpoint(&folder, plan, options)?;
+    let (mut solver, mut schedule, marks, mut plan_line) =
+        restored_or_new(problem, settings, output, start)?;
     let marks = marks.unwrap_or_default();
     if let Some(s) = plan.every.every_s {
         plan_line += &format!("; a checkpoint every {s} s of wall time");
@@ -288,4 +222,106 @@ pub fn execute_checkpointed(
         material_history: Some(solver.history().clone()),
         remeshings: Vec::new(),
     })
+}
+
+/// The checkpoint interval and the run's time limit, checked before anything is read.
+fn check_plan(plan: &CheckpointPlan, options: &ExecuteOptions) -> Result<(), RestartError> {
+    plan.every
+        .check()
+        .map_err(|message| crate::SolverError::InvalidScene {
+            entity: "checkpoint".into(),
+            message,
+        })?;
+    if let Some(limit) = options
+        .time_limit_s
+        .filter(|t| !(*t > 0.0 && t.is_finite()))
+    {
+        return Err(crate::SolverError::InvalidScene {
+            entity: "time limit".into(),
+            message: format!("must be a positive, finite number of seconds, got {limit}"),
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// The checkpoint the run starts from: with `plan.resume` the newest good one in `folder`
+/// (refusals of damaged ones go to the log); `None` to start from the beginning, after removing
+/// any earlier run's checkpoints so that none is resumed by mistake.
+fn starting_checkpoint(
+    folder: &Path,
+    plan: &CheckpointPlan,
+    options: &ExecuteOptions,
+) -> Result<Option<(PathBuf, Vec<u8>)>, RestartError> {
+    let start = if plan.resume {
+        let (found, refused) = file::newest_good(folder, &plan.inputs)?;
+        refused.iter().for_each(|line| (options.log)(line));
+        found
+    } else {
+        None
+    };
+    if start.is_none() {
+        if plan.resume {
+            (options.log)(&format!(
+                "no checkpoint in `{}`: the run starts from the beginning",
+                folder.display()
+            ));
+        }
+        for old in file::list(folder)? {
+            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
+                path: old.clone(),
+                action: "removing an earlier run's checkpoint",
+                source,
+            })?;
+        }
+    }
+    Ok(start)
+}
+
+/// The solver and output schedule restored from the checkpoint `start` (with the output marks
+/// it stored and a line for the plan), or new ones for a run from the beginning.
+#[allow(clippy::type_complexity)]
+fn restored_or_new<'a>(
+    problem: &'a Problem,
+    settings: &ExplicitSettings,
+    output: OutputSettings,
+    start: Option<(PathBuf, Vec<u8>)>,
+) -> Result<
+    (
+        ExplicitSolver<'a>,
+        OutputSchedule,
+        Option<OutputMarks>,
+        String,
+    ),
+    RestartError,
+> {
+    let Some((path, bytes)) = start else {
+        return Ok((
+            ExplicitSolver::new(problem, settings.clone(), output)?,
+            OutputSchedule::default(),
+            None,
+            String::new(),
+        ));
+    };
+    let payload = Payload::decode(&bytes).map_err(|e| CheckpointError::Mismatch {
+        path: path.clone(),
+        detail: format!("its payload does not read back: {}", e.0),
+    })?;
+    let step = payload.state.step;
+    let (solver, schedule) =
+        ExplicitSolver::restored(problem, settings.clone(), output, payload.state).map_err(
+            |e| CheckpointError::Mismatch {
+                path: path.clone(),
+                detail: e.to_string(),
+            },
+        )?;
+    if payload.marks.columns != solver.history_columns() {
+        return Err(CheckpointError::Mismatch {
+            path,
+            detail: "its history columns differ from this scene's".into(),
+        }
+        .into());
+    }
+    let line = format!("; resumed from `{}` at step {step}", path.display());
+    Ok((solver, schedule, Some(payload.marks), line))
 }
