@@ -119,7 +119,7 @@ pub fn refresh(spec: &CcdSpec, case_dir: &Path) -> Result<Provenance, Crosscheck
 }
 
 /// The measured quantities (metric `measure: { crosscheck: <name> }`).
-pub const QUANTITIES: [&str; 9] = [
+pub const QUANTITIES: [&str; 10] = [
     "missed_impacts_raw",
     "missed_within_ipctk_tolerance",
     "missed_beyond_ipctk_tolerance",
@@ -127,6 +127,7 @@ pub const QUANTITIES: [&str; 9] = [
     "missed_impacts",
     "extra_impacts",
     "extra_impacts_beyond_ipctk_tolerance",
+    "false_positive_rate",
     "largest_toi_difference",
     "queries",
 ];
@@ -216,6 +217,17 @@ pub fn run(spec: &CcdSpec, case_dir: &Path, scratch: &Path) -> Result<Outcome, C
             .iter()
             .filter(|c| c.agreement == Agreement::Extra && c.min_distance > spec.ipctk_tolerance)
             .count() as f64,
+    );
+    // Our false positives against ipctk: impacts we report where ipctk (conservative) finds
+    // none, over the queries where it finds none (those starting in contact left out).
+    let ipctk_none = count(Agreement::BothNone) + count(Agreement::Extra);
+    q.insert(
+        "false_positive_rate".to_string(),
+        if ipctk_none > 0 {
+            count(Agreement::Extra) as f64 / ipctk_none as f64
+        } else {
+            0.0
+        },
     );
     q.insert("largest_toi_difference".to_string(), largest_toi);
     q.insert("queries".to_string(), queries.len() as f64);

@@ -10,10 +10,10 @@ use crate::crosscheck::ccd_queries::CcdQuery;
 /// algorithms, which never call it.
 pub use impact_solver::contact::geometry::point_triangle_distance;
 
-/// The distance below which the point counts as touching the triangle: the rounding level of
-/// the query's coordinates, `1e-12` times the largest.
+/// The distance below which the point counts as touching the triangle: the minimum separation
+/// of our CCD (`contact::ccd::touch`), `1e-12` times the largest coordinate of the query.
 pub fn touch_level(q: &CcdQuery) -> f64 {
-    1e-12
+    impact_solver::contact::ccd::touch::TOUCH_SEPARATION
         * q.points
             .iter()
             .flatten()

@@ -34,6 +34,8 @@
 
 use nalgebra::Vector3;
 
+pub mod touch;
+
 /// Straight-line motion of a point over one step: position at t = 0 and at t = 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Trajectory {
@@ -96,6 +98,11 @@ const MAX_ITERATIONS: usize = 128;
 /// separating node from the relative normal velocity. A face that is degenerate (a segment or a
 /// point) at a time has no weights and gives no hit at that time. `tolerance` should be at least
 /// about `1e-12` so that rounding in the weights cannot reject a contact exactly on an edge.
+///
+/// Where no crossing is found, a point that comes within the minimum separation
+/// [`touch::minimum_separation`] (1e-12 of the largest coordinate) of the triangle during the
+/// step, from farther at its start, touches it ([`touch::earliest_touch`]): the hit is the first such time, with the
+/// weights of the triangle's point nearest the node.
 pub fn vertex_face_ccd(
     node: &Trajectory,
     face: [&Trajectory; 3],
@@ -186,7 +193,9 @@ pub fn vertex_face_ccd(
             return Some(hit);
         }
     }
-    None
+    // No crossing seen: the point may still touch the triangle within the minimum separation
+    // (grazing an edge or a vertex, in-plane a rounding error off the plane, by a sliver).
+    touch::earliest_touch(node, face, touch::minimum_separation(node, face))
 }
 
 /// The four trajectories in the frame of `a(t)`: `b - a = xb + t vb`, `c - a = xc + t vc`,
