@@ -372,18 +372,61 @@ impl SurfaceSlide {
 
     /// Whether node `n`, placed in `nodes`, keeps the surface within the deviation of its old
     /// place (true for a node that does not slide on a surface).
+    ///
+    /// Both ways: the old place lies within the deviation of the new faces, and the new faces
+    /// do not pass outside the old surface by more than it. The corners of a new face all lie
+    /// on the old surface, but a flat face across a curved one is farthest from it inside: on
+    /// the concave cavity wall around a penetrator a face whose corners slid apart bulged into
+    /// the cavity, and an inner node smoothed up to it lay 12.5 um outside the old mesh with a
+    /// deviation of 10 um, farther than the transfer allows. So the face's centroid and the
+    /// midpoints of its two edges at the node may lie outside the old fans of the face's
+    /// sliding corners by at most the deviation. Inward (a face across a convex surface) they
+    /// lie in the old mesh, whose elements give them their fields.
     fn within(&self, n: u32, nodes: &[Vector3<f64>]) -> bool {
         let Some(on) = self.nodes.get(&n) else {
             return true;
         };
-        on.curved
+        let old_place_kept = on
+            .curved
             .iter()
             .map(|f| {
                 let [a, b, c] = f.map(|m| nodes[m as usize]);
                 point_triangle_distance(&on.origin, &a, &b, &c)
             })
             .fold(f64::INFINITY, f64::min)
-            <= self.deviation
+            <= self.deviation;
+        // The old surface about a face: the old fans of its sliding corners (a face's centroid
+        // may lie over a neighbour's old faces rather than the node's own).
+        // Only the outward side counts: a point of the new surface inside the old mesh takes
+        // its fields from the element it lies in, one outside has them extrapolated (a face
+        // across a convex surface lies inside it, across a concave one outside).
+        let near_old_surface = |q: Vector3<f64>, face: &[u32; 3]| {
+            let fans = || {
+                face.iter()
+                    .filter_map(|m| self.nodes.get(m))
+                    .flat_map(|corner| corner.fan.iter())
+            };
+            let (distance, outward) = fans()
+                .map(|[a, b, c]| {
+                    let p = closest_point_on_triangle(&q, a, b, c);
+                    let normal = (b - a).cross(&(c - a));
+                    ((q - p).norm(), (q - p).dot(&normal) > 0.0)
+                })
+                .fold(
+                    (f64::INFINITY, false),
+                    |best, d| if d.0 < best.0 { d } else { best },
+                );
+            !outward || distance <= self.deviation
+        };
+        old_place_kept
+            && on.curved.iter().all(|f| {
+                let [a, b, c] = f.map(|m| nodes[m as usize]);
+                let x = nodes[n as usize];
+                near_old_surface((a + b + c) / 3.0, f)
+                    && f.iter()
+                        .filter(|&&m| m != n)
+                        .all(|&m| near_old_surface(0.5 * (x + nodes[m as usize]), f))
+            })
     }
 
     /// Whether no node slides (a deviation of 0, or no node on a curved surface).
