@@ -24,7 +24,6 @@ const LIMIT: usize = 150;
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, usize)] = &[
     ("solver/src/remesh/apply.rs", "remesh_problem", 446),
-    ("harness/scene_case/measure/evaluate.rs", "evaluate_read", 443),
     ("solver/src/remesh/mesher.rs", "remesh_region_keeping_edges", 366),
     ("solver/src/scene/build.rs", "build_problem", 355),
     ("harness/material_point/experiments/rate_effect.rs", "rate_effect", 322),

@@ -1,8 +1,14 @@
 //! Measurements: numbers taken from a run's histories and final fields.
 
+mod columns;
+mod energy;
 mod error;
 mod evaluate;
 mod field;
+mod motion;
+mod signal;
+mod stress;
+mod structure;
 
 use serde::{Deserialize, Serialize};
 
