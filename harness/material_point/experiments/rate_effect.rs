@@ -4,7 +4,7 @@
 use crate::material_point::MaterialPointError;
 use impact_solver::material::microplane::driver::MaterialPoint;
 use impact_solver::material::microplane::experiments::{
-    rate_scaling, uniaxial_compression, uniaxial_tension, QUASI_STATIC_RATE,
+    rate_scaling, uniaxial_compression, uniaxial_tension, Curve, QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneParameters};
 
@@ -52,6 +52,35 @@ pub(super) fn rate_effect(
         option: "relative_to".into(),
     })?;
     let (end, steps) = compression_paths(mp, out);
+    describe_rate_law(params, out);
+    unit_check(&model, params, h, mp, out)?;
+    let peaks = peaks_over_rates(&model, params, h, mp, (end, steps), out)?;
+    let bases = Bases::at(&peaks, relative_to);
+    let cebfip = mp.reference_curves.iter().find_map(|c| match c {
+        ReferenceCurve::CebFip1990Dif { f_cm } => Some(*f_cm),
+        _ => None,
+    });
+    peaks_table(&peaks, &bases, cebfip, targets, out);
+    // Plots: peak ratios against MC2010 in tension and compression, and tension curves at a few
+    // rates.
+    for tension_side in [true, false] {
+        let plot = dif_plot(mp, &peaks, &bases, tension_side, cebfip, targets);
+        out.plots.push(plot);
+    }
+    out.plots.push(tension_curves_plot(&peaks, h, relative_to));
+    Ok(())
+}
+
+/// The rate factor `F(gamma_dot)` of the parameter file's rate law, 1 when the law is off.
+fn rate_law(params: &MicroplaneParameters, gamma: f64) -> f64 {
+    match params.rate_effect {
+        Some(r) => microplane_rate_factor(gamma, r.c1, r.c2),
+        None => 1.0,
+    }
+}
+
+/// Says in the setup which rate law the parameter file sets (or that it sets none).
+fn describe_rate_law(params: &MicroplaneParameters, out: &mut Outcome) {
     match params.rate_effect {
         Some(r) => out.setup.push(format!(
             "rate law F = 1 + c2 asinh(gamma_dot / c1), c1 = {:e} /s, c2 = {} (parameter file)",
@@ -62,17 +91,24 @@ pub(super) fn rate_effect(
             .setup
             .push("the parameter file switches the rate effect off (F = 1)".into()),
     }
-    let law = |gamma: f64| match params.rate_effect {
-        Some(r) => microplane_rate_factor(gamma, r.c1, r.c2),
-        None => 1.0,
-    };
-    // (a) The unit check on uniaxial strain: gamma_dot = rate / sqrt 2.
+}
+
+/// (a) The unit check of the rate law on uniaxial strain (`gamma_dot = rate / sqrt 2`): the
+/// stresses at a rate must be the quasi-static ones scaled by the ratio of the rate factors,
+/// which the harness computes here independently of the solver from the parameter file.
+fn unit_check(
+    model: &MicroplaneConcrete,
+    params: &MicroplaneParameters,
+    h: f64,
+    mp: &MaterialPointSpec,
+    out: &mut Outcome,
+) -> Result<(), MaterialPointError> {
     let mut unit_rows = Vec::new();
     for &rate in &mp.unit_check_rates {
         let (solver_ratio, peak_ratio, misfit) =
-            rate_scaling(&model, h, rate, UNIT_CHECK_END, UNIT_CHECK_STEPS)?;
+            rate_scaling(model, h, rate, UNIT_CHECK_END, UNIT_CHECK_STEPS)?;
         let g = |r: f64| r / std::f64::consts::SQRT_2;
-        let ratio = law(g(rate)) / law(g(QUASI_STATIC_RATE));
+        let ratio = rate_law(params, g(rate)) / rate_law(params, g(QUASI_STATIC_RATE));
         let error = (peak_ratio / ratio - 1.0).abs();
         let at = Selector {
             rate: Some(rate),
@@ -111,20 +147,45 @@ pub(super) fn rate_effect(
              rate / sqrt 2."
         ),
     });
-    // (b) Peaks over rates.
-    let mut tension = Vec::new();
-    let mut compression = Vec::new();
-    let mut compression_passed = Vec::new();
-    let mut tension_curves = Vec::new();
+    Ok(())
+}
+
+/// The paths at one strain rate and what they reached.
+struct RatePeak {
+    /// Axial strain rate (1/s).
+    rate: f64,
+    /// Uniaxial tension path.
+    tension_curve: Curve,
+    /// Established tensile peak (Pa).
+    tension: f64,
+    /// Elastic uniaxial-stress stiffness at the rate (Pa; [`initial_stiffness`]).
+    stiffness: f64,
+    /// Slope of the tension path's first increment (Pa).
+    first_slope: f64,
+    /// Largest compressive stress (Pa, positive): the peak, or a lower bound of it.
+    compression: f64,
+    /// Whether the compressive path passed its peak.
+    compression_passed: bool,
+}
+
+/// (b) Uniaxial tension and compression at each rate of the case, with notes on paths that
+/// stopped early and on compressive paths that did not pass their peak.
+fn peaks_over_rates(
+    model: &MicroplaneConcrete,
+    params: &MicroplaneParameters,
+    h: f64,
+    mp: &MaterialPointSpec,
+    (end, steps): (f64, usize),
+    out: &mut Outcome,
+) -> Result<Vec<RatePeak>, MaterialPointError> {
+    let mut peaks = Vec::with_capacity(mp.rates.len());
     for &rate in &mp.rates {
-        let (curve, r) = uniaxial_tension(&model, h, rate)?;
+        let (curve, r) = uniaxial_tension(model, h, rate)?;
         let what = format!("tension at {rate:e} /s");
         note_stop(&curve, &what, out);
         let (peak, _) = established_peak(&curve, &what, out);
-        let stiffness = initial_stiffness(&model, h, rate, params.poisson_ratio)?;
-        tension.push((rate, peak, stiffness, r.initial_slope));
-        tension_curves.push((rate, curve));
-        let (c, _) = uniaxial_compression(&model, h, rate, end, steps)?;
+        let stiffness = initial_stiffness(model, h, rate, params.poisson_ratio)?;
+        let (c, _) = uniaxial_compression(model, h, rate, end, steps)?;
         note_stop(&c, &format!("compression at {rate:e} /s"), out);
         // Compression is reported, not judged: a path that did not pass its peak still shows its
         // largest stress, marked as a lower bound.
@@ -135,96 +196,68 @@ pub(super) fn rate_effect(
                  stopped; its largest stress is only a lower bound of the peak"
             ));
         }
-        compression.push((rate, -c.peak().stress[0]));
-        compression_passed.push(passed);
+        peaks.push(RatePeak {
+            rate,
+            tension_curve: curve,
+            tension: peak,
+            stiffness,
+            first_slope: r.initial_slope,
+            compression: -c.peak().stress[0],
+            compression_passed: passed,
+        });
     }
-    let base = |list: &[(f64, f64)]| {
-        list.iter()
-            .find(|(r, _)| close(*r, relative_to))
-            .map_or(f64::NAN, |x| x.1)
-    };
-    let t_pairs: Vec<(f64, f64)> = tension.iter().map(|t| (t.0, t.1)).collect();
-    let (t0, c0) = (base(&t_pairs), base(&compression));
-    let cebfip = mp.reference_curves.iter().find_map(|c| match c {
-        ReferenceCurve::CebFip1990Dif { f_cm } => Some(*f_cm),
-        _ => None,
-    });
-    let mut rows = Vec::new();
-    let base_passed = mp
-        .rates
+    Ok(peaks)
+}
+
+/// The peaks at the base rate `relative_to`, which the ratios divide by (NaN where the case's
+/// rates miss it).
+struct Bases {
+    /// The base rate (1/s).
+    relative_to: f64,
+    /// Tensile peak at the base rate (Pa).
+    tension: f64,
+    /// Compressive peak at the base rate (Pa).
+    compression: f64,
+    /// Whether the compressive path at the base rate passed its peak.
+    compression_passed: bool,
+}
+
+impl Bases {
+    /// The bases of `peaks` at `relative_to`.
+    fn at(peaks: &[RatePeak], relative_to: f64) -> Self {
+        let base = peaks.iter().find(|p| close(p.rate, relative_to));
+        Bases {
+            relative_to,
+            tension: base.map_or(f64::NAN, |p| p.tension),
+            compression: base.map_or(f64::NAN, |p| p.compression),
+            compression_passed: base.is_some_and(|p| p.compression_passed),
+        }
+    }
+}
+
+/// The values of the peaks and their ratios at each rate, the spread of the initial stiffness
+/// over the rates (it must not depend on the rate), and the table of the ratios against MC2010
+/// and CEB-FIP 1990 (`cebfip`: its `f_cm` in MPa where the case draws it).
+fn peaks_table(
+    peaks: &[RatePeak],
+    bases: &Bases,
+    cebfip: Option<f64>,
+    targets: &Targets,
+    out: &mut Outcome,
+) {
+    let relative_to = bases.relative_to;
+    let rows = peaks
         .iter()
-        .zip(&compression_passed)
-        .find(|(r, _)| close(**r, relative_to))
-        .is_some_and(|(_, p)| *p);
-    for ((&(rate, peak, stiffness, _), &(_, cpeak)), &passed) in
-        tension.iter().zip(&compression).zip(&compression_passed)
-    {
-        let at = Selector {
-            rate: Some(rate),
-            ..Selector::default()
-        };
-        let (tr, cr) = (peak / t0, cpeak / c0);
-        out.values.extend([
-            value(Quantity::InitialSlope, &at, stiffness / MPA),
-            value(Quantity::TensionPeakStress, &at, peak / MPA),
-            value(Quantity::TensionPeakRatio, &at, tr),
-            value(Quantity::CompressionPeakStress, &at, cpeak / MPA),
-            value(Quantity::CompressionPeakRatio, &at, cr),
-        ]);
-        let (mt, mc) = (
-            mc2010_dif_ratio(rate, relative_to, true),
-            mc2010_dif_ratio(rate, relative_to, false),
-        );
-        let judged = |q: Quantity| {
-            if targets.band(q, &at).is_some() {
-                " (judged)"
-            } else {
-                ""
-            }
-        };
-        rows.push(vec![
-            format!("{rate:e}"),
-            num(peak / MPA),
-            format!("{tr:.4}"),
-            format!("{mt:.4}"),
-            format!(
-                "{:+.2} %{}",
-                100.0 * (tr / mt - 1.0),
-                judged(Quantity::TensionPeakRatio)
-            ),
-            cebfip.map_or("—".into(), |f| {
-                format!(
-                    "{:.4}",
-                    cebfip1990_dynamic_increase_factor(rate, true, f)
-                        / cebfip1990_dynamic_increase_factor(relative_to, true, f)
-                )
-            }),
-            if passed {
-                num(cpeak / MPA)
-            } else {
-                format!(">= {} (peak not passed)", num(cpeak / MPA))
-            },
-            if passed && base_passed {
-                format!("{cr:.4}")
-            } else {
-                format!("{cr:.4} (from lower bounds)")
-            },
-            format!("{mc:.4}"),
-            format!(
-                "{:+.2} %{}",
-                100.0 * (cr / mc - 1.0),
-                judged(Quantity::CompressionPeakRatio)
-            ),
-        ]);
-    }
+        .map(|p| peak_row(p, bases, cebfip, targets, out))
+        .collect();
     let spread_of = |slopes: Vec<f64>| {
         let mean = slopes.iter().sum::<f64>() / slopes.len() as f64;
         (slopes.iter().copied().fold(f64::NEG_INFINITY, f64::max)
             - slopes.iter().copied().fold(f64::INFINITY, f64::min))
             / mean
     };
-    let spread = spread_of(tension.iter().map(|t| t.2).collect());
-    let first_increment_spread = spread_of(tension.iter().map(|t| t.3).collect());
+    let spread = spread_of(peaks.iter().map(|p| p.stiffness).collect());
+    let first_increment_spread = spread_of(peaks.iter().map(|p| p.first_slope).collect());
     out.values.push(value(
         Quantity::InitialSlopeSpread,
         &Selector::default(),
@@ -256,98 +289,183 @@ pub(super) fn rate_effect(
              about 1e-8 / e1) varies by {first_increment_spread:.2e}."
         ),
     });
-    // Plots: peak ratios against MC2010 in tension and compression, and tension curves at a few
-    // rates.
+}
+
+/// The values measured at one rate (into `out`) and its row of the peaks table: the peaks, their
+/// ratios to the base rate's, and the MC2010 and CEB-FIP 1990 ratios they are compared with.
+fn peak_row(
+    p: &RatePeak,
+    bases: &Bases,
+    cebfip: Option<f64>,
+    targets: &Targets,
+    out: &mut Outcome,
+) -> Vec<String> {
+    let (rate, peak, stiffness, cpeak) = (p.rate, p.tension, p.stiffness, p.compression);
+    let relative_to = bases.relative_to;
+    let at = Selector {
+        rate: Some(rate),
+        ..Selector::default()
+    };
+    let (tr, cr) = (peak / bases.tension, cpeak / bases.compression);
+    out.values.extend([
+        value(Quantity::InitialSlope, &at, stiffness / MPA),
+        value(Quantity::TensionPeakStress, &at, peak / MPA),
+        value(Quantity::TensionPeakRatio, &at, tr),
+        value(Quantity::CompressionPeakStress, &at, cpeak / MPA),
+        value(Quantity::CompressionPeakRatio, &at, cr),
+    ]);
+    let (mt, mc) = (
+        mc2010_dif_ratio(rate, relative_to, true),
+        mc2010_dif_ratio(rate, relative_to, false),
+    );
+    let judged = |q: Quantity| {
+        if targets.band(q, &at).is_some() {
+            " (judged)"
+        } else {
+            ""
+        }
+    };
+    vec![
+        format!("{rate:e}"),
+        num(peak / MPA),
+        format!("{tr:.4}"),
+        format!("{mt:.4}"),
+        format!(
+            "{:+.2} %{}",
+            100.0 * (tr / mt - 1.0),
+            judged(Quantity::TensionPeakRatio)
+        ),
+        cebfip.map_or("—".into(), |f| {
+            format!(
+                "{:.4}",
+                cebfip1990_dynamic_increase_factor(rate, true, f)
+                    / cebfip1990_dynamic_increase_factor(relative_to, true, f)
+            )
+        }),
+        if p.compression_passed {
+            num(cpeak / MPA)
+        } else {
+            format!(">= {} (peak not passed)", num(cpeak / MPA))
+        },
+        if p.compression_passed && bases.compression_passed {
+            format!("{cr:.4}")
+        } else {
+            format!("{cr:.4} (from lower bounds)")
+        },
+        format!("{mc:.4}"),
+        format!(
+            "{:+.2} %{}",
+            100.0 * (cr / mc - 1.0),
+            judged(Quantity::CompressionPeakRatio)
+        ),
+    ]
+}
+
+/// The dynamic increase of the peak in tension (`tension_side`) or compression over the rates:
+/// the model's ratios against fib MC2010, the judged band around it, and CEB-FIP 1990 where the
+/// case draws it.
+fn dif_plot(
+    mp: &MaterialPointSpec,
+    peaks: &[RatePeak],
+    bases: &Bases,
+    tension_side: bool,
+    cebfip: Option<f64>,
+    targets: &Targets,
+) -> MaterialPlot {
+    let relative_to = bases.relative_to;
     let (lo, hi) = mp
         .rates
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| {
             (a.min(r), b.max(r))
         });
-    let sides = [
+    let (what, model_points, quantity): (_, Vec<(f64, f64)>, _) = if tension_side {
         (
             "tension",
-            true,
-            t_pairs
+            peaks
                 .iter()
-                .map(|&(r, p)| (r, p / t0))
-                .collect::<Vec<_>>(),
-        ),
+                .map(|p| (p.rate, p.tension / bases.tension))
+                .collect(),
+            Quantity::TensionPeakRatio,
+        )
+    } else {
         (
             "compression",
-            false,
-            compression.iter().map(|&(r, p)| (r, p / c0)).collect(),
-        ),
-    ];
-    for (what, tension_side, model_points) in sides {
-        let mut plot = MaterialPlot::new(
-            format!("Rate effect in {what}: peak / peak at {relative_to:e} /s"),
-            "strain rate [/s]",
-            "strength ratio [-]",
+            peaks
+                .iter()
+                .map(|p| (p.rate, p.compression / bases.compression))
+                .collect(),
+            Quantity::CompressionPeakRatio,
         )
-        .log_x()
-        .curve(series("model", &model_points))
-        .reference_curve(sampled("fib MC2010", lo, hi, 200, true, |r| {
-            mc2010_dif_ratio(r, relative_to, tension_side)
-        }));
-        let quantity = if tension_side {
-            Quantity::TensionPeakRatio
-        } else {
-            Quantity::CompressionPeakRatio
-        };
-        // The judged band: +- the tolerance around MC2010 over the judged rates.
-        let judged: Vec<(f64, f64)> = mp
-            .rates
-            .iter()
-            .filter_map(|&r| {
-                let at = Selector {
-                    rate: Some(r),
-                    ..Selector::default()
-                };
-                let b = targets.band(quantity, &at)?;
-                let reference = targets.reference(quantity, &at)?;
-                Some((r, (b[1] - reference) / reference))
-            })
-            .collect();
-        if let (Some(first), Some(last)) = (judged.first(), judged.last()) {
-            let tol = first.1;
-            let pct = num(100.0 * tol);
-            let (a, b) = (first.0, last.0);
-            plot = plot
-                .reference_curve(sampled(
-                    format!("MC2010 +{pct} % (judged)"),
-                    a,
-                    b,
-                    60,
-                    true,
-                    |r| (1.0 + tol) * mc2010_dif_ratio(r, relative_to, tension_side),
-                ))
-                .reference_curve(sampled(format!("MC2010 -{pct} %"), a, b, 60, true, |r| {
-                    (1.0 - tol) * mc2010_dif_ratio(r, relative_to, tension_side)
-                }));
-        }
-        if let Some(f_cm) = cebfip {
-            plot = plot.reference_curve(sampled(
-                format!("CEB-FIP 1990 (f_cm {f_cm} MPa)"),
-                lo,
-                hi,
-                200,
+    };
+    let mut plot = MaterialPlot::new(
+        format!("Rate effect in {what}: peak / peak at {relative_to:e} /s"),
+        "strain rate [/s]",
+        "strength ratio [-]",
+    )
+    .log_x()
+    .curve(series("model", &model_points))
+    .reference_curve(sampled("fib MC2010", lo, hi, 200, true, |r| {
+        mc2010_dif_ratio(r, relative_to, tension_side)
+    }));
+    // The judged band: +- the tolerance around MC2010 over the judged rates.
+    let judged: Vec<(f64, f64)> = mp
+        .rates
+        .iter()
+        .filter_map(|&r| {
+            let at = Selector {
+                rate: Some(r),
+                ..Selector::default()
+            };
+            let b = targets.band(quantity, &at)?;
+            let reference = targets.reference(quantity, &at)?;
+            Some((r, (b[1] - reference) / reference))
+        })
+        .collect();
+    if let (Some(first), Some(last)) = (judged.first(), judged.last()) {
+        let tol = first.1;
+        let pct = num(100.0 * tol);
+        let (a, b) = (first.0, last.0);
+        plot = plot
+            .reference_curve(sampled(
+                format!("MC2010 +{pct} % (judged)"),
+                a,
+                b,
+                60,
                 true,
-                |r| {
-                    cebfip1990_dynamic_increase_factor(r, tension_side, f_cm)
-                        / cebfip1990_dynamic_increase_factor(relative_to, tension_side, f_cm)
-                },
-            ));
-        }
-        out.plots.push(plot);
+                |r| (1.0 + tol) * mc2010_dif_ratio(r, relative_to, tension_side),
+            ))
+            .reference_curve(sampled(format!("MC2010 -{pct} %"), a, b, 60, true, |r| {
+                (1.0 - tol) * mc2010_dif_ratio(r, relative_to, tension_side)
+            }));
     }
+    if let Some(f_cm) = cebfip {
+        plot = plot.reference_curve(sampled(
+            format!("CEB-FIP 1990 (f_cm {f_cm} MPa)"),
+            lo,
+            hi,
+            200,
+            true,
+            |r| {
+                cebfip1990_dynamic_increase_factor(r, tension_side, f_cm)
+                    / cebfip1990_dynamic_increase_factor(relative_to, tension_side, f_cm)
+            },
+        ));
+    }
+    plot
+}
+
+/// The tension paths at a few rates (all of them up to four; otherwise the first, the middle,
+/// the last and the base rate), each to four times its peak strain.
+fn tension_curves_plot(peaks: &[RatePeak], h: f64, relative_to: f64) -> MaterialPlot {
     let mut curves_plot = MaterialPlot::new(
         format!("Uniaxial tension at several rates, h = {} mm", num(h * 1e3)),
         STRAIN_AXIS,
         "stress [MPa]",
     );
-    let n = tension_curves.len();
-    for (i, (rate, curve)) in tension_curves.iter().enumerate() {
+    let n = peaks.len();
+    for (i, p) in peaks.iter().enumerate() {
+        let (rate, curve) = (&p.rate, &p.tension_curve);
         if n > 4 && !(i == 0 || i == n - 1 || i == n / 2 || close(*rate, relative_to)) {
             continue;
         }
@@ -358,6 +476,5 @@ pub(super) fn rate_effect(
             .collect();
         curves_plot = curves_plot.curve(series(format!("{rate:e} /s"), &pts));
     }
-    out.plots.push(curves_plot);
-    Ok(())
+    curves_plot
 }
