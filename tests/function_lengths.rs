@@ -29,7 +29,6 @@ const KNOWN: &[(&str, &str, usize)] = &[
     ("solver/src/remesh/mesh_check.rs", "check_remeshed", 276),
     ("solver/src/material/microplane/mod.rs", "plane_update", 272),
     ("harness/scene_case.rs", "run_logged", 255),
-    ("harness/report/beam/plots.rs", "plots", 178),
     ("solver/src/statics/path.rs", "solve_path", 164),
     ("solver/src/statics/mod.rs", "solve_static_until", 164),
 ];

@@ -10,6 +10,7 @@ use super::{BeamRecord, BEAM_BODY};
 use crate::report::format::{self, num};
 use crate::results::{PlotData, Series};
 use impact_solver::analysis::Execution;
+use impact_solver::output::HistoryTable;
 
 /// The plots of a beam case from its history: energy transformation, contact force, support
 /// reactions, the force components of (6.48), and a static load-displacement curve.
@@ -25,171 +26,234 @@ pub(super) fn plots(
     let Some(time) = history.column("time") else {
         return Vec::new();
     };
-    let has = |c: &str| history.columns().iter().any(|x| x == c);
-    let series = |name: &str, y: Vec<f64>| Series {
-        name: name.to_string(),
-        x: time.clone(),
-        y,
+    let h = TimeHistories {
+        history,
+        time,
+        existing,
     };
-    let column = |c: &str| history.column(c).map(|y| series(c, y));
-    let plot = |title: &str, y_label: &str, series: Vec<Series>| PlotData {
+    let contact = contact_column(problem, run);
+    let reactions: Vec<String> = support_names(problem)
+        .iter()
+        .map(|n| format!("{n}_reaction_y"))
+        .filter(|c| h.has(c))
+        .collect();
+    [
+        energy_plot(problem, &h),
+        contact.as_ref().and_then(|c| contact_force_plot(&h, c)),
+        reactions_plot(&h, &reactions),
+        contact
+            .as_ref()
+            .and_then(|c| force_components_plot(scene, problem, &h, c, &reactions)),
+        load_displacement_plot(&h),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// A run's history columns against time, with the plots the case draws already (`existing`),
+/// which the beam's plots do not draw again.
+struct TimeHistories<'a> {
+    history: &'a HistoryTable,
+    /// The `time` column (s).
+    time: Vec<f64>,
+    existing: &'a [PlotData],
+}
+
+impl TimeHistories<'_> {
+    /// Whether the history has column `c`.
+    fn has(&self, c: &str) -> bool {
+        self.history.columns().iter().any(|x| x == c)
+    }
+
+    /// `y` against time, named `name`.
+    fn series(&self, name: &str, y: Vec<f64>) -> Series {
+        Series {
+            name: name.to_string(),
+            x: self.time.clone(),
+            y,
+        }
+    }
+
+    /// Column `c` against time, named after it.
+    fn column(&self, c: &str) -> Option<Series> {
+        self.history.column(c).map(|y| self.series(c, y))
+    }
+
+    /// Whether a plot of the case already shows every one of `names`.
+    fn already(&self, names: &[String]) -> bool {
+        self.existing
+            .iter()
+            .any(|p| names.iter().all(|n| p.series.iter().any(|s| &s.name == n)))
+    }
+}
+
+/// A plot against time.
+fn time_plot(title: &str, y_label: &str, series: Vec<Series>) -> PlotData {
+    PlotData {
         title: title.to_string(),
         x_label: "time (s)".into(),
         y_label: y_label.to_string(),
         series,
         reference_lines: Vec::new(),
         log_log: false,
-    };
-    let already = |names: &[String]| {
-        existing
-            .iter()
-            .any(|p| names.iter().all(|n| p.series.iter().any(|s| &s.name == n)))
-    };
-    let mut out = Vec::new();
+    }
+}
 
-    // Energy transformation: the kinetic energies of the bodies, the internal and friction work
-    // and their sum.
+/// Energy transformation: the kinetic energies of the bodies, the internal and friction work
+/// and their sum (thesis Figs 10.11-10.14); none without a kinetic energy and one more column.
+fn energy_plot(problem: &Problem, h: &TimeHistories) -> Option<PlotData> {
     let mut energy_columns: Vec<String> = problem
         .model
         .bodies
         .iter()
         .map(|b| format!("{}_kinetic", b.name))
-        .filter(|c| has(c))
+        .filter(|c| h.has(c))
         .collect();
     energy_columns.extend(
         ["internal_work", "friction_work"]
             .into_iter()
-            .filter(|c| has(c))
+            .filter(|c| h.has(c))
             .map(String::from),
     );
-    if energy_columns.len() >= 2 && energy_columns.iter().any(|c| c.ends_with("_kinetic")) {
-        let mut curves: Vec<Series> = energy_columns.iter().filter_map(|c| column(c)).collect();
-        let total: Vec<f64> = (0..time.len())
-            .map(|k| curves.iter().map(|s| s.y[k]).sum())
-            .collect();
-        let total_name = if has("external_work") {
-            "total = sum (external work, e.g. gravity, not included)"
-        } else {
-            "total = sum"
-        };
-        curves.push(series(total_name, total));
-        out.push(plot(
-            "Energy transformation (thesis Figs 10.11-10.14)",
-            "energy (J)",
-            curves,
-        ));
+    if !(energy_columns.len() >= 2 && energy_columns.iter().any(|c| c.ends_with("_kinetic"))) {
+        return None;
     }
-
-    // Contact force and support reactions.
-    let contact = contact_column(problem, run);
-    if let Some(c) = &contact {
-        if !already(std::slice::from_ref(c)) {
-            if let Some(s) = column(c) {
-                out.push(plot(
-                    "Contact force, beam on impactor (thesis Fig. 10.15)",
-                    "force (N)",
-                    vec![s],
-                ));
-            }
-        }
-    }
-    let reactions: Vec<String> = support_names(problem)
-        .iter()
-        .map(|n| format!("{n}_reaction_y"))
-        .filter(|c| has(c))
+    let mut curves: Vec<Series> = energy_columns.iter().filter_map(|c| h.column(c)).collect();
+    let total: Vec<f64> = (0..h.time.len())
+        .map(|k| curves.iter().map(|s| s.y[k]).sum())
         .collect();
-    if !reactions.is_empty() && !already(&reactions) {
-        out.push(plot(
-            "Support reactions (thesis Fig. 10.17)",
-            "force (N)",
-            reactions.iter().filter_map(|c| column(c)).collect(),
-        ));
-    }
+    let total_name = if h.has("external_work") {
+        "total = sum (external work, e.g. gravity, not included)"
+    } else {
+        "total = sum"
+    };
+    curves.push(h.series(total_name, total));
+    Some(time_plot(
+        "Energy transformation (thesis Figs 10.11-10.14)",
+        "energy (J)",
+        curves,
+    ))
+}
 
-    // The force components of (6.48) on the beam in y.
-    let momentum = format!("{BEAM_BODY}_momentum_y");
-    if let (Some(c), Some(p)) = (&contact, history.column(&momentum)) {
-        if !reactions.is_empty() && time.len() >= 3 {
-            let contact_on_beam: Vec<f64> = history
-                .column(c)
-                .unwrap_or_default()
+/// The contact force of column `contact`, beam on impactor (thesis Fig. 10.15), unless the case
+/// draws it.
+fn contact_force_plot(h: &TimeHistories, contact: &String) -> Option<PlotData> {
+    if h.already(std::slice::from_ref(contact)) {
+        return None;
+    }
+    let s = h.column(contact)?;
+    Some(time_plot(
+        "Contact force, beam on impactor (thesis Fig. 10.15)",
+        "force (N)",
+        vec![s],
+    ))
+}
+
+/// The support reactions (thesis Fig. 10.17), unless the case draws them.
+fn reactions_plot(h: &TimeHistories, reactions: &[String]) -> Option<PlotData> {
+    if reactions.is_empty() || h.already(reactions) {
+        return None;
+    }
+    Some(time_plot(
+        "Support reactions (thesis Fig. 10.17)",
+        "force (N)",
+        reactions.iter().filter_map(|c| h.column(c)).collect(),
+    ))
+}
+
+/// The force components of (6.48) on the beam in y (thesis Fig. 10.16): inertial `dp/dt`,
+/// internal (minus the support reactions), mass-proportional damping, their sum, and the contact
+/// force on the beam, which the sum balances with the beam's weight. Needs the beam's momentum,
+/// the reactions and three records.
+fn force_components_plot(
+    scene: &Scene,
+    problem: &Problem,
+    h: &TimeHistories,
+    contact: &str,
+    reactions: &[String],
+) -> Option<PlotData> {
+    let (history, time) = (h.history, &h.time);
+    let p = history.column(&format!("{BEAM_BODY}_momentum_y"))?;
+    if reactions.is_empty() || time.len() < 3 {
+        return None;
+    }
+    let contact_on_beam: Vec<f64> = history
+        .column(contact)
+        .unwrap_or_default()
+        .iter()
+        .map(|f| -f)
+        .collect();
+    let inertial = central_differences(time, &p);
+    let internal: Vec<f64> = (0..time.len())
+        .map(|k| {
+            -reactions
                 .iter()
-                .map(|f| -f)
-                .collect();
-            let inertial = central_differences(&time, &p);
-            let internal: Vec<f64> = (0..time.len())
-                .map(|k| {
-                    -reactions
-                        .iter()
-                        .filter_map(|r| history.column(r))
-                        .map(|y| y[k])
-                        .sum::<f64>()
-                })
-                .collect();
-            let damping_coefficient = match &scene.analysis {
-                Analysis::Explicit(s) => s.settings.damping,
-                Analysis::Release { explicit, .. } => explicit.settings.damping,
-                Analysis::Static(_) => 0.0,
-            };
-            // Mass-proportional damping C = a M: its resultant on the beam is a p.
-            let damping: Vec<f64> = p.iter().map(|p| damping_coefficient * p).collect();
-            let sum: Vec<f64> = (0..time.len())
-                .map(|k| inertial[k] + internal[k] + damping[k])
-                .collect();
-            let damping_name = if damping_coefficient == 0.0 {
-                "damping (none in this scene: 0)".to_string()
-            } else {
-                format!("damping a p (a = {} 1/s)", num(damping_coefficient))
-            };
-            // The beam's weight: the components balance contact plus weight.
-            let beam = &problem.model.bodies[problem.model.body_index(BEAM_BODY).unwrap_or(0)];
-            let beam_mass: f64 = problem.model.mass[beam.nodes.clone()].iter().sum();
-            let weight = problem.gravity.map_or(0.0, |g| g.y * beam_mass);
-            let sum_name = if weight == 0.0 {
-                "inertial + internal + damping".to_string()
-            } else {
-                format!(
-                    "inertial + internal + damping (= contact + weight {} kN)",
-                    format::num(weight / 1e3)
-                )
-            };
-            let title = "Forces on the beam in y, (6.48) (thesis Fig. 10.16)";
-            out.push(plot(
-                title,
-                "force (N)",
-                vec![
-                    series("inertial dp/dt", inertial),
-                    series("internal = -sum of reactions", internal),
-                    series(&damping_name, damping),
-                    series(&sum_name, sum),
-                    series("contact on beam", contact_on_beam),
-                ],
-            ));
-        }
-    }
+                .filter_map(|r| history.column(r))
+                .map(|y| y[k])
+                .sum::<f64>()
+        })
+        .collect();
+    let damping_coefficient = match &scene.analysis {
+        Analysis::Explicit(s) => s.settings.damping,
+        Analysis::Release { explicit, .. } => explicit.settings.damping,
+        Analysis::Static(_) => 0.0,
+    };
+    // Mass-proportional damping C = a M: its resultant on the beam is a p.
+    let damping: Vec<f64> = p.iter().map(|p| damping_coefficient * p).collect();
+    let sum: Vec<f64> = (0..time.len())
+        .map(|k| inertial[k] + internal[k] + damping[k])
+        .collect();
+    let damping_name = if damping_coefficient == 0.0 {
+        "damping (none in this scene: 0)".to_string()
+    } else {
+        format!("damping a p (a = {} 1/s)", num(damping_coefficient))
+    };
+    // The beam's weight: the components balance contact plus weight.
+    let beam = &problem.model.bodies[problem.model.body_index(BEAM_BODY).unwrap_or(0)];
+    let beam_mass: f64 = problem.model.mass[beam.nodes.clone()].iter().sum();
+    let weight = problem.gravity.map_or(0.0, |g| g.y * beam_mass);
+    let sum_name = if weight == 0.0 {
+        "inertial + internal + damping".to_string()
+    } else {
+        format!(
+            "inertial + internal + damping (= contact + weight {} kN)",
+            format::num(weight / 1e3)
+        )
+    };
+    let title = "Forces on the beam in y, (6.48) (thesis Fig. 10.16)";
+    Some(time_plot(
+        title,
+        "force (N)",
+        vec![
+            h.series("inertial dp/dt", inertial),
+            h.series("internal = -sum of reactions", internal),
+            h.series(&damping_name, damping),
+            h.series(&sum_name, sum),
+            h.series("contact on beam", contact_on_beam),
+        ],
+    ))
+}
 
-    // Static load against mid-span displacement (thesis Fig. 10.5), unless the case draws it.
-    if let (Some(load), Some(disp)) = (
-        history.column("load_plate_reaction_y"),
-        history.column("midspan_y"),
-    ) {
-        let drawn = existing.iter().any(|p| p.x_label.contains("midspan_y"));
-        if !drawn {
-            out.push(PlotData {
-                title: "Load against mid-span displacement (thesis Fig. 10.5)".into(),
-                x_label: "midspan_y (m)".into(),
-                y_label: "load_plate_reaction_y (N)".into(),
-                series: vec![Series {
-                    name: "load plate reaction".into(),
-                    x: disp,
-                    y: load,
-                }],
-                reference_lines: Vec::new(),
-                log_log: false,
-            });
-        }
+/// Static load against mid-span displacement (thesis Fig. 10.5), unless the case draws it.
+fn load_displacement_plot(h: &TimeHistories) -> Option<PlotData> {
+    let load = h.history.column("load_plate_reaction_y")?;
+    let disp = h.history.column("midspan_y")?;
+    if h.existing.iter().any(|p| p.x_label.contains("midspan_y")) {
+        return None;
     }
-    out
+    Some(PlotData {
+        title: "Load against mid-span displacement (thesis Fig. 10.5)".into(),
+        x_label: "midspan_y (m)".into(),
+        y_label: "load_plate_reaction_y (N)".into(),
+        series: vec![Series {
+            name: "load plate reaction".into(),
+            x: disp,
+            y: load,
+        }],
+        reference_lines: Vec::new(),
+        log_log: false,
+    })
 }
 
 /// The bending-crack tips against time: the heights the cohesive and the traction-free tip
