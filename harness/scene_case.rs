@@ -2,6 +2,7 @@
 //! once per level of a sweep, and measured from its histories and fields ([`measure`]).
 //! Several variants (integrators, contact solvers) may run the same scene.
 
+mod level_run;
 pub mod measure;
 
 use std::collections::BTreeMap;
@@ -9,6 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem, Analysis, MeshSource, Scene};
 use impact_solver::SolverError;
 
@@ -19,12 +21,13 @@ use crate::case_log::CaseLog;
 use crate::catalogue::{CaseSpec, Sweep, Variant};
 use crate::judge::{error_for_sweep, judge_readings, observed_order};
 use crate::results::{
-    case_dir, file_safe, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series,
-    Status, SweepLevel, SweepResult,
+    case_dir, CaseResult, LevelStatus, MetricResult, PlotData, ReferenceLine, Series, Status,
+    SweepLevel, SweepResult,
 };
-use impact_solver::analysis::{execute, ExecuteOptions, Execution};
-use impact_solver::distributed::{Communicator, ThreadGroup};
+use impact_solver::analysis::Execution;
+use impact_solver::distributed::Communicator;
 use impact_solver::output::HistoryTable;
+use level_run::{stem_of, LevelRun, LevelRunner};
 use measure::{Measure, MeasureError};
 
 /// Why a case's scene is refused before it runs.
@@ -48,18 +51,6 @@ pub enum SceneCaseError {
     /// The scene cannot be built to find its stable step.
     #[error(transparent)]
     Build(#[from] SolverError),
-}
-
-/// The pool a rank thread of a threaded distributed run computes in: one thread, its own, so that
-/// no rank waits on workers that other cases hold.
-fn rank_pool() -> Result<rayon::ThreadPool, SolverError> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .map_err(|e| SolverError::InvalidScene {
-            entity: "ranks".into(),
-            message: format!("cannot start a rank's thread pool: {e}"),
-        })
 }
 
 /// A case that runs its scene.
@@ -115,13 +106,6 @@ impl SceneCase {
     ) -> CaseResult {
         run_case(self, case, variant, options, Some(world))
     }
-}
-
-/// One solver run of a case (one sweep level).
-struct LevelRun {
-    parameter: f64,
-    wall_s: f64,
-    outcome: Result<(impact_solver::problem::Problem, Execution), SolverError>,
 }
 
 /// Runs one case under one variant with its log ([`crate::case_log`]): what its runs print on
@@ -186,206 +170,31 @@ fn run_logged(
     };
     let case_dir = options.output_dir.as_ref().map(|d| case_dir(d, &spec.id));
     let sink = log.sink();
+    let runner = LevelRunner {
+        spec,
+        variant,
+        options,
+        world,
+        case_dir: case_dir.as_deref(),
+        sink: &sink,
+        levels: levels.len(),
+    };
     let runs: Vec<LevelRun> = levels
         .iter()
         .enumerate()
-        .map(|(i, (parameter, scene))| {
-            let t0 = Instant::now();
-            let stem = stem_of(variant, i, levels.len());
-            let run_as = |ranks: Option<&dyn Communicator>| {
-                build_problem(scene).and_then(|mut problem| {
-                    let opts = ExecuteOptions {
-                        out: case_dir.as_deref(),
-                        stem: &stem,
-                        fields: false,
-                        time_limit_s: Some(spec.time_limit_s.unwrap_or(options.time_limit_s)),
-                        stop: options.stop.clone(),
-                        ranks,
-                        // Rank 0 of threaded ranks speaks for the run: every rank would log the
-                        // same lines.
-                        log: if ranks.is_none_or(|c| c.rank() == 0) {
-                            &sink
-                        } else {
-                            &|_| {}
-                        },
-                    };
-                    execute(&mut problem, &scene.analysis, &opts, &mut |_| {})
-                        .map(|run| (problem, run))
-                })
-            };
-            let outcome = match variant.and_then(|v| v.ranks).filter(|&n| n > 1) {
-                Some(n) if world.is_some_and(|w| w.size() != n) => Err(SolverError::InvalidScene {
-                    entity: "ranks".into(),
-                    message: format!(
-                        "the variant asks for {n} ranks, but {} were started",
-                        world.map_or(1, |w| w.size())
-                    ),
-                }),
-                Some(_) if world.is_some() => run_as(world),
-                // Every rank runs the case; rank 0's outcome is the run's (every rank holds the
-                // same nodal history, and rank 0 alone writes files).
-                //
-                // Each rank thread gets a one-thread pool of its own: its parallel loops must not
-                // wait for the catalogue's shared pool, whose workers another case may hold for
-                // its whole run while this rank's partner waits at a barrier (the 2-rank
-                // solver-agreement case starved at step 0 behind the nail run for 900 s).
-                Some(n) => {
-                    let group = ThreadGroup::new(n);
-                    std::thread::scope(|s| {
-                        let ranks: Vec<_> = group
-                            .iter()
-                            .map(|comm| {
-                                s.spawn(|| {
-                                    rank_pool()?.install(|| run_as(Some(comm as &dyn Communicator)))
-                                })
-                            })
-                            .collect();
-                        let mut outcomes = ranks.into_iter().map(|h| {
-                            h.join().unwrap_or_else(|_| {
-                                Err(SolverError::InvalidScene {
-                                    entity: "ranks".into(),
-                                    message: "a rank of the distributed run panicked".into(),
-                                })
-                            })
-                        });
-                        let first = outcomes.next().expect("at least two ranks");
-                        // The others must end too; their outcome is rank 0's.
-                        outcomes.for_each(drop);
-                        first
-                    })
-                }
-                None => run_as(None),
-            };
-            LevelRun {
-                parameter: *parameter,
-                wall_s: t0.elapsed().as_secs_f64(),
-                outcome,
-            }
-        })
+        .map(|(i, (parameter, scene))| runner.run(i, *parameter, scene))
         .collect();
     result.wall_s = started.elapsed().as_secs_f64();
 
-    if let Some(e) = runs.iter().find_map(|r| match &r.outcome {
-        Err(e @ SolverError::Interrupted { .. }) => Some(e),
-        _ => None,
-    }) {
-        result.status = Status::Interrupted;
-        result.message = Some(e.to_string());
-        return result;
-    }
-    // Per-run metrics are judged at the last level that completed (the finest mesh).
-    let judged = runs.iter().rposition(|r| r.outcome.is_ok());
-    let Some(judged) = judged else {
-        let e = runs
-            .last()
-            .and_then(|r| r.outcome.as_ref().err())
-            .map(|e| e.to_string())
-            .unwrap_or_default();
-        result.message = Some(format!("the solver run failed: {e}"));
-        // What the last level wrote before it failed: its history as the case's plots (the
-        // history file is written as the run goes) and the records of a run that remeshes.
-        if let Some(dir) = &case_dir {
-            let stem = stem_of(variant, levels.len().saturating_sub(1), levels.len());
-            let history = HistoryTable::read_csv(&dir.join(format!("{stem}_history.csv"))).ok();
-            result.plots = plots(spec, history.as_ref(), &[], log);
-            crate::report::penetration::record(&mut result, dir, &stem);
-        }
+    let Some(judged) = level_to_judge(&mut result, &runner, &runs, log) else {
         return result;
     };
-    if matches!(spec.sweep, Some(Sweep::Mesh(_) | Sweep::MeshFiles(_))) {
-        if let Some((i, e)) = runs
-            .iter()
-            .enumerate()
-            .find_map(|(i, r)| r.outcome.as_ref().err().map(|e| (i, e)))
-        {
-            result.message = Some(format!("sweep level {i} failed: {e}"));
-            return result;
-        }
-    }
     let (problem, run) = runs[judged]
         .outcome
         .as_ref()
         .expect("judged level completed");
-    result.contact = contact_stats(problem, run);
-    if let Some(summary) = &run.summary {
-        result.phase_seconds = summary
-            .phase_seconds
-            .named()
-            .iter()
-            .map(|(name, t)| (name.to_string(), *t))
-            .collect();
-        result.fast_update_share = run
-            .material_history
-            .as_ref()
-            .and_then(|h| problem.model.fast_update_share(h, summary.steps));
-    }
-    let mut sweep_levels: Vec<SweepLevel> = runs
-        .iter()
-        .map(|r| SweepLevel {
-            parameter: r.parameter,
-            wall_s: r.wall_s,
-            errors: BTreeMap::new(),
-            values: BTreeMap::new(),
-            status: match &r.outcome {
-                Ok(_) => LevelStatus::Completed,
-                Err(SolverError::Unstable(_)) => LevelStatus::Unstable,
-                Err(e) => LevelStatus::Failed(e.to_string()),
-            },
-        })
-        .collect();
-    let peak = |column: &str| {
-        run.history
-            .as_ref()?
-            .column(column)
-            .map(|y| y.iter().fold(0.0f64, |a, x| a.max(x.abs())))
-    };
-    let judgement = judge_readings(
-        &spec.metrics,
-        Some(&scene),
-        &mut |i, m, ref_value| {
-            let measure = &kind.measures[i];
-            if measure.is_sweep_measure() {
-                return sweep_measure(measure, spec, &runs, &sweep_levels).map(Into::into);
-            }
-            for (level, r) in sweep_levels.iter_mut().zip(&runs) {
-                if let Ok((p, e)) = &r.outcome {
-                    if let Ok(v) = measure.evaluate(p, e) {
-                        level.values.insert(m.name.clone(), v);
-                        level
-                            .errors
-                            .insert(m.name.clone(), error_for_sweep(m, v, ref_value));
-                    }
-                }
-            }
-            measure.evaluate_read(problem, run)
-        },
-        &peak,
-    );
-    let (status, message) = judgement.verdict(std::slice::from_ref(&run.plan));
-    result.metrics = judgement.metrics;
-    if spec.sweep.is_some() {
-        let observed = spec
-            .metrics
-            .iter()
-            .zip(&kind.measures)
-            .filter(|(_, measure)| !measure.is_sweep_measure())
-            .filter_map(|(m, _)| {
-                let pts: Vec<(f64, f64)> = sweep_levels
-                    .iter()
-                    .filter_map(|l| l.errors.get(&m.name).map(|e| (l.parameter, *e)))
-                    .collect();
-                observed_order(&pts).map(|o| (m.name.clone(), o))
-            })
-            .collect();
-        result.sweep = Some(SweepResult {
-            parameter: match spec.sweep {
-                Some(Sweep::Mesh(_) | Sweep::MeshFiles(_)) => "element size (m)".into(),
-                _ => "time step / stable estimate".into(),
-            },
-            levels: sweep_levels,
-            observed_order: observed,
-        });
-    }
+    record_run_statistics(&mut result, problem, run);
+    let (status, message) = judge(kind, spec, &scene, &runs, judged, &mut result);
     result.plots = plots(spec, run.history.as_ref(), &result.metrics, log);
     if let Some(dir) = &case_dir {
         crate::report::penetration::record(
@@ -408,19 +217,163 @@ fn run_logged(
     result
 }
 
-/// The stem of the output files of level `i` of `levels` under `variant`
-/// (`<stem>_history.csv`, ...): `run` for a case without a sweep, `level<i>` otherwise, each
-/// after the variant's name ([`file_safe`]) when the case has variants. The variants of a case
-/// share its folder and may run at the same time: without their names they wrote one file.
-fn stem_of(variant: Option<&Variant>, i: usize, levels: usize) -> String {
-    let level = if levels > 1 {
-        format!("level{i}")
-    } else {
-        "run".to_string()
+/// The level whose run the per-run metrics are judged on: the last that completed (the finest
+/// mesh). `None` when the case ends without a judgement, `result` saying why: a run was
+/// interrupted; every level failed (with the plots of what the last level wrote before it
+/// failed); or a level of a mesh sweep failed, which leaves no convergence to judge.
+fn level_to_judge(
+    result: &mut CaseResult,
+    runner: &LevelRunner,
+    runs: &[LevelRun],
+    log: &CaseLog,
+) -> Option<usize> {
+    let spec = runner.spec;
+    if let Some(e) = runs.iter().find_map(|r| match &r.outcome {
+        Err(e @ SolverError::Interrupted { .. }) => Some(e),
+        _ => None,
+    }) {
+        result.status = Status::Interrupted;
+        result.message = Some(e.to_string());
+        return None;
+    }
+    let judged = runs.iter().rposition(|r| r.outcome.is_ok());
+    let Some(judged) = judged else {
+        let e = runs
+            .last()
+            .and_then(|r| r.outcome.as_ref().err())
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        result.message = Some(format!("the solver run failed: {e}"));
+        // What the last level wrote before it failed: its history as the case's plots (the
+        // history file is written as the run goes) and the records of a run that remeshes.
+        if let Some(dir) = runner.case_dir {
+            let levels = runner.levels;
+            let stem = stem_of(runner.variant, levels.saturating_sub(1), levels);
+            let history = HistoryTable::read_csv(&dir.join(format!("{stem}_history.csv"))).ok();
+            result.plots = plots(spec, history.as_ref(), &[], log);
+            crate::report::penetration::record(result, dir, &stem);
+        }
+        return None;
     };
-    match variant {
-        Some(v) => format!("{}_{level}", file_safe(&v.name)),
-        None => level,
+    if matches!(spec.sweep, Some(Sweep::Mesh(_) | Sweep::MeshFiles(_))) {
+        if let Some((i, e)) = runs
+            .iter()
+            .enumerate()
+            .find_map(|(i, r)| r.outcome.as_ref().err().map(|e| (i, e)))
+        {
+            result.message = Some(format!("sweep level {i} failed: {e}"));
+            return None;
+        }
+    }
+    Some(judged)
+}
+
+/// The judged run's statistics in the result: the contact solver's record, the wall time per
+/// phase of an explicit run, and the share of fast material updates.
+fn record_run_statistics(result: &mut CaseResult, problem: &Problem, run: &Execution) {
+    result.contact = contact_stats(problem, run);
+    if let Some(summary) = &run.summary {
+        result.phase_seconds = summary
+            .phase_seconds
+            .named()
+            .iter()
+            .map(|(name, t)| (name.to_string(), *t))
+            .collect();
+        result.fast_update_share = run
+            .material_history
+            .as_ref()
+            .and_then(|h| problem.model.fast_update_share(h, summary.steps));
+    }
+}
+
+/// Judges the case's metrics into `result`: each per-run metric on the run of level `judged`
+/// (and at every completed level, for the sweep's table and observed orders), each sweep metric
+/// over the levels; with a sweep, its levels and observed orders. Returns the verdict.
+fn judge(
+    kind: &SceneCase,
+    spec: &CaseSpec,
+    scene: &Scene,
+    runs: &[LevelRun],
+    judged: usize,
+    result: &mut CaseResult,
+) -> (Status, String) {
+    let (problem, run) = runs[judged]
+        .outcome
+        .as_ref()
+        .expect("judged level completed");
+    let mut sweep_levels: Vec<SweepLevel> = runs
+        .iter()
+        .map(|r| SweepLevel {
+            parameter: r.parameter,
+            wall_s: r.wall_s,
+            errors: BTreeMap::new(),
+            values: BTreeMap::new(),
+            status: match &r.outcome {
+                Ok(_) => LevelStatus::Completed,
+                Err(SolverError::Unstable(_)) => LevelStatus::Unstable,
+                Err(e) => LevelStatus::Failed(e.to_string()),
+            },
+        })
+        .collect();
+    let peak = |column: &str| {
+        run.history
+            .as_ref()?
+            .column(column)
+            .map(|y| y.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+    };
+    let judgement = judge_readings(
+        &spec.metrics,
+        Some(scene),
+        &mut |i, m, ref_value| {
+            let measure = &kind.measures[i];
+            if measure.is_sweep_measure() {
+                return sweep_measure(measure, spec, runs, &sweep_levels).map(Into::into);
+            }
+            for (level, r) in sweep_levels.iter_mut().zip(runs) {
+                if let Ok((p, e)) = &r.outcome {
+                    if let Ok(v) = measure.evaluate(p, e) {
+                        level.values.insert(m.name.clone(), v);
+                        level
+                            .errors
+                            .insert(m.name.clone(), error_for_sweep(m, v, ref_value));
+                    }
+                }
+            }
+            measure.evaluate_read(problem, run)
+        },
+        &peak,
+    );
+    let verdict = judgement.verdict(std::slice::from_ref(&run.plan));
+    result.metrics = judgement.metrics;
+    if spec.sweep.is_some() {
+        result.sweep = Some(sweep_result(kind, spec, sweep_levels));
+    }
+    verdict
+}
+
+/// The sweep's record: its levels, and the observed order of each per-run metric's error over
+/// them.
+fn sweep_result(kind: &SceneCase, spec: &CaseSpec, levels: Vec<SweepLevel>) -> SweepResult {
+    let observed = spec
+        .metrics
+        .iter()
+        .zip(&kind.measures)
+        .filter(|(_, measure)| !measure.is_sweep_measure())
+        .filter_map(|(m, _)| {
+            let pts: Vec<(f64, f64)> = levels
+                .iter()
+                .filter_map(|l| l.errors.get(&m.name).map(|e| (l.parameter, *e)))
+                .collect();
+            observed_order(&pts).map(|o| (m.name.clone(), o))
+        })
+        .collect();
+    SweepResult {
+        parameter: match spec.sweep {
+            Some(Sweep::Mesh(_) | Sweep::MeshFiles(_)) => "element size (m)".into(),
+            _ => "time step / stable estimate".into(),
+        },
+        levels,
+        observed_order: observed,
     }
 }
 
@@ -612,32 +565,4 @@ fn contact_stats(
         iterations: t.iterations,
         contact_seconds: summary.contact_seconds,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::stem_of;
-    use crate::catalogue::Variant;
-
-    fn variant(name: &str) -> Variant {
-        Variant {
-            name: name.into(),
-            analysis: None,
-            contact_solver: None,
-            ranks: None,
-            strength_seed: None,
-        }
-    }
-
-    /// Each variant of a case writes files of its own; a case without variants keeps `run` and
-    /// `level<i>`.
-    #[test]
-    fn variants_of_a_case_write_files_of_their_own() {
-        assert_eq!(stem_of(None, 0, 1), "run");
-        assert_eq!(stem_of(None, 2, 3), "level2");
-        let (a, b) = (variant("gauss-seidel/thesis"), variant("conic/coulomb"));
-        assert_eq!(stem_of(Some(&a), 0, 1), "gauss-seidel_thesis_run");
-        assert_eq!(stem_of(Some(&b), 1, 2), "conic_coulomb_level1");
-        assert_ne!(stem_of(Some(&a), 0, 1), stem_of(Some(&b), 0, 1));
-    }
 }

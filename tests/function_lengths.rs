@@ -28,7 +28,6 @@ const KNOWN: &[(&str, &str, usize)] = &[
     ("solver/src/scene/build.rs", "build_problem", 355),
     ("solver/src/remesh/mesh_check.rs", "check_remeshed", 276),
     ("solver/src/material/microplane/mod.rs", "plane_update", 272),
-    ("harness/scene_case.rs", "run_logged", 255),
     ("solver/src/statics/path.rs", "solve_path", 164),
     ("solver/src/statics/mod.rs", "solve_static_until", 164),
 ];
