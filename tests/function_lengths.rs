@@ -23,12 +23,9 @@ const LIMIT: usize = 150;
 /// then, a ceiling it may not pass. Each is a job for a split into named steps.
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, usize)] = &[
-    ("solver/src/remesh/apply.rs", "remesh_problem", 446),
     ("harness/scene_case/measure/evaluate.rs", "evaluate_read", 443),
-    ("solver/src/remesh/mesher.rs", "remesh_region_keeping_edges", 366),
     ("solver/src/scene/build.rs", "build_problem", 355),
     ("harness/material_point/experiments/rate_effect.rs", "rate_effect", 322),
-    ("solver/src/remesh/mesh_check.rs", "check_remeshed", 276),
     ("solver/src/material/microplane/mod.rs", "plane_update", 272),
     ("harness/scene_case.rs", "run_logged", 255),
     ("harness/material_point/experiments/crack_band.rs", "crack_band", 222),
