@@ -24,14 +24,11 @@ const LIMIT: usize = 150;
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, usize)] = &[
     ("harness/scene_case/measure/evaluate.rs", "evaluate_read", 443),
-    ("solver/src/scene/build.rs", "build_problem", 355),
     ("harness/material_point/experiments/rate_effect.rs", "rate_effect", 322),
     ("solver/src/material/microplane/mod.rs", "plane_update", 272),
     ("harness/scene_case.rs", "run_logged", 255),
     ("harness/material_point/experiments/crack_band.rs", "crack_band", 222),
     ("harness/report/beam/plots.rs", "plots", 178),
-    ("solver/src/statics/path.rs", "solve_path", 164),
-    ("solver/src/statics/mod.rs", "solve_static_until", 164),
 ];
 
 /// The folders read, from the repository root.
