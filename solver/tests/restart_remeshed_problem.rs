@@ -2,7 +2,8 @@
 //! (crack bands per element), held on one face and probed on another, is remeshed twice; its
 //! problem is written, read back onto the problem built before any remeshing, and the two
 //! problems give the same model to the bit and run on to the same displacements, velocities
-//! and histories to the bit. A damaged record is refused.
+//! and histories to the bit; the remeshings' records come back to the bit too. A damaged record
+//! is refused.
 
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
@@ -17,6 +18,7 @@ use impact_solver::problem::Problem;
 use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
 use impact_solver::restart::bytes::{Reader, Writer};
 use impact_solver::restart::problem::{read_problem, write_problem};
+use impact_solver::restart::remeshings::{read_remeshings, write_remeshings};
 use nalgebra::Vector3;
 
 fn run(problem: &Problem, state: Option<RunState>, steps: usize) -> RunState {
@@ -136,6 +138,15 @@ fn a_remeshed_problem_is_written_and_read_back_bit_for_bit() {
         assert_eq!((&x.name, &x.nodes), (&y.name, &y.nodes));
     }
     assert_eq!(remeshed.initial_velocity, back.initial_velocity);
+
+    // The two remeshings' records come back to the bit, and a cut record is refused.
+    let records = [first.record, second.record];
+    let mut w = Writer::default();
+    write_remeshings(&mut w, &records);
+    let mut r = Reader::new(&w.bytes);
+    assert_eq!(read_remeshings(&mut r).unwrap(), records);
+    assert_eq!(r.remaining(), 0);
+    assert!(read_remeshings(&mut Reader::new(&w.bytes[..w.bytes.len() - 1])).is_err());
 
     // Both go on from the remeshing's state to the same bits.
     let on_original = run(remeshed, Some(second.state.clone()), 40);

@@ -11,6 +11,7 @@
 //! - [`inputs`]: the hashes of the scene, mesh and material files;
 //! - [`payload`]: the state's layout;
 //! - [`problem`]: a remeshed run's problem;
+//! - [`remeshings`]: the remeshings a run made so far;
 //! - [`run`]: the run that writes them and resumes from one.
 
 pub mod bytes;
@@ -20,6 +21,7 @@ mod frames;
 pub mod inputs;
 pub mod payload;
 pub mod problem;
+pub mod remeshings;
 pub mod run;
 
 pub use error::{CheckpointError, RestartError};
