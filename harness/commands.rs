@@ -6,6 +6,7 @@ pub mod crosscheck_refresh;
 pub mod list;
 pub mod rank_case;
 pub mod report;
+pub mod resume;
 pub mod run;
 
 use std::path::Path;

@@ -56,6 +56,10 @@ enum Command {
         /// are always in the case's log file, `<run>/cases/<case>/log.txt`.
         #[arg(long)]
         verbose: bool,
+        /// Finish the run in this folder (`reports/<run-id>`) that was stopped or killed: run
+        /// only its cases that did not finish, then write the report of the whole run.
+        #[arg(long, value_name = "RUN", conflicts_with_all = ["patterns", "tier", "failed"])]
+        resume: Option<PathBuf>,
     },
     /// Rebuild a run's report from its `results.json`.
     Report {
@@ -193,6 +197,7 @@ fn main() -> ExitCode {
             time_limit,
             serial,
             verbose,
+            resume,
         } => commands::run::exec(&commands::run::RunArgs {
             patterns,
             tier,
@@ -202,6 +207,7 @@ fn main() -> ExitCode {
             time_limit,
             serial,
             verbose,
+            resume,
         }),
         Command::Calibrate {
             out,

@@ -73,6 +73,23 @@ impl RunLog {
         })
     }
 
+    /// Rewrites `<dir>/cases.jsonl` with `kept` (the finished cases of a run being resumed)
+    /// and goes on appending to it; `run.json` stays as the run wrote it.
+    pub fn restart(dir: &Path, kept: &[CaseResult]) -> std::io::Result<Self> {
+        let path = dir.join(CASES_FILE);
+        let mut text = String::new();
+        for case in kept {
+            text += &serde_json::to_string(case).map_err(std::io::Error::other)?;
+            text.push('\n');
+        }
+        std::fs::write(&path, text)?;
+        let file = std::fs::OpenOptions::new().append(true).open(&path)?;
+        Ok(Self {
+            path,
+            file: Mutex::new(file),
+        })
+    }
+
     /// Appends `case` as one line (a single write of the whole line).
     pub fn append(&self, case: &CaseResult) -> std::io::Result<()> {
         let mut line = serde_json::to_string(case).map_err(std::io::Error::other)?;

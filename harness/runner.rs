@@ -26,8 +26,25 @@ pub fn run_cases(
     options: &RunOptions,
     on_done: &(dyn Fn(&CaseResult) + Sync),
 ) -> Vec<CaseResult> {
-    // One job per case and variant, in catalogue order.
-    let jobs: Vec<Job> = cases
+    run_jobs(cases, &|_, _| true, options, on_done)
+}
+
+/// The jobs of `cases`, one per case and variant (`"default"` for a case without variants), in
+/// catalogue order, as `(case id, variant name)`.
+pub fn job_names(cases: &[LoadedCase]) -> Vec<(String, String)> {
+    jobs_of(cases)
+        .iter()
+        .map(|(c, v)| {
+            (
+                c.spec.id.clone(),
+                v.map_or("default", |v| &v.name).to_string(),
+            )
+        })
+        .collect()
+}
+
+fn jobs_of(cases: &[LoadedCase]) -> Vec<Job<'_>> {
+    cases
         .iter()
         .flat_map(|c| {
             if c.spec.variants.is_empty() {
@@ -36,6 +53,21 @@ pub fn run_cases(
                 c.spec.variants.iter().map(|v| (c, Some(v))).collect()
             }
         })
+        .collect()
+}
+
+/// [`run_cases`] for the jobs for which `wanted(case id, variant name)` holds (a run resumed:
+/// those that did not finish), their results in catalogue order.
+pub fn run_jobs(
+    cases: &[LoadedCase],
+    wanted: &(dyn Fn(&str, &str) -> bool + Sync),
+    options: &RunOptions,
+    on_done: &(dyn Fn(&CaseResult) + Sync),
+) -> Vec<CaseResult> {
+    // One job per case and variant, in catalogue order.
+    let jobs: Vec<Job> = jobs_of(cases)
+        .into_iter()
+        .filter(|(c, v)| wanted(&c.spec.id, v.map_or("default", |v| &v.name)))
         .collect();
     let run_one = |(case, variant): &Job| {
         let stopped = options

@@ -317,3 +317,69 @@ fn a_contact_comparison_interrupted_by_sigint_writes_what_it_has() {
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), rows.len() + 1);
 }
+
+/// A catalogue run that stopped after its first case, its case lines as a kill leaves them
+/// (the first whole, the second cut, no `results.json`), is finished by `impact-vv run
+/// --resume`: only the two cases that did not finish run, the first keeps its line as it was,
+/// and the results, the page and the history hold all three in catalogue order.
+#[test]
+fn a_stopped_catalogue_run_is_finished_by_resume() {
+    let dir = temp_dir("resume-run");
+    let cases = catalogue_of(
+        &dir,
+        &[("a/first", false), ("b/second", false), ("c/third", false)],
+    );
+    let reports = dir.join("reports");
+    let out = spawn_serial_run(&cases, &reports)
+        .wait_with_output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out));
+    let run = only_run_dir(&reports);
+    let log = std::fs::read_to_string(run.join("cases.jsonl")).unwrap();
+    let lines: Vec<&str> = log.lines().collect();
+    // One line per case and variant (the confined wave has variants).
+    let jobs = lines.len();
+    assert!(jobs >= 3 && jobs % 3 == 0, "{log}");
+    let first: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
+    assert_eq!(first["id"], "a/first");
+    let cut = &lines[1][..lines[1].len() / 2];
+    std::fs::write(run.join("cases.jsonl"), format!("{}\n{cut}", lines[0])).unwrap();
+    for gone in ["results.json", "index.html"] {
+        std::fs::remove_file(run.join(gone)).unwrap();
+    }
+    std::fs::remove_file(reports.join("history.jsonl")).unwrap();
+
+    let out = impact_vv(
+        &[
+            "run",
+            "--resume",
+            run.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let announced = format!("1 of {jobs} case runs finished, {} to run", jobs - 1);
+    assert!(text(&out).contains(&announced), "{}", text(&out));
+    let json = results(&reports);
+    let all = json["cases"].as_array().unwrap();
+    assert_eq!(all.len(), jobs);
+    let ids: Vec<&str> = all.iter().map(|c| c["id"].as_str().unwrap()).collect();
+    for (k, id) in ["a/first", "b/second", "c/third"].iter().enumerate() {
+        let per_case = jobs / 3;
+        assert!(
+            ids[k * per_case..(k + 1) * per_case]
+                .iter()
+                .all(|i| i == id),
+            "{ids:?}"
+        );
+    }
+    assert!(all.iter().all(|c| c["status"] == "pass"), "{json}");
+    assert_eq!(all[0], first, "the finished case is kept, not run again");
+    assert!(run.join("index.html").is_file());
+    let history = std::fs::read_to_string(reports.join("history.jsonl")).unwrap();
+    assert_eq!(history.lines().count(), jobs, "{history}");
+    let log = std::fs::read_to_string(run.join("cases.jsonl")).unwrap();
+    assert_eq!(log.lines().count(), jobs, "{log}");
+}

@@ -23,13 +23,7 @@ const LIMIT: usize = 150;
 /// then, a ceiling it may not pass. Each is a job for a split into named steps.
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, usize)] = &[
-    ("solver/src/remesh/apply.rs", "remesh_problem", 446),
-    ("solver/src/remesh/mesher.rs", "remesh_region_keeping_edges", 366),
-    ("solver/src/scene/build.rs", "build_problem", 355),
-    ("solver/src/remesh/mesh_check.rs", "check_remeshed", 276),
     ("solver/src/material/microplane/mod.rs", "plane_update", 272),
-    ("solver/src/statics/path.rs", "solve_path", 164),
-    ("solver/src/statics/mod.rs", "solve_static_until", 164),
 ];
 
 /// The folders read, from the repository root.

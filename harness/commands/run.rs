@@ -12,7 +12,7 @@ use crate::catalogue::Tier;
 use crate::registry::{KINDS, SECTIONS};
 use crate::results::{RunResults, Status};
 use crate::run_log::RunLog;
-use crate::runner::run_cases;
+use crate::runner::run_jobs;
 use crate::{metadata, report};
 
 /// The arguments of `impact-vv run`.
@@ -34,6 +34,8 @@ pub struct RunArgs {
     pub serial: bool,
     /// Print each case's log lines.
     pub verbose: bool,
+    /// Finish the stopped run in this folder instead of starting one.
+    pub resume: Option<PathBuf>,
 }
 
 /// Why the run's folder cannot be created.
@@ -65,8 +67,12 @@ pub enum RunDirError {
     },
 }
 
-/// Selects the cases (by patterns, tier, or the last run's failures) and runs them.
+/// Selects the cases (by patterns, tier, or the last run's failures) and runs them; or, with
+/// `resume`, finishes a stopped run.
 pub fn exec(args: &RunArgs) -> ExitCode {
+    if let Some(dir) = &args.resume {
+        return super::resume::exec(dir, args);
+    }
     let names_files = args.patterns.iter().any(|p| Path::new(p).is_file());
     let cases = match super::catalogue(&args.catalogue, !names_files) {
         Ok(c) => c,
@@ -185,12 +191,7 @@ fn claim_run_dir(reports: &Path, stamp: &str) -> Result<(String, PathBuf), RunDi
 /// Runs `cases` into a new run folder of `args.reports`, writes the report and the history, and
 /// prints the summary.
 fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
-    let (reports, time_limit, parallel, verbose) = (
-        args.reports.as_path(),
-        args.time_limit,
-        !args.serial,
-        args.verbose,
-    );
+    let reports = args.reports.as_path();
     let (date, stamp) = metadata::now();
     let (run_id, dir) = match claim_run_dir(reports, &stamp) {
         Ok(claimed) => claimed,
@@ -207,20 +208,6 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
         tier_label(tier),
         threads
     );
-    let bar = indicatif::ProgressBar::new(cases.len() as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{prefix:>10} [{bar:40}] {pos}/{len} cases, {elapsed_precise}, left {eta}  {msg}",
-        )
-        .expect("static template")
-        .progress_chars("=> "),
-    );
-    bar.set_prefix("running");
-    if verbose {
-        // The cases' log lines come from every worker thread at any time: without a bar to
-        // redraw around them, they and the case lines stay whole.
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
     let stop = super::stop_on_signal();
     let facts = RunResults {
         run_id: run_id.clone(),
@@ -233,6 +220,12 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
         versions: metadata::versions(),
         wall_s: f64::NAN,
     };
+    if let Err(e) = write_plan(&dir, &cases) {
+        eprintln!(
+            "warning: cannot write {}: {e}; the run cannot be resumed if it stops",
+            dir.join(PLAN_FILE).display()
+        );
+    }
     let log = match RunLog::start(&dir, &facts) {
         Ok(log) => Some(log),
         Err(e) => {
@@ -243,17 +236,111 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
             None
         }
     };
-    let results = run_cases(
-        &cases,
+    let results = run_with_progress(&cases, &|_, _| true, &dir, log.as_ref(), &stop, args);
+    let results = RunResults {
+        cases: results,
+        wall_s: started.elapsed().as_secs_f64(),
+        ..facts
+    };
+    finish(&dir, reports, &results, stop.load(Ordering::Relaxed))
+}
+
+/// The end of a run: its records appended to the history, the failed cases listed for
+/// `--failed`, the report written and the summary printed; the exit code.
+pub(super) fn finish(dir: &Path, reports: &Path, results: &RunResults, stopped: bool) -> ExitCode {
+    let history_path = reports.join("history.jsonl");
+    if let Err(e) = report::append_history(&history_path, &results.history_records()) {
+        eprintln!("warning: cannot append to {}: {e}", history_path.display());
+    }
+    let failed: Vec<&str> = results
+        .cases
+        .iter()
+        .filter(|c| matches!(c.status, Status::Fail | Status::Error))
+        .map(|c| c.id.as_str())
+        .collect();
+    let _ = std::fs::create_dir_all(reports);
+    let _ = std::fs::write(reports.join("last-failed.txt"), failed.join("\n"));
+    let history = report::read_history(&history_path).unwrap_or_default();
+    match report::write_report(dir, results, &history, SECTIONS) {
+        Ok(index) => println!("report: {}", index.display()),
+        Err(e) => {
+            eprintln!("error: cannot write the report: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    print_summary(results);
+    if stopped {
+        // The finished cases are judged, reported and in the history; the others are marked
+        // interrupted. A status of its own, whatever the verdicts.
+        eprintln!(
+            "interrupted: the report holds the cases that finished; `impact-vv run --resume {}` \
+             runs the others",
+            dir.display()
+        );
+        return ExitCode::from(130);
+    }
+    ExitCode::from(results.exit_code())
+}
+
+/// The file in a run's folder that lists the case files it runs, one per line, for
+/// `impact-vv run --resume`.
+pub(super) const PLAN_FILE: &str = "plan.txt";
+
+/// Writes `<dir>/plan.txt`: the case files of `cases`, absolute, in order.
+fn write_plan(dir: &Path, cases: &[LoadedCase]) -> std::io::Result<()> {
+    let lines: Vec<String> = cases
+        .iter()
+        .map(|c| {
+            std::fs::canonicalize(&c.path)
+                .unwrap_or_else(|_| c.path.clone())
+                .display()
+                .to_string()
+        })
+        .collect();
+    std::fs::write(dir.join(PLAN_FILE), lines.join("\n") + "\n")
+}
+
+/// Runs the jobs of `cases` for which `wanted(id, variant)` holds into the run folder `dir`,
+/// each finished one appended to `log`, with a progress bar and one line per job on the
+/// terminal.
+pub(super) fn run_with_progress(
+    cases: &[LoadedCase],
+    wanted: &(dyn Fn(&str, &str) -> bool + Sync),
+    dir: &Path,
+    log: Option<&RunLog>,
+    stop: &std::sync::Arc<std::sync::atomic::AtomicBool>,
+    args: &RunArgs,
+) -> Vec<crate::results::CaseResult> {
+    let jobs = crate::runner::job_names(cases)
+        .iter()
+        .filter(|(id, v)| wanted(id, v))
+        .count();
+    let bar = indicatif::ProgressBar::new(jobs as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix:>10} [{bar:40}] {pos}/{len} cases, {elapsed_precise}, left {eta}  {msg}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    );
+    bar.set_prefix("running");
+    if args.verbose {
+        // The cases' log lines come from every worker thread at any time: without a bar to
+        // redraw around them, they and the case lines stay whole.
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let results = run_jobs(
+        cases,
+        wanted,
         &RunOptions {
-            output_dir: Some(dir.clone()),
-            time_limit_s: time_limit,
-            parallel,
+            output_dir: Some(dir.to_path_buf()),
+            time_limit_s: args.time_limit,
+            parallel: !args.serial,
             stop: Some(stop.clone()),
-            verbose,
+            verbose: args.verbose,
         },
         &|r| {
-            if let Some(log) = &log {
+            if let Some(log) = log {
                 if let Err(e) = log.append(r) {
                     eprintln!("warning: cannot append to {}: {e}", log.path().display());
                 }
@@ -283,39 +370,7 @@ fn run(cases: Vec<LoadedCase>, tier: Option<Tier>, args: &RunArgs) -> ExitCode {
         },
     );
     bar.finish_and_clear();
-    let results = RunResults {
-        cases: results,
-        wall_s: started.elapsed().as_secs_f64(),
-        ..facts
-    };
-    let history_path = reports.join("history.jsonl");
-    if let Err(e) = report::append_history(&history_path, &results.history_records()) {
-        eprintln!("warning: cannot append to {}: {e}", history_path.display());
-    }
-    let failed: Vec<&str> = results
-        .cases
-        .iter()
-        .filter(|c| matches!(c.status, Status::Fail | Status::Error))
-        .map(|c| c.id.as_str())
-        .collect();
-    let _ = std::fs::create_dir_all(reports);
-    let _ = std::fs::write(reports.join("last-failed.txt"), failed.join("\n"));
-    let history = report::read_history(&history_path).unwrap_or_default();
-    match report::write_report(&dir, &results, &history, SECTIONS) {
-        Ok(index) => println!("report: {}", index.display()),
-        Err(e) => {
-            eprintln!("error: cannot write the report: {e}");
-            return ExitCode::from(2);
-        }
-    }
-    print_summary(&results);
-    if stop.load(Ordering::Relaxed) {
-        // The finished cases are judged, reported and in the history; the others are marked
-        // interrupted. A status of its own, whatever the verdicts.
-        eprintln!("interrupted: the report holds the cases that finished");
-        return ExitCode::from(130);
-    }
-    ExitCode::from(results.exit_code())
+    results
 }
 
 /// The run's summary on the terminal: the counts, every case that did not pass with its

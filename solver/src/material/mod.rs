@@ -186,11 +186,42 @@ pub trait Material: std::fmt::Debug + Send + Sync + std::any::Any {
         Ok(None)
     }
 
+    /// What the model keeps per element besides the histories, as numbers, so that a
+    /// checkpoint of a remeshed run can store it and [`Self::with_element_data`] rebuild the
+    /// material from it (a remeshed element's data depends on every remeshing before, so it
+    /// cannot be made again from the scene). `None`, the default, for a model without data per
+    /// element; a model that overrides [`Self::remeshed`] overrides this pair too.
+    fn element_data(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// The material with the data per element that [`Self::element_data`] gave (of a body
+    /// with the same elements), or why the numbers do not fit. `Ok(None)`, the default, keeps
+    /// the material as it is.
+    fn with_element_data(&self, _data: &[f64]) -> Result<Option<Self>, ElementDataError>
+    where
+        Self: Sized,
+    {
+        Ok(None)
+    }
+
     /// The tensile strength of an element over the material's where the body has a random
     /// strength field (`strength_field.rs`), for the output; `None` (the default) without one.
     fn strength_factor(&self, _element: usize) -> Option<f64> {
         None
     }
+}
+
+/// Data per element that does not fit the material ([`Material::with_element_data`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{numbers} numbers of data per element are not {per_element} per element ({what})")]
+pub struct ElementDataError {
+    /// How many numbers were given.
+    pub numbers: usize,
+    /// How many the material keeps per element.
+    pub per_element: usize,
+    /// What they are.
+    pub what: &'static str,
 }
 
 /// The elements of a body after a remeshing, as [`Material::remeshed`] sees them.

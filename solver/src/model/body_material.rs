@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 
 use super::assembly::{chunk_forces, ChunkJob};
 use super::element::{element_forces, ElementForces};
-use crate::material::{ElementState, Material, RemeshedElements};
+use crate::material::{ElementDataError, ElementState, Material, RemeshedElements};
 
 /// A [`Material`] with the element loops compiled for it; implemented for every `Material`.
 pub trait BodyMaterial: Material {
@@ -35,6 +35,12 @@ pub trait BodyMaterial: Material {
         &self,
         elements: &RemeshedElements<'_>,
     ) -> Result<Option<Arc<dyn BodyMaterial>>, (usize, String)>;
+
+    /// [`Material::with_element_data`] through the trait object (`None`: the same material).
+    fn with_element_data_material(
+        &self,
+        data: &[f64],
+    ) -> Result<Option<Arc<dyn BodyMaterial>>, ElementDataError>;
 }
 
 impl<M: Material> BodyMaterial for M {
@@ -60,5 +66,14 @@ impl<M: Material> BodyMaterial for M {
         state: ElementState<'_>,
     ) -> ElementForces {
         element_forces(self, element, grad_n, volume, u, None, state)
+    }
+
+    fn with_element_data_material(
+        &self,
+        data: &[f64],
+    ) -> Result<Option<Arc<dyn BodyMaterial>>, ElementDataError> {
+        Ok(self
+            .with_element_data(data)?
+            .map(|m| Arc::new(m) as Arc<dyn BodyMaterial>))
     }
 }

@@ -101,6 +101,32 @@ pub fn check_remeshed(
             new.tets.len()
         )));
     }
+    let min_volume = check_validity(new)?;
+    check_copies(x, tets, new)?;
+    let (before, after, peeled_area_change) = check_volume(x, tets, region, new)?;
+    check_conformity(tets, region, &in_region, new)?;
+    let (area_before, area_after) = check_boundary(x, tets, new, peeled_area_change)?;
+    let xn = &new.nodes;
+    let worst = |x: &[Vector3<f64>], list: &mut dyn Iterator<Item = &[u32; 4]>| {
+        list.map(|t| collapse_ratio(&t.map(|n| x[n as usize])))
+            .fold(0.0, f64::max)
+    };
+    Ok(RemeshCheck {
+        region_elements_before: region.len(),
+        region_elements_after: new.tets.len() - new.first_region_element,
+        region_volume_before: before,
+        region_volume_after: after,
+        boundary_area_before: area_before,
+        boundary_area_after: area_after,
+        min_volume_after: min_volume,
+        worst_ratio_before: worst(x, &mut region.iter().map(|&e| &tets[e])),
+        worst_ratio_after: worst(xn, &mut new.tets[new.first_region_element..].iter()),
+    })
+}
+
+/// Validity: every new element's nodes exist and its volume is positive. Returns the smallest
+/// volume of the region's new elements (m^3).
+fn check_validity(new: &RemeshedRegion) -> Result<f64> {
     let xn = &new.nodes;
     let mut min_volume = f64::INFINITY;
     for (e, tet) in new.tets.iter().enumerate() {
@@ -120,6 +146,13 @@ pub fn check_remeshed(
         }
     }
 
+    Ok(min_volume)
+}
+
+/// Untouched elements: a copied element has the old element's nodes, each at its old
+/// coordinates bit for bit.
+fn check_copies(x: &[Vector3<f64>], tets: &[[u32; 4]], new: &RemeshedRegion) -> Result<()> {
+    let xn = &new.nodes;
     // Untouched elements: same nodes, same coordinates.
     for (e, origin) in new.element_origin.iter().enumerate() {
         let Some(old) = origin else { continue };
@@ -137,6 +170,19 @@ pub fn check_remeshed(
         }
     }
 
+    Ok(())
+}
+
+/// The region's volume, kept less what peeled slivers took and surface collapses moved.
+/// Returns the volume before and after (m^3) and the boundary area the peeled slivers changed
+/// (m^2).
+fn check_volume(
+    x: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    region: &[usize],
+    new: &RemeshedRegion,
+) -> Result<(f64, f64, f64)> {
+    let xn = &new.nodes;
     // Volume of the region.
     let before: f64 = region
         .iter()
@@ -182,6 +228,18 @@ pub fn check_remeshed(
         )));
     }
 
+    Ok((before, after, peeled_area_change))
+}
+
+/// Conformity: no face held by more than two elements, no loose fragment, and every face the
+/// region shared with the rest held by two.
+fn check_conformity(
+    tets: &[[u32; 4]],
+    region: &[usize],
+    in_region: &[bool],
+    new: &RemeshedRegion,
+) -> Result<()> {
+    let xn = &new.nodes;
     // Conformity: face counts in the new mesh.
     let mut count: HashMap<[u32; 3], u32> = HashMap::with_capacity(4 * new.tets.len());
     for tet in &new.tets {
@@ -262,6 +320,19 @@ pub fn check_remeshed(
         }
     }
 
+    Ok(())
+}
+
+/// The outer boundary: its area kept (less the peeled slivers' and surface collapses'
+/// changes), and every old boundary node kept on it, slid along it or merged. Returns the area
+/// before and after (m^2).
+fn check_boundary(
+    x: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+    new: &RemeshedRegion,
+    peeled_area_change: f64,
+) -> Result<(f64, f64)> {
+    let xn = &new.nodes;
     // Outer boundary.
     let old_faces = boundary_faces_of(tets);
     let new_faces = boundary_faces_of(&new.tets);
@@ -295,6 +366,17 @@ pub fn check_remeshed(
             }
         }
     }
+    check_slid_nodes(x, new, &old_faces)?;
+    Ok((area_before, area_after))
+}
+
+/// Every old boundary node that slid lies on the old boundary, to round-off.
+fn check_slid_nodes(
+    x: &[Vector3<f64>],
+    new: &RemeshedRegion,
+    old_faces: &[BoundaryFace],
+) -> Result<()> {
+    let xn = &new.nodes;
     // A node that slid stays on the old boundary (on one of its faces, to round-off of the
     // coordinates), so the boundary keeps its shape.
     let extent = x.iter().map(|p| p.amax()).fold(f64::MIN_POSITIVE, f64::max);
@@ -314,7 +396,7 @@ pub fn check_remeshed(
         .iter()
         .map(|&(o, _)| (o, Vec::new()))
         .collect();
-    for f in &old_faces {
+    for f in old_faces {
         for n in f.nodes {
             if let Some(faces) = fan.get_mut(&n) {
                 faces.push(f);
@@ -335,19 +417,5 @@ pub fn check_remeshed(
         }
     }
 
-    let worst = |x: &[Vector3<f64>], list: &mut dyn Iterator<Item = &[u32; 4]>| {
-        list.map(|t| collapse_ratio(&t.map(|n| x[n as usize])))
-            .fold(0.0, f64::max)
-    };
-    Ok(RemeshCheck {
-        region_elements_before: region.len(),
-        region_elements_after: new.tets.len() - new.first_region_element,
-        region_volume_before: before,
-        region_volume_after: after,
-        boundary_area_before: area_before,
-        boundary_area_after: area_after,
-        min_volume_after: min_volume,
-        worst_ratio_before: worst(x, &mut region.iter().map(|&e| &tets[e])),
-        worst_ratio_after: worst(xn, &mut new.tets[new.first_region_element..].iter()),
-    })
+    Ok(())
 }

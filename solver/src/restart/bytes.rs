@@ -72,6 +72,12 @@ impl Writer {
         }
     }
 
+    /// A length, then the values, little-endian.
+    pub fn u32s(&mut self, v: &[u32]) {
+        self.usize(v.len());
+        v.iter().for_each(|&x| self.u32(x));
+    }
+
     /// A length, then three components per vector.
     pub fn vectors(&mut self, v: &[Vector3<f64>]) {
         self.usize(v.len());
@@ -196,6 +202,12 @@ impl<'a> Reader<'a> {
         (0..n)
             .map(|_| Ok(f32::from_bits(self.u32(what)?)))
             .collect()
+    }
+
+    /// What [`Writer::u32s`] wrote.
+    pub fn u32s(&mut self, what: &str) -> Read<Vec<u32>> {
+        let n = self.len(4, what)?;
+        (0..n).map(|_| self.u32(what)).collect()
     }
 
     /// What [`Writer::vectors`] wrote.

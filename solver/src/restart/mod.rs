@@ -10,6 +10,8 @@
 //! - [`file`]: the header, the atomic write, the newest good checkpoint;
 //! - [`inputs`]: the hashes of the scene, mesh and material files;
 //! - [`payload`]: the state's layout;
+//! - [`problem`]: a remeshed run's problem;
+//! - [`remeshings`]: the remeshings a run made so far;
 //! - [`run`]: the run that writes them and resumes from one.
 
 pub mod bytes;
@@ -18,6 +20,8 @@ pub mod file;
 mod frames;
 pub mod inputs;
 pub mod payload;
+pub mod problem;
+pub mod remeshings;
 pub mod run;
 
 pub use error::{CheckpointError, RestartError};

@@ -2,8 +2,9 @@
 
 use nalgebra::{Matrix3, Unit, Vector3};
 
-use super::{Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
+use super::{BodySpec, Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
 use crate::error::{Result, SolverError};
+use crate::material::MaterialModel;
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
 };
@@ -97,6 +98,38 @@ fn scene_body(scene: &Scene, entity: &str, name: &str) -> Result<usize> {
 /// Builds the model and the conditions of `scene`.
 pub fn build_problem(scene: &Scene) -> Result<Problem> {
     scene.validate()?;
+    let (bodies, regions, meshes) = scene_bodies(scene)?;
+    let mut model = Model::with_regions(bodies, regions)?;
+    scene
+        .crack_indicator
+        .validate()
+        .map_err(|m| invalid("crack_indicator", m.to_string()))?;
+    model.crack_indicator = scene.crack_indicator;
+    let mut problem = Problem::new(model);
+    set_initial_velocities(scene, &mut problem);
+    let picker = NodePicker {
+        scene,
+        model: &problem.model,
+        meshes: &meshes,
+    };
+    let constraints = constraints(scene, &picker)?;
+    let loads = loads(scene, &picker)?;
+    let probes = probes(scene, &picker)?;
+    let contact = contact_pairs(scene)?;
+    problem.contact = contact;
+    problem.constraints = constraints;
+    problem.loads = loads;
+    problem.probes = probes;
+    problem.gravity = scene.gravity.map(Vector3::from);
+    Ok(problem)
+}
+
+/// The model's bodies and material regions, and each scene body's whole mesh (regions
+/// included), which the selectors see.
+#[allow(clippy::type_complexity)]
+fn scene_bodies(
+    scene: &Scene,
+) -> Result<(Vec<(String, Mesh, MaterialModel)>, Vec<Region>, Vec<Mesh>)> {
     let mut bodies = Vec::new();
     let mut regions = Vec::new();
     let mut full_meshes = Vec::new();
@@ -107,106 +140,120 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 "two bodies have this name; names must be unique",
             ));
         }
-        let mesh = match &body.mesh {
-            MeshSource::Box(b) => {
-                let (spec, perturb) = (&b.spec(), &b.perturb);
-                if spec.divisions.contains(&0) || spec.size.iter().any(|s| !(*s > 0.0)) {
-                    return Err(invalid(
-                        format!("body `{}` mesh.box", body.name),
-                        "size must be positive and divisions at least 1 per axis",
-                    ));
-                }
-                spec.check().map_err(|e| match e {
-                    SolverError::InvalidScene { entity, message } => {
-                        invalid(format!("body `{}` {entity}", body.name), message)
-                    }
-                    other => other,
-                })?;
-                let mut mesh = box_mesh(spec);
-                if let Some(p) = perturb {
-                    if !(0.0..0.5).contains(&p.fraction) {
-                        return Err(invalid(
-                            format!("body `{}` mesh.box.perturb", body.name),
-                            format!(
-                                "fraction must lie in [0, 0.5) to keep elements valid, got {}",
-                                p.fraction
-                            ),
-                        ));
-                    }
-                    perturb_interior(&mut mesh, spec, p.fraction, p.seed);
-                }
-                mesh
-            }
-            MeshSource::Gmsh(path) => read_msh(path)?,
-        };
-        let mut mesh = mesh;
-        if body.numbering == Numbering::Spatial {
-            mesh.renumber_spatially();
-        }
-        if let Some(t) = &body.transform {
-            let rotation = match t.rotation_axis {
-                Some(axis) => {
-                    let axis = Unit::try_new(Vector3::from(axis), 1e-300).ok_or_else(|| {
-                        invalid(
-                            format!("body `{}` transform", body.name),
-                            "rotation axis must not be zero",
-                        )
-                    })?;
-                    nalgebra::Rotation3::from_axis_angle(&axis, t.rotation_angle)
-                }
-                None => nalgebra::Rotation3::identity(),
-            };
-            let shift = Vector3::from(t.translation);
-            for x in &mut mesh.nodes {
-                *x = rotation * *x + shift;
-            }
-        }
+        let mut mesh = body_mesh(body)?;
         // Selectors (the boundary among them) see the whole mesh, regions included.
         full_meshes.push(mesh.clone());
-        for spec in &body.regions {
-            let entity = format!("body `{}` region `{}`", body.name, spec.name);
-            if scene.bodies.iter().any(|b| b.name == spec.name)
-                || regions.iter().any(|r: &Region| r.name == spec.name)
-            {
-                return Err(invalid(&entity, "a body or region already has this name"));
-            }
-            let (lo, hi) = mesh.bounding_box();
-            let tol = 1e-9 * (hi - lo).norm();
-            let (inside, outside): (Vec<[u32; 4]>, Vec<[u32; 4]>) =
-                mesh.tets.iter().partition(|t| {
-                    let c = t
-                        .iter()
-                        .map(|&n| mesh.nodes[n as usize])
-                        .sum::<Vector3<f64>>()
-                        / 4.0;
-                    let b = &spec.centroid_box;
-                    (0..3).all(|a| c[a] >= b.min[a] - tol && c[a] <= b.max[a] + tol)
-                });
-            if inside.is_empty() {
-                return Err(invalid(
-                    &entity,
-                    "centroid_box holds the centroid of no element; check it against the mesh",
-                ));
-            }
-            mesh.tets = outside;
-            regions.push(Region {
-                name: spec.name.clone(),
-                parent: i,
-                tets: inside,
-                material: spec.material.model(&spec.name)?,
-            });
-        }
+        split_regions(scene, i, &mut mesh, &mut regions)?;
         bodies.push((body.name.clone(), mesh, body.material.model(&body.name)?));
     }
-    let meshes: Vec<Mesh> = full_meshes;
-    let mut model = Model::with_regions(bodies, regions)?;
-    scene
-        .crack_indicator
-        .validate()
-        .map_err(|m| invalid("crack_indicator", m.to_string()))?;
-    model.crack_indicator = scene.crack_indicator;
-    let mut problem = Problem::new(model);
+    Ok((bodies, regions, full_meshes))
+}
 
+/// The mesh of `body`: made (a box, perturbed if asked) or read, renumbered and placed.
+fn body_mesh(body: &BodySpec) -> Result<Mesh> {
+    let mesh = match &body.mesh {
+        MeshSource::Box(b) => {
+            let (spec, perturb) = (&b.spec(), &b.perturb);
+            if spec.divisions.contains(&0) || spec.size.iter().any(|s| !(*s > 0.0)) {
+                return Err(invalid(
+                    format!("body `{}` mesh.box", body.name),
+                    "size must be positive and divisions at least 1 per axis",
+                ));
+            }
+            spec.check().map_err(|e| match e {
+                SolverError::InvalidScene { entity, message } => {
+                    invalid(format!("body `{}` {entity}", body.name), message)
+                }
+                other => other,
+            })?;
+            let mut mesh = box_mesh(spec);
+            if let Some(p) = perturb {
+                if !(0.0..0.5).contains(&p.fraction) {
+                    return Err(invalid(
+                        format!("body `{}` mesh.box.perturb", body.name),
+                        format!(
+                            "fraction must lie in [0, 0.5) to keep elements valid, got {}",
+                            p.fraction
+                        ),
+                    ));
+                }
+                perturb_interior(&mut mesh, spec, p.fraction, p.seed);
+            }
+            mesh
+        }
+        MeshSource::Gmsh(path) => read_msh(path)?,
+    };
+    let mut mesh = mesh;
+    if body.numbering == Numbering::Spatial {
+        mesh.renumber_spatially();
+    }
+    if let Some(t) = &body.transform {
+        let rotation = match t.rotation_axis {
+            Some(axis) => {
+                let axis = Unit::try_new(Vector3::from(axis), 1e-300).ok_or_else(|| {
+                    invalid(
+                        format!("body `{}` transform", body.name),
+                        "rotation axis must not be zero",
+                    )
+                })?;
+                nalgebra::Rotation3::from_axis_angle(&axis, t.rotation_angle)
+            }
+            None => nalgebra::Rotation3::identity(),
+        };
+        let shift = Vector3::from(t.translation);
+        for x in &mut mesh.nodes {
+            *x = rotation * *x + shift;
+        }
+    }
+    Ok(mesh)
+}
+
+/// Moves the elements of each of the scene body `i`'s material regions out of `mesh` into a
+/// [`Region`] of its own.
+fn split_regions(
+    scene: &Scene,
+    i: usize,
+    mesh: &mut Mesh,
+    regions: &mut Vec<Region>,
+) -> Result<()> {
+    let body = &scene.bodies[i];
+    for spec in &body.regions {
+        let entity = format!("body `{}` region `{}`", body.name, spec.name);
+        if scene.bodies.iter().any(|b| b.name == spec.name)
+            || regions.iter().any(|r: &Region| r.name == spec.name)
+        {
+            return Err(invalid(&entity, "a body or region already has this name"));
+        }
+        let (lo, hi) = mesh.bounding_box();
+        let tol = 1e-9 * (hi - lo).norm();
+        let (inside, outside): (Vec<[u32; 4]>, Vec<[u32; 4]>) = mesh.tets.iter().partition(|t| {
+            let c = t
+                .iter()
+                .map(|&n| mesh.nodes[n as usize])
+                .sum::<Vector3<f64>>()
+                / 4.0;
+            let b = &spec.centroid_box;
+            (0..3).all(|a| c[a] >= b.min[a] - tol && c[a] <= b.max[a] + tol)
+        });
+        if inside.is_empty() {
+            return Err(invalid(
+                &entity,
+                "centroid_box holds the centroid of no element; check it against the mesh",
+            ));
+        }
+        mesh.tets = outside;
+        regions.push(Region {
+            name: spec.name.clone(),
+            parent: i,
+            tets: inside,
+            material: spec.material.model(&spec.name)?,
+        });
+    }
+    Ok(())
+}
+
+/// Each body's initial velocity: a translation, a rotation about a centre and a gradient.
+fn set_initial_velocities(scene: &Scene, problem: &mut Problem) {
     for (b, body) in scene.bodies.iter().enumerate() {
         if let Some(iv) = &body.initial_velocity {
             let model = &problem.model;
@@ -223,9 +270,23 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             }
         }
     }
-    let resolve = |entity: &str, body: &str, selector: &Selector| -> Result<Vec<u32>> {
+}
+
+/// Resolves a selector to the global ids of the nodes it picks on a scene body.
+struct NodePicker<'a> {
+    scene: &'a Scene,
+    model: &'a Model,
+    /// Each scene body's whole mesh (regions included).
+    meshes: &'a [Mesh],
+}
+
+impl NodePicker<'_> {
+    /// The nodes `selector` picks on body `body`, for `entity`; an error naming it when there
+    /// is no such body or node set, a node id is out of range, or nothing is picked.
+    fn pick(&self, entity: &str, body: &str, selector: &Selector) -> Result<Vec<u32>> {
+        let (scene, meshes) = (self.scene, self.meshes);
         let b = scene_body(scene, entity, body)?;
-        let range = problem.model.bodies[b].nodes.clone();
+        let range = self.model.bodies[b].nodes.clone();
         let offset = range.start as u32;
         let nodes: Vec<u32> = match selector {
             Selector::Group(name) => meshes[b]
@@ -264,9 +325,7 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
                 let scale = (hi - lo).norm();
                 range
                     .clone()
-                    .filter(|&n| {
-                        geometric.contains(&problem.model.reference[n], scale) == Some(true)
-                    })
+                    .filter(|&n| geometric.contains(&self.model.reference[n], scale) == Some(true))
                     .map(|n| n as u32)
                     .collect()
             }
@@ -275,61 +334,17 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             return Err(invalid(entity, format!("the selector {selector:?} picks no node of body `{body}`; check its coordinates against the mesh")));
         }
         Ok(nodes)
-    };
+    }
+}
 
+/// The scene's boundary conditions on the nodes they select.
+fn constraints(scene: &Scene, picker: &NodePicker<'_>) -> Result<Vec<Constraint>> {
     let mut constraints = Vec::new();
     for (i, bc) in scene.boundary_conditions.iter().enumerate() {
         let name = bc.name.clone().unwrap_or_else(|| format!("bc{i}"));
         let entity = format!("boundary condition `{name}`");
-        let nodes = resolve(&entity, &bc.body, &bc.nodes)?;
-        let motion = match &bc.motion {
-            MotionSpec::Fixed(c) => Motion::Fixed(dofs(c)),
-            MotionSpec::Symmetry(c) => {
-                let axis = *c as usize;
-                symmetry_plane(&problem.model.reference, &nodes, axis)
-                    .map(|value| Motion::Symmetry { axis, value })
-                    .map_err(|m| invalid(&entity, m.to_string()))?
-            }
-            MotionSpec::Velocity { components, value } => {
-                Motion::Velocity(dofs(components), value.clone())
-            }
-            MotionSpec::Displacement { components, value } => {
-                Motion::Displacement(dofs(components), value.clone())
-            }
-            MotionSpec::AffineVelocity {
-                translation,
-                gradient,
-                center,
-            } => Motion::AffineVelocity {
-                translation: Vector3::from(*translation),
-                gradient: Matrix3::from_row_slice(&gradient.concat()),
-                center: Vector3::from(*center),
-            },
-            MotionSpec::AffineDisplacement {
-                translation,
-                gradient,
-                center,
-                scale,
-            } => Motion::AffineDisplacement {
-                translation: Vector3::from(*translation),
-                gradient: Matrix3::from_row_slice(&gradient.concat()),
-                center: Vector3::from(*center),
-                scale: scale.clone(),
-            },
-            MotionSpec::Rotation {
-                axis,
-                center,
-                angle,
-            } => {
-                let axis = Unit::try_new(Vector3::from(*axis), 1e-300)
-                    .ok_or_else(|| invalid(&entity, "rotation axis must not be zero"))?;
-                Motion::Rotation {
-                    axis,
-                    center: Vector3::from(*center),
-                    angle: angle.clone(),
-                }
-            }
-        };
+        let nodes = picker.pick(&entity, &bc.body, &bc.nodes)?;
+        let motion = motion(&bc.motion, &entity, &nodes, &picker.model.reference)?;
         if let MotionSpec::Velocity { value, .. } | MotionSpec::Displacement { value, .. } =
             &bc.motion
         {
@@ -343,26 +358,98 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             motion,
         });
     }
+    Ok(constraints)
+}
+
+/// The motion a boundary condition prescribes on `nodes`.
+fn motion(
+    spec: &MotionSpec,
+    entity: &str,
+    nodes: &[u32],
+    reference: &[Vector3<f64>],
+) -> Result<Motion> {
+    Ok(match spec {
+        MotionSpec::Fixed(c) => Motion::Fixed(dofs(c)),
+        MotionSpec::Symmetry(c) => {
+            let axis = *c as usize;
+            symmetry_plane(reference, nodes, axis)
+                .map(|value| Motion::Symmetry { axis, value })
+                .map_err(|m| invalid(entity, m.to_string()))?
+        }
+        MotionSpec::Velocity { components, value } => {
+            Motion::Velocity(dofs(components), value.clone())
+        }
+        MotionSpec::Displacement { components, value } => {
+            Motion::Displacement(dofs(components), value.clone())
+        }
+        MotionSpec::AffineVelocity {
+            translation,
+            gradient,
+            center,
+        } => Motion::AffineVelocity {
+            translation: Vector3::from(*translation),
+            gradient: Matrix3::from_row_slice(&gradient.concat()),
+            center: Vector3::from(*center),
+        },
+        MotionSpec::AffineDisplacement {
+            translation,
+            gradient,
+            center,
+            scale,
+        } => Motion::AffineDisplacement {
+            translation: Vector3::from(*translation),
+            gradient: Matrix3::from_row_slice(&gradient.concat()),
+            center: Vector3::from(*center),
+            scale: scale.clone(),
+        },
+        MotionSpec::Rotation {
+            axis,
+            center,
+            angle,
+        } => {
+            let axis = Unit::try_new(Vector3::from(*axis), 1e-300)
+                .ok_or_else(|| invalid(entity, "rotation axis must not be zero"))?;
+            Motion::Rotation {
+                axis,
+                center: Vector3::from(*center),
+                angle: angle.clone(),
+            }
+        }
+    })
+}
+
+/// The scene's nodal loads on the nodes they select.
+fn loads(scene: &Scene, picker: &NodePicker<'_>) -> Result<Vec<NodalLoad>> {
     let mut loads = Vec::new();
     for (i, load) in scene.loads.iter().enumerate() {
         let name = load.name.clone().unwrap_or_else(|| format!("load{i}"));
         let entity = format!("load `{name}`");
         loads.push(NodalLoad {
-            nodes: resolve(&entity, &load.body, &load.nodes)?,
+            nodes: picker.pick(&entity, &load.body, &load.nodes)?,
             name,
             force_per_node: Vector3::from(load.force_per_node),
             function: load.function.clone(),
         });
     }
+    Ok(loads)
+}
+
+/// The scene's probes on the nodes they select.
+fn probes(scene: &Scene, picker: &NodePicker<'_>) -> Result<Vec<Probe>> {
     let mut probes = Vec::new();
     for p in &scene.probes {
         let entity = format!("probe `{}`", p.name);
         probes.push(Probe {
-            nodes: resolve(&entity, &p.body, &p.nodes)?,
+            nodes: picker.pick(&entity, &p.body, &p.nodes)?,
             name: p.name.clone(),
             quantity: p.quantity,
         });
     }
+    Ok(probes)
+}
+
+/// The scene's contact pairs, their settings checked.
+fn contact_pairs(scene: &Scene) -> Result<Vec<crate::contact::ContactPair>> {
     let mut contact = Vec::new();
     for c in &scene.contact {
         let entity = format!("contact `{}`", c.name);
@@ -443,10 +530,5 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
             penetration_release_speed: c.penetration_release_speed.unwrap_or(f64::INFINITY),
         });
     }
-    problem.contact = contact;
-    problem.constraints = constraints;
-    problem.loads = loads;
-    problem.probes = probes;
-    problem.gravity = scene.gravity.map(Vector3::from);
-    Ok(problem)
+    Ok(contact)
 }

@@ -20,7 +20,9 @@ use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion};
 use crate::output::HistoryTable;
 use crate::problem::Problem;
-use tangent::{forward_difference_tangents, solve_tangent, solve_tangent_spd, TangentTerms};
+use tangent::{
+    forward_difference_tangents, solve_tangent, solve_tangent_spd, ElementTangent, TangentTerms,
+};
 
 /// Settings of a static analysis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -300,19 +302,7 @@ pub fn solve_static_until(
                     det: model.deformation_gradient(e, &u).determinant(),
                 });
             }
-            let mut residual = vec![0.0; free];
-            let (mut reaction_sq, mut external_sq) = (0.0, 0.0);
-            for i in 0..n {
-                for d in 0..3 {
-                    let r = f_int[i][d] - f_ext[i][d];
-                    external_sq += f_ext[i][d] * f_ext[i][d];
-                    match equation[i][d] {
-                        usize::MAX => reaction_sq += r * r,
-                        k => residual[k] = r,
-                    }
-                }
-            }
-            let scale = reaction_sq.sqrt().max(external_sq.sqrt());
+            let (residual, scale) = free_residual(&f_int, &f_ext, &equation, free);
             let norm = residual.iter().map(|r| r * r).sum::<f64>().sqrt();
             last_residual = if scale > 0.0 { norm / scale } else { norm };
             if norm <= settings.tolerance * scale || norm == 0.0 {
@@ -323,37 +313,9 @@ pub fn solve_static_until(
                 break;
             }
             let tangents = forward_difference_tangents(problem, &u, &history);
-            let du = match settings.linear_solver {
-                LinearSolver::Lu => {
-                    solve_tangent(
-                        problem,
-                        &u,
-                        &equation,
-                        free,
-                        &residual,
-                        &tangents,
-                        TangentTerms::default(),
-                    )?
-                    .0
-                }
-                LinearSolver::ConjugateGradient {
-                    tolerance,
-                    max_iterations,
-                } => {
-                    let (du, taken) = solve_tangent_spd(
-                        problem,
-                        &u,
-                        &equation,
-                        free,
-                        &residual,
-                        &tangents,
-                        tolerance,
-                        max_iterations,
-                    )?;
-                    step_linear_iterations += taken;
-                    du
-                }
-            };
+            let (du, taken) =
+                linear_step(problem, settings, &u, &equation, free, &residual, &tangents)?;
+            step_linear_iterations += taken;
             for i in 0..n {
                 for d in 0..3 {
                     if equation[i][d] != usize::MAX {
@@ -405,6 +367,70 @@ pub fn solve_static_until(
         history: None,
         material_history: None,
         stopped: None,
+    })
+}
+
+/// The residual `f_int - f_ext` at the free components (by equation number) and the force
+/// scale of the convergence test: the larger of the reactions' norm and the external forces'.
+fn free_residual(
+    f_int: &[Vector3<f64>],
+    f_ext: &[Vector3<f64>],
+    equation: &[[usize; 3]],
+    free: usize,
+) -> (Vec<f64>, f64) {
+    let mut residual = vec![0.0; free];
+    let (mut reaction_sq, mut external_sq) = (0.0, 0.0);
+    for i in 0..f_int.len() {
+        for d in 0..3 {
+            let r = f_int[i][d] - f_ext[i][d];
+            external_sq += f_ext[i][d] * f_ext[i][d];
+            match equation[i][d] {
+                usize::MAX => reaction_sq += r * r,
+                k => residual[k] = r,
+            }
+        }
+    }
+    (residual, reaction_sq.sqrt().max(external_sq.sqrt()))
+}
+
+/// The Newton correction for `residual` at `u` with the settings' linear solver, and the
+/// conjugate-gradient iterations it took (0 with LU).
+fn linear_step(
+    problem: &Problem,
+    settings: &StaticSettings,
+    u: &[Vector3<f64>],
+    equation: &[[usize; 3]],
+    free: usize,
+    residual: &[f64],
+    tangents: &[Vec<ElementTangent>],
+) -> Result<(Vec<f64>, usize)> {
+    Ok(match settings.linear_solver {
+        LinearSolver::Lu => (
+            solve_tangent(
+                problem,
+                u,
+                equation,
+                free,
+                residual,
+                tangents,
+                TangentTerms::default(),
+            )?
+            .0,
+            0,
+        ),
+        LinearSolver::ConjugateGradient {
+            tolerance,
+            max_iterations,
+        } => solve_tangent_spd(
+            problem,
+            u,
+            equation,
+            free,
+            residual,
+            tangents,
+            tolerance,
+            max_iterations,
+        )?,
     })
 }
 

@@ -123,15 +123,7 @@ pub(super) fn solve_path(
         // unloading for those that shorten it), and that mixture is no linearisation along any
         // path: on the slice beam under opening control it made the opening's response to the
         // plate 20 times too small at 60 % of the peak.
-        let predicted = last_increment.as_ref().map(|(du, size_before)| {
-            let ratio = size / size_before;
-            committed
-                .u
-                .iter()
-                .zip(du)
-                .map(|(u, du)| u + du * ratio)
-                .collect::<Vec<_>>()
-        });
+        let predicted = secant_prediction(&committed.u, last_increment.as_ref(), size);
         let trial = Step {
             problem,
             settings,
@@ -145,19 +137,7 @@ pub(super) fn solve_path(
             predicted: predicted.as_deref(),
             path_scale,
         };
-        // Under opening control a step that fails at the last cut has met a fold of the branch
-        // it followed, not a limit point of the path: it is solved again, relaxed.
-        let outcome = match trial.solve(false)? {
-            Outcome::Failed { reason } if cuts >= settings.max_cuts && control.is_some() => {
-                match trial.solve(true)? {
-                    Outcome::Failed { reason: relaxed } => Outcome::Failed {
-                        reason: format!("{reason}; relaxed, it {relaxed}"),
-                    },
-                    converged => converged,
-                }
-            }
-            outcome => outcome,
-        };
+        let outcome = solved_or_relaxed(&trial, cuts >= settings.max_cuts && control.is_some())?;
         match outcome {
             Outcome::Converged {
                 state,
@@ -202,17 +182,13 @@ pub(super) fn solve_path(
                 cuts = cuts.saturating_sub(1);
             }
             Outcome::Failed { reason } if cuts >= settings.max_cuts => {
-                // Under load-point control the path's limit point; under opening control, where
-                // the path has none, a fold that the relaxation did not cross either.
-                let what = if control.is_some() {
-                    "no balanced state past"
-                } else {
-                    "limit point at"
-                };
-                stopped = Some(format!(
-                    "{what} load factor {lambda:.6}: the step to {target:.6} ({} of the nominal \
-                     step, after {cuts} halvings) {reason}",
-                    size / nominal
+                stopped = Some(path_end(
+                    control.is_some(),
+                    lambda,
+                    target,
+                    size / nominal,
+                    cuts,
+                    &reason,
                 ));
                 break;
             }
@@ -229,6 +205,60 @@ pub(super) fn solve_path(
         material_history: Some(committed.history),
         stopped,
     })
+}
+
+/// Linear extrapolation of the last converged increment `(du, its size)` to a step of `size`
+/// (a secant predictor; see [`solve_path`]); `None` before the first increment.
+fn secant_prediction(
+    committed: &[Vector3<f64>],
+    last_increment: Option<&(Vec<Vector3<f64>>, f64)>,
+    size: f64,
+) -> Option<Vec<Vector3<f64>>> {
+    last_increment.map(|(du, size_before)| {
+        let ratio = size / size_before;
+        committed
+            .iter()
+            .zip(du)
+            .map(|(u, du)| u + du * ratio)
+            .collect::<Vec<_>>()
+    })
+}
+
+/// The step `trial` solved; with `relax` (under opening control, at the last cut) a step that
+/// fails is solved again, relaxed: it has met a fold of the branch it followed, not a limit
+/// point of the path.
+fn solved_or_relaxed(trial: &Step<'_>, relax: bool) -> Result<Outcome> {
+    Ok(match trial.solve(false)? {
+        Outcome::Failed { reason } if relax => match trial.solve(true)? {
+            Outcome::Failed { reason: relaxed } => Outcome::Failed {
+                reason: format!("{reason}; relaxed, it {relaxed}"),
+            },
+            converged => converged,
+        },
+        outcome => outcome,
+    })
+}
+
+/// Why the path ends where a step fails after its last halving: under load-point control the
+/// path's limit point; under opening control (`controlled`), where the path has none, a fold
+/// that the relaxation did not cross either.
+fn path_end(
+    controlled: bool,
+    lambda: f64,
+    target: f64,
+    fraction: f64,
+    cuts: u32,
+    reason: &str,
+) -> String {
+    let what = if controlled {
+        "no balanced state past"
+    } else {
+        "limit point at"
+    };
+    format!(
+        "{what} load factor {lambda:.6}: the step to {target:.6} ({fraction} of the nominal \
+         step, after {cuts} halvings) {reason}"
+    )
 }
 
 /// The size of each body: the diagonal of its reference bounding box (m), the yardstick of

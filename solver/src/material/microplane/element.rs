@@ -7,8 +7,8 @@ use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
 use crate::material::{
-    Deformation, ElementState, IsotropicElastic, Material, MaterialModel, RemeshedElements,
-    StrengthField,
+    Deformation, ElementDataError, ElementState, IsotropicElastic, Material, MaterialModel,
+    RemeshedElements, StrengthField,
 };
 
 /// Microplane concrete prepared for a body: the model with its microplanes and laws precomputed,
@@ -206,6 +206,40 @@ impl Material for MicroplaneMaterial {
                 }
             });
         }
+        Ok(Some(MicroplaneMaterial {
+            model: self.model.clone(),
+            bands,
+            strength_field: self.strength_field.clone(),
+        }))
+    }
+
+    /// Each element's crack band: size, tension and shear factors, strength (four numbers).
+    fn element_data(&self) -> Option<Vec<f64>> {
+        Some(
+            self.bands
+                .iter()
+                .flat_map(|b| [b.size, b.tension, b.shear, b.strength])
+                .collect(),
+        )
+    }
+
+    fn with_element_data(&self, data: &[f64]) -> Result<Option<Self>, ElementDataError> {
+        if data.len() % 4 != 0 {
+            return Err(ElementDataError {
+                numbers: data.len(),
+                per_element: 4,
+                what: "a crack band's size, tension and shear factors and strength",
+            });
+        }
+        let bands = data
+            .chunks_exact(4)
+            .map(|b| CrackBand {
+                size: b[0],
+                tension: b[1],
+                shear: b[2],
+                strength: b[3],
+            })
+            .collect();
         Ok(Some(MicroplaneMaterial {
             model: self.model.clone(),
             bands,

@@ -74,20 +74,17 @@
 //! refinement region by one layer of elements ([`grow_region`]) so that every node of the
 //! distorted elements is inside, unless it lies on a curved part of the outer boundary.
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+mod repair;
+mod split;
+
+use std::collections::BTreeSet;
 
 use nalgebra::Vector3;
 
-use super::collapse::{collapse_short_edges, CollapseLimits, Removable};
-use super::flip::flip_slivers;
-use super::peel::{peel_failed_and_slivers, PeeledElement};
-use super::smoothing::{
-    boundary_nodes, smooth, smooth_on_surface, volume_and_boundary_area, SurfaceSlide,
-};
-use super::subdivision::{face_triangles, red_refinement};
+use self::repair::{collapse_draft, flip_and_peel, smooth_draft};
+use self::split::{split_region, Draft};
+use super::peel::PeeledElement;
 use crate::error::{Result, SolverError};
-use crate::kinematics::signed_volume;
-use crate::mesh::{face_key, TET_FACES};
 
 /// Default number of smoothing sweeps (an upper bound: sweeps stop when no node moves).
 pub const SMOOTHING_SWEEPS: usize = 100;
@@ -277,341 +274,26 @@ pub fn remesh_region_keeping_edges(
     keep_edge: &dyn Fn(u32, u32) -> bool,
     failed: &dyn Fn(&[Vector3<f64>; 4]) -> bool,
 ) -> Result<RemeshedRegion> {
-    let region: Vec<usize> = region
-        .iter()
-        .copied()
-        .collect::<BTreeSet<_>>()
-        .into_iter()
-        .collect();
-    if region.is_empty() {
-        return Err(remesh_error(
-            "refinement region",
-            "is empty: nothing to remesh".to_string(),
-        ));
-    }
-    let mut in_region = vec![false; tets.len()];
-    for &e in &region {
-        if e >= tets.len() {
-            return Err(remesh_error(
-                &format!("region element {e}"),
-                format!("out of range: the mesh has {} elements", tets.len()),
-            ));
-        }
-        in_region[e] = true;
-        let v = signed_volume(&tets[e].map(|n| x[n as usize]));
-        if !(v > 0.0) {
-            return Err(remesh_error(
-                &format!("element {e}"),
-                format!("current volume {v:.6e} m^3 is not positive: it cannot be remeshed"),
-            ));
-        }
-    }
-
-    // Faces: how many region and other elements hold each one.
-    let mut faces: HashMap<[u32; 3], (u8, u8)> = HashMap::with_capacity(4 * tets.len());
-    for (e, tet) in tets.iter().enumerate() {
-        for f in TET_FACES {
-            let c = faces.entry(face_key(f.map(|i| tet[i]))).or_insert((0, 0));
-            if in_region[e] {
-                c.0 += 1;
-            } else {
-                c.1 += 1;
-            }
-            if c.0 + c.1 > 2 {
-                return Err(remesh_error(
-                    &format!("element {e}"),
-                    "shares a face with two other elements: the mesh is not conforming".into(),
-                ));
-            }
-        }
-    }
-
-    // Fixed old nodes: those of elements outside the region, and those of the region's faces on
-    // the outer boundary. Boundary edges of the region (for midpoints that must not move).
-    let mut fixed = vec![false; x.len()];
-    // Nodes of elements outside the region: they never move (the interface stays conforming).
-    let mut outside = vec![false; x.len()];
-    let mut region_node = vec![false; x.len()];
-    for &e in &region {
-        for n in tets[e] {
-            region_node[n as usize] = true;
-        }
-    }
-    let mut boundary_edges = BTreeSet::new();
-    for &e in &region {
-        for f in TET_FACES {
-            let face = f.map(|i| tets[e][i]);
-            if faces[&face_key(face)] == (1, 0) {
-                for k in 0..3 {
-                    fixed[face[k] as usize] = true;
-                    boundary_edges.insert(edge_key(face[k], face[(k + 1) % 3]));
-                }
-            }
-        }
-    }
-    // Edges of region elements, less those of elements outside (which must not be split).
-    // Edges of region elements long enough to halve (`min_edge`), less those of elements
-    // outside (which must not be split).
-    let mut marked: BTreeSet<(u32, u32)> = region
-        .iter()
-        .flat_map(|&e| TET_EDGES.map(|[i, j]| edge_key(tets[e][i], tets[e][j])))
-        .filter(|&(a, b)| (x[a as usize] - x[b as usize]).norm() >= 2.0 * options.min_edge)
-        .filter(|&(a, b)| !keep_edge(a, b))
-        .collect();
-    for (e, tet) in tets.iter().enumerate() {
-        if in_region[e] {
-            continue;
-        }
-        for n in tet {
-            fixed[*n as usize] = true;
-            outside[*n as usize] = true;
-        }
-        if tet.iter().any(|n| region_node[*n as usize]) {
-            for [i, j] in TET_EDGES {
-                marked.remove(&edge_key(tet[i], tet[j]));
-            }
-        }
-    }
-
-    // Numbering: kept old nodes in old order, then the region's inner old nodes, then the
-    // midpoints (ascending edge), then the centroids (ascending element).
-    let mut new_id = vec![0u32; x.len()];
-    let mut kept_nodes = vec![None; x.len()];
-    let mut nodes = Vec::with_capacity(x.len() + marked.len() + region.len());
-    let mut movable = Vec::new();
-    for n in 0..x.len() {
-        if !region_node[n] || fixed[n] {
-            new_id[n] = nodes.len() as u32;
-            kept_nodes[n] = Some(new_id[n]);
-            nodes.push(x[n]);
-        }
-    }
-    for n in 0..x.len() {
-        if region_node[n] && !fixed[n] {
-            new_id[n] = nodes.len() as u32;
-            movable.push(new_id[n]);
-            nodes.push(x[n]);
-        }
-    }
-    let mut midpoint = BTreeMap::new();
-    for &(a, b) in &marked {
-        let id = nodes.len() as u32;
-        midpoint.insert((a, b), id);
-        if !boundary_edges.contains(&(a, b)) {
-            movable.push(id);
-        }
-        nodes.push(0.5 * (x[a as usize] + x[b as usize]));
-    }
-
-    let mut out_tets: Vec<[u32; 4]> = Vec::with_capacity(tets.len() + 8 * region.len());
-    let mut origin = Vec::with_capacity(out_tets.capacity());
-    for (e, tet) in tets.iter().enumerate() {
-        if !in_region[e] {
-            out_tets.push(tet.map(|n| new_id[n as usize]));
-            origin.push(Some(e as u32));
-        }
-    }
-    let first_region_element = out_tets.len();
-    // Midpoint of the old edge (a, b) as a new node id, if the edge is split.
-    let mid = |a: u32, b: u32| midpoint.get(&edge_key(a, b)).copied();
-    for &e in &region {
-        let old = tets[e];
-        let v = old.map(|n| new_id[n as usize]);
-        let count = TET_EDGES
-            .iter()
-            .filter(|[i, j]| mid(old[*i], old[*j]).is_some())
-            .count();
-        if count == 0 {
-            // Unsplit: a copy where no node can move (all held by elements outside), else a
-            // new element that the smoothing and the collapses may change.
-            out_tets.push(v);
-            let copy = old.iter().all(|&n| outside[n as usize]);
-            origin.push(copy.then_some(e as u32));
-        } else if count == 6 {
-            let m = |i: usize, j: usize| mid(old[i], old[j]).expect("all six edges are split");
-            red_refinement(v, m, &nodes, &mut out_tets);
-            origin.resize(out_tets.len(), None);
-        } else {
-            let centroid = nodes.len() as u32;
-            movable.push(centroid);
-            nodes.push(0.25 * old.iter().map(|&n| x[n as usize]).sum::<Vector3<f64>>());
-            for f in TET_FACES {
-                let face_old = f.map(|i| old[i]);
-                for t in face_triangles(face_old, &mid, &new_id, &nodes) {
-                    out_tets.push([t[0], t[2], t[1], centroid]);
-                    origin.push(None);
-                }
-            }
-        }
-    }
-
-    // Inner nodes move freely; nodes on the outer boundary slide within the axis-aligned planes
-    // of their boundary faces where they have any (symmetry planes, flat faces).
-    let mut free: Vec<(u32, [bool; 3])> = movable.iter().map(|&n| (n, [true; 3])).collect();
-    let pinned: Vec<bool> = {
-        let mut p = vec![false; nodes.len()];
-        for (o, k) in kept_nodes.iter().enumerate() {
-            if let (Some(k), true) = (k, outside[o]) {
-                p[*k as usize] = true;
-            }
-        }
-        p
-    };
-    let boundary = boundary_nodes(&nodes, &out_tets[first_region_element..], &pinned);
-    free.extend(boundary.sliding);
-    // Nodes on a curved part of the boundary slide on it, moving it by at most the surface
-    // deviation; the volume and area that changes is booked with the surface collapses'.
-    let region_tets = &out_tets[first_region_element..];
-    let slide = SurfaceSlide::new(
-        &nodes,
-        region_tets,
-        &boundary.surface,
-        options.surface_deviation,
-    );
-    let with_surface: Vec<(u32, [bool; 3])> = free
-        .iter()
-        .copied()
-        .chain(slide.movable(&boundary.surface))
-        .collect();
-    // Without sliding nodes the smoothing keeps the volume and the boundary (no sums needed).
-    let measure = |nodes: &[Vector3<f64>]| {
-        if slide.is_empty() {
-            (0.0, 0.0)
-        } else {
-            volume_and_boundary_area(nodes, region_tets)
-        }
-    };
-    let (volume_before, area_before) = measure(&nodes);
-    smooth_on_surface(
-        &mut nodes,
-        region_tets,
-        &with_surface,
-        options.smoothing_sweeps,
-        &slide,
-    );
-    let (volume_after, area_after) = measure(&nodes);
-    let mut merged_nodes = Vec::new();
-    let (mut surface_collapses, mut surface_volume_change, mut surface_area_change) =
-        (0, volume_after - volume_before, area_after - area_before);
+    let mut draft = split_region(x, tets, region, options, keep_edge)?;
+    let mut repairs = smooth_draft(&mut draft, options);
     if options.collapse_passes > 0 {
-        let mut removable = vec![Removable::Never; nodes.len()];
-        // Surface nodes that slid are on the old surface: a collapse measures from there.
-        for &(n, axes) in &boundary.surface {
-            removable[n as usize] = Removable::Surface(axes);
-        }
-        for &(n, axes) in &free {
-            removable[n as usize] = Removable::Sliding(axes.map(|f| !f));
-        }
-        let collapses = collapse_short_edges(
-            &nodes,
-            &out_tets[first_region_element..],
-            &neighbours_of_region(&nodes, &out_tets, first_region_element),
-            &removable,
-            CollapseLimits {
-                target: COLLAPSE_TARGET,
-                min_edge: options.min_edge,
-                surface_deviation: options.surface_deviation,
-                passes: options.collapse_passes,
-            },
-        );
-        surface_collapses = collapses.surface;
-        surface_volume_change += collapses.volume_change;
-        surface_area_change += collapses.area_change;
-        let left = collapses.tets;
-        if collapses.count > 0 {
-            let (mut tets_left, mut origin_left) = (Vec::new(), Vec::new());
-            for (t, o) in left.into_iter().zip(&origin[first_region_element..]) {
-                if let Some(t) = t {
-                    tets_left.push(t);
-                    origin_left.push(*o);
-                }
-            }
-            out_tets.truncate(first_region_element);
-            out_tets.extend(tets_left);
-            origin.truncate(first_region_element);
-            origin.extend(origin_left);
-            // A merge on the surface gives the nodes around it new boundary faces: a node that
-            // slid in a plane may now hold a face of the curved surface, which sliding it would
-            // move (the region's volume then changed by 2.5e-6 of itself, unrecorded, in a nail
-            // run). Only nodes whose boundary faces still lie in the same planes slide now.
-            let now = boundary_nodes(&nodes, &out_tets[first_region_element..], &pinned);
-            let sliding: HashMap<u32, [bool; 3]> = now.sliding.into_iter().collect();
-            let surface: BTreeSet<u32> = now.surface.into_iter().map(|(n, _)| n).collect();
-            free.retain(|(n, axes)| match sliding.get(n) {
-                Some(a) => a == axes,
-                None => !surface.contains(n),
-            });
-            smooth(
-                &mut nodes,
-                &out_tets[first_region_element..],
-                &free,
-                options.smoothing_sweeps,
-            );
-            drop_unused_nodes(
-                &mut nodes,
-                &mut out_tets,
-                &mut free,
-                &mut kept_nodes,
-                &mut merged_nodes,
-            );
-        }
+        collapse_draft(&mut draft, &mut repairs, options);
     }
-    let mut peeled = Vec::new();
     if options.flip_passes > 0 {
-        // Region elements that copy an old one unchanged, which the flips leave alone.
-        let fixed: Vec<bool> = origin[first_region_element..]
-            .iter()
-            .map(Option::is_some)
-            .collect();
-        let (after, flips) = flip_slivers(
-            &nodes,
-            &out_tets[first_region_element..],
-            &fixed,
-            &neighbours_of_region(&nodes, &out_tets, first_region_element),
-            COLLAPSE_TARGET,
-            options.flip_passes,
-        );
-        if flips > 0 {
-            let old_origin = origin.split_off(first_region_element);
-            out_tets.truncate(first_region_element);
-            for (k, t) in after.into_iter().enumerate() {
-                if let Some(t) = t {
-                    out_tets.push(t);
-                    origin.push(old_origin.get(k).copied().flatten());
-                }
-            }
-            smooth(
-                &mut nodes,
-                &out_tets[first_region_element..],
-                &free,
-                options.smoothing_sweeps,
-            );
-        }
-        // A region element copied unchanged may be peeled too: an unsplit one (its edges too
-        // short, or kept where a contact partner lies across them) is as collapsed as it came.
-        let (kept, removed) = peel_failed_and_slivers(
-            &nodes,
-            &out_tets,
-            first_region_element,
-            options.flip_passes,
-            options.erode,
-            failed,
-        );
-        if !removed.is_empty() {
-            out_tets = kept.iter().map(|&e| out_tets[e]).collect();
-            origin = kept.iter().map(|&e| origin[e]).collect();
-            peeled = removed;
-            // A peeled element may take its last node with it.
-            drop_unused_nodes(
-                &mut nodes,
-                &mut out_tets,
-                &mut free,
-                &mut kept_nodes,
-                &mut merged_nodes,
-            );
-        }
+        flip_and_peel(&mut draft, &mut repairs, options, failed);
     }
+    let Draft {
+        nodes,
+        tets: out_tets,
+        origin,
+        first_region_element,
+        mut kept_nodes,
+        ..
+    } = draft;
+    let mut merged_nodes = repairs.merged_nodes;
     merged_nodes.sort_unstable();
+    // An old boundary node the smoothing moved is a new node now: its fields come from the
+    // transfer.
     let mut slid_nodes = Vec::new();
     for (o, k) in kept_nodes.iter_mut().enumerate() {
         if let Some(n) = *k {
@@ -629,10 +311,10 @@ pub fn remesh_region_keeping_edges(
         first_region_element,
         slid_nodes,
         merged_nodes,
-        surface_collapses,
-        surface_volume_change,
-        surface_area_change,
-        peeled,
+        surface_collapses: repairs.surface_collapses,
+        surface_volume_change: repairs.surface_volume_change,
+        surface_area_change: repairs.surface_area_change,
+        peeled: repairs.peeled,
     })
 }
 
