@@ -185,8 +185,16 @@ fn main() {
     // The production update in three orders, side by side and one by one taken alternately,
     // ROUNDS times: the medians and their ratio.
     let all: Vec<usize> = (0..n).collect();
-    let spread: Vec<usize> = (0..1000).map(|k| k * (n / 1000)).collect();
+    let spread_of = |of: &[usize]| -> Vec<usize> {
+        let count = of.len().min(1000);
+        (0..count).map(|k| of[k * (of.len() / count)]).collect()
+    };
+    let spread = spread_of(&all);
     let repeated: Vec<usize> = spread.iter().flat_map(|&i| [i; 16]).collect();
+    let unloading_class: Vec<usize> = unloading.iter().map(|u| u.0).collect();
+    let virgin_class: Vec<usize> = (0..n)
+        .filter(|i| unloading_class.binary_search(i).is_err())
+        .collect();
     let orders = [
         (
             format!("all {n} in element order (histories streamed)"),
@@ -196,6 +204,14 @@ fn main() {
         (
             "the same, each 16 times in a row (branches predicted)".to_string(),
             repeated,
+        ),
+        (
+            "1000 spread of the unloading class (in cache)".to_string(),
+            spread_of(&unloading_class),
+        ),
+        (
+            "1000 spread of the virgin-loading class (in cache)".to_string(),
+            spread_of(&virgin_class),
         ),
     ];
     const ROUNDS: usize = 7;

@@ -101,9 +101,11 @@ impl Component {
         self.stress_reached[p] = history[slot + 1] as f64;
     }
 
-    /// [`super::cyclic::Branch::unloading`] of every lane, with the peak `(e_p, s_p)` of each
-    /// lane's law: the stress on the unloading line into `stress`, and whether any lane is at
-    /// or beyond its turning point (virgin loading: `x >= reached`, where `stress` is not used).
+    /// [`super::cyclic::Branch::unloading`] of every lane, with the peak strain `e_p` of each
+    /// lane's law and its residual strain at the peak `<e_p - s_p / C0>` (5.103, see
+    /// [`residual_at_peak`]): the stress on the unloading line into `stress`, and whether any
+    /// lane is at or beyond its turning point (virgin loading: `x >= reached`, where `stress` is
+    /// not used).
     #[inline(always)]
     fn unloading(
         &self,
@@ -117,11 +119,11 @@ impl Component {
         let mut any = false;
         for p in 0..LANES {
             let (e, s, x) = (self.reached[p], self.stress_reached[p], self.x[p]);
-            let (e_p, s_p) = (peak.0[p], peak.1[p]);
+            let (e_p, at_peak) = (peak.0[p], peak.1[p]);
             // `UnloadingRule::modulus` with both sides of its tests computed, then selected.
             let before = alpha * c0 + (1.0 - alpha) * (s / e);
             let before = if before < c0 { before } else { c0 };
-            let residual = ((e_p - s_p / c0).max(0.0) + beta * (e - e_p)).min(e);
+            let residual = (at_peak + beta * (e - e_p)).min(e);
             let towards = if e > residual { s / (e - residual) } else { c0 };
             let after = (alpha * c0 + (1.0 - alpha) * towards).max(s / e).min(c0);
             let modulus = if e <= 0.0 {
@@ -140,11 +142,22 @@ impl Component {
     }
 }
 
+/// `<e_p - s_p / C0>`, the residual strain of the unloading rule at the peak `(e_p, s_p)` of a law
+/// of initial modulus `c0` (5.103): the same for every plane of a law, so computed once per
+/// update instead of once per plane (the same value, so the same bits).
+fn residual_at_peak((e_p, s_p): (f64, f64), c0: f64) -> f64 {
+    (e_p - s_p / c0).max(0.0)
+}
+
 /// [`DecayTable::eval`] of every lane whose `lambda` is positive, 1 elsewhere: the cyclic shear
 /// damage `exp(-1.2 (Lambda / W)^1.1)` (5.104) of every plane.
 #[inline(always)]
 fn cyclic_damage(table: &DecayTable, exact: bool, lambda: &Lanes, energy: f64) -> Lanes {
     let mut out = [1.0; LANES];
+    // Most planes of most elements have no cyclic damage: no table to read.
+    if !lambda.iter().any(|&l| l > 0.0) {
+        return out;
+    }
     if exact {
         for p in 0..LANES {
             if lambda[p] > 0.0 {
@@ -216,14 +229,18 @@ impl MicroplaneConcrete {
         }
 
         // The unloading lines (5.102, 5.103) of all components.
+        let tension = (
+            scales.tension_peak.0,
+            residual_at_peak(scales.tension_peak, self.e_d0),
+        );
+        let compression = (
+            scales.compression_peak.0,
+            residual_at_peak(scales.compression_peak, self.e_d0),
+        );
         let mut peak_e = [0.0; LANES];
         let mut peak_s = [0.0; LANES];
         for p in 0..LANES {
-            let peak = if e_d[p] >= 0.0 {
-                scales.tension_peak
-            } else {
-                scales.compression_peak
-            };
+            let peak = if e_d[p] >= 0.0 { tension } else { compression };
             (peak_e[p], peak_s[p]) = peak;
         }
         let mut s_d = [0.0; LANES];
@@ -235,7 +252,7 @@ impl MicroplaneConcrete {
         let rule = &self.rule;
         let mut virgin = d.unloading(self.e_d0, (&peak_e, &peak_s), rule, &mut s_d, &mut virgin_d);
         let shear_e = [scales.shear_peak.0; LANES];
-        let shear_s = [scales.shear_peak.1; LANES];
+        let shear_s = [residual_at_peak(scales.shear_peak, self.e_t0); LANES];
         let shear_peak = (&shear_e, &shear_s);
         virgin |= m.unloading(self.e_t0, shear_peak, rule, &mut s_m, &mut virgin_m);
         virgin |= k.unloading(self.e_t0, shear_peak, rule, &mut s_k, &mut virgin_k);
