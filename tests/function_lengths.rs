@@ -29,7 +29,6 @@ const KNOWN: &[(&str, &str, usize)] = &[
     ("solver/src/scene/build.rs", "build_problem", 355),
     ("harness/material_point/experiments/rate_effect.rs", "rate_effect", 322),
     ("solver/src/remesh/mesh_check.rs", "check_remeshed", 276),
-    ("solver/src/material/microplane/mod.rs", "plane_update", 272),
     ("harness/scene_case.rs", "run_logged", 255),
     ("harness/material_point/experiments/crack_band.rs", "crack_band", 222),
     ("harness/report/beam/plots.rs", "plots", 178),

@@ -53,8 +53,7 @@ use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
 use dissipation::VirginSteps;
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
-use plane_loop::{PlaneScales, PlaneSums};
-use shear::ShearScale;
+use plane_loop::PlaneSums;
 use side_by_side::SideBySide;
 
 /// The relaxation `psi` below which an element's cracks count as open for crack friction
@@ -460,38 +459,7 @@ impl MicroplaneConcrete {
             .min(header[state::RELAXATION] as f64)
         };
         header[state::RELAXATION] = relaxation as f32;
-        let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
-        let e2 = f * p.e2;
-        let shear_peak = self.shear.peak(e5, self.e_t0);
-        let dilatant = p.dilatancy > 0.0;
-        let scales = PlaneScales {
-            relaxation,
-            e_v,
-            s_v,
-            inverse_e1: 1.0 / e1,
-            tension_amplitude: self.e_d0 * e1,
-            inverse_e2: 1.0 / e2,
-            compression_amplitude: self.e_d0 * e2,
-            inverse_e_d0: 1.0 / self.e_d0,
-            tension_peak: self.tension.peak(e1, self.e_d0),
-            compression_peak: self.compression.peak(e2, self.e_d0),
-            shear_peak,
-            shear: ShearScale {
-                e5,
-                peak: shear_peak,
-                band: band.shear,
-                monotonic_energy: self.e_t0
-                    * e5
-                    * e5
-                    * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear),
-            },
-            band_tension: band.tension,
-            dilatant,
-            // The energy the planes dissipate in this update (J/m^3, each branch that loads on
-            // its virgin law) may pay for the growth of the dilatant strain: the virgin steps
-            // are recorded, and summed only where the growth reads them (`dissipation`).
-            eager: dilatant && self.always_count_dissipation,
-        };
+        let scales = self.plane_scales(e_v, s_v, f, band, relaxation);
 
         let count = self.planes.len();
         let (planes, sliders) = planes.split_at_mut(state::PER_PLANE * count);
@@ -547,7 +515,7 @@ impl MicroplaneConcrete {
         header[state::PRINCIPAL_STRESS] =
             principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
         self.advance_opening(header, &sigma);
-        if dilatant {
+        if scales.dilatant {
             let wanted = p.dilatancy * inelastic_compression;
             let reached = header[state::DILATANCY] as f64;
             if wanted > reached {

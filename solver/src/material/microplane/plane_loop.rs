@@ -8,7 +8,7 @@ use super::cyclic::{Branch, UnloadingRule};
 use super::dissipation::{Law, VirginSteps};
 use super::shear::ShearScale;
 use super::tension_boundary::ElementBoundary;
-use super::{state, MicroplaneConcrete, RELAXATION_ONSET};
+use super::{state, CrackBand, MicroplaneConcrete, RELAXATION_ONSET};
 
 /// What the plane laws of one update share, computed once per update.
 #[derive(Debug, Clone, Copy)]
@@ -64,6 +64,55 @@ pub(super) struct PlaneSums {
 }
 
 impl MicroplaneConcrete {
+    /// The scales of the plane laws at the rate factor `f` (5.110), the volumetric strain and
+    /// stress `e_v`, `s_v`, the crack band `band` and the relaxation `relaxation` of this update:
+    /// the strain scales `e1 = f s e1`, `e2 = f e2` and `e5 = f (e3 - e4 <-e_V>)` (5.23) and what
+    /// follows from them once per update.
+    #[inline(always)]
+    pub(super) fn plane_scales(
+        &self,
+        e_v: f64,
+        s_v: f64,
+        f: f64,
+        band: &CrackBand,
+        relaxation: f64,
+    ) -> PlaneScales {
+        let p = &self.parameters;
+        let e1 = f * band.strength * p.e1;
+        let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
+        let e2 = f * p.e2;
+        let shear_peak = self.shear.peak(e5, self.e_t0);
+        let dilatant = p.dilatancy > 0.0;
+        PlaneScales {
+            relaxation,
+            e_v,
+            s_v,
+            inverse_e1: 1.0 / e1,
+            tension_amplitude: self.e_d0 * e1,
+            inverse_e2: 1.0 / e2,
+            compression_amplitude: self.e_d0 * e2,
+            inverse_e_d0: 1.0 / self.e_d0,
+            tension_peak: self.tension.peak(e1, self.e_d0),
+            compression_peak: self.compression.peak(e2, self.e_d0),
+            shear_peak,
+            shear: ShearScale {
+                e5,
+                peak: shear_peak,
+                band: band.shear,
+                monotonic_energy: self.e_t0
+                    * e5
+                    * e5
+                    * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear),
+            },
+            band_tension: band.tension,
+            dilatant,
+            // The energy the planes dissipate in this update (J/m^3, each branch that loads on
+            // its virgin law) may pay for the growth of the dilatant strain: the virgin steps
+            // are recorded, and summed only where the growth reads them (`dissipation`).
+            eager: dilatant && self.always_count_dissipation,
+        }
+    }
+
     /// The normal component of a plane at the deviatoric strain `e_d` (5.19, 5.100-5.103):
     /// its stress magnitude `s >= 0`, advancing the branch of `e_d`'s sign in `history` (the
     /// plane's values), and where the branch loaded on its virgin law, the law and the branch

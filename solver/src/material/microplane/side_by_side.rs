@@ -24,6 +24,11 @@ use super::{state, MicroplaneConcrete, Sym};
 pub(super) const PLANES: usize = 21;
 /// Lanes: the planes padded to a multiple of four.
 const LANES: usize = 24;
+/// The number of the 63 components loading on their virgin laws above which an update runs
+/// plane by plane (a third: chosen, not tuned; the side-by-side pass costs about as much as the
+/// unloading lines of all planes one by one, and each virgin component then runs its scalar
+/// law as well).
+const MOSTLY_LOADING: usize = 21;
 /// One value per plane, padding lanes last.
 type Lanes = [f64; LANES];
 
@@ -228,6 +233,20 @@ impl MicroplaneConcrete {
             lambda_k[p] = history[state::K + 4] as f64;
         }
 
+        // An update that loads most components on their virgin laws (a structure loaded
+        // monotonically, the quasi-static beam) would compute their unloading lines for nothing
+        // and then run them plane by plane: it runs plane by plane from the start.
+        let mut loading = 0;
+        for c in [&d, &m, &k] {
+            for p in 0..LANES {
+                loading += usize::from(c.x[p] >= c.reached[p]);
+            }
+        }
+        if loading > MOSTLY_LOADING {
+            let strains = [&normal[..PLANES], &along_m[..PLANES], &along_k[..PLANES]];
+            return self.planes_one_by_one(planes, sliders, strains, scales, None, virgin_steps);
+        }
+
         // The unloading lines (5.102, 5.103) of all components.
         let tension = (
             scales.tension_peak.0,
@@ -276,38 +295,14 @@ impl MicroplaneConcrete {
         // Components on their virgin laws, plane by plane in the order of the loop they replace
         // (normal, M, K), so that the virgin steps are recorded in its order.
         if virgin {
-            let dilatant = scales.dilatant;
-            for (p, history) in planes.chunks_exact_mut(state::PER_PLANE).enumerate() {
-                if virgin_d[p] {
-                    let (s, step) = self.normal_branch(e_d[p], history, scales);
-                    s_d[p] = s;
-                    if let Some((law, before, after)) = step.filter(|_| dilatant) {
-                        virgin_steps.push(p, law, before, after, 1.0);
-                    }
-                }
-                if virgin_m[p] {
-                    let (s, step) = self.shear_stress(
-                        e_m[p],
-                        &mut history[state::M..state::M + 5],
-                        &scales.shear,
-                    );
-                    s_m[p] = s;
-                    if let Some((before, after, damage)) = step.filter(|_| dilatant) {
-                        virgin_steps.push(p, Law::Shear, before, after, damage);
-                    }
-                }
-                if virgin_k[p] {
-                    let (s, step) = self.shear_stress(
-                        e_k[p],
-                        &mut history[state::K..state::K + 5],
-                        &scales.shear,
-                    );
-                    s_k[p] = s;
-                    if let Some((before, after, damage)) = step.filter(|_| dilatant) {
-                        virgin_steps.push(p, Law::Shear, before, after, damage);
-                    }
-                }
-            }
+            self.virgin_components(
+                planes,
+                [&e_d, &e_m, &e_k],
+                [&virgin_d, &virgin_m, &virgin_k],
+                [&mut s_d, &mut s_m, &mut s_k],
+                scales,
+                virgin_steps,
+            );
         }
 
         // The normal stress's sign, and the inelastic compressive strain the dilatancy reads.
@@ -336,23 +331,76 @@ impl MicroplaneConcrete {
             }
         }
 
-        // The homogenisation (5.36): each plane's terms side by side, their sums in plane order.
-        let w = &layout.weight;
-        let mut terms = [[0.0; LANES]; 6];
-        for (i, term) in terms.iter_mut().enumerate() {
-            let (nn, mn, kn) = (&layout.nn[i], &layout.mn[i], &layout.kn[i]);
-            for p in 0..LANES {
-                term[p] = w[p] * (s_d[p] * nn[p] + s_m[p] * mn[p] + s_k[p] * kn[p]);
-            }
-        }
-        let mut sums = PlaneSums::default();
-        for p in 0..PLANES {
-            sums.inelastic_compression += inelastic[p];
-            sums.sum_d += w[p] * s_d[p];
-            for i in 0..6 {
-                sums.sigma[i] += terms[i][p];
-            }
-        }
-        sums
+        homogenised(layout, &s_d, &s_m, &s_k, &inelastic)
     }
+
+    /// The components on their virgin laws (`virgin`), plane by plane in the order of the loop
+    /// they replace (normal, `M`, `K`), so that the virgin steps are recorded in its order: the
+    /// scalar code of [`MicroplaneConcrete::planes_one_by_one`] itself, with the Hordijk tail and
+    /// the growth of the cyclic shear damage, overwriting the unloading stresses of `stress`
+    /// (the normal one as a magnitude, the shears signed and damaged).
+    #[inline(always)]
+    fn virgin_components(
+        &self,
+        planes: &mut [f32],
+        [e_d, e_m, e_k]: [&Lanes; 3],
+        [virgin_d, virgin_m, virgin_k]: [&[bool; LANES]; 3],
+        [s_d, s_m, s_k]: [&mut Lanes; 3],
+        scales: &PlaneScales,
+        virgin_steps: &mut VirginSteps,
+    ) {
+        let dilatant = scales.dilatant;
+        for (p, history) in planes.chunks_exact_mut(state::PER_PLANE).enumerate() {
+            if virgin_d[p] {
+                let (s, step) = self.normal_branch(e_d[p], history, scales);
+                s_d[p] = s;
+                if let Some((law, before, after)) = step.filter(|_| dilatant) {
+                    virgin_steps.push(p, law, before, after, 1.0);
+                }
+            }
+            for (virgin, e, s, slot) in [
+                (virgin_m, e_m, &mut *s_m, state::M),
+                (virgin_k, e_k, &mut *s_k, state::K),
+            ] {
+                if virgin[p] {
+                    let (stress, step) =
+                        self.shear_stress(e[p], &mut history[slot..slot + 5], &scales.shear);
+                    s[p] = stress;
+                    if let Some((before, after, damage)) = step.filter(|_| dilatant) {
+                        virgin_steps.push(p, Law::Shear, before, after, damage);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The homogenisation (5.36) of the planes' signed stresses: each plane's terms side by side,
+/// their sums in plane order (so the sums of the plane-by-plane loop, bit for bit), with the sum
+/// of the normal stresses for the trace term and of `inelastic` for the dilatancy.
+#[inline(always)]
+fn homogenised(
+    layout: &SideBySide,
+    s_d: &Lanes,
+    s_m: &Lanes,
+    s_k: &Lanes,
+    inelastic: &Lanes,
+) -> PlaneSums {
+    let w = &layout.weight;
+    let mut terms = [[0.0; LANES]; 6];
+    for (i, term) in terms.iter_mut().enumerate() {
+        let (nn, mn, kn) = (&layout.nn[i], &layout.mn[i], &layout.kn[i]);
+        for p in 0..LANES {
+            term[p] = w[p] * (s_d[p] * nn[p] + s_m[p] * mn[p] + s_k[p] * kn[p]);
+        }
+    }
+    let mut sums = PlaneSums::default();
+    for p in 0..PLANES {
+        sums.inelastic_compression += inelastic[p];
+        sums.sum_d += w[p] * s_d[p];
+        for i in 0..6 {
+            sums.sigma[i] += terms[i][p];
+        }
+    }
+    sums
 }
