@@ -10,9 +10,11 @@
 //!
 //! - the classes of the updates: elastic path; every branch below its turning point (no plane
 //!   history moves); some branch loading on its virgin law;
-//! - the production update replayed in three orders: all elements in order, with their histories
-//!   streamed from memory; 1000 spread elements, in cache; the same 1000, each 16 times in a row,
-//!   with branches predicted;
+//! - the production update (planes side by side, `side_by_side.rs`) against the same update with
+//!   the planes one by one (`MicroplaneConcrete::with_planes_one_by_one`): bit for bit on every
+//!   update of the step, then timed alternately in three orders: all elements in order, with
+//!   their histories streamed from memory; 1000 spread elements, in cache; the same 1000, each 16
+//!   times in a row, with branches predicted;
 //! - on the unloading class, a prototype of the plane work with the planes side by side. The
 //!   history is laid out per quantity, plane after plane, and `if` becomes a select. It runs in
 //!   `f64` and in `f32`, in the AVX2 build. The `f64` prototype is checked against the
@@ -156,23 +158,86 @@ fn main() {
         share(n - elastic - unloading.len())
     );
 
-    // The production update in three orders.
+    // The whole step, side by side against one by one: stresses and histories bit for bit.
+    let one_by_one = model.clone().with_planes_one_by_one();
+    let differing = updates
+        .iter()
+        .filter(|u| {
+            let (mut a, mut b) = (u.history.clone(), u.history.clone());
+            let (sa, _) = model.update(&mut a, &u.strain, u.gamma_dot, &u.band);
+            let (sb, _) = one_by_one.update(&mut b, &u.strain, u.gamma_dot, &u.band);
+            sa.map(f64::to_bits) != sb.map(f64::to_bits)
+                || a.iter()
+                    .map(|v| v.to_bits())
+                    .ne(b.iter().map(|v| v.to_bits()))
+        })
+        .count();
+    println!(
+        "planes side by side ({}) against one by one: {differing} of {n} updates differ in a bit \
+         of stress or history",
+        if model.runs_planes_side_by_side() {
+            "on"
+        } else {
+            "off: not the 21-direction rule"
+        }
+    );
+
+    // The production update in three orders, side by side and one by one taken alternately,
+    // ROUNDS times: the medians and their ratio.
     let all: Vec<usize> = (0..n).collect();
-    let spread: Vec<usize> = (0..1000).map(|k| k * (n / 1000)).collect();
+    let spread_of = |of: &[usize]| -> Vec<usize> {
+        let count = of.len().min(1000);
+        (0..count).map(|k| of[k * (of.len() / count)]).collect()
+    };
+    let spread = spread_of(&all);
     let repeated: Vec<usize> = spread.iter().flat_map(|&i| [i; 16]).collect();
-    println!("production update, one thread (best of 5 passes):");
+    let unloading_class: Vec<usize> = unloading.iter().map(|u| u.0).collect();
+    let virgin_class: Vec<usize> = (0..n)
+        .filter(|i| unloading_class.binary_search(i).is_err())
+        .collect();
+    let orders = [
+        (
+            format!("all {n} in element order (histories streamed)"),
+            all,
+        ),
+        ("1000 spread elements (in cache)".to_string(), spread),
+        (
+            "the same, each 16 times in a row (branches predicted)".to_string(),
+            repeated,
+        ),
+        (
+            "1000 spread of the unloading class (in cache)".to_string(),
+            spread_of(&unloading_class),
+        ),
+        (
+            "1000 spread of the virgin-loading class (in cache)".to_string(),
+            spread_of(&virgin_class),
+        ),
+    ];
+    const ROUNDS: usize = 7;
+    let mut times = vec![[Vec::new(), Vec::new()]; orders.len()];
+    for _ in 0..ROUNDS {
+        for (o, (_, order)) in orders.iter().enumerate() {
+            times[o][0].push(replay(&model, &updates, order));
+            times[o][1].push(replay(&one_by_one, &updates, order));
+        }
+    }
+    let median = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
     println!(
-        "  all {n} in element order (histories streamed): {:.0} ns",
-        replay(&model, &updates, &all)
+        "production update, one thread (best of 5 passes, median of {ROUNDS} rounds), planes \
+         side by side against one by one:"
     );
-    println!(
-        "  1000 spread elements (in cache): {:.0} ns",
-        replay(&model, &updates, &spread)
-    );
-    println!(
-        "  the same, each 16 times in a row (branches predicted): {:.0} ns",
-        replay(&model, &updates, &repeated)
-    );
+    for ((name, _), [side, one]) in orders.iter().zip(&times) {
+        let (side, one) = (median(side), median(one));
+        println!(
+            "  {name}: {side:.0} ns against {one:.0} ns ({:.2}x)",
+            one / side
+        );
+    }
 
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {

@@ -26,9 +26,11 @@ mod element;
 pub mod experiments;
 pub mod laws;
 pub mod parameters;
+mod plane_loop;
 mod principal;
 mod relaxation;
 mod shear;
+mod side_by_side;
 pub mod state;
 pub mod tabulated;
 pub mod tension_boundary;
@@ -49,9 +51,10 @@ pub use volumetric::VolumetricStrain;
 
 use cyclic::{Branch, UnloadingRule};
 use directions::{Projections, MAX_PLANES};
-use dissipation::{Law, VirginSteps};
+use dissipation::VirginSteps;
 use laws::{volumetric_compression, volumetric_compression_tangent, ExponentialLaw};
-use shear::ShearScale;
+use plane_loop::PlaneSums;
+use side_by_side::SideBySide;
 
 /// The relaxation `psi` below which an element's cracks count as open for crack friction
 /// (MICROPLANE "Crack friction"): 1 less the `f32` epsilon. The tension law's secant falls below
@@ -68,6 +71,10 @@ pub struct MicroplaneConcrete {
     planes: Vec<Microplane>,
     /// `N`, `M` and `K` of the planes, component by component (see [`Projections`]).
     projections: Projections,
+    /// The planes of the 21-direction rule side by side, for the update that runs them at
+    /// once (`side_by_side`); `None` for other rules and with
+    /// [`MicroplaneConcrete::with_planes_one_by_one`].
+    side_by_side: Option<SideBySide>,
     /// `E_V0 = E / (1 - 2 nu)`, `E_D0 = E_M0 = E_K0 = E / (1 + nu)` (MICROPLANE "Elastic split").
     e_v0: f64,
     e_d0: f64,
@@ -121,6 +128,7 @@ impl MicroplaneConcrete {
         let planes = directions::microplanes(parameters.rule);
         let mut model = Self {
             projections: Projections::new(&planes),
+            side_by_side: SideBySide::new(&planes),
             planes,
             e_v0: e / (1.0 - 2.0 * nu),
             e_d0: e / (1.0 + nu),
@@ -169,6 +177,19 @@ impl MicroplaneConcrete {
     pub fn with_portable_code(mut self) -> Self {
         self.wide_vectors = false;
         self
+    }
+
+    /// The same model running the plane work one plane after the other for every rule, never
+    /// with the planes side by side (`side_by_side.rs`): the reference that the side-by-side
+    /// kernel is checked against bit for bit (`tests/microplane_side_by_side.rs`).
+    pub fn with_planes_one_by_one(mut self) -> Self {
+        self.side_by_side = None;
+        self
+    }
+
+    /// Whether the plane work runs with the planes side by side (the 21-direction rule).
+    pub fn runs_planes_side_by_side(&self) -> bool {
+        self.side_by_side.is_some()
     }
 
     /// The same model counting the planes' dissipation in the plane loop of every update, as
@@ -438,188 +459,50 @@ impl MicroplaneConcrete {
             .min(header[state::RELAXATION] as f64)
         };
         header[state::RELAXATION] = relaxation as f32;
-        let e5 = f * if e_v >= 0.0 { p.e3 } else { p.e3 - p.e4 * e_v };
-        let e2 = f * p.e2;
-        let (inverse_e1, tension_amplitude) = (1.0 / e1, self.e_d0 * e1);
-        let (inverse_e2, compression_amplitude) = (1.0 / e2, self.e_d0 * e2);
-        let inverse_e_d0 = 1.0 / self.e_d0;
-        let compression_peak = self.compression.peak(e2, self.e_d0);
-        let tension_peak = self.tension.peak(e1, self.e_d0);
-        let shear_peak = self.shear.peak(e5, self.e_t0);
-        let shear_scale = ShearScale {
-            e5,
-            peak: shear_peak,
-            band: band.shear,
-            monotonic_energy: self.e_t0
-                * e5
-                * e5
-                * (self.shear.area_before_peak + self.shear.area_after_peak / band.shear),
-        };
+        let scales = self.plane_scales(e_v, s_v, f, band, relaxation);
 
-        // The kinematic constraint (5.85, 5.86) for every plane at once, in one pass per tensor
-        // over planes laid out side by side (it vectorises; the sums are those of `contract`).
         let count = self.planes.len();
         let (planes, sliders) = planes.split_at_mut(state::PER_PLANE * count);
-        let mut normal = [0.0; MAX_PLANES];
-        let mut along_m = [0.0; MAX_PLANES];
-        let mut along_k = [0.0; MAX_PLANES];
-        self.projections.contract_all(
-            strain,
-            &mut normal[..count],
-            &mut along_m[..count],
-            &mut along_k[..count],
-        );
-
-        let mut sum_d = 0.0;
-        let mut inelastic_compression = 0.0;
-        // The energy the planes dissipate in this update (J/m^3, each branch that loads on its
-        // virgin law) may pay for the growth of the dilatant strain: the virgin steps are
-        // recorded, and summed only where the growth reads them (`dissipation`).
-        let dilatant = p.dilatancy > 0.0;
         let mut virgin_steps = VirginSteps::new();
-        let eager = dilatant && self.always_count_dissipation;
-        // The initial modulus and the peak of each law's unloading rule.
-        let modulus = |law: Law| match law {
-            Law::Tension => (self.e_d0, tension_peak),
-            Law::Compression => (self.e_d0, compression_peak),
-            Law::Shear => (self.e_t0, shear_peak),
+        let sums = match &self.side_by_side {
+            Some(kernel) if boundary.is_none() && !scales.eager => self.planes_side_by_side(
+                kernel,
+                planes,
+                sliders,
+                strain,
+                &scales,
+                &mut virgin_steps,
+            ),
+            _ => {
+                // The kinematic constraint (5.85, 5.86) for every plane at once, in one pass per
+                // tensor over planes laid out side by side (it vectorises; the sums are those of
+                // `contract`).
+                let mut normal = [0.0; MAX_PLANES];
+                let mut along_m = [0.0; MAX_PLANES];
+                let mut along_k = [0.0; MAX_PLANES];
+                self.projections.contract_all(
+                    strain,
+                    &mut normal[..count],
+                    &mut along_m[..count],
+                    &mut along_k[..count],
+                );
+                self.planes_one_by_one(
+                    planes,
+                    sliders,
+                    [&normal[..count], &along_m[..count], &along_k[..count]],
+                    &scales,
+                    boundary.as_ref(),
+                    &mut virgin_steps,
+                )
+            }
         };
-        // The dissipation of one virgin step, for the eager count (the reference).
-        let dissipated_by = |law: Law, before: &Branch, after: &Branch| {
-            let (c0, peak) = modulus(law);
-            after.dissipated_since(before, c0, peak, &self.rule)
-        };
-        let p_friction = p.crack_friction;
-        // The shear branches' modulus, peak and rule for the eager reference count.
-        let eager_shear = eager.then_some((self.e_t0, shear_peak, &self.rule));
-        let mut dissipation = 0.0;
-        let mut sigma = [0.0; 6];
-        for (p, (plane, history)) in self
-            .planes
-            .iter()
-            .zip(planes.chunks_exact_mut(state::PER_PLANE))
-            .enumerate()
-        {
-            let e_d_total = normal[p] - e_v;
-            let (e_d, psi_t) = (
-                if e_d_total < 0.0 {
-                    e_d_total * relaxation
-                } else {
-                    e_d_total
-                },
-                relaxation,
-            );
-            let mut dissipated = 0.0;
-            let s_d = if e_d >= 0.0 && boundary.is_some() {
-                // The plane's boundary, below, caps the total normal stress.
-                self.e_d0 * e_d
-            } else if e_d >= 0.0 {
-                let mut b = Branch::load(&history[state::D_POSITIVE..state::D_POSITIVE + 2]);
-                let before = b;
-                // The split form of `Branch::stress`: its law closure was called out of line,
-                // outside the AVX2 build (perf).
-                let s = match b.unloading(e_d, self.e_d0, tension_peak, &self.rule) {
-                    Some(s) => s,
-                    None => b.virgin(
-                        e_d,
-                        self.tension.scaled_stress(
-                            e_d * inverse_e1,
-                            tension_amplitude,
-                            band.tension,
-                        ),
-                    ),
-                };
-                b.store(&mut history[state::D_POSITIVE..state::D_POSITIVE + 2]);
-                if dilatant && b.reached > before.reached {
-                    virgin_steps.push(p, Law::Tension, before, b, 1.0);
-                    if eager {
-                        dissipated += dissipated_by(Law::Tension, &before, &b);
-                    }
-                }
-                s
-            } else {
-                let mut b = Branch::load(&history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
-                let before = b;
-                let s = match b.unloading(-e_d, self.e_d0, compression_peak, &self.rule) {
-                    Some(s) => s,
-                    None => b.virgin(
-                        -e_d,
-                        self.compression.scaled_stress(
-                            -e_d * inverse_e2,
-                            compression_amplitude,
-                            1.0,
-                        ),
-                    ),
-                };
-                b.store(&mut history[state::D_NEGATIVE..state::D_NEGATIVE + 2]);
-                inelastic_compression += 6.0 * plane.weight * (-e_d - s * inverse_e_d0).max(0.0);
-                if dilatant && b.reached > before.reached {
-                    virgin_steps.push(p, Law::Compression, before, b, 1.0);
-                    if eager {
-                        dissipated += dissipated_by(Law::Compression, &before, &b);
-                    }
-                }
-                -s
-            };
-            let e_m = along_m[p] * psi_t;
-            let e_k = along_k[p] * psi_t;
-            // M, then K, each by a direct call (a closure would not inherit the AVX2 build's
-            // features). Not a loop over a two-element array either: its 8-byte stores were
-            // read back by one wider load, which store forwarding cannot serve, and the stall
-            // took a tenth of the update's samples (perf, static beam).
-            let (s_m, step_m) =
-                self.shear_stress(e_m, &mut history[state::M..state::M + 5], &shear_scale);
-            if let Some(step) = step_m.filter(|_| dilatant) {
-                dissipated += virgin_steps.push_shear(p, step, eager_shear);
-            }
-            let (s_k, step_k) =
-                self.shear_stress(e_k, &mut history[state::K..state::K + 5], &shear_scale);
-            if let Some(step) = step_k.filter(|_| dilatant) {
-                dissipated += virgin_steps.push_shear(p, step, eager_shear);
-            }
-            let (s_m, s_k) = match p_friction.filter(|_| boundary.is_none()) {
-                Some(mu) => {
-                    // The plane's normal stress s_V + s_D (5.36 before the trace term).
-                    let bound = mu * (-(s_v + s_d)).max(0.0);
-                    let slip = &mut sliders[2 * p..2 * p + 2];
-                    // The cracks slide once a shear law has passed its peak on this plane or
-                    // the element's cracks have opened (psi < 1, beyond rounding). The slider
-                    // sees the plane's shear strain itself: psi stands for open cracks, which
-                    // carry nothing, and an open crack has no compressive normal stress to bound
-                    // friction by, but once closed under pressure it slides with friction
-                    // however wide it was.
-                    let reached = [state::M, state::M + 2, state::K, state::K + 2];
-                    let cracked = relaxation < RELAXATION_ONSET
-                        || reached.iter().any(|&i| history[i] as f64 > shear_peak.0);
-                    let strain = [along_m[p], along_k[p]];
-                    self.crack_friction([s_m, s_k], strain, slip, bound, cracked)
-                }
-                None => (s_m, s_k),
-            };
-            let w = 6.0 * plane.weight;
-            dissipation += w * dissipated;
-            sum_d += w * s_d;
-            let (s_d, s_m, s_k) = match &boundary {
-                Some(b) => {
-                    let slip = sliders.get_mut(2 * p..2 * p + 2);
-                    let shear = (s_m, s_k, [along_m[p], along_k[p]]);
-                    b.plane_stresses(
-                        self,
-                        history,
-                        slip,
-                        s_v,
-                        s_d,
-                        shear,
-                        normal[p],
-                        shear_peak.0,
-                    )
-                }
-                None => (s_d, s_m, s_k),
-            };
-            for i in 0..6 {
-                sigma[i] += w * (s_d * plane.nn[i] + s_m * plane.mn[i] + s_k * plane.kn[i]);
-            }
-        }
+        let PlaneSums {
+            mut sigma,
+            sum_d,
+            inelastic_compression,
+            dissipation,
+        } = sums;
+        let eager = scales.eager;
         let volumetric = if p.deviatoric_trace_term {
             s_v - sum_d / 3.0
         } else {
@@ -632,7 +515,7 @@ impl MicroplaneConcrete {
         header[state::PRINCIPAL_STRESS] =
             principal_stress_for_closure(&sigma, self.parameters.s_i_min) as f32;
         self.advance_opening(header, &sigma);
-        if dilatant {
+        if scales.dilatant {
             let wanted = p.dilatancy * inelastic_compression;
             let reached = header[state::DILATANCY] as f64;
             if wanted > reached {
@@ -647,7 +530,7 @@ impl MicroplaneConcrete {
                         }
                         virgin_steps.dissipation(
                             |p| 6.0 * self.planes[p].weight,
-                            modulus,
+                            |law| scales.modulus(self, law),
                             &self.rule,
                         )
                     },
