@@ -120,9 +120,9 @@ fn main() {
 }
 
 /// The planes' cracking along the crack band's path at size `h`: the path replayed on a point
-/// whose plane damages are read at every increment; printed where the weighted share of cracked
-/// planes (damage above 0.5) first passes 25, 50, 75 and 95 %, with the strain and the stress
-/// over the peak there.
+/// whose planes' crack strains are read at every increment; printed where the weighted share of
+/// cracked planes (a largest crack strain above zero, `crack_strain.rs`) first passes 25, 50, 75
+/// and 95 %, with the strain and the stress over the peak there.
 fn cracking_along_the_band(model: &MicroplaneConcrete, h: f64) {
     let (curve, t) = bonded_tension(model, h, 1e-6).unwrap();
     let mut point = MaterialPoint::new(model, h).unwrap();
@@ -138,8 +138,8 @@ fn cracking_along_the_band(model: &MicroplaneConcrete, h: f64) {
             .iter()
             .enumerate()
             .filter(|(i, _)| {
-                let at = state::HEADER + i * state::PER_PLANE + state::D_POSITIVE + 1;
-                point.state.values[at] > 0.5
+                let at = state::HEADER + i * state::PER_PLANE + state::D_POSITIVE;
+                point.state.values[at] > 0.0
             })
             .map(|(_, plane)| plane.weight)
             .sum::<f64>()

@@ -15,6 +15,7 @@
 pub mod calibration;
 mod crack_band;
 pub mod crack_compression;
+mod crack_strain;
 pub mod cyclic;
 mod dilatancy;
 pub mod directions;
@@ -307,6 +308,16 @@ impl MicroplaneConcrete {
         debug_assert_eq!(state.len(), self.state_len());
         let f = self.rate_factor(gamma_dot);
         let (header, planes) = state.split_at_mut(state::HEADER);
+        let uncracked;
+        let strain = match &self.parameters.tension_boundary {
+            // With the tensile boundary every law sees the strain less the planes' crack strains
+            // (`crack_strain`).
+            Some(boundary) => {
+                uncracked = self.strain_less_cracks(boundary, header, planes, strain, f, band);
+                &uncracked
+            }
+            None => strain,
+        };
         let e_v = (strain[0] + strain[1] + strain[2]) / 3.0;
         let s_v = self.volumetric_stress(header, strain, e_v, f, band);
         if self.elastic_path
@@ -317,6 +328,50 @@ impl MicroplaneConcrete {
         }
         header[state::VIRGIN_PLANES] = 0.0;
         self.plane_update(header, planes, strain, e_v, s_v, f, band)
+    }
+
+    /// The strain less the element's crack strain (`crack_strain`), solving the planes' crack
+    /// strains in `planes` for `strain`.
+    fn strain_less_cracks(
+        &self,
+        boundary: &TensionBoundary,
+        header: &[f32],
+        planes: &mut [f32],
+        strain: &Sym,
+        f: f64,
+        band: &CrackBand,
+    ) -> Sym {
+        let plane =
+            tension_boundary::ElementBoundary::plane_boundary(boundary, &self.parameters, band, f);
+        let solver = crack_strain::CrackStrainSolver {
+            lambda: (self.e_v0 - self.e_d0) / 3.0,
+            two_mu: self.e_d0,
+            youngs: self.parameters.youngs_modulus,
+            strain_weight: boundary.strain_weight,
+            boundary: plane,
+        };
+        let count = self.planes.len();
+        // The volumetric law as `volumetric_stress` evaluates it, at the history of the last
+        // update.
+        let (dilatant, reached) = (
+            header[state::DILATANCY] as f64,
+            header[state::V_COMPRESSION] as f64,
+        );
+        let volumetric = |e_v: f64| {
+            let e_v_law = e_v - dilatant;
+            if e_v_law >= 0.0 {
+                self.e_v0 * e_v_law
+            } else {
+                -self.volumetric_pressure(-e_v_law, reached)
+            }
+        };
+        let crack = solver.solve(
+            &self.planes,
+            &mut planes[..state::PER_PLANE * count],
+            strain,
+            volumetric,
+        );
+        std::array::from_fn(|i| strain[i] - crack[i])
     }
 
     /// The volumetric stress `s_V` (5.21, 5.22), advancing the volumetric history in `header`.

@@ -268,16 +268,7 @@ impl MicroplaneConcrete {
                 Some(b) => {
                     let slip = sliders.get_mut(2 * p..2 * p + 2);
                     let shear = (s_m, s_k, [along_m[p], along_k[p]]);
-                    b.plane_stresses(
-                        self,
-                        history,
-                        slip,
-                        s_v,
-                        s_d,
-                        shear,
-                        normal[p],
-                        shear_peak.0,
-                    )
+                    b.plane_stresses(self, history, slip, s_v, s_d, shear, shear_peak.0)
                 }
                 None => (s_d, s_m, s_k),
             };

@@ -6,24 +6,23 @@
 //! across it keep theirs, so a cracked point still carries a compression along its crack, which
 //! the scalar relaxation `psi` of the thesis cannot do (docs/MICROPLANE.md "Tensile boundary").
 //!
-//! Per plane, with `sigma_el` the plane's normal stress from the elastic tension laws:
-//! - the driver `q = (1 - theta) sigma_el + theta E eps_N` (`theta` = `strain_weight`: 0 is
-//!   Rankine on every plane; a strain part makes a lateral compression lower the tensile peak,
-//!   Kupfer & Gerstle 1973's slope `0.8 f_t / f_c`), and its largest value `kappa`;
-//! - damage `d` with `(1 - d) kappa = F(y)` at the crack strain `y = d kappa / E`, where
-//!   `F(y) = f0 exp(-y / eps_f)` (M4 and M7's exponential boundary, flat part dropped);
-//! - `sigma_N = (1 - d) sigma_el` while `sigma_el > 0`, and `sigma_el` once the crack is closed
-//!   (secant unloading to the origin, full stiffness in compression).
+//! Per plane, the crack strain `y` along its normal (`crack_strain`): every law of the element
+//! sees the strain less the planes' crack strains, and a plane opens where its driver
+//! `q = (1 - theta) sigma_N + theta E eps_N` (`theta` = `strain_weight`; 0 is Rankine on every
+//! plane; `theta = 0.8 f_t / (nu f_c)` gives Kupfer & Gerstle 1973's slope `0.8 f_t / f_c` on
+//! the plane normal to `sigma_1`) would pass the boundary `F(y) = f0 exp(-y / eps_f)` (M4 and
+//! M7's exponential boundary, flat part dropped); it unloads on the secant to the origin of `F`
+//! at its largest crack strain, and closes in compression.
 //!
 //! The shear boundary (M7's shear boundary: a cohesion that goes as the planes open, friction on
 //! the compressed ones): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the
-//! element's largest plane damage, and with `crack_friction` each compressed plane's Coulomb
-//! slider carries up to `mu <-sigma_N>` on the plane's capped normal stress once the element has
-//! cracked. Without the release of the compressed planes' shear a point under a lateral
-//! compression kept hardening after its tensile planes had cracked.
+//! largest fall `1 - F(y_max) / f0` of a plane's boundary, and with `crack_friction` each
+//! compressed plane's Coulomb slider carries up to `mu <-sigma_N>` once the element has cracked.
+//! Without the release of the compressed planes' shear a point under a lateral compression kept
+//! hardening after its tensile planes had cracked.
 //!
-//! Crack band: the plane dissipates `f0 eps_f` per unit volume; `eps_f` is set per
-//! element so that `h` times that is the energy at `h_ref` (Bažant & Oh 1983), with the rate
+//! Crack band: the plane dissipates `6 w f0 eps_f` per unit volume (`w` its weight); `eps_f` is
+//! set per element so that `h` times that is the energy at `h_ref` (Bažant & Oh 1983), with the rate
 //! factor and the element's strength scaling `f0` (and the rate factor the energy by `F^2`, as it
 //! does for the thesis' tension law).
 //! With an onset strain `y0` the boundary is that of `h_ref` up to the crack strain `y0` at every
@@ -147,6 +146,11 @@ pub struct PlaneBoundary {
 }
 
 impl PlaneBoundary {
+    /// The boundary `F(y)` at the crack strain `y` (Pa).
+    pub(super) fn value(&self, y: f64) -> f64 {
+        self.boundary(y).0
+    }
+
     /// The boundary `F(y)` and its slope at the crack strain `y`.
     fn boundary(&self, y: f64) -> (f64, f64) {
         match self.onset {
@@ -220,20 +224,19 @@ impl PlaneBoundary {
     }
 }
 
-/// The boundary of one element at one update: its planes' boundary, the driver's strain weight,
-/// and the element's largest plane damage of the previous update, which releases the shear of
-/// every plane that is not in compression (a crack on one plane lets the shear of the planes
-/// across it go, not that of the planes it compresses).
+/// The boundary of one element at one update: its planes' boundary and the element's shear
+/// release `D`, the largest fall `1 - F(y_max) / f0` of a plane's boundary at the largest crack
+/// strain it reached (`crack_strain`), which releases the shear of every plane (M7's cohesion that
+/// vanishes as the planes open).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct ElementBoundary {
-    plane: PlaneBoundary,
-    strain_weight: f64,
     element_damage: f64,
 }
 
 impl ElementBoundary {
     /// The boundary of an element with crack band `band` at the rate factor `f`, its plane
-    /// histories `planes` ([`state::PER_PLANE`] values per plane).
+    /// histories `planes` ([`state::PER_PLANE`] values per plane, the crack strains of this
+    /// update already solved).
     pub(super) fn new(
         boundary: &TensionBoundary,
         parameters: &MicroplaneParameters,
@@ -241,8 +244,28 @@ impl ElementBoundary {
         f: f64,
         planes: &[f32],
     ) -> Self {
+        let plane = Self::plane_boundary(boundary, parameters, band, f);
+        let largest = planes
+            .chunks_exact(state::PER_PLANE)
+            .map(|h| h[state::D_POSITIVE])
+            .fold(0.0f32, f32::max) as f64;
+        let element_damage = if largest > 0.0 {
+            (1.0 - plane.value(largest) / plane.f0).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        Self { element_damage }
+    }
+
+    /// The planes' boundary of an element with crack band `band` at the rate factor `f`.
+    pub(super) fn plane_boundary(
+        boundary: &TensionBoundary,
+        parameters: &MicroplaneParameters,
+        band: &CrackBand,
+        f: f64,
+    ) -> PlaneBoundary {
         let (e, h_ref, s) = (parameters.youngs_modulus, parameters.h_ref, band.strength);
-        let plane = boundary
+        boundary
             .scaled(e, band.size, h_ref, s, f)
             .unwrap_or_else(|| PlaneBoundary {
                 // Refused when the body was built; kept finite if a remeshed element is not.
@@ -250,16 +273,7 @@ impl ElementBoundary {
                 softening: 1.000001 * f * s * boundary.strength / e,
                 youngs: e,
                 onset: None,
-            });
-        let element_damage = planes
-            .chunks_exact(state::PER_PLANE)
-            .map(|h| h[state::D_POSITIVE + 1])
-            .fold(0.0f32, f32::max) as f64;
-        Self {
-            plane,
-            strain_weight: boundary.strain_weight,
-            element_damage,
-        }
+            })
     }
 
     /// Whether the element has a cracked plane (its shear laws are then being released and a
@@ -269,50 +283,19 @@ impl ElementBoundary {
         self.element_damage > 0.0
     }
 
-    /// One plane's deviatoric, `m` and `k` stresses under its boundary, and its total normal
-    /// stress after the cap, from the laws' `s_d`, `s_m`, `s_k`, the volumetric stress `s_v`
-    /// and the plane's normal strain `eps_n`; `slot` holds the plane's largest driver and its
-    /// damage (the `D+` slots, unused by the elastic tension laws). The trace term keeps the
-    /// uncapped `s_D`, so a cap lowers the mean stress too.
+    /// One plane's deviatoric, `m` and `k` stresses under the shear boundary, and its total
+    /// normal stress, from the laws' `s_d`, `s_m`, `s_k` and the volumetric stress `s_v`, the
+    /// laws having seen the strain less the element's crack strain (`crack_strain`), so that the
+    /// normal stress is already the plane's traction under its boundary.
     ///
     /// The shear boundary (M7's cohesion that vanishes as the planes open, Caner & Bažant
-    /// 2013): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the largest
-    /// plane damage of the element (on an open plane, its own damage if larger). On a
-    /// compressed plane the crack friction's slider, bounded by `mu <-sigma_N>`, then carries
-    /// what friction can (`MicroplaneConcrete::crack_friction`).
+    /// 2013): the shear laws' stress of every plane is multiplied by `1 - D`. On a compressed
+    /// plane the crack friction's slider, bounded by `mu <-sigma_N>`, then carries what friction
+    /// can (`MicroplaneConcrete::crack_friction`).
     #[inline(always)]
-    pub(super) fn cap_plane(
-        &self,
-        slot: &mut [f32],
-        s_v: f64,
-        s_d: f64,
-        s_m: f64,
-        s_k: f64,
-        eps_n: f64,
-    ) -> (f64, f64, f64, f64) {
-        let total = s_v + s_d;
-        let driver = total + self.strain_weight * (self.plane.youngs * eps_n - total);
-        let damage = if driver > slot[0] as f64 {
-            let d = self.plane.damage(driver);
-            slot[0] = driver as f32;
-            slot[1] = d as f32;
-            d
-        } else {
-            slot[1] as f64
-        };
-        if total > 0.0 {
-            // An open crack: the normal stress falls to the boundary, the shear across it too.
-            let open = 1.0 - self.element_damage.max(damage);
-            (
-                s_d - damage * total,
-                open * s_m,
-                open * s_k,
-                (1.0 - damage) * total,
-            )
-        } else {
-            let kept = 1.0 - self.element_damage;
-            (s_d, kept * s_m, kept * s_k, total)
-        }
+    pub(super) fn cap_plane(&self, s_v: f64, s_d: f64, s_m: f64, s_k: f64) -> (f64, f64, f64, f64) {
+        let kept = 1.0 - self.element_damage;
+        (s_d, kept * s_m, kept * s_k, s_v + s_d)
     }
 
     /// One plane's deviatoric, `m` and `k` stresses under the tensile and shear boundaries:
@@ -332,12 +315,10 @@ impl ElementBoundary {
         s_v: f64,
         s_d: f64,
         shear: (f64, f64, [f64; 2]),
-        eps_n: f64,
         shear_peak: f64,
     ) -> (f64, f64, f64) {
         let (s_m, s_k, strain) = shear;
-        let slot = &mut history[state::D_POSITIVE..state::D_POSITIVE + 2];
-        let (s_d, s_m, s_k, total) = self.cap_plane(slot, s_v, s_d, s_m, s_k, eps_n);
+        let (s_d, s_m, s_k, total) = self.cap_plane(s_v, s_d, s_m, s_k);
         match (model.parameters.crack_friction, slip) {
             (Some(mu), Some(slip)) => {
                 let reached = [state::M, state::M + 2, state::K, state::K + 2];
@@ -449,25 +430,17 @@ mod tests {
     }
 
     #[test]
-    fn a_cracked_element_releases_the_shear_of_its_compressed_planes_too() {
+    fn a_cracked_element_releases_the_shear_of_its_planes() {
         let element = ElementBoundary {
-            plane: boundary(),
-            strain_weight: 0.0,
             element_damage: 0.75,
         };
         // A compressed plane keeps its normal stress; its shear laws' stress goes with 1 - D.
-        let mut slot = [0.0f32; 2];
-        let (s_d, s_m, s_k, total) = element.cap_plane(&mut slot, -4e6, 1e6, 2e6, -1e6, -1e-4);
+        let (s_d, s_m, s_k, total) = element.cap_plane(-4e6, 1e6, 2e6, -1e6);
         assert_eq!((s_d, total), (1e6, -3e6));
         assert_eq!((s_m, s_k), (0.25 * 2e6, 0.25 * -1e6));
-        assert_eq!(slot, [0.0, 0.0]);
-        // An open plane below its strength: the element's damage releases its shear too.
-        let (s_d, s_m, _, total) = element.cap_plane(&mut slot, 1e6, 0.5e6, 2e6, 0.0, 5e-5);
-        assert_eq!((s_d, total), (0.5e6, 1.5e6));
-        assert_eq!(s_m, 0.25 * 2e6);
+        assert!(element.cracked());
         assert!(!ElementBoundary {
-            element_damage: 0.0,
-            ..element
+            element_damage: 0.0
         }
         .cracked());
     }
