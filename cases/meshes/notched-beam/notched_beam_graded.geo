@@ -23,7 +23,7 @@
 
 L = 0.175;   // length, x
 D = 0.05;    // depth, y
-W = 0.05;    // width, z
+If (!Exists(W)) W = 0.05; EndIf  // width, z (-setnumber W and nz give a slice)
 // The notch from x0 to x1, y from 0 to a0: 5 mm wide by default; -setnumber nw W makes it W wide,
 // centred on the same mid-plane x = 87.5 mm (the tests' notch was cast with a thin plate).
 If (!Exists(nw))

@@ -5,6 +5,7 @@
 //! a path followed increment by increment with step cutting up to its limit point (`path`).
 
 mod conjugate_gradient;
+mod inverted;
 mod opening_control;
 mod path;
 mod relaxation;

@@ -53,6 +53,7 @@
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
+use super::inverted::Inverted;
 use super::opening_control::Control;
 use super::relaxation::{Relaxation, RELAXATION_ITERATIONS};
 use super::rigid_body::{check_loaded, FreePiece};
@@ -372,10 +373,17 @@ impl Step<'_> {
             (self.settings.max_iterations, None)
         };
         for iteration in 0..=max_iterations {
-            let Some((f_int, history)) = trial_forces(problem, &u, &self.committed.history) else {
-                return Ok(Outcome::Failed {
-                    reason: format!("inverted an element at iteration {iteration}"),
-                });
+            let (f_int, history) = match trial_forces(problem, &u, &self.committed.history) {
+                Ok(forces) => forces,
+                Err(inverted) => {
+                    return Ok(Outcome::Failed {
+                        reason: format!(
+                            "inverted element {} at iteration {iteration} ({})",
+                            inverted.element,
+                            inverted.describe(problem, &u, &self.committed.u)
+                        ),
+                    })
+                }
             };
             let mut residual = vec![0.0; self.free];
             let mut reaction = vec![Vector3::zeros(); n];
@@ -492,14 +500,14 @@ impl Step<'_> {
 }
 
 /// Internal forces at `u`, each element of a material with a history updated once from its
-/// `committed` history; the updated (trial) history with them. `None` if an element is inverted.
+/// `committed` history; the updated (trial) history with them, or the first inverted element.
 /// The sum at every node runs over its elements in ascending order (elements are evaluated in
 /// parallel, summed in order), so the result does not depend on the number of threads.
 fn trial_forces(
     problem: &Problem,
     u: &[Vector3<f64>],
     committed: &MaterialHistory,
-) -> Option<(Vec<Vector3<f64>>, MaterialHistory)> {
+) -> std::result::Result<(Vec<Vector3<f64>>, MaterialHistory), Inverted> {
     let model = &problem.model;
     let mut history = committed.clone();
     let mut f = vec![Vector3::zeros(); model.node_count()];
@@ -541,14 +549,14 @@ fn trial_forces(
         };
         for (e, (fe, det)) in elements.zip(forces) {
             if !(det > 0.0) {
-                return None;
+                return Err(Inverted { element: e, det });
             }
             for (&node, fa) in model.tets[e].iter().zip(fe) {
                 f[node as usize] += fa;
             }
         }
     }
-    Some((f, history))
+    Ok((f, history))
 }
 
 /// Columns of the path's history: the time of the conditions' functions (the load factor times
