@@ -9,11 +9,11 @@
 //! rebuilt from the same meshes by the same constructor as the remeshing built it, so its
 //! shape-function gradients, volumes and stable steps come out bit for bit.
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::bytes::{Read, Reader, Short, Writer};
 use crate::mesh::Mesh;
-use crate::model::{CarriedState, MaterialSource, Model};
+use crate::model::{Body, CarriedState, MaterialSource, Model};
 use crate::problem::Problem;
 
 /// Writes the parts of `problem` that a remeshing makes (see the module's documentation).
@@ -75,6 +75,74 @@ pub fn write_problem(w: &mut Writer, problem: &Problem) {
 /// materials, its conditions, loads and probes (in the same order, by name), its gravity and
 /// contact pairs. An error says what does not fit.
 pub fn read_problem(r: &mut Reader, scene: &Problem) -> Read<Problem> {
+    let layout = read_layout(r, scene)?;
+    let bodies = layout.len();
+    let reference = r.vectors("reference coordinates")?;
+    let tets: Vec<[u32; 4]> = r
+        .u32s("connectivity")?
+        .chunks_exact(4)
+        .map(|t| [t[0], t[1], t[2], t[3]])
+        .collect();
+    let mass = r.f64s("nodal masses")?;
+    let mass_scale = if r.bool("mass scaling")? {
+        Some(r.f64s("mass scaling")?)
+    } else {
+        None
+    };
+    let carried = if r.bool("carried state")? {
+        let f = r.f64s("carried deformation")?;
+        let deformation: Vec<Matrix3<f64>> =
+            f.chunks_exact(9).map(Matrix3::from_column_slice).collect();
+        let displacement = r.vectors("carried displacement")?;
+        let element_mass = r.f64s("element masses")?;
+        Some((deformation, displacement, element_mass))
+    } else {
+        None
+    };
+
+    let ranges: Vec<[usize; 4]> = layout.iter().map(|(r, _, _)| *r).collect();
+    let mut parts = Vec::with_capacity(bodies);
+    for (body, (range, node_sets, data)) in scene.model.bodies.iter().zip(layout) {
+        parts.push(body_part(body, range, node_sets, data, &reference, &tets)?);
+    }
+    let mut model = Model::new(parts).map_err(|e| Short(format!("the model: {e}")))?;
+    for (body, [n0, n1, e0, e1]) in model.bodies.iter().zip(ranges) {
+        if body.nodes != (n0..n1) || body.elements != (e0..e1) {
+            return Err(Short(format!(
+                "body `{}`: its nodes and elements are not the ranges stored",
+                body.name
+            )));
+        }
+    }
+    if mass.len() != model.node_count() {
+        return Err(Short(format!(
+            "{} nodal masses for {} nodes",
+            mass.len(),
+            model.node_count()
+        )));
+    }
+    model.crack_indicator = scene.model.crack_indicator;
+    model.mass = mass;
+    model.mass_scale = mass_scale;
+    if let Some((deformation, displacement, element_mass)) = carried {
+        model.carried = Some(
+            CarriedState::new(deformation, displacement, element_mass)
+                .map_err(|e| Short(format!("the carried state: {e}")))?,
+        );
+    }
+
+    let mut problem = Problem::new(model);
+    read_conditions(r, scene, &mut problem)?;
+    Ok(problem)
+}
+
+/// The bodies' names (checked against the scene's), node and element ranges, node sets and
+/// data per element.
+#[allow(clippy::type_complexity)]
+fn read_layout(
+    r: &mut Reader,
+    scene: &Problem,
+) -> Read<Vec<([usize; 4], Vec<(String, Vec<u32>)>, Option<Vec<f64>>)>> {
     let bodies = r.usize("bodies")?;
     if bodies != scene.model.bodies.len() {
         return Err(Short(format!(
@@ -107,113 +175,77 @@ pub fn read_problem(r: &mut Reader, scene: &Problem) -> Read<Problem> {
         };
         layout.push((range, node_sets, data));
     }
-    let reference = r.vectors("reference coordinates")?;
-    let tets: Vec<[u32; 4]> = r
-        .u32s("connectivity")?
-        .chunks_exact(4)
-        .map(|t| [t[0], t[1], t[2], t[3]])
-        .collect();
-    let mass = r.f64s("nodal masses")?;
-    let mass_scale = if r.bool("mass scaling")? {
-        Some(r.f64s("mass scaling")?)
-    } else {
-        None
-    };
-    let carried = if r.bool("carried state")? {
-        let f = r.f64s("carried deformation")?;
-        let deformation: Vec<Matrix3<f64>> =
-            f.chunks_exact(9).map(Matrix3::from_column_slice).collect();
-        let displacement = r.vectors("carried displacement")?;
-        let element_mass = r.f64s("element masses")?;
-        Some((deformation, displacement, element_mass))
-    } else {
-        None
-    };
+    Ok(layout)
+}
 
-    let ranges: Vec<[usize; 4]> = layout.iter().map(|(r, _, _)| *r).collect();
-    let mut parts = Vec::with_capacity(bodies);
-    for (body, ([n0, n1, e0, e1], node_sets, data)) in scene.model.bodies.iter().zip(layout) {
-        if n0 > n1 || n1 > reference.len() || e0 > e1 || e1 > tets.len() {
-            return Err(Short(format!(
-                "body `{}`: nodes {n0}..{n1} and elements {e0}..{e1} do not fit {} nodes and \
-                 {} elements",
-                body.name,
-                reference.len(),
-                tets.len()
-            )));
-        }
-        let local = |n: u32| n.checked_sub(n0 as u32).filter(|&l| (l as usize) < n1 - n0);
-        let body_tets = tets[e0..e1]
-            .iter()
-            .map(|t| {
-                let l = t.map(local);
-                match l {
-                    [Some(a), Some(b), Some(c), Some(d)] => Ok([a, b, c, d]),
-                    _ => Err(Short(format!(
-                        "body `{}`: element {t:?} has a node outside the body",
-                        body.name
-                    ))),
-                }
-            })
-            .collect::<Read<Vec<_>>>()?;
-        let node_sets = node_sets
-            .into_iter()
-            .map(|(name, set)| {
-                let set = set
-                    .iter()
-                    .map(|&n| local(n))
-                    .collect::<Option<Vec<u32>>>()
-                    .ok_or_else(|| {
-                        Short(format!(
-                            "body `{}`: node set `{name}` has a node outside the body",
-                            body.name
-                        ))
-                    })?;
-                Ok((name, set))
-            })
-            .collect::<Read<_>>()?;
-        let material = match data {
-            None => body.material.clone(),
-            Some(d) => body
-                .material
-                .with_element_data_material(&d)
-                .map_err(|e| Short(format!("body `{}`: {e}", body.name)))?
-                .unwrap_or_else(|| body.material.clone()),
-        };
-        let mesh = Mesh {
-            nodes: reference[n0..n1].to_vec(),
-            tets: body_tets,
-            node_sets,
-        };
-        parts.push((body.name.clone(), mesh, MaterialSource::Prepared(material)));
-    }
-    let mut model = Model::new(parts).map_err(|e| Short(format!("the model: {e}")))?;
-    for (body, [n0, n1, e0, e1]) in model.bodies.iter().zip(ranges) {
-        if body.nodes != (n0..n1) || body.elements != (e0..e1) {
-            return Err(Short(format!(
-                "body `{}`: its nodes and elements are not the ranges stored",
-                body.name
-            )));
-        }
-    }
-    if mass.len() != model.node_count() {
+/// Body `body`'s mesh (its nodes, elements and node sets in its own ids) and its material with
+/// its data per element restored.
+fn body_part(
+    body: &Body,
+    [n0, n1, e0, e1]: [usize; 4],
+    node_sets: Vec<(String, Vec<u32>)>,
+    data: Option<Vec<f64>>,
+    reference: &[Vector3<f64>],
+    tets: &[[u32; 4]],
+) -> Read<(String, Mesh, MaterialSource)> {
+    if n0 > n1 || n1 > reference.len() || e0 > e1 || e1 > tets.len() {
         return Err(Short(format!(
-            "{} nodal masses for {} nodes",
-            mass.len(),
-            model.node_count()
+            "body `{}`: nodes {n0}..{n1} and elements {e0}..{e1} do not fit {} nodes and \
+             {} elements",
+            body.name,
+            reference.len(),
+            tets.len()
         )));
     }
-    model.crack_indicator = scene.model.crack_indicator;
-    model.mass = mass;
-    model.mass_scale = mass_scale;
-    if let Some((deformation, displacement, element_mass)) = carried {
-        model.carried = Some(
-            CarriedState::new(deformation, displacement, element_mass)
-                .map_err(|e| Short(format!("the carried state: {e}")))?,
-        );
-    }
+    let local = |n: u32| n.checked_sub(n0 as u32).filter(|&l| (l as usize) < n1 - n0);
+    let body_tets = tets[e0..e1]
+        .iter()
+        .map(|t| {
+            let l = t.map(local);
+            match l {
+                [Some(a), Some(b), Some(c), Some(d)] => Ok([a, b, c, d]),
+                _ => Err(Short(format!(
+                    "body `{}`: element {t:?} has a node outside the body",
+                    body.name
+                ))),
+            }
+        })
+        .collect::<Read<Vec<_>>>()?;
+    let node_sets = node_sets
+        .into_iter()
+        .map(|(name, set)| {
+            let set = set
+                .iter()
+                .map(|&n| local(n))
+                .collect::<Option<Vec<u32>>>()
+                .ok_or_else(|| {
+                    Short(format!(
+                        "body `{}`: node set `{name}` has a node outside the body",
+                        body.name
+                    ))
+                })?;
+            Ok((name, set))
+        })
+        .collect::<Read<_>>()?;
+    let material = match data {
+        None => body.material.clone(),
+        Some(d) => body
+            .material
+            .with_element_data_material(&d)
+            .map_err(|e| Short(format!("body `{}`: {e}", body.name)))?
+            .unwrap_or_else(|| body.material.clone()),
+    };
+    let mesh = Mesh {
+        nodes: reference[n0..n1].to_vec(),
+        tets: body_tets,
+        node_sets,
+    };
+    Ok((body.name.clone(), mesh, MaterialSource::Prepared(material)))
+}
 
-    let mut problem = Problem::new(model);
+/// The conditions', loads' and probes' node lists onto the scene's, the initial velocities,
+/// and the scene's gravity and contact pairs, into `problem`.
+fn read_conditions(r: &mut Reader, scene: &Problem, problem: &mut Problem) -> Read<()> {
     let mut lists = |what: &str, count: usize| -> Read<Vec<Vec<u32>>> {
         let n = r.usize(what)?;
         if n != count {
@@ -254,5 +286,5 @@ pub fn read_problem(r: &mut Reader, scene: &Problem) -> Read<Problem> {
              velocities are not one per node"
         )));
     }
-    Ok(problem)
+    Ok(())
 }
