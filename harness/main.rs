@@ -198,17 +198,23 @@ fn main() -> ExitCode {
             serial,
             verbose,
             resume,
-        } => commands::run::exec(&commands::run::RunArgs {
-            patterns,
-            tier,
-            failed,
-            catalogue,
-            reports,
-            time_limit,
-            serial,
-            verbose,
-            resume,
-        }),
+        } => {
+            let args = commands::run::RunArgs {
+                patterns,
+                tier,
+                failed,
+                catalogue,
+                reports,
+                time_limit,
+                serial,
+                verbose,
+                resume,
+            };
+            match &args.resume {
+                Some(dir) => commands::resume::exec(dir, &args),
+                None => commands::run::exec(&args),
+            }
+        }
         Command::Calibrate {
             out,
             evaluations,

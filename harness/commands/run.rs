@@ -67,12 +67,9 @@ pub enum RunDirError {
     },
 }
 
-/// Selects the cases (by patterns, tier, or the last run's failures) and runs them; or, with
-/// `resume`, finishes a stopped run.
+/// Selects the cases (by patterns, tier, or the last run's failures) and runs them. (`main`
+/// hands `impact-vv run --resume` to the resume command instead.)
 pub fn exec(args: &RunArgs) -> ExitCode {
-    if let Some(dir) = &args.resume {
-        return super::resume::exec(dir, args);
-    }
     let names_files = args.patterns.iter().any(|p| Path::new(p).is_file());
     let cases = match super::catalogue(&args.catalogue, !names_files) {
         Ok(c) => c,
