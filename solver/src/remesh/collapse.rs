@@ -1,4 +1,4 @@
-//! Edge collapse, the remesher's topological repair (step 4 of the method in `mesher.rs`).
+//! Edge collapse, the remesher's topological repair (step 4 of the method in `mesher/`).
 //!
 //! Smoothing moves nodes but keeps the connectivity, and refinement of a crushed element gives
 //! crushed children: an element with a short edge between two nodes that cannot move apart

@@ -1,4 +1,4 @@
-//! Face and edge flips, the remesher's sliver repair (step 5 of the method in `mesher.rs`).
+//! Face and edge flips, the remesher's sliver repair (step 5 of the method in `mesher/`).
 //!
 //! A sliver has four nodes nearly in one plane with edges alike: no short edge to collapse, and
 //! smoothing cannot lift a node whose neighbours hold it in the plane (next to a curved

@@ -1,5 +1,5 @@
 //! Peeling of collapsed boundary elements, the remesher's last repair (step 6 of the method in
-//! `mesher.rs`), and erosion.
+//! `mesher/`), and erosion.
 //!
 //! An element with all four nodes on a curved part of the outer boundary (the cavity around a
 //! penetrator's nose) cannot be reshaped: none of its nodes moves (a curved surface would lose
@@ -10,7 +10,7 @@
 //! removal make one fan, or none ([`one_fan`]). Its inner faces become the boundary. The surface
 //! moves inward by at most the element's height, away from whatever presses on it (material is
 //! removed, none added), and the body keeps its mass: the transfer gives the region's new
-//! elements exactly the mass of the old ones they replace (`apply.rs`).
+//! elements exactly the mass of the old ones they replace (`apply/`).
 //!
 //! With erosion, a collapsed element goes wherever it is, inside the body (a void) or on its
 //! surface, with no condition on the surface's shape, as explicit codes erode elements

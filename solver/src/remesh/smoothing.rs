@@ -1,4 +1,4 @@
-//! Node smoothing of the remeshed region (step 3 of the method in `mesher.rs`): inner nodes
+//! Node smoothing of the remeshed region (step 3 of the method in `mesher/`): inner nodes
 //! move freely, nodes on the outer boundary slide within the axis-aligned planes of their faces
 //! (symmetry planes), and a move is taken only where it raises the worst element around.
 
