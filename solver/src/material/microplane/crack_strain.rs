@@ -24,6 +24,7 @@
 //! origin below it, and zero where the plane is closed (`q <= 0`). The planes are coupled through
 //! `eps_cr` and solved by Gauss-Seidel sweeps to a fixed point.
 
+use super::directions::MAX_PLANES;
 use super::state;
 use super::tension_boundary::PlaneBoundary;
 use super::{Microplane, Sym};
@@ -115,11 +116,14 @@ impl CrackStrainSolver {
         {
             return [0.0; 6];
         }
-        let mut y: Vec<f64> = (0..planes.len())
-            .map(|p| histories[slot(p) + 1] as f64)
-            .collect();
+        // On the stack, as the plane loop's arrays: no allocation per update.
+        let mut y = [0.0; MAX_PLANES];
+        let y = &mut y[..planes.len()];
+        for (p, y) in y.iter_mut().enumerate() {
+            *y = histories[slot(p) + 1] as f64;
+        }
         let mut crack = [0.0; 6];
-        for (plane, &y) in planes.iter().zip(&y) {
+        for (plane, &y) in planes.iter().zip(y.iter()) {
             for i in 0..6 {
                 crack[i] += 6.0 * plane.weight * y * plane.nn[i];
             }
