@@ -17,7 +17,7 @@ use impact_solver::material::{IsotropicElastic, MaterialModel};
 use impact_solver::mesh::{box_mesh, BoxSpec, Mesh};
 use impact_solver::model::Model;
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions, Remeshed};
+use impact_solver::remesh::{centroids, remesh_problem, MesherOptions, Remeshed};
 use nalgebra::Vector3;
 
 /// Runs `steps` steps from `state` (or from the start), the time step `safety` of the stable one.
@@ -25,36 +25,6 @@ fn run(problem: &Problem, state: Option<RunState>, steps: usize) -> RunState {
     let mut settings = ExplicitSettings::new(1.0);
     settings.safety = 0.5;
     run_steps(problem, settings, state, steps)
-}
-
-/// The elements of body `body` whose current centroid lies within `radius` of `center`, grown
-/// by one layer.
-fn region_near(
-    problem: &Problem,
-    state: &RunState,
-    body: usize,
-    center: Vector3<f64>,
-    radius: f64,
-) -> Vec<usize> {
-    let m = &problem.model;
-    let x: Vec<Vector3<f64>> = m
-        .reference
-        .iter()
-        .zip(&state.u)
-        .map(|(x, u)| x + u)
-        .collect();
-    let elements = m.bodies[body].elements.clone();
-    let seed: Vec<usize> = centroids(&x, &m.tets)
-        .iter()
-        .enumerate()
-        .filter(|(e, c)| elements.contains(e) && (*c - center).norm() < radius)
-        .map(|(e, _)| e)
-        .collect();
-    assert!(!seed.is_empty());
-    grow_region(&m.tets, &seed, 1)
-        .into_iter()
-        .filter(|e| elements.contains(e))
-        .collect()
 }
 
 fn remesh(problem: &Problem, state: &RunState, region: &[usize]) -> Remeshed {
@@ -93,7 +63,7 @@ fn remeshing_the_middle_of_three_bodies_copies_the_other_two() {
         }
     }
     let state = run(&p, None, 10);
-    let region = region_near(&p, &state, 1, Vector3::new(2.5, 0.5, 0.5), 0.2);
+    let region = current_region_near(&p, &state, 1, Vector3::new(2.5, 0.5, 0.5), 0.2);
     let r = remesh(&p, &state, &region);
     let (old, new) = (&p.model, &r.problem.model);
     assert_eq!(new.bodies.len(), 3);
@@ -153,7 +123,7 @@ fn a_microplane_body_carries_its_history_from_each_new_elements_parent() {
         .map(|x| Vector3::new(rate * (x.x - 0.1), 0.0, 0.0))
         .collect();
     let state = run(&p, None, 30);
-    let region = region_near(&p, &state, 0, Vector3::new(0.1, 0.05, 0.05), 0.03);
+    let region = current_region_near(&p, &state, 0, Vector3::new(0.1, 0.05, 0.05), 0.03);
 
     // The transfer, on marked rows.
     let mut marked = state.clone();
@@ -275,7 +245,7 @@ fn bars_remeshed_during_their_impact_still_exchange_velocities() {
     let end_time = GAP / (2.0 * SPEED) + 1.5 * contact_time;
     let state = run(&p, None, middle);
     let straight = run(&p, Some(state.clone()), at(end_time) - middle);
-    let region = region_near(
+    let region = current_region_near(
         &p,
         &state,
         1,
@@ -376,7 +346,7 @@ fn fields_after_a_remeshing_read_the_deformation_reached_before_it() {
         p.initial_velocity[n] = Vector3::new(40.0 * x.x, 15.0 * x.x, 0.0);
     }
     let state = run(&p, None, 40);
-    let region = region_near(&p, &state, 0, Vector3::new(0.5, 0.5, 0.5), 0.2);
+    let region = current_region_near(&p, &state, 0, Vector3::new(0.5, 0.5, 0.5), 0.2);
     let r = remesh(&p, &state, &region);
     let (old, new) = (&p.model, &r.problem.model);
     let before = old.element_fields(&state.u);

@@ -15,7 +15,7 @@ use impact_solver::dynamics::{ExplicitSettings, RunState};
 use impact_solver::material::MaterialModel;
 use impact_solver::model::{Constraint, Motion, Probe, ProbeQuantity};
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
+use impact_solver::remesh::{remesh_problem, MesherOptions};
 use impact_solver::restart::bytes::{Reader, Writer};
 use impact_solver::restart::problem::{read_problem, write_problem};
 use impact_solver::restart::remeshings::{read_remeshings, write_remeshings};
@@ -25,30 +25,6 @@ fn run(problem: &Problem, state: Option<RunState>, steps: usize) -> RunState {
     let mut settings = ExplicitSettings::new(1.0);
     settings.safety = 0.5;
     run_steps(problem, settings, state, steps)
-}
-
-/// The elements whose current centroid lies within `radius` of `center`, grown by a layer.
-fn region_near(
-    problem: &Problem,
-    state: &RunState,
-    center: Vector3<f64>,
-    radius: f64,
-) -> Vec<usize> {
-    let m = &problem.model;
-    let x: Vec<Vector3<f64>> = m
-        .reference
-        .iter()
-        .zip(&state.u)
-        .map(|(x, u)| x + u)
-        .collect();
-    let seed: Vec<usize> = centroids(&x, &m.tets)
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| (*c - center).norm() < radius)
-        .map(|(e, _)| e)
-        .collect();
-    assert!(!seed.is_empty());
-    grow_region(&m.tets, &seed, 1)
 }
 
 /// The stretched microplane block with a held face and a probe, before any remeshing.
@@ -87,10 +63,16 @@ fn scene_problem() -> Problem {
 fn a_remeshed_problem_is_written_and_read_back_bit_for_bit() {
     let scene = scene_problem();
     let state = run(&scene, None, 30);
-    let region = region_near(&scene, &state, Vector3::new(0.1, 0.05, 0.05), 0.03);
+    let region = current_region_near(&scene, &state, 0, Vector3::new(0.1, 0.05, 0.05), 0.03);
     let first = remesh_problem(&scene, &state, &region, &MesherOptions::default(), 0.0).unwrap();
     let state = run(&first.problem, Some(first.state), 20);
-    let region = region_near(&first.problem, &state, Vector3::new(0.12, 0.05, 0.05), 0.02);
+    let region = current_region_near(
+        &first.problem,
+        &state,
+        0,
+        Vector3::new(0.12, 0.05, 0.05),
+        0.02,
+    );
     let second = remesh_problem(
         &first.problem,
         &state,
@@ -161,7 +143,7 @@ fn a_remeshed_problem_is_written_and_read_back_bit_for_bit() {
 fn a_record_that_does_not_fit_the_scene_is_refused() {
     let scene = scene_problem();
     let state = run(&scene, None, 30);
-    let region = region_near(&scene, &state, Vector3::new(0.1, 0.05, 0.05), 0.03);
+    let region = current_region_near(&scene, &state, 0, Vector3::new(0.1, 0.05, 0.05), 0.03);
     let remeshed = remesh_problem(&scene, &state, &region, &MesherOptions::default(), 0.0)
         .unwrap()
         .problem;

@@ -316,3 +316,33 @@ pub fn run_steps(
     }
     solver.state()
 }
+
+/// The elements of body `body` whose current centroid lies within `radius` of `center`, grown
+/// by one layer.
+pub fn current_region_near(
+    problem: &Problem,
+    state: &RunState,
+    body: usize,
+    center: Vector3<f64>,
+    radius: f64,
+) -> Vec<usize> {
+    let m = &problem.model;
+    let x: Vec<Vector3<f64>> = m
+        .reference
+        .iter()
+        .zip(&state.u)
+        .map(|(x, u)| x + u)
+        .collect();
+    let elements = m.bodies[body].elements.clone();
+    let seed: Vec<usize> = impact_solver::remesh::centroids(&x, &m.tets)
+        .iter()
+        .enumerate()
+        .filter(|(e, c)| elements.contains(e) && (*c - center).norm() < radius)
+        .map(|(e, _)| e)
+        .collect();
+    assert!(!seed.is_empty());
+    impact_solver::remesh::grow_region(&m.tets, &seed, 1)
+        .into_iter()
+        .filter(|e| elements.contains(e))
+        .collect()
+}
