@@ -159,6 +159,7 @@ pub fn unfinished_result(spec: &CaseSpec, variant: &str) -> CaseResult {
         contact: None,
         phase_seconds: Default::default(),
         fast_update_share: None,
+        peak_memory_mib: None,
         records: Default::default(),
         known_failure: None,
         log_file: None,

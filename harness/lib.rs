@@ -24,6 +24,7 @@ pub mod curve;
 pub mod determinism;
 pub mod judge;
 pub mod material_point;
+pub mod memory;
 pub mod metadata;
 pub mod mpirun;
 pub mod progress;

@@ -82,9 +82,11 @@ pub fn rank_case(
         verbose: false,
     };
     let result = scene.run_as_rank(&case, Some(chosen), &options, world);
+    let memory = crate::memory::peak_resident_mib_per_rank(Some(world));
     if world.rank() == 0 {
         let result = CaseResult {
             known_failure: case.spec.known_failure.clone(),
+            peak_memory_mib: Some(memory),
             ..result
         };
         write_result(result_file, &result).map_err(|e| RankCaseError::Write {

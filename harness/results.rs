@@ -297,6 +297,10 @@ pub struct CaseResult {
     /// issue 20) that took it over the judged explicit run; absent without such bodies.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fast_update_share: Option<f64>,
+    /// Peak resident memory (`VmHWM`, MiB) of each rank's process, for a variant run under
+    /// `mpirun`; absent for a case run inside the harness, whose process the cases share.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_memory_mib: Option<Vec<f64>>,
     /// What the case's kind recorded for its part of the report, under the kind's key
     /// (`contact_comparison`, `material`, `crosscheck`, ...): written and read by the kind
     /// ([`CaseResult::record`], [`CaseResult::set_record`]), carried as JSON by everything else.

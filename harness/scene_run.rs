@@ -197,7 +197,9 @@ pub fn run_scene_file_with(
             result.map_err(|e| in_file(path, e))?
         }
     };
-    let mut lines = vec![run.plan.clone()];
+    // Collective: every rank reads its own high-water mark, rank 0 prints them all.
+    let memory = crate::memory::peak_resident_mib_per_rank(ranks);
+    let mut lines = vec![run.plan.clone(), crate::memory::peak_memory_line(&memory)];
     if let Some(s) = &run.summary {
         lines.push(format!(
             "done: {} steps in {:.2} s wall ({:.0} % in contact); energy balance error at most \
