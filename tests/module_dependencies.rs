@@ -26,8 +26,9 @@ use source_text::{is_ident, strip};
 /// layers before its own (`docs/architecture.md`, "The modules as layers").
 const SOLVER_LAYERS: &[&[&str]] = &[
     // The error vocabulary of every layer (`SolverError` and the reports its variants carry),
-    // random numbers, the geometry of one tetrahedron.
-    &["error", "rng", "kinematics"],
+    // random numbers, the geometry of one tetrahedron, the geometric queries (boxes, closest
+    // points) that contact and the mesh operations share.
+    &["error", "rng", "kinematics", "geometry"],
     &["mesh"],
     &["material"],
     &["model"],

@@ -18,9 +18,10 @@
 use std::path::{Path, PathBuf};
 
 use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
+use impact_solver::mesh::ops::centroids;
 use impact_solver::output::observer::RunObserver;
 use impact_solver::output::vtu::{FieldData, FieldFrame};
-use impact_solver::remesh::{centroids, element_volumes};
+use impact_solver::remesh::element_volumes;
 use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 /// One layer's sums over a frame.

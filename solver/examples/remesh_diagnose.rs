@@ -16,8 +16,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use impact_solver::dynamics::OutputSettings;
+use impact_solver::mesh::ops::{collapse_ratio, distortion, mean_ratio};
 use impact_solver::mesh::{face_key, TET_FACES};
-use impact_solver::remesh::{collapse_ratio, distortion, mean_ratio, run_remeshing};
+use impact_solver::remesh::run_remeshing;
 use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 use nalgebra::Vector3;
 
@@ -232,7 +233,7 @@ fn main() {
             );
             for other in m.bodies.iter().filter(|b| !b.nodes.contains(&n)) {
                 let tets = &m.tets[other.elements.clone()];
-                let locator = impact_solver::remesh::Locator::new(&x, tets).unwrap();
+                let locator = impact_solver::mesh::ops::Locator::new(&x, tets).unwrap();
                 let at = locator.locate(&x[n]);
                 if at.distance > 0.0 || at.barycentric.iter().any(|&w| w < -1e-12) {
                     continue;
@@ -242,7 +243,7 @@ fn main() {
                     .iter()
                     .map(|f| {
                         let [a, b, c] = f.nodes.map(|i| x[i as usize]);
-                        let q = impact_solver::contact::geometry::closest_point_on_triangle(
+                        let q = impact_solver::geometry::proximity::closest_point_on_triangle(
                             &x[n], &a, &b, &c,
                         );
                         ((q - x[n]).norm(), f.nodes)
@@ -265,7 +266,7 @@ fn main() {
             continue;
         }
         let tets = &m.tets[other.elements.clone()];
-        let locator = impact_solver::remesh::Locator::new(&x, tets).unwrap();
+        let locator = impact_solver::mesh::ops::Locator::new(&x, tets).unwrap();
         let faces = impact_solver::mesh::boundary_faces_of(tets);
         let mut inside = Vec::new();
         for n in body.nodes.clone() {
@@ -277,8 +278,9 @@ fn main() {
                 .iter()
                 .map(|f| {
                     let [a, b, c] = f.nodes.map(|i| x[i as usize]);
-                    (impact_solver::contact::geometry::closest_point_on_triangle(&x[n], &a, &b, &c)
-                        - x[n])
+                    (impact_solver::geometry::proximity::closest_point_on_triangle(
+                        &x[n], &a, &b, &c,
+                    ) - x[n])
                         .norm()
                 })
                 .fold(f64::INFINITY, f64::min);

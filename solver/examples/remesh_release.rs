@@ -17,8 +17,9 @@ use std::path::PathBuf;
 
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::kinematics::signed_volume;
+use impact_solver::mesh::ops::{centroids, grow_region, MesherOptions};
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
+use impact_solver::remesh::remesh_problem;
 use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 use nalgebra::Vector3;
 

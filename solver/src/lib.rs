@@ -20,6 +20,7 @@ pub mod contact;
 pub mod distributed;
 pub mod dynamics;
 pub mod error;
+pub mod geometry;
 pub mod kinematics;
 pub mod material;
 pub mod mesh;

@@ -14,10 +14,11 @@ use impact_solver::contact::registry::SolverKind;
 use impact_solver::dynamics::{ExplicitSettings, RunState};
 use impact_solver::material::microplane::{MicroplaneConcrete, MicroplaneMaterial};
 use impact_solver::material::{IsotropicElastic, MaterialModel};
+use impact_solver::mesh::ops::{centroids, MesherOptions};
 use impact_solver::mesh::{box_mesh, BoxSpec, Mesh};
 use impact_solver::model::Model;
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, remesh_problem, MesherOptions, Remeshed};
+use impact_solver::remesh::{remesh_problem, Remeshed};
 use nalgebra::Vector3;
 
 /// Runs `steps` steps from `state` (or from the start), the time step `safety` of the stable one.

@@ -15,9 +15,10 @@ use impact_solver::dynamics::{ExplicitSettings, RunState};
 use impact_solver::material::{
     Deformation, ElementState, IsotropicElastic, LinearElastic, Material,
 };
+use impact_solver::mesh::ops::{centroids, grow_region, MesherOptions};
 use impact_solver::model::{BodyMaterial, Model};
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions};
+use impact_solver::remesh::remesh_problem;
 use nalgebra::{Matrix3, Vector3};
 
 /// Linear elasticity that records, per element, the largest volume change `|det F - 1|` it has

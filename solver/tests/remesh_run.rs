@@ -12,9 +12,10 @@ mod common;
 use common::*;
 use impact_solver::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunState};
 use impact_solver::material::{LinearElastic, Material, MaterialModel};
+use impact_solver::mesh::ops::{centroids, grow_region, MesherOptions};
 use impact_solver::model::{Constraint, Motion, TimeFunction};
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{centroids, grow_region, remesh_problem, MesherOptions, Remeshed};
+use impact_solver::remesh::{remesh_problem, Remeshed};
 use nalgebra::{Matrix3, Vector3};
 
 /// Runs `steps` steps from `state` (or from the start) with a fixed time step `dt`.
@@ -362,7 +363,8 @@ fn travelling_wave_keeps_its_energy_through_a_remeshing() {
 fn a_sheared_block_remeshes_as_it_distorts_and_keeps_its_balance() {
     use impact_solver::dynamics::{ExplicitSettings, OutputSettings};
     use impact_solver::material::IsotropicElastic;
-    use impact_solver::remesh::{check_distortion, run_remeshing, RemeshPolicy};
+    use impact_solver::mesh::ops::check_distortion;
+    use impact_solver::remesh::{run_remeshing, RemeshPolicy};
     const SOFT: IsotropicElastic = IsotropicElastic {
         density: 1000.0,
         youngs_modulus: 1.0e7,

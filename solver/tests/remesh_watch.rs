@@ -15,9 +15,10 @@ use common::*;
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
+use impact_solver::mesh::ops::distortion;
 use impact_solver::problem::Problem;
 use impact_solver::remesh::{
-    distortion, von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER, REMESHING_CSV_HEADER,
+    von_mises, RemeshSettings, SectionFrame, NEAR_TIP_CSV_HEADER, REMESHING_CSV_HEADER,
 };
 use impact_solver::scene::{Analysis, ExplicitAnalysis};
 use impact_solver::SolverError;

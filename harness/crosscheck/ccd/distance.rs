@@ -8,7 +8,7 @@ use crate::crosscheck::ccd_queries::CcdQuery;
 /// The exact distance from a point to a triangle (Ericson 2005, 5.1.5) is the solver's, so the
 /// cross-check and contact detection share one geometry; it is independent of both CCD
 /// algorithms, which never call it.
-pub use impact_solver::contact::geometry::point_triangle_distance;
+pub use impact_solver::geometry::proximity::point_triangle_distance;
 
 /// The distance below which the point counts as touching the triangle: the minimum separation
 /// of our CCD (`contact::ccd::touch`), `1e-12` times the largest coordinate of the query.

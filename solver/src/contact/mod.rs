@@ -1,11 +1,9 @@
 //! Contact (thesis chapters 6 and 7).
 
-pub mod broad_phase;
 pub mod ccd;
 pub mod conic;
 pub mod detection;
 pub mod gauss_seidel;
-pub mod geometry;
 pub mod local;
 pub use detection::normals;
 pub mod newton;

@@ -5,6 +5,7 @@ mod generate;
 pub mod gmsh;
 mod gmsh_tags;
 mod numbering;
+pub mod ops;
 mod quality;
 
 use std::collections::BTreeMap;

@@ -14,11 +14,11 @@ use std::collections::HashMap;
 
 use nalgebra::Vector3;
 
-use super::locate::Locator;
-use super::peel::PEEL_QUALITY;
-use super::quality::shape_quality;
-use crate::contact::geometry::closest_point_on_triangle;
+use crate::geometry::proximity::closest_point_on_triangle;
 use crate::mesh::boundary_faces_of;
+use crate::mesh::ops::locate::Locator;
+use crate::mesh::ops::peel::PEEL_QUALITY;
+use crate::mesh::ops::quality::shape_quality;
 use crate::model::Model;
 
 /// What `separate_new_surface_nodes` moved.

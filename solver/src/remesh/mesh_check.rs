@@ -1,16 +1,16 @@
-//! The checks a run makes after a local remeshing ([`super::remesh_region`]), before it
+//! The checks a run makes after a local remeshing ([`crate::mesh::ops::remesh_region`]), before it
 //! transfers the fields: the new mesh is valid, fills the same body, and is better shaped.
 
 use std::collections::HashMap;
 
 use nalgebra::Vector3;
 
-use super::distortion::collapse_ratio;
-use super::fragments::{loose_fragments, shares_a_node};
-use super::mesher::RemeshedRegion;
-use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
+use crate::geometry::proximity::closest_point_on_triangle;
 use crate::kinematics::signed_volume;
+use crate::mesh::ops::distortion::collapse_ratio;
+use crate::mesh::ops::fragments::{loose_fragments, shares_a_node};
+use crate::mesh::ops::mesher::RemeshedRegion;
 use crate::mesh::{boundary_faces_of, face_key, BoundaryFace, TET_FACES};
 
 /// Relative tolerance on the region's volume and the outer boundary's area: both are sums of

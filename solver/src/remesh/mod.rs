@@ -51,48 +51,25 @@
 //! transfer (8.10, [`transfer_nodal_vectors`]).
 
 mod apply;
-mod box_tree;
-mod collapse;
 mod contact_surface;
-mod distortion;
-mod flip;
-mod fragments;
 mod kinetic_energy;
-mod locate;
 mod mass_scaling;
 mod mesh_check;
-mod mesher;
 mod near_tip;
-mod peel;
-mod quality;
 mod record;
 mod run;
 mod section;
-mod smoothing;
 mod splice;
-mod subdivision;
 mod transfer;
 mod watch;
 
 pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
-pub use distortion::{
-    altitude_ratio, check_distortion, collapse_ratio, deformation_jacobians, distortion,
-    refinement_region, region_parts, DistortionCheck, JacobianExtreme, RefinementCriteria,
-    COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
-};
-pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
 pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
-pub use mesher::{
-    grow_region, remesh_region, remesh_region_keeping_edges, MesherOptions, RemeshedRegion,
-    COLLAPSE_PASSES, FLIP_PASSES, SMOOTHING_SWEEPS,
-};
 pub use near_tip::{
     measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,
 };
-pub use peel::PeeledElement;
-pub use quality::mean_ratio;
 pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,

@@ -4,10 +4,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::locate::Location;
 use super::transfer::transfer_nodal_vectors;
 use crate::error::{Result, SolverError};
 use crate::material::Material;
+use crate::mesh::ops::locate::Location;
 
 /// Lumped nodal masses (kg) of the mesh `tets` with element volumes `volumes` (m^3) and element
 /// densities `density` (kg/m^3) in the same configuration: a quarter of each element's mass to
@@ -131,7 +131,7 @@ pub struct MeshState {
     pub elements: usize,
     /// The largest collapse ratio `chi = L_max / L_min` of its elements (8.1).
     pub worst_collapse_ratio: f64,
-    /// The largest distortion the run watches ([`super::distortion`]: `chi`, or the inverse
+    /// The largest distortion the run watches ([`crate::mesh::ops::distortion`]: `chi`, or the inverse
     /// mean ratio where larger, which sees slivers), infinite for an element without volume.
     pub worst_distortion: f64,
     /// The element of [`Self::worst_distortion`] (the lowest index among equals).
@@ -161,7 +161,7 @@ impl MeshState {
     ) -> Self {
         let (worst_distortion_element, worst_distortion) = tets
             .iter()
-            .map(|tet| super::distortion(&tet.map(|n| x[n as usize])))
+            .map(|tet| crate::mesh::ops::distortion(&tet.map(|n| x[n as usize])))
             .enumerate()
             .fold((0, 0.0), |worst, (e, d)| {
                 if d > worst.1 || (d.is_nan() && !worst.1.is_nan()) {
@@ -172,7 +172,8 @@ impl MeshState {
             });
         Self {
             elements: tets.len(),
-            worst_collapse_ratio: super::check_distortion(x, tets, f64::INFINITY).worst_ratio,
+            worst_collapse_ratio: crate::mesh::ops::check_distortion(x, tets, f64::INFINITY)
+                .worst_ratio,
             worst_distortion,
             worst_distortion_element,
             mass: mass.iter().sum(),
@@ -312,9 +313,9 @@ mod tests {
         ];
         let tets = [[0, 1, 2, 3], [4, 5, 6, 7]];
         let state = MeshState::measure(&x, &tets, &[1.0; 8], &[Vector3::zeros(); 8], 0.0);
-        let chi_needle = super::super::collapse_ratio(&tets[0].map(|n| x[n as usize]));
+        let chi_needle = crate::mesh::ops::collapse_ratio(&tets[0].map(|n| x[n as usize]));
         assert_eq!(state.worst_collapse_ratio, chi_needle);
-        let sliver = super::super::distortion(&tets[1].map(|n| x[n as usize]));
+        let sliver = crate::mesh::ops::distortion(&tets[1].map(|n| x[n as usize]));
         assert!(sliver > chi_needle, "sliver {sliver}, needle {chi_needle}");
         assert_eq!(state.worst_distortion_element, 1);
         assert_eq!(state.worst_distortion, sliver);

@@ -13,8 +13,6 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::apply::remesh_problem;
-use super::distortion::distortion;
-use super::mesher::{grow_region, MesherOptions};
 use super::record::RemeshRecord;
 use super::watch::RemeshWatch;
 use crate::dynamics::{
@@ -22,6 +20,8 @@ use crate::dynamics::{
     SegmentEnd,
 };
 use crate::error::{Result, SolverError};
+use crate::mesh::ops::distortion::distortion;
+use crate::mesh::ops::mesher::{grow_region, MesherOptions};
 use crate::output::{ObserverSet, Recorder, RunObserver};
 use crate::problem::Problem;
 
@@ -90,7 +90,7 @@ fn default_check_every() -> usize {
     10
 }
 fn default_collapse_limit() -> f64 {
-    super::COLLAPSE_RATIO_LIMIT
+    crate::mesh::ops::COLLAPSE_RATIO_LIMIT
 }
 fn default_layers() -> usize {
     1
@@ -235,7 +235,7 @@ pub struct RemeshPolicy {
     /// Steps between two distortion checks.
     pub check_every: usize,
     /// The distortion above which an element is distorted (thesis 8.1: a collapse ratio of
-    /// 10; here [`super::distortion`], which also catches slivers).
+    /// 10; here [`crate::mesh::ops::distortion`], which also catches slivers).
     pub collapse_limit: f64,
     /// Layers of elements added around the distorted ones, so that their nodes can move.
     pub layers: usize,
@@ -262,7 +262,7 @@ impl RemeshPolicy {
         Self {
             body,
             check_every: 10,
-            collapse_limit: super::COLLAPSE_RATIO_LIMIT,
+            collapse_limit: crate::mesh::ops::COLLAPSE_RATIO_LIMIT,
             layers: 1,
             min_volume: 0.0,
             max_remeshings: 1000,
@@ -284,7 +284,7 @@ impl RemeshPolicy {
     }
 
     /// The elements to remesh at the current coordinates `x` of `problem`: the body's elements
-    /// whose distortion ([`super::distortion`]) passes `threshold` (the limit, or
+    /// whose distortion ([`crate::mesh::ops::distortion`]) passes `threshold` (the limit, or
     /// [`Self::threshold_after`]) and
     /// whose volume exceeds `min_volume`, grown by `layers` within the body; empty when none.
     pub fn region(&self, problem: &Problem, x: &[Vector3<f64>], threshold: f64) -> Vec<usize> {

@@ -7,9 +7,9 @@ use std::ops::Range;
 
 use nalgebra::Vector3;
 
-use super::locate::Location;
-use super::mesher::RemeshedRegion;
 use super::transfer::transfer_nodal_vectors;
+use crate::mesh::ops::locate::Location;
+use crate::mesh::ops::mesher::RemeshedRegion;
 
 /// The old and new global numbering around one remeshed body.
 #[derive(Debug)]

@@ -9,9 +9,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::locate::{centroids, CentroidSearch, Location};
 use crate::error::{Result, SolverError};
 use crate::kinematics::signed_volume;
+use crate::mesh::ops::locate::{centroids, CentroidSearch, Location};
 
 fn length_error(what: &str, got: usize, expected: usize) -> SolverError {
     SolverError::Remesh {

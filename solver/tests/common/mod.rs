@@ -334,14 +334,14 @@ pub fn current_region_near(
         .map(|(x, u)| x + u)
         .collect();
     let elements = m.bodies[body].elements.clone();
-    let seed: Vec<usize> = impact_solver::remesh::centroids(&x, &m.tets)
+    let seed: Vec<usize> = impact_solver::mesh::ops::centroids(&x, &m.tets)
         .iter()
         .enumerate()
         .filter(|(e, c)| elements.contains(e) && (*c - center).norm() < radius)
         .map(|(e, _)| e)
         .collect();
     assert!(!seed.is_empty());
-    impact_solver::remesh::grow_region(&m.tets, &seed, 1)
+    impact_solver::mesh::ops::grow_region(&m.tets, &seed, 1)
         .into_iter()
         .filter(|e| elements.contains(e))
         .collect()

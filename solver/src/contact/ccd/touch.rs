@@ -16,7 +16,7 @@
 use nalgebra::Vector3;
 
 use super::{CcdHit, Trajectory};
-use crate::contact::geometry::{clamped_triangle_weights, closest_point_on_triangle};
+use crate::geometry::proximity::{clamped_triangle_weights, closest_point_on_triangle};
 
 /// `delta = TOUCH_SEPARATION * s`, `s` the largest absolute coordinate of the query's eight
 /// positions: positions are known to about `eps s` (2.2e-16 s), and a point within 1e-12 s

@@ -15,8 +15,8 @@
 use nalgebra::Vector3;
 
 use super::ContactSurface;
-use crate::contact::broad_phase::{Aabb, BoxedGrid, UniformGrid};
-use crate::contact::geometry::tetrahedron_barycentric;
+use crate::geometry::broad_phase::{Aabb, BoxedGrid, UniformGrid};
+use crate::geometry::proximity::tetrahedron_barycentric;
 use crate::model::Model;
 
 /// The boxes of a master surface's boundary-layer elements at some earlier positions, binned in

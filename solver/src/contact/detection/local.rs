@@ -13,9 +13,9 @@
 use nalgebra::Vector3;
 
 use super::{CcdCall, ContactSurface, DetectionSettings};
-use crate::contact::broad_phase::{Aabb, BoxedGrid};
 use crate::contact::ccd::{vertex_face_ccd, CcdHit, Trajectory};
-use crate::contact::geometry::{against, clamped_triangle_weights, triangle_weights};
+use crate::geometry::broad_phase::{Aabb, BoxedGrid};
+use crate::geometry::proximity::{against, clamped_triangle_weights, triangle_weights};
 
 /// Which strategy found a contact.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

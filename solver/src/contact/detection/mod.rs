@@ -7,7 +7,7 @@
 //! picks the master boundary face the node went through and the contact point on it: continuous
 //! collision detection first (7.4.4), then the intersection of the node's trajectory with the
 //! predicted face (7.4.3), then the closest point (7.4.2); a node none of them resolves is
-//! counted. Both work on the primitives of `contact::geometry`.
+//! counted. Both work on the primitives of `geometry::proximity`.
 //!
 //! The per-node part of a pass (whether the node penetrates, its face and contact point, the
 //! normal there) reads the positions and the pass's searches only, so it runs in parallel over

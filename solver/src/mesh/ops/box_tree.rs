@@ -15,7 +15,7 @@
 
 use nalgebra::Vector3;
 
-use crate::contact::broad_phase::Aabb;
+use crate::geometry::broad_phase::Aabb;
 
 /// Most items in a leaf.
 const LEAF_SIZE: usize = 8;

@@ -35,11 +35,11 @@ use crate::mesh::{face_key, TET_FACES};
 /// The smallest cosine of the angle a boundary face may turn by in a surface collapse: about
 /// 30 degrees. The face stays on the side of the surface it faced; a collapse along a crease
 /// (where the faces turn more) would fold it.
-pub(super) const SURFACE_TURN_COS: f64 = 0.85;
+pub(crate) const SURFACE_TURN_COS: f64 = 0.85;
 
 /// How an edge collapse may remove a node.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Removable {
+pub(crate) enum Removable {
     /// Never: a node of the interface with the untouched mesh, or a corner.
     Never,
     /// An inner node (no axis held), or one sliding on the outer boundary within symmetry
@@ -53,7 +53,7 @@ pub(super) enum Removable {
 
 /// What [`collapse_short_edges`] did.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct Collapses {
+pub(crate) struct Collapses {
     /// The elements, `None` where removed (the removed nodes no longer appear in the others).
     pub tets: Vec<Option<[u32; 4]>>,
     /// Number of collapses.
@@ -284,7 +284,7 @@ impl Collapser<'_> {
 
 /// The bounds of [`collapse_short_edges`].
 #[derive(Debug, Clone, Copy)]
-pub(super) struct CollapseLimits {
+pub(crate) struct CollapseLimits {
     /// Elements below this quality ([`shape_quality`]) try their edges.
     pub target: f64,
     /// Edges shorter than this (m) may coarsen.
@@ -304,7 +304,7 @@ pub(super) struct CollapseLimits {
 /// elements outside `tets` that touch them): across a flat pit of the surface, a collapse onto
 /// a node of the interface would glue the region onto a neighbour's boundary face, which the
 /// link condition over `tets` alone does not see. Deterministic.
-pub(super) fn collapse_short_edges(
+pub(crate) fn collapse_short_edges(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     neighbours: &[[u32; 4]],

@@ -66,7 +66,7 @@ pub fn altitude_ratio(x: &[Vector3<f64>; 4]) -> f64 {
 
 /// [`collapse_ratio`] and [`altitude_ratio`] of `x` from one pass over its edges and faces (the
 /// distortion check and the remesher's quality read both).
-pub(super) fn edge_and_altitude_ratios(x: &[Vector3<f64>; 4]) -> (f64, f64) {
+pub(crate) fn edge_and_altitude_ratios(x: &[Vector3<f64>; 4]) -> (f64, f64) {
     let q = crate::mesh::element_quality(x);
     let chi = if q.min_edge > 0.0 {
         q.max_edge / q.min_edge

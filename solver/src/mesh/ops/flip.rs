@@ -161,7 +161,7 @@ impl Flipper<'_> {
 /// (the elements outside that touch them), whose edges and faces a flip may not duplicate.
 /// Returns the elements (live ones in order, `None` where replaced, the new ones after; the
 /// neighbours left out) and the number of flips. Deterministic.
-pub(super) fn flip_slivers(
+pub(crate) fn flip_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     fixed: &[bool],

@@ -13,7 +13,7 @@
 /// A face-joined piece of at most this many elements that touches the rest of the body only
 /// through nodes or edges is a loose fragment. An eroded element's neighbours are what such a
 /// piece is made of; a larger piece is kept as a part of the body.
-pub(super) const LOOSE_FRAGMENT_ELEMENTS: usize = 8;
+pub(crate) const LOOSE_FRAGMENT_ELEMENTS: usize = 8;
 
 /// The loose fragments among the elements `candidates` (ascending): each set of candidates
 /// joined through shared faces (`face_neighbours`, the elements sharing a face with one) that
@@ -21,7 +21,7 @@ pub(super) const LOOSE_FRAGMENT_ELEMENTS: usize = 8;
 /// not a candidate (the rest of the body, which the walk does not enter), but for which `hangs`
 /// holds: it shares a node with an element outside it (a body of its own is not a fragment). In
 /// the order of their first element, each sorted. Every candidate is visited once.
-pub(super) fn loose_fragments(
+pub(crate) fn loose_fragments(
     candidates: &[usize],
     face_neighbours: &mut dyn FnMut(usize) -> Vec<usize>,
     hangs: &dyn Fn(&[usize]) -> bool,
@@ -57,7 +57,7 @@ pub(super) fn loose_fragments(
 
 /// Whether the elements `piece` of `tets` share a node with an element outside them, given
 /// `uses(n)`, the number of elements that hold node `n`.
-pub(super) fn shares_a_node(
+pub(crate) fn shares_a_node(
     tets: &[[u32; 4]],
     piece: &[usize],
     uses: &dyn Fn(u32) -> usize,

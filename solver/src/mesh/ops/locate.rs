@@ -10,9 +10,9 @@ use nalgebra::Vector3;
 
 use super::box_tree::BoxTree;
 use super::mesher::RemeshedRegion;
-use crate::contact::broad_phase::Aabb;
-use crate::contact::geometry::closest_point_on_triangle;
 use crate::error::{Result, SolverError};
+use crate::geometry::broad_phase::Aabb;
+use crate::geometry::proximity::closest_point_on_triangle;
 use crate::kinematics::shape_gradients;
 
 /// Barycentric tolerance of the point location: a point whose smallest barycentric coordinate in
@@ -184,7 +184,7 @@ impl<'a> Locator<'a> {
     /// are searched, with the error of [`Self::locate_all`] (naming the node) for one farther
     /// than `max_distance` outside. Searching only the region's nodes keeps a remeshing's cost
     /// with the region, not the body.
-    pub(super) fn locate_remeshed_nodes(
+    pub(crate) fn locate_remeshed_nodes(
         &self,
         tets: &[[u32; 4]],
         new: &RemeshedRegion,

@@ -31,7 +31,7 @@ use crate::mesh::{face_key, TET_FACES};
 
 /// The quality ([`shape_quality`]) below which a boundary element is peeled: a collapse ratio or
 /// inverse mean ratio of 10, the remeshing limit of the thesis (Box 8.1).
-pub(super) const PEEL_QUALITY: f64 = 0.1;
+pub(crate) const PEEL_QUALITY: f64 = 0.1;
 
 /// A peeled element, its four corners where it was removed, and per local face (opposite local
 /// node `k`) whether it was on the outer boundary then (the other faces became boundary). The
@@ -136,7 +136,7 @@ fn keeps_manifold(tet: &[u32; 4], outer: &[bool; 4], boundary: &Boundary) -> boo
 /// Returns the kept elements' indices and the peeled elements, in the order removed.
 /// Deterministic.
 #[cfg(test)]
-pub(super) fn peel_boundary_slivers(
+pub(crate) fn peel_boundary_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     first: usize,
@@ -149,7 +149,7 @@ pub(super) fn peel_boundary_slivers(
 /// [`peel_boundary_slivers`], where with `erode` a region element at whose corners `failed`
 /// holds is taken as a collapsed one is, whatever its shape (failed material:
 /// `MesherOptions::erode_stretch`).
-pub(super) fn peel_failed_and_slivers(
+pub(crate) fn peel_failed_and_slivers(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     first: usize,
@@ -287,7 +287,7 @@ fn erode_loose_fragments(
 mod tests {
     use super::*;
     use crate::kinematics::signed_volume;
-    use crate::remesh::locate::centroid;
+    use crate::mesh::ops::locate::centroid;
 
     /// `t` positively oriented over `x`.
     fn oriented(x: &[Vector3<f64>], mut t: [u32; 4]) -> [u32; 4] {

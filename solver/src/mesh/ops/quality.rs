@@ -27,12 +27,12 @@ pub fn mean_ratio(x: &[Vector3<f64>; 4]) -> f64 {
 /// the distortion check reads, bounded by the mean ratio so that a sliver (four nearly coplanar
 /// nodes with edges of similar length, `chi` near 1 but no volume) is also poor. 1 for the
 /// regular tetrahedron; -1 when inverted.
-pub(super) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
+pub(crate) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
     let eta = mean_ratio(x);
     if eta < 0.0 {
         return eta;
     }
-    let (chi, altitude) = super::distortion::edge_and_altitude_ratios(x);
+    let (chi, altitude) = crate::mesh::ops::distortion::edge_and_altitude_ratios(x);
     eta.min(1.0 / chi).min(1.0 / altitude)
 }
 
@@ -41,12 +41,12 @@ pub(super) fn shape_quality(x: &[Vector3<f64>; 4]) -> f64 {
 /// `1728 (3V)^2 >= (b sum l^2)^3`, taken here with a margin of 1e-9 (far above the round-off of
 /// either side). The smoothing asks this for every element around every candidate place, and
 /// the power was a sixth of a nail run's CPU.
-pub(super) fn shape_quality_capped(x: &[Vector3<f64>; 4], cap: f64) -> f64 {
+pub(crate) fn shape_quality_capped(x: &[Vector3<f64>; 4], cap: f64) -> f64 {
     let v = signed_volume(x);
     if !(v > 0.0) {
         return (-1.0f64).min(cap);
     }
-    let (chi, altitude) = super::distortion::edge_and_altitude_ratios(x);
+    let (chi, altitude) = crate::mesh::ops::distortion::edge_and_altitude_ratios(x);
     let bound = (1.0 / chi).min(1.0 / altitude).min(cap);
     let sum: f64 = TET_EDGES
         .iter()

@@ -7,14 +7,14 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use nalgebra::Vector3;
 
 use super::quality::shape_quality_capped;
-use crate::contact::geometry::{closest_point_on_triangle, point_triangle_distance};
+use crate::geometry::proximity::{closest_point_on_triangle, point_triangle_distance};
 use crate::kinematics::signed_volume;
 use crate::mesh::{boundary_faces_of, face_key, TET_FACES};
 
 /// How far apart (m) two coordinates may be and still put their nodes in one axis plane: a few
 /// round-offs of the largest coordinate. A node placed on a symmetry plane by a projection (a
 /// surface node moved out of a contact partner) can be off it by 1e-20 m.
-pub(super) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
+pub(crate) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
     4.0 * f64::EPSILON * nodes.iter().map(|p| p.amax()).fold(0.0, f64::max)
 }
 
@@ -33,7 +33,7 @@ pub(super) fn plane_tolerance(nodes: &[Vector3<f64>]) -> f64 {
 /// that surface, within a bound ([`SurfaceSlide`]).
 /// Without this, an element whose nodes all lie on symmetry planes (at the axis under a
 /// penetrator) could not be reshaped: refinement alone gives children as flat as itself.
-pub(super) fn boundary_nodes(
+pub(crate) fn boundary_nodes(
     nodes: &[Vector3<f64>],
     tets: &[[u32; 4]],
     pinned: &[bool],
@@ -52,7 +52,7 @@ pub(super) fn boundary_nodes(
 /// The nodes on the outer boundary of a remeshed region, by what the remesher may do with them
 /// ([`boundary_nodes`]). Both lists ascend.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub(super) struct BoundaryNodes {
+pub(crate) struct BoundaryNodes {
     /// Nodes whose boundary faces all lie in axis planes, with the axes along which they may
     /// slide (smoothing and collapses keep the boundary's shape exactly).
     pub sliding: Vec<(u32, [bool; 3])>,
@@ -113,7 +113,7 @@ fn axis_plane([a, b, c]: &[Vector3<f64>; 3], tolerance: f64) -> Option<usize> {
 /// the method): a move is taken only if it raises the worst quality of the node's elements.
 /// Each node moves only along the axes its flags free (all three inside the region); each is
 /// listed once.
-pub(super) fn smooth(
+pub(crate) fn smooth(
     nodes: &mut [Vector3<f64>],
     tets: &[[u32; 4]],
     movable: &[(u32, [bool; 3])],
@@ -124,7 +124,7 @@ pub(super) fn smooth(
 
 /// [`smooth`], with the nodes of `slide` also moving, on the old surface around them
 /// ([`SurfaceSlide`]); their flags in `movable` hold the axes their symmetry planes fix.
-pub(super) fn smooth_on_surface(
+pub(crate) fn smooth_on_surface(
     nodes: &mut [Vector3<f64>],
     tets: &[[u32; 4]],
     movable: &[(u32, [bool; 3])],
@@ -267,7 +267,7 @@ pub(super) fn smooth_on_surface(
 /// recorded with the collapses'. This is how mesh improvers treat a boundary vertex on a curved
 /// surface (Freitag & Ollivier-Gooch 1997, 4.2: boundary vertices smoothed within the boundary).
 #[derive(Debug, Default)]
-pub(super) struct SurfaceSlide {
+pub(crate) struct SurfaceSlide {
     nodes: BTreeMap<u32, SurfaceNode>,
     deviation: f64,
 }
@@ -318,7 +318,7 @@ impl SurfaceNode {
 impl SurfaceSlide {
     /// The nodes `surface` (from [`boundary_nodes`]) over the region `tets` with coordinates
     /// `nodes`, the surface moving by at most `deviation` (m); none for a deviation of 0.
-    pub(super) fn new(
+    pub(crate) fn new(
         nodes: &[Vector3<f64>],
         tets: &[[u32; 4]],
         surface: &[(u32, [bool; 3])],
@@ -430,12 +430,12 @@ impl SurfaceSlide {
     }
 
     /// Whether no node slides (a deviation of 0, or no node on a curved surface).
-    pub(super) fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
 
     /// The nodes that slide, with the axes their symmetry planes leave free (for [`smooth`]).
-    pub(super) fn movable(&self, surface: &[(u32, [bool; 3])]) -> Vec<(u32, [bool; 3])> {
+    pub(crate) fn movable(&self, surface: &[(u32, [bool; 3])]) -> Vec<(u32, [bool; 3])> {
         surface
             .iter()
             .filter(|(n, _)| self.nodes.contains_key(n))
@@ -446,7 +446,7 @@ impl SurfaceSlide {
 
 /// The faces that one element of `tets` alone holds (the region's outer boundary and its
 /// interface with the rest), each in its element's orientation, in element order.
-pub(super) fn region_boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
+pub(crate) fn region_boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
     boundary_faces_of(tets)
         .into_iter()
         .map(|f| f.nodes)
@@ -454,7 +454,7 @@ pub(super) fn region_boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
 }
 
 /// The volume of `tets` and the area of the faces one of them alone holds (m^3, m^2).
-pub(super) fn volume_and_boundary_area(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> (f64, f64) {
+pub(crate) fn volume_and_boundary_area(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> (f64, f64) {
     let volume = tets
         .iter()
         .map(|t| signed_volume(&t.map(|n| nodes[n as usize])))

@@ -8,7 +8,7 @@ use crate::kinematics::signed_volume;
 
 /// The regular 1:8 refinement of the tetrahedron `v` (new ids) with edge midpoints `m(i, j)`
 /// (Bey 1995): four corner children and the inner octahedron cut along its shortest diagonal.
-pub(super) fn red_refinement(
+pub(crate) fn red_refinement(
     v: [u32; 4],
     m: impl Fn(usize, usize) -> u32,
     nodes: &[Vector3<f64>],
@@ -48,7 +48,7 @@ pub(super) fn red_refinement(
 /// The triangles of the face `f` (old ids, counter-clockwise seen from outside) cut by its split
 /// edges, as new ids in the same orientation. The cut depends on the face only (not on which
 /// element asks), so the two elements of a face cut it alike.
-pub(super) fn face_triangles(
+pub(crate) fn face_triangles(
     f: [u32; 3],
     mid: &impl Fn(u32, u32) -> Option<u32>,
     new_id: &[u32],

@@ -10,9 +10,9 @@ use super::{fail, largest_stretch};
 use crate::dynamics::RunState;
 use crate::error::Result;
 use crate::mesh::boundary_faces_of;
+use crate::mesh::ops::locate::{centroid, centroids, Location, Locator};
+use crate::mesh::ops::mesher::{remesh_region_keeping_edges, MesherOptions, RemeshedRegion};
 use crate::problem::Problem;
-use crate::remesh::locate::{centroid, centroids, Location, Locator};
-use crate::remesh::mesher::{remesh_region_keeping_edges, MesherOptions, RemeshedRegion};
 
 /// The remeshed body at the pause: its node and element ranges, the current configuration of
 /// the whole model, its connectivity and region in its own ids, and every element's

@@ -24,14 +24,14 @@ use self::generate::{
 };
 use self::new_problem::{new_model, remapped_conditions, remesh_record};
 use super::contact_surface::separate_new_surface_nodes;
-use super::locate::Locator;
 use super::mesh_check::{check_remeshed, RemeshCheck};
-use super::mesher::MesherOptions;
 use super::record::RemeshRecord;
 use super::splice::Splice;
 use super::transfer::element_volumes;
 use crate::dynamics::RunState;
 use crate::error::{Result, SolverError};
+use crate::mesh::ops::locate::Locator;
+use crate::mesh::ops::mesher::MesherOptions;
 use crate::model::Model;
 use crate::problem::Problem;
 

@@ -12,14 +12,14 @@ use crate::dynamics::RunState;
 use crate::error::Result;
 use crate::kinematics::signed_volume;
 use crate::material::RemeshedElements;
+use crate::mesh::ops::locate::centroids;
+use crate::mesh::ops::mesher::RemeshedRegion;
 use crate::mesh::Mesh;
 use crate::model::{
     BodyMaterial, CarriedState, Constraint, MaterialSource, Model, NodalLoad, Probe,
 };
 use crate::problem::Problem;
 use crate::remesh::contact_surface::SurfaceSeparation;
-use crate::remesh::locate::centroids;
-use crate::remesh::mesher::RemeshedRegion;
 use crate::remesh::record::{MeshState, RemeshRecord};
 use crate::remesh::splice::Splice;
 

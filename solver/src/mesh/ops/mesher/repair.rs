@@ -8,10 +8,10 @@ use nalgebra::Vector3;
 
 use super::split::Draft;
 use super::{drop_unused_nodes, neighbours_of_region, MesherOptions, COLLAPSE_TARGET};
-use crate::remesh::collapse::{collapse_short_edges, CollapseLimits, Removable};
-use crate::remesh::flip::flip_slivers;
-use crate::remesh::peel::{peel_failed_and_slivers, PeeledElement};
-use crate::remesh::smoothing::{
+use crate::mesh::ops::collapse::{collapse_short_edges, CollapseLimits, Removable};
+use crate::mesh::ops::flip::flip_slivers;
+use crate::mesh::ops::peel::{peel_failed_and_slivers, PeeledElement};
+use crate::mesh::ops::smoothing::{
     boundary_nodes, smooth, smooth_on_surface, volume_and_boundary_area, SurfaceSlide,
 };
 

@@ -8,8 +8,8 @@ use nalgebra::Vector3;
 use super::{edge_key, remesh_error, MesherOptions, TET_EDGES};
 use crate::error::Result;
 use crate::kinematics::signed_volume;
+use crate::mesh::ops::subdivision::{face_triangles, red_refinement};
 use crate::mesh::{face_key, TET_FACES};
-use crate::remesh::subdivision::{face_triangles, red_refinement};
 
 /// The mesh after the subdivision, before the repairs: nodes, elements with their origins,
 /// the old nodes kept, and which nodes the repairs may move.
