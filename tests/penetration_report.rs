@@ -16,9 +16,10 @@ use std::path::{Path, PathBuf};
 use impact_solver::analysis::{execute, ExecuteOptions};
 use impact_solver::dynamics::ExplicitSettings;
 use impact_solver::material::{IsotropicElastic, MaterialModel};
+use impact_solver::mesh::ops::check_distortion;
 use impact_solver::model::Model;
 use impact_solver::problem::Problem;
-use impact_solver::remesh::{check_distortion, RemeshSettings, REMESHING_CSV_HEADER};
+use impact_solver::remesh::{RemeshSettings, REMESHING_CSV_HEADER};
 use impact_solver::scene::{Analysis, ExplicitAnalysis};
 use impact_vv::registry::SECTIONS;
 use impact_vv::report::penetration::{

@@ -13,8 +13,8 @@
 use std::collections::HashMap;
 
 use impact_solver::kinematics::signed_volume;
-use impact_solver::mesh::{box_mesh, BoxSpec, Mesh, TET_FACES};
 use impact_solver::mesh::ops::*;
+use impact_solver::mesh::{box_mesh, BoxSpec, Mesh, TET_FACES};
 use impact_solver::remesh::*;
 use nalgebra::Vector3;
 

@@ -10,8 +10,8 @@
 #![allow(clippy::unwrap_used)]
 
 use impact_solver::material::{IsotropicElastic, SaintVenantKirchhoff};
-use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
 use impact_solver::mesh::ops::*;
+use impact_solver::mesh::{box_mesh, perturb_interior, BoxSpec, Mesh};
 use impact_solver::remesh::*;
 use nalgebra::{Matrix3, Vector3};
 

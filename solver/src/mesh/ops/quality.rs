@@ -60,3 +60,66 @@ pub(crate) fn shape_quality_capped(x: &[Vector3<f64>; 4], cap: f64) -> f64 {
         .min(1.0 / altitude)
         .min(cap)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Alternate corners of a cube, positively oriented.
+    fn regular() -> [Vector3<f64>; 4] {
+        [
+            Vector3::new(1.0, -1.0, -1.0),
+            Vector3::new(1.0, 1.0, 1.0),
+            Vector3::new(-1.0, 1.0, -1.0),
+            Vector3::new(-1.0, -1.0, 1.0),
+        ]
+    }
+
+    #[test]
+    fn the_regular_tetrahedron_has_quality_one_and_an_inverted_one_minus_one() {
+        let x = regular();
+        assert!(signed_volume(&x) > 0.0);
+        assert!((mean_ratio(&x) - 1.0).abs() < 1e-14, "{}", mean_ratio(&x));
+        assert!(
+            (shape_quality(&x) - 1.0).abs() < 1e-12,
+            "{}",
+            shape_quality(&x)
+        );
+        let inverted = [x[1], x[0], x[2], x[3]];
+        assert_eq!(mean_ratio(&inverted), -1.0);
+        assert_eq!(shape_quality(&inverted), -1.0);
+    }
+
+    #[test]
+    fn a_sliver_is_poor_though_its_edges_are_alike() {
+        // Four nodes of a square, one lifted by 1e-3 of the edge: edge ratio about sqrt(2), no volume.
+        let x = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(1.0, 1.0, 1e-3),
+            Vector3::new(0.0, 1.0, 0.0),
+        ];
+        let x = if signed_volume(&x) > 0.0 {
+            x
+        } else {
+            [x[1], x[0], x[2], x[3]]
+        };
+        assert!(shape_quality(&x) < 0.01, "{}", shape_quality(&x));
+    }
+
+    #[test]
+    fn the_capped_quality_is_the_quality_capped_bit_for_bit() {
+        let mut x = regular();
+        for k in 0..200 {
+            let t = k as f64 / 200.0;
+            x[3] = Vector3::new(-1.0 + 1.5 * t, -1.0 + t * t, 1.0 - 1.9 * t);
+            for cap in [0.05, 0.3, 0.7, 1.0, 2.0] {
+                assert_eq!(
+                    shape_quality_capped(&x, cap).to_bits(),
+                    shape_quality(&x).min(cap).to_bits(),
+                    "t = {t}, cap = {cap}"
+                );
+            }
+        }
+    }
+}

@@ -95,3 +95,86 @@ pub(crate) fn face_triangles(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tetrahedron and its six edge midpoints, nodes 4..10 in the edge order
+    /// (0,1) (0,2) (0,3) (1,2) (1,3) (2,3).
+    fn with_midpoints(x: [Vector3<f64>; 4]) -> (Vec<Vector3<f64>>, impl Fn(usize, usize) -> u32) {
+        let edges = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+        let mut nodes = x.to_vec();
+        nodes.extend(edges.iter().map(|[i, j]| 0.5 * (x[*i] + x[*j])));
+        let mid = move |i: usize, j: usize| {
+            let (a, b) = (i.min(j), i.max(j));
+            4 + edges.iter().position(|e| *e == [a, b]).expect("an edge") as u32
+        };
+        (nodes, mid)
+    }
+
+    #[test]
+    fn the_eight_children_fill_the_parent_with_positive_volumes() {
+        let x = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(2.0, 0.1, 0.0),
+            Vector3::new(0.3, 1.5, 0.2),
+            Vector3::new(0.4, 0.2, 1.1),
+        ];
+        let parent = signed_volume(&x);
+        assert!(parent > 0.0);
+        let (nodes, mid) = with_midpoints(x);
+        let mut children = Vec::new();
+        red_refinement([0, 1, 2, 3], mid, &nodes, &mut children);
+        assert_eq!(children.len(), 8);
+        let volumes: Vec<f64> = children
+            .iter()
+            .map(|t| signed_volume(&t.map(|n| nodes[n as usize])))
+            .collect();
+        assert!(volumes.iter().all(|v| *v > 0.0), "{volumes:?}");
+        // Each child is an eighth of the parent (Bey 1995: the red refinement is volume-regular).
+        for v in &volumes {
+            assert!((v / parent - 0.125).abs() < 1e-12, "{v} of {parent}");
+        }
+    }
+
+    #[test]
+    fn a_face_is_cut_into_triangles_of_its_area_whatever_edges_split() {
+        let nodes = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.2, 0.9, 0.0),
+            Vector3::new(0.5, 0.0, 0.0),
+            Vector3::new(0.6, 0.45, 0.0),
+            Vector3::new(0.1, 0.45, 0.0),
+        ];
+        let area = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|n| nodes[n as usize]);
+            0.5 * (b - a).cross(&(c - a)).z
+        };
+        let whole = area(&[0, 1, 2]);
+        let identity: Vec<u32> = (0..6).collect();
+        for mask in 0..8u32 {
+            let mid = |a: u32, b: u32| {
+                let k = match (a.min(b), a.max(b)) {
+                    (0, 1) => 0,
+                    (1, 2) => 1,
+                    _ => 2,
+                };
+                (mask >> k & 1 == 1).then_some(3 + k)
+            };
+            let triangles = face_triangles([0, 1, 2], &mid, &identity, &nodes);
+            assert_eq!(
+                triangles.len(),
+                1 + mask.count_ones() as usize,
+                "mask {mask}"
+            );
+            let total: f64 = triangles.iter().map(area).sum();
+            assert!(
+                triangles.iter().all(|t| area(t) > 0.0),
+                "mask {mask}: {triangles:?}"
+            );
+            assert!((total - whole).abs() < 1e-14, "mask {mask}");
+        }
+    }
+}
