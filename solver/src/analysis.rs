@@ -260,7 +260,7 @@ fn explicit(
         summary: Some(summary),
         static_solution: None,
         contact_problems,
-        material_history: Some(solver.history().clone()),
+        material_history: Some(solver.take_history()),
         remeshings: Vec::new(),
     })
 }

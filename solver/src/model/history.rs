@@ -37,7 +37,7 @@ impl BodyHistory {
 }
 
 /// The histories of all bodies of a model (`None` for bodies without one), owned by an analysis.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct MaterialHistory {
     /// One entry per body of the model, in body order: its history, or `None` for a material
     /// without one.

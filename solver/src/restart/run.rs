@@ -219,7 +219,7 @@ pub fn execute_checkpointed(
         summary: Some(summary),
         static_solution: None,
         contact_problems: Vec::new(),
-        material_history: Some(solver.history().clone()),
+        material_history: Some(solver.take_history()),
         remeshings: Vec::new(),
     })
 }
