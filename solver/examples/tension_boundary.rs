@@ -7,7 +7,7 @@
 //! 25, 50 and 100 mm, the strains at which the planes crack. `FRICTION` sets `crack_friction`,
 //! the shear boundary's Coulomb coefficient on the compressed planes (0 or absent: none).
 //!
-//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION [ONSET]]`
+//! `cargo run --release -p impact-solver --example tension_boundary -- MATERIAL_FILE F0_MPA EPS_F THETA [FRICTION [ONSET [mc2010]]]`
 
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
@@ -19,7 +19,9 @@ use impact_solver::material::microplane::experiments::{
     bonded_tension, equal_biaxial_compression, tension_rate_sweep, uniaxial_compression,
     QUASI_STATIC_RATE,
 };
-use impact_solver::material::microplane::{state, MicroplaneConcrete, TensionBoundary};
+use impact_solver::material::microplane::{
+    state, BoundaryShape, MicroplaneConcrete, TensionBoundary,
+};
 use impact_solver::material::read_microplane_file;
 
 const FT: f64 = 2.70e6;
@@ -39,6 +41,10 @@ fn main() {
         softening_strain: number(3, 6e-4),
         strain_weight: number(4, 0.0),
         onset_strain: number(6, 0.0),
+        shape: match args.get(7).map(String::as_str) {
+            Some("mc2010") => BoundaryShape::Mc2010,
+            _ => BoundaryShape::Exponential,
+        },
     });
     let friction = number(5, 0.0);
     if friction > 0.0 {

@@ -10,11 +10,12 @@ use std::path::PathBuf;
 use impact_solver::material::microplane::calibration::{CalibratedMaterial, Evaluation};
 
 /// The material files with a calibration record.
-const CALIBRATED: [&str; 4] = [
+const CALIBRATED: [&str; 5] = [
     "thesis-concrete",
     "thesis-concrete-crack-friction",
     "thesis-concrete-tensile-relaxation",
     "gregoire-2013-concrete",
+    "thesis-concrete-tension-boundary",
 ];
 
 fn read(name: &str) -> CalibratedMaterial {

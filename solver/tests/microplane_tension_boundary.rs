@@ -28,7 +28,7 @@ use impact_solver::material::microplane::experiments::{
     bonded_tension, tension_rate_sweep, QUASI_STATIC_RATE,
 };
 use impact_solver::material::microplane::{
-    MicroplaneConcrete, MicroplaneParameters, TensionBoundary,
+    BoundaryShape, MicroplaneConcrete, MicroplaneParameters, TensionBoundary,
 };
 
 const H: f64 = 0.05;
@@ -42,6 +42,7 @@ fn boundary() -> TensionBoundary {
         softening_strain: 7e-3,
         strain_weight: KUPFER_STRAIN_WEIGHT,
         onset_strain: 0.0,
+        shape: BoundaryShape::Exponential,
     }
 }
 

@@ -16,18 +16,43 @@
 //! per unit volume before it cracked, and the fracture energy grew with the element
 //! (docs/MICROPLANE.md "Tensile boundary": 80 / 100 / 113 N/m at 25 / 50 / 100 mm).
 //!
-//! Per plane, with the others' crack strains held, the driver
-//! `q = (1 - theta) t + theta E n . (eps - eps_cr) . n` falls linearly with the plane's own crack
-//! strain at the rate `k = 6 w ((1 - theta) (lambda + 2 mu) + theta E)`; the crack strain is the
-//! root of `q(y) = F(y)` where the plane loads beyond the largest crack strain `y_max` it reached
-//! (`F` the boundary of `tension_boundary`), on the secant `q = F(y_max) y / y_max` to the
-//! origin below it, and zero where the plane is closed (`q <= 0`). The planes are coupled through
-//! `eps_cr` and solved by Gauss-Seidel sweeps to a fixed point.
+//! The driver of a plane is the traction across it raised by the compression along it,
+//! `q = t + theta nu <-s_min>` (`theta` = `strain_weight`, `nu` Poisson's ratio, `s_min` the
+//! smaller principal value of the stress in the plane, `<x> = max(x, 0)`): on the plane normal to
+//! `sigma_1` under a lateral `sigma_2 <= 0` (and `sigma_3 = 0`) the plane opens at
+//! `sigma_1 = F - theta nu sigma_2`, Kupfer & Gerstle's (1973) line
+//! `sigma_1 / f_t = 1 + 0.8 sigma_2 / f_c` for `theta nu = 0.8 f_t / f_c`; a tension along the
+//! plane does not lower it (Kupfer, Hilsdorf & Rüsch 1969: the biaxial tensile strength is about
+//! the uniaxial one). The traction is carried from the last update as M7 carries its planes'
+//! normal stress (Caner & Bažant 2013, the elastic predictor `sigma_N,old + E_N d eps_N`):
+//! `t = n . sigma_old . n + n . C : (e - e_old) . n`, `sigma_old` the stress of the last update and
+//! `e_old` the strain less the crack strains it saw; `s_min` is that of `sigma_old`, as M7 takes
+//! its boundary's volumetric stress from the last step.
+//!
+//! Why the traction of the last stress and not the plane's own normal stress `s_V + s_D`: under
+//! the kinematic constraint the two part once a law is past its peak. In uniaxial compression
+//! (docs/MICROPLANE.md "Tensile boundary", `examples/compression_splitting.rs`) the lateral
+//! planes' `s_V + s_D` is about +1.5 MPa at 38 MPa of axial compression while the traction across
+//! them is zero, and the former driver `(1 - theta) (s_V + s_D) + theta E e_N` (with the
+//! inelastic lateral strain in `e_N`) reached the boundary there. Once a lateral plane opens under
+//! a held zero lateral stress its driver cannot fall (every law sees the strain less the crack
+//! strains, and those are fixed by the stresses; the plane's crack strain has no axial part), so
+//! the crack had no equilibrium: the lateral stress's largest value over all lateral strains was
+//! -0.05 MPa and the stress-controlled point stopped. With the traction and Kupfer's term a
+//! lateral plane in uniaxial compression `sigma` has `q = theta nu sigma`, which reaches the
+//! boundary only at `f_t / (theta nu) = 1.25 f_c`, and falls with the stress after the peak.
+//!
+//! Per plane, with the others' crack strains held, the driver falls linearly with the plane's
+//! own crack strain at the rate `k = 6 w (lambda + 2 mu)`; the crack strain is the root of
+//! `q(y) = F(y)` where the plane loads beyond the largest crack strain `y_max` it reached (`F` the
+//! boundary of `tension_boundary`), on the secant `q = F(y_max) y / y_max` to the origin below
+//! it, and zero where the plane is closed (`q <= 0`). The planes are coupled through `eps_cr` and
+//! solved by Gauss-Seidel sweeps to a fixed point.
 
 use super::directions::MAX_PLANES;
 use super::state;
-use super::tension_boundary::PlaneBoundary;
-use super::{Microplane, Sym};
+use super::tension_boundary::{ElementBoundary, PlaneBoundary};
+use super::{CrackBand, Microplane, MicroplaneConcrete, Sym, TensionBoundary};
 
 /// Most Gauss-Seidel sweeps over the planes; the crack strains of the paths tested converge in
 /// a few.
@@ -39,10 +64,15 @@ pub(super) struct CrackStrainSolver {
     /// Lamé's `lambda` and `2 mu` (Pa).
     pub lambda: f64,
     pub two_mu: f64,
-    /// Young's modulus `E` (Pa), of the driver's strain part.
+    /// Young's modulus `E` (Pa): `f0 / E` scales the sweeps' tolerance.
     pub youngs: f64,
-    /// `theta`, the strain weight of the driver.
+    /// `theta`, the strain weight of the driver, and Poisson's ratio `nu`: `theta nu` is the
+    /// fall of a plane's strength per unit compression along it.
     pub strain_weight: f64,
+    pub poisson: f64,
+    /// The stress of the last update (Pa) and the strain less the crack strains it saw.
+    pub previous_stress: Sym,
+    pub previous_elastic: Sym,
     /// The plane boundary of the element (its `youngs` is replaced per plane by `k`).
     pub boundary: PlaneBoundary,
 }
@@ -53,24 +83,37 @@ fn normal_part(nn: &Sym, e: &Sym) -> f64 {
     nn[0] * e[0] + nn[1] * e[1] + nn[2] * e[2] + 2.0 * (nn[3] * e[3] + nn[4] * e[4] + nn[5] * e[5])
 }
 
+/// `a . s . b` for the symmetric tensor `s` with tensor shears.
+#[inline(always)]
+fn bilinear(a: &[f64; 3], s: &Sym, b: &[f64; 3]) -> f64 {
+    a[0] * (s[0] * b[0] + s[5] * b[1] + s[4] * b[2])
+        + a[1] * (s[5] * b[0] + s[1] * b[1] + s[3] * b[2])
+        + a[2] * (s[4] * b[0] + s[3] * b[1] + s[2] * b[2])
+}
+
 impl CrackStrainSolver {
-    /// The driver of a plane for the strain less the crack strains `e`: its normal stress
-    /// `s_V + s_D`, with `s_V = volumetric(e_V)` the volumetric law's stress (elastic in tension,
-    /// the compression law with its dilatancy in compression, which is what the plane carries)
-    /// and `s_D = 2 mu (e_N - e_V)`, and its normal strain.
+    /// The part of a plane's driver that does not change within the update: the traction of the
+    /// last stress less the elastic traction of the last strain less cracks, and Kupfer's term
+    /// `theta nu <-s_min>` of the last stress (see the module doc).
+    fn driver_base(&self, plane: &Microplane) -> f64 {
+        let (s, e) = (&self.previous_stress, &self.previous_elastic);
+        let (m, k) = (&plane.m, &plane.k);
+        let (smm, skk, smk) = (bilinear(m, s, m), bilinear(k, s, k), bilinear(m, s, k));
+        let smallest = 0.5 * (smm + skk) - (0.25 * (smm - skk).powi(2) + smk * smk).sqrt();
+        normal_part(&plane.nn, s) - self.elastic_traction(&plane.nn, e)
+            + self.strain_weight * self.poisson * (-smallest).max(0.0)
+    }
+
+    /// `n . C : e . n = lambda tr(e) + 2 mu e_N`, the elastic traction of the strain `e`.
     #[inline(always)]
-    fn driver(&self, nn: &Sym, e: &Sym, volumetric: &impl Fn(f64) -> f64) -> f64 {
-        let normal = normal_part(nn, e);
-        let e_v = (e[0] + e[1] + e[2]) / 3.0;
-        let traction = volumetric(e_v) + self.two_mu * (normal - e_v);
-        traction + self.strain_weight * (self.youngs * normal - traction)
+    fn elastic_traction(&self, nn: &Sym, e: &Sym) -> f64 {
+        self.lambda * (e[0] + e[1] + e[2]) + self.two_mu * normal_part(nn, e)
     }
 
     /// The rate `k` at which a plane's driver falls with its own crack strain.
     #[inline(always)]
     fn own_rate(&self, plane: &Microplane) -> f64 {
-        let m = self.lambda + self.two_mu;
-        6.0 * plane.weight * (m + self.strain_weight * (self.youngs - m))
+        6.0 * plane.weight * (self.lambda + self.two_mu)
     }
 
     /// The crack strain of a plane whose driver is `q0` at zero own crack strain, with the
@@ -100,20 +143,16 @@ impl CrackStrainSolver {
     /// The element's crack strain for the strain `strain`, advancing the planes' crack strains
     /// in `planes` (the `D+` slots of each plane: largest crack strain, crack strain). Zero, and
     /// the histories untouched, while no plane has cracked and none reaches its strength.
-    pub(super) fn solve(
-        &self,
-        planes: &[Microplane],
-        histories: &mut [f32],
-        strain: &Sym,
-        volumetric: impl Fn(f64) -> f64,
-    ) -> Sym {
+    pub(super) fn solve(&self, planes: &[Microplane], histories: &mut [f32], strain: &Sym) -> Sym {
         let slot = |p: usize| state::PER_PLANE * p + state::D_POSITIVE;
+        let mut base = [0.0; MAX_PLANES];
+        let base = &mut base[..planes.len()];
+        for (b, plane) in base.iter_mut().zip(planes) {
+            *b = self.driver_base(plane);
+        }
+        let driver = |p: usize, e: &Sym| base[p] + self.elastic_traction(&planes[p].nn, e);
         let cracked = (0..planes.len()).any(|p| histories[slot(p)] > 0.0);
-        if !cracked
-            && planes
-                .iter()
-                .all(|plane| self.driver(&plane.nn, strain, &volumetric) <= self.boundary.f0)
-        {
+        if !cracked && (0..planes.len()).all(|p| driver(p, strain) <= self.boundary.f0) {
             return [0.0; 6];
         }
         // On the stack, as the plane loop's arrays: no allocation per update.
@@ -135,7 +174,7 @@ impl CrackStrainSolver {
                 let k = self.own_rate(plane);
                 let elastic: Sym = std::array::from_fn(|i| strain[i] - crack[i]);
                 // The driver with the plane's own crack strain given back.
-                let q0 = self.driver(&plane.nn, &elastic, &volumetric) + k * y[p];
+                let q0 = driver(p, &elastic) + k * y[p];
                 let next = self.plane_crack_strain(q0, k, histories[slot(p)] as f64);
                 let step = next - y[p];
                 if step != 0.0 {
@@ -156,5 +195,38 @@ impl CrackStrainSolver {
             histories[s + 1] = y as f32;
         }
         crack
+    }
+}
+
+impl MicroplaneConcrete {
+    /// The strain less the element's crack strain (`crack_strain`), solving the planes' crack
+    /// strains in `planes` for `strain`.
+    pub(super) fn strain_less_cracks(
+        &self,
+        boundary: &TensionBoundary,
+        planes: &mut [f32],
+        last: &[f32],
+        strain: &Sym,
+        f: f64,
+        band: &CrackBand,
+    ) -> Sym {
+        let plane = ElementBoundary::plane_boundary(boundary, &self.parameters, band, f);
+        let solver = CrackStrainSolver {
+            lambda: (self.e_v0 - self.e_d0) / 3.0,
+            two_mu: self.e_d0,
+            youngs: self.parameters.youngs_modulus,
+            strain_weight: boundary.strain_weight,
+            poisson: self.parameters.poisson_ratio,
+            previous_stress: std::array::from_fn(|i| last[i] as f64),
+            previous_elastic: std::array::from_fn(|i| last[6 + i] as f64),
+            boundary: plane,
+        };
+        let count = self.planes.len();
+        let crack = solver.solve(
+            &self.planes,
+            &mut planes[..state::PER_PLANE * count],
+            strain,
+        );
+        std::array::from_fn(|i| strain[i] - crack[i])
     }
 }

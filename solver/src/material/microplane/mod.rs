@@ -12,6 +12,7 @@
 //! - [`state`]: the history an element carries from step to step;
 //! - [`driver`]: a material-point driver for strain- and stress-controlled paths.
 
+pub mod boundary_shape;
 pub mod calibration;
 mod crack_band;
 pub mod crack_compression;
@@ -37,6 +38,7 @@ pub mod tabulated;
 pub mod tension_boundary;
 pub mod volumetric;
 
+pub use boundary_shape::BoundaryShape;
 pub use crack_band::{CrackBand, CrackBandError};
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
@@ -219,7 +221,12 @@ impl MicroplaneConcrete {
         } else {
             0
         };
-        state::HEADER + (state::PER_PLANE + friction) * self.planes.len()
+        let boundary = if self.parameters.tension_boundary.is_some() {
+            state::BOUNDARY_HISTORY
+        } else {
+            0
+        };
+        state::HEADER + (state::PER_PLANE + friction) * self.planes.len() + boundary
     }
 
     /// A virgin state.
@@ -308,16 +315,33 @@ impl MicroplaneConcrete {
         debug_assert_eq!(state.len(), self.state_len());
         let f = self.rate_factor(gamma_dot);
         let (header, planes) = state.split_at_mut(state::HEADER);
-        let uncracked;
-        let strain = match &self.parameters.tension_boundary {
-            // With the tensile boundary every law sees the strain less the planes' crack strains
-            // (`crack_strain`).
-            Some(boundary) => {
-                uncracked = self.strain_less_cracks(boundary, header, planes, strain, f, band);
-                &uncracked
-            }
-            None => strain,
+        let Some(boundary) = &self.parameters.tension_boundary else {
+            return self.update_laws(header, planes, strain, f, band);
         };
+        // With the tensile boundary every law sees the strain less the planes' crack strains
+        // (`crack_strain`), whose drivers start from the last stress and the strain less cracks
+        // it saw, kept after the planes.
+        let (planes, last) = planes.split_at_mut(planes.len() - state::BOUNDARY_HISTORY);
+        let uncracked = self.strain_less_cracks(boundary, planes, last, strain, f, band);
+        let (sigma, info) = self.update_laws(header, planes, &uncracked, f, band);
+        for i in 0..6 {
+            last[i] = sigma[i] as f32;
+            last[6 + i] = uncracked[i] as f32;
+        }
+        (sigma, info)
+    }
+
+    /// The laws of the volumetric stress and of the planes for the strain `strain` (less the
+    /// crack strains with the tensile boundary).
+    #[inline(always)]
+    fn update_laws(
+        &self,
+        header: &mut [f32],
+        planes: &mut [f32],
+        strain: &Sym,
+        f: f64,
+        band: &CrackBand,
+    ) -> (Sym, UpdateInfo) {
         let e_v = (strain[0] + strain[1] + strain[2]) / 3.0;
         let s_v = self.volumetric_stress(header, strain, e_v, f, band);
         if self.elastic_path
@@ -328,50 +352,6 @@ impl MicroplaneConcrete {
         }
         header[state::VIRGIN_PLANES] = 0.0;
         self.plane_update(header, planes, strain, e_v, s_v, f, band)
-    }
-
-    /// The strain less the element's crack strain (`crack_strain`), solving the planes' crack
-    /// strains in `planes` for `strain`.
-    fn strain_less_cracks(
-        &self,
-        boundary: &TensionBoundary,
-        header: &[f32],
-        planes: &mut [f32],
-        strain: &Sym,
-        f: f64,
-        band: &CrackBand,
-    ) -> Sym {
-        let plane =
-            tension_boundary::ElementBoundary::plane_boundary(boundary, &self.parameters, band, f);
-        let solver = crack_strain::CrackStrainSolver {
-            lambda: (self.e_v0 - self.e_d0) / 3.0,
-            two_mu: self.e_d0,
-            youngs: self.parameters.youngs_modulus,
-            strain_weight: boundary.strain_weight,
-            boundary: plane,
-        };
-        let count = self.planes.len();
-        // The volumetric law as `volumetric_stress` evaluates it, at the history of the last
-        // update.
-        let (dilatant, reached) = (
-            header[state::DILATANCY] as f64,
-            header[state::V_COMPRESSION] as f64,
-        );
-        let volumetric = |e_v: f64| {
-            let e_v_law = e_v - dilatant;
-            if e_v_law >= 0.0 {
-                self.e_v0 * e_v_law
-            } else {
-                -self.volumetric_pressure(-e_v_law, reached)
-            }
-        };
-        let crack = solver.solve(
-            &self.planes,
-            &mut planes[..state::PER_PLANE * count],
-            strain,
-            volumetric,
-        );
-        std::array::from_fn(|i| strain[i] - crack[i])
     }
 
     /// The volumetric stress `s_V` (5.21, 5.22), advancing the volumetric history in `header`.

@@ -5,7 +5,8 @@
 //! planes, elastic updates, opening]`, then per plane
 //! `[D+ (2), D- (2), M (5), K (5)]`, each branch `(largest strain, stress there)` and each shear
 //! component ending with its cyclic dissipation `Lambda` (5.104); with crack friction, the two
-//! slips of each plane's friction sliders after the last plane.
+//! slips of each plane's friction sliders after the last plane; with the tensile boundary, the
+//! last stress and the strain less the crack strains after them ([`BOUNDARY_HISTORY`]).
 
 /// Number of values of the element header, before the first plane.
 pub const HEADER: usize = 10;
@@ -38,6 +39,11 @@ pub const PER_PLANE: usize = 14;
 /// slip of the `m` and `k` components. With crack friction they follow the planes, two per
 /// plane in plane order; without it there are none.
 pub const FRICTION_PER_PLANE: usize = 2;
+/// Number of values after the planes (and their sliders) with the tensile boundary
+/// (`crack_strain`): the stress `sigma` of the last update, then the strain less the crack
+/// strains it saw, six components each, from which a plane's driver is carried into the next
+/// update. Without the boundary there are none.
+pub const BOUNDARY_HISTORY: usize = 12;
 /// Offset in a plane of the deviatoric-tension branch `D+` (5.19): largest strain, stress (Pa).
 pub const D_POSITIVE: usize = 0;
 /// Offset in a plane of the deviatoric-compression branch `D-` (5.19): largest strain magnitude,

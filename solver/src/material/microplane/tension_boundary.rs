@@ -8,11 +8,12 @@
 //!
 //! Per plane, the crack strain `y` along its normal (`crack_strain`): every law of the element
 //! sees the strain less the planes' crack strains, and a plane opens where its driver
-//! `q = (1 - theta) sigma_N + theta E eps_N` (`theta` = `strain_weight`; 0 is Rankine on every
-//! plane; `theta = 0.8 f_t / (nu f_c)` gives Kupfer & Gerstle 1973's slope `0.8 f_t / f_c` on
-//! the plane normal to `sigma_1`) would pass the boundary `F(y) = f0 exp(-y / eps_f)` (M4 and
-//! M7's exponential boundary, flat part dropped); it unloads on the secant to the origin of `F`
-//! at its largest crack strain, and closes in compression.
+//! `q = t + theta nu <-s_min>` (the traction across it raised by the larger compression along it;
+//! `theta` = `strain_weight`, 0 is Rankine on every plane; `theta = 0.8 f_t / (nu f_c)` gives
+//! Kupfer & Gerstle 1973's slope `0.8 f_t / f_c` on the plane normal to `sigma_1`) would pass the
+//! boundary `F(y)` (`boundary_shape`: M4 and M7's exponential `f0 exp(-y / eps_f)`, flat part
+//! dropped, or MC2010's bilinear); it unloads on the secant to the origin of `F` at its largest
+//! crack strain, and closes in compression.
 //!
 //! The shear boundary (M7's shear boundary: a cohesion that goes as the planes open, friction on
 //! the compressed ones): the shear laws' stress of every plane is multiplied by `1 - D`, `D` the
@@ -31,6 +32,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::boundary_shape::{self, BoundaryShape};
 use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters};
 
 /// The tensile boundary of every microplane (see the module doc).
@@ -41,7 +43,9 @@ pub struct TensionBoundary {
     pub strength: f64,
     /// `eps_f`: the strain scale of the boundary's softening at `h_ref`.
     pub softening_strain: f64,
-    /// `theta` in `[0, 1)`: the weight of the plane's normal strain in its driver.
+    /// `theta` in `[0, 1)`: `theta nu` is the fall of a plane's strength per unit compression
+    /// along it (`crack_strain`; the name is that of the former driver
+    /// `(1 - theta) sigma_N + theta E eps_N`, which has the same slope in the elastic range).
     #[serde(default)]
     pub strain_weight: f64,
     /// `y0 >= 0`: the crack strain up to which a plane softens on the boundary of `h_ref` at
@@ -49,6 +53,9 @@ pub struct TensionBoundary {
     /// all of it).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub onset_strain: f64,
+    /// The shape of `F` (`boundary_shape`): exponential (the default) or MC2010's bilinear.
+    #[serde(default, skip_serializing_if = "BoundaryShape::is_exponential")]
+    pub shape: BoundaryShape,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -74,6 +81,12 @@ pub enum TensionBoundaryError {
         /// `y0`.
         onset_strain: f64,
     },
+    /// An onset strain with a shape other than the exponential.
+    #[error(
+        "tension_boundary: onset_strain is defined for the exponential shape only; remove it or \
+         use shape: exponential"
+    )]
+    OnsetNeedsExponential,
 }
 
 impl TensionBoundary {
@@ -86,6 +99,9 @@ impl TensionBoundary {
             && (0.0..1.0).contains(&self.strain_weight)
             && self.onset_strain >= 0.0
             && self.onset_strain.is_finite();
+        if ok && self.onset_strain > 0.0 && !self.shape.is_exponential() {
+            return Err(TensionBoundaryError::OnsetNeedsExponential);
+        }
         if ok {
             Ok(())
         } else {
@@ -118,15 +134,18 @@ impl TensionBoundary {
                     softening: tail,
                     youngs,
                     onset: Some((self.onset_strain, first)),
+                    shape: BoundaryShape::Exponential,
                 },
             );
         }
+        // Either shape encloses f0 eps_f (`boundary_shape`).
         let softening = energy / f0;
-        (softening > f0 / youngs).then_some(PlaneBoundary {
+        (softening > self.shape.steepest_fall() * f0 / youngs).then_some(PlaneBoundary {
             f0,
             softening,
             youngs,
             onset: None,
+            shape: self.shape,
         })
     }
 }
@@ -143,6 +162,8 @@ pub struct PlaneBoundary {
     /// With an onset strain `y0`: `(y0, eps_f at h_ref)`, the boundary up to `y0`; `softening`
     /// is then the scale of the tail beyond it.
     pub onset: Option<(f64, f64)>,
+    /// The shape of `F` (`boundary_shape`).
+    pub shape: BoundaryShape,
 }
 
 impl PlaneBoundary {
@@ -153,6 +174,9 @@ impl PlaneBoundary {
 
     /// The boundary `F(y)` and its slope at the crack strain `y`.
     fn boundary(&self, y: f64) -> (f64, f64) {
+        if self.shape == BoundaryShape::Mc2010 {
+            return boundary_shape::mc2010(self.f0, self.softening, y);
+        }
         match self.onset {
             Some((y0, first)) if y <= y0 => {
                 let value = self.f0 * (-y / first).exp();
@@ -207,6 +231,11 @@ impl PlaneBoundary {
         }
         if self.onset.is_some() {
             return self.damage_with_onset(kappa);
+        }
+        if self.shape == BoundaryShape::Mc2010 {
+            let y =
+                boundary_shape::mc2010_crack_strain(kappa, self.youngs, self.f0, self.softening);
+            return (self.youngs * y / kappa).clamp(0.0, 1.0);
         }
         let (e, f0, ef) = (self.youngs, self.f0, self.softening);
         let mut y = 0.0;
@@ -273,6 +302,7 @@ impl ElementBoundary {
                 softening: 1.000001 * f * s * boundary.strength / e,
                 youngs: e,
                 onset: None,
+                shape: BoundaryShape::Exponential,
             })
     }
 
@@ -343,6 +373,7 @@ mod tests {
             softening_strain: 1.0e-3,
             strain_weight: 0.0,
             onset_strain: 0.0,
+            shape: BoundaryShape::Exponential,
         }
         .scaled(30e9, 0.05, 0.05, 1.0, 1.0)
         .unwrap()
@@ -371,6 +402,7 @@ mod tests {
             softening_strain: 4.0e-4,
             strain_weight: 0.0,
             onset_strain: 5.0e-5,
+            shape: BoundaryShape::Exponential,
         };
         for h in [0.025, 0.05, 0.1] {
             let b = spec.scaled(30e9, h, 0.05, 1.0, 1.0).unwrap();
@@ -393,17 +425,19 @@ mod tests {
     #[test]
     fn energy_per_crack_area_does_not_depend_on_the_element() {
         for onset_strain in [0.0, 5.0e-5] {
-            energy_per_crack_area_for(onset_strain);
+            energy_per_crack_area_for(onset_strain, BoundaryShape::Exponential);
         }
+        energy_per_crack_area_for(0.0, BoundaryShape::Mc2010);
     }
 
-    fn energy_per_crack_area_for(onset_strain: f64) {
+    fn energy_per_crack_area_for(onset_strain: f64, shape: BoundaryShape) {
         // h times the area under the plane's uniaxial curve, integrated along the strain.
         let spec = TensionBoundary {
             strength: 3.0e6,
             softening_strain: 4.0e-4,
             strain_weight: 0.0,
             onset_strain,
+            shape,
         };
         let energy = |h: f64, s: f64| {
             let b = spec.scaled(30e9, h, 0.05, s, 1.0).unwrap();
@@ -452,6 +486,7 @@ mod tests {
             softening_strain: 2.0e-4,
             strain_weight: 0.0,
             onset_strain: 0.0,
+            shape: BoundaryShape::Exponential,
         };
         // f0 / E = 1e-4: the band snaps back beyond h = 0.1 m.
         assert!(spec.scaled(30e9, 0.05, 0.05, 1.0, 1.0).is_some());
