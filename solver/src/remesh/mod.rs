@@ -3,7 +3,7 @@
 //! (method in `mesher/`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes one
 //! body of a running model between two steps (`apply/`, `splice.rs`), and the run goes on
 //! with [`crate::dynamics::ExplicitSolver::resume`]; [`run_remeshing`] is such a run
-//! (`run.rs`). What such a run shows besides its history (the records as a CSV written as it
+//! (`driver.rs`, checkpoints `resume.rs`). What such a run shows besides its history (the records as a CSV written as it
 //! goes, pictures of the mesh in a plane, the stress near a tip around each remeshing) is
 //! watched through [`RemeshWatch`] (`watch.rs`, `section.rs`, `near_tip.rs`).
 //!
@@ -55,6 +55,7 @@ mod box_tree;
 mod collapse;
 mod contact_surface;
 mod distortion;
+mod driver;
 mod flip;
 mod fragments;
 mod kinetic_energy;
@@ -66,6 +67,7 @@ mod near_tip;
 mod peel;
 mod quality;
 mod record;
+mod resume;
 mod run;
 mod section;
 mod smoothing;
@@ -80,6 +82,9 @@ pub use distortion::{
     altitude_ratio, check_distortion, collapse_ratio, deformation_jacobians, distortion,
     refinement_region, region_parts, DistortionCheck, JacobianExtreme, RefinementCriteria,
     COLLAPSE_RATIO_LIMIT, REFINEMENT_DELTA,
+};
+pub use driver::{
+    run_remeshing, run_remeshing_checkpointed, run_remeshing_watched, RemeshHooks, RemeshingRun,
 };
 pub use locate::{centroids, CentroidSearch, Location, Locator, LOCATE_TOLERANCE};
 pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
@@ -97,11 +102,15 @@ pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,
 };
-pub use run::{run_remeshing, run_remeshing_watched, RemeshPolicy, RemeshSettings, RemeshingRun};
+pub use resume::{Checkpointing, RemeshCheckpoint, RemeshCheckpoints, RemeshStart};
+pub use run::{RemeshPolicy, RemeshSettings};
 pub use section::{SectionBody, SectionFrame, SectionPictures, SectionSpec};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
     shape_function_transfer, transfer_nodal_vectors,
 };
-pub use watch::{remeshing_csv_row, RemeshWatch, RemeshingCsv, Watches, REMESHING_CSV_HEADER};
+pub use watch::{
+    remeshing_csv_row, NearTipMarks, RemeshWatch, RemeshingCsv, WatchMarks, Watches,
+    REMESHING_CSV_HEADER,
+};

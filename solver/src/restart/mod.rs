@@ -12,6 +12,8 @@
 //! - [`payload`]: the state's layout;
 //! - [`problem`]: a remeshed run's problem;
 //! - [`remeshings`]: the remeshings a run made so far;
+//! - [`remeshing_payload`]: the checkpoint of a run that remeshes;
+//! - `remeshing_run`: the run that remeshes, writing them and resuming from one;
 //! - [`run`]: the run that writes them and resumes from one.
 
 pub mod bytes;
@@ -21,6 +23,8 @@ mod frames;
 pub mod inputs;
 pub mod payload;
 pub mod problem;
+pub mod remeshing_payload;
+mod remeshing_run;
 pub mod remeshings;
 pub mod run;
 
