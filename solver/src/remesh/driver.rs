@@ -19,8 +19,8 @@ use super::resume::{Checkpointing, RemeshCheckpoint, RemeshStart};
 use super::run::RemeshPolicy;
 use super::watch::{RemeshWatch, WatchMarks};
 use crate::dynamics::{
-    CheckpointEvery, ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, RunState,
-    RunSummary, SegmentEnd,
+    CheckpointEvery, ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings,
+    RestartState, RunState, RunSummary, SegmentEnd,
 };
 use crate::error::{Result, SolverError};
 use crate::output::{ObserverSet, Recorder, RunObserver};
@@ -148,7 +148,22 @@ struct Checks<'a> {
     safety: f64,
 }
 
-impl Checks<'_> {
+impl<'a> Checks<'a> {
+    /// The checks of `policy` with the remeshing threshold `threshold`. The time step: the
+    /// settings' own, or `safety` times the stable limit, shrunk where the current limit falls
+    /// (elements flattened under a penetrator): when the step passes halfway from `safety` to 1
+    /// times the current limit, the run pauses and goes on with `safety` times it (without
+    /// remeshing; thesis 10.4.1.1 on the falling limit).
+    fn new(policy: &'a RemeshPolicy, threshold: f64, settings: &ExplicitSettings) -> Self {
+        Self {
+            policy,
+            threshold,
+            adapt: settings.time_step.is_none(),
+            trigger: 0.5 * (settings.safety + 1.0),
+            safety: settings.safety,
+        }
+    }
+
     /// Why the run pauses after the step `s` on `problem` has just made; `None`: it goes on.
     fn pause(&self, problem: &Problem, s: &ExplicitSolver<'_>) -> Option<Pause> {
         let policy = self.policy;
@@ -216,32 +231,9 @@ pub fn run_remeshing_checkpointed(
     let mut schedule = OutputSchedule::default();
     let every = checkpointing.as_ref().map(|c| c.every);
     let start = checkpointing.as_mut().and_then(|c| c.start.take());
-    let mut restored: Option<(crate::dynamics::RestartState, Vec<String>, Vec<Vec<f64>>)> = None;
-    let mut watch_marks = WatchMarks::default();
-    let (mut owned, mut records, mut threshold, mut step_now) = match start {
-        Some(RemeshStart {
-            problem,
-            records,
-            threshold,
-            step_now,
-            state,
-            columns,
-            rows,
-            watches,
-        }) => {
-            restored = Some((state, columns, rows));
-            watch_marks = watches;
-            (problem, records, threshold, step_now)
-        }
-        None => (None, Vec::new(), policy.collapse_limit, None),
-    };
+    let (mut owned, mut records, mut threshold, mut step_now, mut restored, watch_marks) =
+        unpack(start, policy);
     let mut state: Option<RunState> = None;
-    // The time step: the settings' own, or `safety` times the stable limit, shrunk where the
-    // current limit falls (elements flattened under a penetrator): when the step passes
-    // halfway from `safety` to 1 times the current limit, the run pauses and goes on with
-    // `safety` times it (without remeshing; thesis 10.4.1.1 on the falling limit).
-    let adapt = settings.time_step.is_none();
-    let trigger = 0.5 * (settings.safety + 1.0);
     if restored.is_none() {
         watch.start(problem);
     }
@@ -250,44 +242,25 @@ pub fn run_remeshing_checkpointed(
         let current = owned.as_ref().unwrap_or(problem);
         let mut resumed = settings.clone();
         resumed.time_step = resumed.time_step.or(step_now);
-        let checks = Checks {
-            policy,
-            threshold,
-            adapt,
-            trigger,
-            safety: settings.safety,
-        };
+        let checks = Checks::new(policy, threshold, settings);
         let (end, now, pause, summary) = {
             let problem = current;
-            let mut solver = match (restored.take(), state.take()) {
-                (Some((at, columns, rows)), _) => {
-                    let (solver, restored_schedule) =
-                        ExplicitSolver::restored(problem, resumed, output.clone(), at)?;
-                    if columns != solver.history_columns() {
-                        return Err(SolverError::InvalidScene {
-                            entity: "checkpoint".into(),
-                            message: "its history columns differ from this scene's".into(),
-                        });
-                    }
-                    schedule = restored_schedule;
-                    let mut set = observer_set!(observers, checkpointing, recorder, written);
-                    set.history_columns(&columns)?;
-                    for row in &rows {
-                        set.history_row(row)?;
-                    }
-                    written = std::mem::take(&mut set.written);
-                    watch.resumed(problem, &solver, &records, &watch_marks);
-                    solver
-                }
-                (None, Some(s)) => ExplicitSolver::resume(problem, resumed, output.clone(), s)?,
-                (None, None) => {
-                    let solver = ExplicitSolver::new(problem, resumed, output.clone())?;
-                    let mut set = observer_set!(observers, checkpointing, recorder, written);
-                    set.history_columns(&solver.history_columns())?;
-                    written = std::mem::take(&mut set.written);
-                    solver
-                }
+            let resuming = restored.is_some();
+            let mut solver = {
+                let mut set = observer_set!(observers, checkpointing, recorder, written);
+                let solver = segment_solver(
+                    (problem, resumed, output),
+                    restored.take(),
+                    state.take(),
+                    &mut set,
+                    &mut schedule,
+                )?;
+                written = std::mem::take(&mut set.written);
+                solver
             };
+            if resuming {
+                watch.resumed(problem, &solver, &records, &watch_marks);
+            }
             let (end, pause) = loop {
                 let mut set = observer_set!(observers, checkpointing, recorder, written);
                 let mut pause = Pause::None;
@@ -308,20 +281,13 @@ pub fn run_remeshing_checkpointed(
                 else {
                     break (end, pause);
                 };
-                let mut watches = WatchMarks::default();
-                watch.marks(&mut watches);
-                let history = recorder.history.as_ref();
-                let at = RemeshCheckpoint {
-                    problem: owned.as_ref(),
+                let at = Stand {
+                    owned: owned.as_ref(),
                     records: &records,
                     threshold,
                     step_now,
-                    state: solver.restart_state(&schedule),
-                    columns: history.map_or(&[], |h| h.columns()),
-                    rows: history.map_or(&[], |h| h.rows()),
-                    watches,
                 };
-                if !c.writer.write(at) {
+                if !write_checkpoint(c, at, &solver, &schedule, &recorder, &*watch) {
                     let mut set = observer_set!(observers, checkpointing, recorder, written);
                     let _ = set.finish();
                     return Err(SolverError::Interrupted {
@@ -350,28 +316,14 @@ pub fn run_remeshing_checkpointed(
             Pause::None | Pause::Checkpoint => Vec::new(),
         };
         let mut set = observer_set!(observers, checkpointing, recorder, written);
-        // A signal that came during the last steps stops the run here rather than after a
-        // remeshing that may take seconds.
-        if let Some(crate::output::Halt::Interrupted) = set.poll(None) {
-            set.finish()?;
-            return Err(SolverError::Interrupted {
-                step: now.step,
-                time: now.time,
-            });
-        }
-        if records.len() >= policy.max_remeshings {
-            let _ = set.finish();
-            return Err(too_many_remeshings(policy, now.time));
-        }
-        // The stable limit that gives the step `mass_scaling_step` at the run's safety.
-        let critical_step = policy.mass_scaling_step / settings.safety;
-        let remeshed = match remesh_problem(current, &now, &region, &policy.mesher, critical_step) {
-            Ok(r) => r,
-            Err(e) => {
-                let _ = set.finish();
-                return Err(e);
-            }
-        };
+        let remeshed = remesh(
+            current,
+            &now,
+            &region,
+            (policy, settings),
+            &mut set,
+            &records,
+        )?;
         written = std::mem::take(&mut set.written);
         drop(set);
         threshold = policy.threshold_after(worst_distortion(&remeshed.problem.model, policy.body));
@@ -401,6 +353,152 @@ pub fn run_remeshing_checkpointed(
         problem: owned,
         state: last_state,
         records,
+    })
+}
+
+/// Where a run stands besides its solver: the problem over the current mesh (`None`: the
+/// scene's), the remeshings so far, the next one's threshold, the time step forced since the
+/// last.
+struct Stand<'a> {
+    owned: Option<&'a Problem>,
+    records: &'a [RemeshRecord],
+    threshold: f64,
+    step_now: Option<f64>,
+}
+
+/// Hands the run at `at`, with `solver`'s state, the output `schedule`, the history rows the
+/// `recorder` holds and what `watch` holds, to the checkpoint writer; false when it failed.
+fn write_checkpoint(
+    c: &mut Checkpointing<'_>,
+    at: Stand<'_>,
+    solver: &ExplicitSolver<'_>,
+    schedule: &OutputSchedule,
+    recorder: &Recorder,
+    watch: &dyn RemeshWatch,
+) -> bool {
+    let mut watches = WatchMarks::default();
+    watch.marks(&mut watches);
+    let history = recorder.history.as_ref();
+    c.writer.write(RemeshCheckpoint {
+        problem: at.owned,
+        records: at.records,
+        threshold: at.threshold,
+        step_now: at.step_now,
+        state: solver.restart_state(schedule),
+        columns: history.map_or(&[], |h| h.columns()),
+        rows: history.map_or(&[], |h| h.rows()),
+        watches,
+    })
+}
+
+/// What a run starts from: the checkpoint `start`'s problem, records, threshold, time step,
+/// solver state with its history, and watches' marks; or the beginning.
+#[allow(clippy::type_complexity)]
+fn unpack(
+    start: Option<RemeshStart>,
+    policy: &RemeshPolicy,
+) -> (
+    Option<Problem>,
+    Vec<RemeshRecord>,
+    f64,
+    Option<f64>,
+    Option<(RestartState, Vec<String>, Vec<Vec<f64>>)>,
+    WatchMarks,
+) {
+    match start {
+        Some(RemeshStart {
+            problem,
+            records,
+            threshold,
+            step_now,
+            state,
+            columns,
+            rows,
+            watches,
+        }) => (
+            problem,
+            records,
+            threshold,
+            step_now,
+            Some((state, columns, rows)),
+            watches,
+        ),
+        None => (
+            None,
+            Vec::new(),
+            policy.collapse_limit,
+            None,
+            None,
+            WatchMarks::default(),
+        ),
+    }
+}
+
+/// The solver of the next stretch of steps over `problem` with the settings `resumed`: restored
+/// from a checkpoint's state `restored` (its history rows written again through `set`, the
+/// output schedule restored), going on from a remeshing's or a pause's `state`, or new (the
+/// history's columns announced).
+#[allow(clippy::type_complexity)]
+fn segment_solver<'p>(
+    (problem, resumed, output): (&'p Problem, ExplicitSettings, &OutputSettings),
+    restored: Option<(RestartState, Vec<String>, Vec<Vec<f64>>)>,
+    state: Option<RunState>,
+    set: &mut ObserverSet,
+    schedule: &mut OutputSchedule,
+) -> Result<ExplicitSolver<'p>> {
+    match (restored, state) {
+        (Some((at, columns, rows)), _) => {
+            let (solver, restored_schedule) =
+                ExplicitSolver::restored(problem, resumed, output.clone(), at)?;
+            if columns != solver.history_columns() {
+                return Err(SolverError::InvalidScene {
+                    entity: "checkpoint".into(),
+                    message: "its history columns differ from this scene's".into(),
+                });
+            }
+            *schedule = restored_schedule;
+            set.history_columns(&columns)?;
+            for row in &rows {
+                set.history_row(row)?;
+            }
+            Ok(solver)
+        }
+        (None, Some(s)) => ExplicitSolver::resume(problem, resumed, output.clone(), s),
+        (None, None) => {
+            let solver = ExplicitSolver::new(problem, resumed, output.clone())?;
+            set.history_columns(&solver.history_columns())?;
+            Ok(solver)
+        }
+    }
+}
+
+/// Remeshes `region` of `current` at the state `now`, unless a signal came during the last
+/// steps (the run stops here rather than after a remeshing that may take seconds) or the
+/// remeshings `records` already reach the policy's largest number; on every error the
+/// observers of `set` first write what they hold.
+fn remesh(
+    current: &Problem,
+    now: &RunState,
+    region: &[usize],
+    (policy, settings): (&RemeshPolicy, &ExplicitSettings),
+    set: &mut ObserverSet,
+    records: &[RemeshRecord],
+) -> Result<super::Remeshed> {
+    if let Some(crate::output::Halt::Interrupted) = set.poll(None) {
+        set.finish()?;
+        return Err(SolverError::Interrupted {
+            step: now.step,
+            time: now.time,
+        });
+    }
+    if records.len() >= policy.max_remeshings {
+        let _ = set.finish();
+        return Err(too_many_remeshings(policy, now.time));
+    }
+    // The stable limit that gives the step `mass_scaling_step` at the run's safety.
+    let critical_step = policy.mass_scaling_step / settings.safety;
+    remesh_problem(current, now, region, &policy.mesher, critical_step).inspect_err(|_| {
+        let _ = set.finish();
     })
 }
 

@@ -14,6 +14,7 @@
 //! - [`remeshings`]: the remeshings a run made so far;
 //! - [`remeshing_payload`]: the checkpoint of a run that remeshes;
 //! - `remeshing_run`: the run that remeshes, writing them and resuming from one;
+//! - `plan`: what a run does with checkpoints, the one it starts from;
 //! - [`run`]: the run that writes them and resumes from one.
 
 pub mod bytes;
@@ -22,6 +23,7 @@ pub mod file;
 mod frames;
 pub mod inputs;
 pub mod payload;
+mod plan;
 pub mod problem;
 pub mod remeshing_payload;
 mod remeshing_run;
@@ -30,4 +32,5 @@ pub mod run;
 
 pub use error::{CheckpointError, RestartError};
 pub use inputs::{Input, Inputs};
-pub use run::{execute_checkpointed, CheckpointPlan};
+pub use plan::CheckpointPlan;
+pub use run::execute_checkpointed;

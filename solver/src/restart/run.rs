@@ -11,12 +11,12 @@ use std::time::Instant;
 use super::error::{CheckpointError, RestartError};
 use super::file;
 use super::frames::CheckpointFrames;
-use super::inputs::Inputs;
 use super::payload::{OutputMarks, Payload};
+use super::plan::{check_plan, starting_checkpoint, CheckpointPlan};
 use super::remeshing_run::execute_remeshing;
 use crate::analysis::{ExecuteOptions, Execution};
 use crate::dynamics::{
-    CheckpointEvery, ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
+    ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
 };
 use crate::output::{
     Deadline, HistoryFile, ObserverSet, Progress, Recorder, RunObserver, StopFlag,
@@ -24,18 +24,6 @@ use crate::output::{
 use crate::problem::Problem;
 use crate::remesh::RemeshSettings;
 use crate::scene::{Analysis, ExplicitAnalysis};
-
-/// What a run does with checkpoints.
-#[derive(Debug, Clone, Default)]
-pub struct CheckpointPlan {
-    /// When a checkpoint falls due; nothing set: none is written.
-    pub every: CheckpointEvery,
-    /// Start from the newest good checkpoint in the output folder (from the beginning when there
-    /// is none).
-    pub resume: bool,
-    /// The inputs the run reads, stored in each checkpoint and compared on a resume.
-    pub inputs: Inputs,
-}
 
 /// The observers of a run that checkpoints, owned here so that the checkpoint can read what
 /// the output holds between two segments.
@@ -229,63 +217,6 @@ pub fn execute_checkpointed(
         material_history: Some(solver.history().clone()),
         remeshings: Vec::new(),
     })
-}
-
-/// The checkpoint interval and the run's time limit, checked before anything is read.
-pub(super) fn check_plan(
-    plan: &CheckpointPlan,
-    options: &ExecuteOptions,
-) -> Result<(), RestartError> {
-    plan.every
-        .check()
-        .map_err(|message| crate::SolverError::InvalidScene {
-            entity: "checkpoint".into(),
-            message,
-        })?;
-    if let Some(limit) = options
-        .time_limit_s
-        .filter(|t| !(*t > 0.0 && t.is_finite()))
-    {
-        return Err(crate::SolverError::InvalidScene {
-            entity: "time limit".into(),
-            message: format!("must be a positive, finite number of seconds, got {limit}"),
-        }
-        .into());
-    }
-    Ok(())
-}
-
-/// The checkpoint the run starts from: with `plan.resume` the newest good one in `folder`
-/// (refusals of damaged ones go to the log); `None` to start from the beginning, after removing
-/// any earlier run's checkpoints so that none is resumed by mistake.
-pub(super) fn starting_checkpoint(
-    folder: &Path,
-    plan: &CheckpointPlan,
-    options: &ExecuteOptions,
-) -> Result<Option<(PathBuf, Vec<u8>)>, RestartError> {
-    let start = if plan.resume {
-        let (found, refused) = file::newest_good(folder, &plan.inputs)?;
-        refused.iter().for_each(|line| (options.log)(line));
-        found
-    } else {
-        None
-    };
-    if start.is_none() {
-        if plan.resume {
-            (options.log)(&format!(
-                "no checkpoint in `{}`: the run starts from the beginning",
-                folder.display()
-            ));
-        }
-        for old in file::list(folder)? {
-            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
-                path: old.clone(),
-                action: "removing an earlier run's checkpoint",
-                source,
-            })?;
-        }
-    }
-    Ok(start)
 }
 
 /// The solver and output schedule restored from the checkpoint `start` (with the output marks
