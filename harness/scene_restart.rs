@@ -40,11 +40,12 @@ fn every(scene: &Scene, request: &RestartRequest) -> CheckpointEvery {
 }
 
 /// The run of `scene` (read from `path`) with checkpoints, or `None` when neither the command
-/// line nor the scene asks for checkpoints or a resume (the run is then the plain one).
+/// line nor the scene asks for checkpoints or a resume (the run is then the plain one). A run
+/// that remeshes leaves `problem` over its last mesh.
 pub fn run_with_checkpoints(
     path: &Path,
     scene: &Scene,
-    problem: &Problem,
+    problem: &mut Problem,
     options: &ExecuteOptions,
     request: &RestartRequest,
     progress: &mut dyn FnMut(f64),

@@ -182,7 +182,7 @@ pub fn run_scene_file_with(
     };
     let mut progress = |x: f64| bar.set_position((1000.0 * x) as u64);
     let checkpointed =
-        run_with_checkpoints(path, &scene, &problem, &options, restart, &mut progress);
+        run_with_checkpoints(path, &scene, &mut problem, &options, restart, &mut progress);
     let run = match checkpointed {
         Some(result) => {
             bar.finish_and_clear();

@@ -4,18 +4,22 @@
 # and run to its end; then compare every output file (history CSV, VTU frames, PVD) byte for
 # byte with the uninterrupted run. Exits 0 when all are identical.
 #
-#   scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S]
+#   scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S] [SCALE]
 #   scripts/kill-resume.sh cases/beam/drop-2ms.yaml 10 1 20
+#   scripts/kill-resume.sh tests/restart/nail-short.yaml 5 1 5 0.5
 #
-# The kill times are drawn uniformly over the uninterrupted run's wall time divided by KILLS,
-# so that the kills fall across the whole run. Needs target/release/impact-vv
+# Each run is killed after SCALE times the uninterrupted run's wall time divided by KILLS, times
+# a uniform draw in [0.5, 1.5], so that the kills fall across the whole run. SCALE (default 1)
+# below 1 leaves room for the time each resumed run spends before its first step and the steps
+# it takes again after its checkpoint (the nail: reading the meshes, a 53 MB checkpoint). Needs target/release/impact-vv
 # (cargo build --release). Output under reports/kill-resume/<scene name>/.
 set -euo pipefail
 
-scene=${1:?usage: scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S]}
+scene=${1:?usage: scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S] [SCALE]}
 kills=${2:-10}
 seed=${3:-1}
 every=${4:-20}
+scale=${5:-1}
 bin=${IMPACT_VV:-target/release/impact-vv}
 name=$(basename "$scene" .yaml)
 out=reports/kill-resume/$name
@@ -35,8 +39,8 @@ for k in $(seq 1 "$kills"); do
     "$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" "${resume[@]}" \
         >>"$out/killed.log" 2>&1 &
     pid=$!
-    # Uniform in [0.5, 1.5] times full / kills.
-    after=$(echo "scale=3; $full / $kills * (0.5 + $RANDOM / 32767)" | bc)
+    # Uniform in [0.5, 1.5] times scale * full / kills.
+    after=$(echo "scale=3; $scale * $full / $kills * (0.5 + $RANDOM / 32767)" | bc)
     sleep "$after"
     if kill -9 "$pid" 2>/dev/null; then
         interrupted=$((interrupted + 1))

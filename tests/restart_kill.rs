@@ -2,7 +2,8 @@
 //! (tests/restart/small-drop.yaml: a microplane-concrete beam struck by a steel hammer, with
 //! friction and gravity) is killed at ten seeded random times, resumed after each kill, and run to
 //! its end; its history CSV, field frames and collection are then byte for byte those of the run
-//! never stopped. Checkpoints by wall time and by the scene's own key change nothing either.
+//! never stopped; so is a run that remeshes, killed five times. Checkpoints by wall time and by
+//! the scene's own key change nothing either.
 
 // Test code: an `unwrap` that fails is the failure (the lint is for library code).
 #![allow(clippy::unwrap_used)]
@@ -108,6 +109,62 @@ fn ten_kills_at_random_times_then_resumed_give_the_bytes_of_the_run_never_stoppe
         SCENE,
         &killed,
         &["--checkpoint-every-steps", "25", "--resume"],
+    );
+    assert!(last.contains("resumed from"), "{last}");
+    same_output(&reference, &killed);
+}
+
+/// A run that remeshes (the striker of `cli_common`, remeshed six times in 102 steps, with
+/// section pictures and the near-tip stress) killed at five seeded random times, resumed after
+/// each and run to its end: its history, remeshing and near-tip CSVs, pictures, field frames and
+/// collection are byte for byte those of the run never stopped.
+#[test]
+fn five_kills_of_a_remeshing_run_then_resumed_give_the_bytes_of_the_run_never_stopped() {
+    let dir = temp_dir("restart-kill-remesh");
+    let text = remeshing_striker(
+        "      check_every: 2\n      collapse_limit: 1.5\n      regrowth: 1.0\n      \
+         section: { axis: z, value: 0.05 }\n      \
+         near_tip: { probe: tip, radius: 0.03, steps: 5 }\n",
+    )
+    .replace(
+        "end_time: 4.0e-5",
+        "end_time: 1.6e-5\n    field_interval: 1.0e-6",
+    );
+    assert!(text.contains("field_interval"));
+    let scene = dir.join("striker.yaml");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_string_lossy().into_owned();
+    let (reference, killed) = (dir.join("reference"), dir.join("killed"));
+    let started = Instant::now();
+    run_to_end(&scene, &reference, &[]);
+    let full = started.elapsed().as_secs_f64();
+    assert!(reference.join("remesh_mesh_3.json").exists(), "it remeshes");
+
+    let mut rng = SplitMix64::new(0x7265_6d65);
+    let mut interrupted = 0;
+    for k in 0..5 {
+        let mut args = vec!["--checkpoint-every-steps", "3"];
+        if k > 0 {
+            args.push("--resume");
+        }
+        let mut child = scene_command(&scene, &killed, &args).spawn().unwrap();
+        // A fifth of the uninterrupted run on average: a run with a checkpoint every 3 steps is
+        // slower, and each resumed run steps again from its last checkpoint.
+        let after = rng.uniform(0.1, 0.3) * full;
+        std::thread::sleep(Duration::from_secs_f64(after));
+        let _ = child.kill();
+        let status = child.wait().unwrap();
+        interrupted += usize::from(!status.success());
+        eprintln!("kill {k} after {after:.3} s ({status})");
+    }
+    assert!(
+        interrupted >= 3,
+        "only {interrupted} of 5 kills stopped a run"
+    );
+    let last = run_to_end(
+        &scene,
+        &killed,
+        &["--checkpoint-every-steps", "3", "--resume"],
     );
     assert!(last.contains("resumed from"), "{last}");
     same_output(&reference, &killed);

@@ -94,7 +94,7 @@ fn checkpointed(
     log: &Log,
 ) -> Result<Execution, RestartError> {
     let scene = scene();
-    let problem = build_problem(&scene).unwrap();
+    let mut problem = build_problem(&scene).unwrap();
     let flag = Arc::new(AtomicBool::new(false));
     let sink = log.clone();
     let write = move |line: &str| sink.0.lock().unwrap().push(line.to_string());
@@ -108,7 +108,7 @@ fn checkpointed(
     };
     let raise = flag.clone();
     execute_checkpointed(
-        &problem,
+        &mut problem,
         &scene.analysis,
         &options(out, Some(flag), &write),
         &plan,

@@ -3,7 +3,7 @@
 //! (method in `mesher/`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes one
 //! body of a running model between two steps (`apply/`, `splice.rs`), and the run goes on
 //! with [`crate::dynamics::ExplicitSolver::resume`]; [`run_remeshing`] is such a run
-//! (`run.rs`). What such a run shows besides its history (the records as a CSV written as it
+//! (`driver.rs`, checkpoints `resume.rs`). What such a run shows besides its history (the records as a CSV written as it
 //! goes, pictures of the mesh in a plane, the stress near a tip around each remeshing) is
 //! watched through [`RemeshWatch`] (`watch.rs`, `section.rs`, `near_tip.rs`).
 //!
@@ -52,11 +52,13 @@
 
 mod apply;
 mod contact_surface;
+mod driver;
 mod kinetic_energy;
 mod mass_scaling;
 mod mesh_check;
 mod near_tip;
 mod record;
+mod resume;
 mod run;
 mod section;
 mod splice;
@@ -65,6 +67,9 @@ mod watch;
 
 pub use apply::{remesh_problem, Remeshed};
 pub use contact_surface::SurfaceSeparation;
+pub use driver::{
+    run_remeshing, run_remeshing_checkpointed, run_remeshing_watched, RemeshHooks, RemeshingRun,
+};
 pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use near_tip::{
@@ -74,11 +79,15 @@ pub use record::{
     angular_momentum, kinetic_energy, lumped_masses, momentum, stored_energy, transfer_velocities,
     MeshState, RemeshRecord,
 };
-pub use run::{run_remeshing, run_remeshing_watched, RemeshPolicy, RemeshSettings, RemeshingRun};
+pub use resume::{Checkpointing, RemeshCheckpoint, RemeshCheckpoints, RemeshStart};
+pub use run::{RemeshPolicy, RemeshSettings};
 pub use section::{SectionBody, SectionFrame, SectionPictures, SectionSpec};
 pub use transfer::{
     closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
     matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
     shape_function_transfer, transfer_nodal_vectors,
 };
-pub use watch::{remeshing_csv_row, RemeshWatch, RemeshingCsv, Watches, REMESHING_CSV_HEADER};
+pub use watch::{
+    remeshing_csv_row, NearTipMarks, RemeshWatch, RemeshingCsv, WatchMarks, Watches,
+    REMESHING_CSV_HEADER,
+};

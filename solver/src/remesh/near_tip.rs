@@ -21,7 +21,7 @@ use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::record::RemeshRecord;
-use super::watch::{LineFile, RemeshWatch};
+use super::watch::{LineFile, NearTipMarks, RemeshWatch, WatchMarks};
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
 use crate::material::{Deformation, ElementState};
@@ -215,6 +215,9 @@ pub struct NearTipStress {
     remeshings: usize,
     /// Steps still to record after the last remeshing.
     after: usize,
+    /// Every line written after the header, for a checkpoint (a few per step about each
+    /// remeshing).
+    lines: Vec<String>,
 }
 
 impl NearTipStress {
@@ -230,7 +233,14 @@ impl NearTipStress {
             file: LineFile::create(path, NEAR_TIP_CSV_HEADER)?,
             remeshings: 0,
             after: 0,
+            lines: Vec::new(),
         })
+    }
+
+    /// Writes `lines` and keeps them.
+    fn write(&mut self, lines: Vec<String>) {
+        self.file.write_lines(lines.iter().cloned());
+        self.lines.extend(lines);
     }
 
     /// The file's path, or the first error met writing it.
@@ -254,8 +264,7 @@ impl RemeshWatch for NearTipStress {
         );
         if self.after > 0 {
             let offset = (self.spec.steps + 1 - self.after) as i64;
-            self.file
-                .write_lines(std::iter::once(line(self.remeshings, offset, &row)));
+            self.write(vec![line(self.remeshings, offset, &row)]);
             self.after -= 1;
         }
         if self.recent.len() == self.spec.steps {
@@ -284,8 +293,34 @@ impl RemeshWatch for NearTipStress {
         let lines: Vec<String> = before
             .chain(std::iter::once(line(k, 0, &transferred)))
             .collect();
-        self.file.write_lines(lines);
+        self.write(lines);
         self.after = self.spec.steps;
+    }
+
+    fn marks(&self, marks: &mut WatchMarks) {
+        marks.near_tip = Some(NearTipMarks {
+            lines: self.lines.clone(),
+            recent: self.recent.iter().copied().collect(),
+            after: self.after,
+        });
+    }
+
+    /// The file rewritten with the lines before the checkpoint, the window of the last steps
+    /// and the count of remeshings restored.
+    fn resumed(
+        &mut self,
+        _problem: &Problem,
+        _solver: &ExplicitSolver<'_>,
+        records: &[RemeshRecord],
+        marks: &WatchMarks,
+    ) {
+        let Some(m) = &marks.near_tip else {
+            return;
+        };
+        self.write(m.lines.clone());
+        self.recent = m.recent.iter().copied().collect();
+        self.after = m.after;
+        self.remeshings = records.len();
     }
 }
 

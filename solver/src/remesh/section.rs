@@ -20,7 +20,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::record::RemeshRecord;
-use super::watch::RemeshWatch;
+use super::watch::{RemeshWatch, WatchMarks};
 use crate::dynamics::{ExplicitSolver, RunState};
 use crate::error::{Result, SolverError};
 use crate::mesh::Axis;
@@ -365,5 +365,22 @@ impl RemeshWatch for SectionPictures {
         let x = self.current(&problem.model, &state.u);
         let frame = self.frame(state.time, "remeshing", &x);
         self.write(&frame);
+    }
+    /// The pictures before the checkpoint stay (the start's and one per remeshing, numbered
+    /// so); the plane is cut from the current mesh and the last step's positions taken from the
+    /// restored solver, as [`Self::step`] left them.
+    fn resumed(
+        &mut self,
+        problem: &Problem,
+        solver: &ExplicitSolver<'_>,
+        records: &[RemeshRecord],
+        _marks: &WatchMarks,
+    ) {
+        self.remeshings = records.len();
+        self.written = (0..=records.len())
+            .map(|k| self.dir.join(format!("{}_mesh_{k}.json", self.stem)))
+            .collect();
+        self.set_mesh(problem);
+        self.step(problem, solver);
     }
 }

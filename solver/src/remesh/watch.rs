@@ -36,6 +36,41 @@ pub trait RemeshWatch {
     /// `record_every` recorded, in step order: they are results too, written whether or not the
     /// run completes.
     fn contact_problems(&mut self, _problems: &[RecordedProblem]) {}
+
+    /// Adds to `marks` what the watch needs to go on from a checkpoint taken now (between two
+    /// steps, after [`Self::step`] saw the last).
+    fn marks(&self, _marks: &mut WatchMarks) {}
+
+    /// Instead of [`Self::start`], for a run resumed from a checkpoint: the problem of the
+    /// current mesh and the solver restored over it, the remeshings made before the checkpoint
+    /// and what [`Self::marks`] gave then. The watch rewrites its files to where they stood.
+    fn resumed(
+        &mut self,
+        _problem: &Problem,
+        _solver: &ExplicitSolver<'_>,
+        _records: &[RemeshRecord],
+        _marks: &WatchMarks,
+    ) {
+    }
+}
+
+/// What the watches of a run that remeshes hold at a checkpoint, besides what the run's
+/// problem and records give back.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct WatchMarks {
+    /// The near-tip stress's ([`super::NearTipStress`]); `None` without one.
+    pub near_tip: Option<NearTipMarks>,
+}
+
+/// What [`super::NearTipStress`] holds at a checkpoint.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct NearTipMarks {
+    /// Every line written after the header, in order.
+    pub lines: Vec<String>,
+    /// The rows of the last steps, oldest first (the window before the next remeshing).
+    pub recent: Vec<super::NearTipRow>,
+    /// Steps of the window after the last remeshing still to write.
+    pub after: usize,
 }
 
 /// No watch.
@@ -61,6 +96,22 @@ impl RemeshWatch for Watches<'_> {
 
     fn contact_problems(&mut self, problems: &[RecordedProblem]) {
         self.0.iter_mut().for_each(|w| w.contact_problems(problems));
+    }
+
+    fn marks(&self, marks: &mut WatchMarks) {
+        self.0.iter().for_each(|w| w.marks(marks));
+    }
+
+    fn resumed(
+        &mut self,
+        problem: &Problem,
+        solver: &ExplicitSolver<'_>,
+        records: &[RemeshRecord],
+        marks: &WatchMarks,
+    ) {
+        self.0
+            .iter_mut()
+            .for_each(|w| w.resumed(problem, solver, records, marks));
     }
 }
 
@@ -198,5 +249,16 @@ impl RemeshWatch for RemeshingCsv {
     fn remeshed(&mut self, record: &RemeshRecord, _problem: &Problem, _state: &RunState) {
         self.file
             .write_lines(std::iter::once(remeshing_csv_row(record)));
+    }
+
+    /// The rows of the remeshings before the checkpoint, from their records.
+    fn resumed(
+        &mut self,
+        _problem: &Problem,
+        _solver: &ExplicitSolver<'_>,
+        records: &[RemeshRecord],
+        _marks: &WatchMarks,
+    ) {
+        self.file.write_lines(records.iter().map(remeshing_csv_row));
     }
 }

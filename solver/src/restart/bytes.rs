@@ -224,6 +224,11 @@ impl<'a> Reader<'a> {
             .collect()
     }
 
+    /// The next `n` bytes as they are (a part another reader reads).
+    pub fn part(&mut self, n: usize, what: &str) -> Read<&'a [u8]> {
+        self.take(n, what)
+    }
+
     /// What [`Writer::str`] wrote.
     pub fn str(&mut self, what: &str) -> Read<String> {
         let n = self.len(1, what)?;

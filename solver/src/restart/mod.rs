@@ -12,6 +12,9 @@
 //! - [`payload`]: the state's layout;
 //! - [`problem`]: a remeshed run's problem;
 //! - [`remeshings`]: the remeshings a run made so far;
+//! - [`remeshing_payload`]: the checkpoint of a run that remeshes;
+//! - `remeshing_run`: the run that remeshes, writing them and resuming from one;
+//! - `plan`: what a run does with checkpoints, the one it starts from;
 //! - [`run`]: the run that writes them and resumes from one.
 
 pub mod bytes;
@@ -20,10 +23,14 @@ pub mod file;
 mod frames;
 pub mod inputs;
 pub mod payload;
+mod plan;
 pub mod problem;
+pub mod remeshing_payload;
+mod remeshing_run;
 pub mod remeshings;
 pub mod run;
 
 pub use error::{CheckpointError, RestartError};
 pub use inputs::{Input, Inputs};
-pub use run::{execute_checkpointed, CheckpointPlan};
+pub use plan::CheckpointPlan;
+pub use run::execute_checkpointed;

@@ -11,29 +11,19 @@ use std::time::Instant;
 use super::error::{CheckpointError, RestartError};
 use super::file;
 use super::frames::CheckpointFrames;
-use super::inputs::Inputs;
 use super::payload::{OutputMarks, Payload};
+use super::plan::{check_plan, starting_checkpoint, CheckpointPlan};
+use super::remeshing_run::execute_remeshing;
 use crate::analysis::{ExecuteOptions, Execution};
 use crate::dynamics::{
-    CheckpointEvery, ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
+    ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
 };
 use crate::output::{
     Deadline, HistoryFile, ObserverSet, Progress, Recorder, RunObserver, StopFlag,
 };
 use crate::problem::Problem;
+use crate::remesh::RemeshSettings;
 use crate::scene::{Analysis, ExplicitAnalysis};
-
-/// What a run does with checkpoints.
-#[derive(Debug, Clone, Default)]
-pub struct CheckpointPlan {
-    /// When a checkpoint falls due; nothing set: none is written.
-    pub every: CheckpointEvery,
-    /// Start from the newest good checkpoint in the output folder (from the beginning when there
-    /// is none).
-    pub resume: bool,
-    /// The inputs the run reads, stored in each checkpoint and compared on a resume.
-    pub inputs: Inputs,
-}
 
 /// The observers of a run that checkpoints, owned here so that the checkpoint can read what
 /// the output holds between two segments.
@@ -75,20 +65,20 @@ impl<'p> Observers<'p> {
     }
 }
 
-/// Whether this run can be checkpointed: an explicit analysis on one process, on its initial
-/// mesh, with an output folder, recording no contact problems.
+/// Whether this run can be checkpointed: an explicit analysis on one process, with an output
+/// folder, recording no contact problems; its settings, and its remeshing's where it remeshes.
+#[allow(clippy::type_complexity)]
 fn supported<'a>(
     problem: &Problem,
     analysis: &'a Analysis,
     options: &ExecuteOptions,
-) -> Result<&'a ExplicitSettings, CheckpointError> {
+) -> Result<(&'a ExplicitSettings, Option<&'a RemeshSettings>), CheckpointError> {
     let unsupported = |what: &str| CheckpointError::Unsupported { what: what.into() };
-    let settings = match analysis {
+    let (settings, remeshing) = match analysis {
         Analysis::Explicit(ExplicitAnalysis {
             settings,
-            remeshing: None,
-        }) => settings,
-        Analysis::Explicit(_) => return Err(unsupported("a run that remeshes")),
+            remeshing,
+        }) => (settings, remeshing.as_ref()),
         Analysis::Static(_) => return Err(unsupported("a static analysis")),
         Analysis::Release { .. } => return Err(unsupported("a static preload and release")),
     };
@@ -103,21 +93,26 @@ fn supported<'a>(
             "a run recording contact problems (`record_problems_every`)",
         ));
     }
-    Ok(settings)
+    Ok((settings, remeshing))
 }
 
 /// Runs `analysis` on `problem` as [`crate::analysis::execute`] does, writing checkpoints as
 /// `plan` says into `<out>/<stem>-checkpoints/` and, with `plan.resume`, starting from the
 /// newest good one there. Refusals of damaged checkpoints (an older one is then used) and each
-/// checkpoint written go to `options.log`.
+/// checkpoint written go to `options.log`. A run that remeshes ends with `problem` replaced by
+/// the problem over its last mesh, as [`crate::analysis::execute`] leaves it.
 pub fn execute_checkpointed(
-    problem: &Problem,
+    problem: &mut Problem,
     analysis: &Analysis,
     options: &ExecuteOptions,
     plan: &CheckpointPlan,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Execution, RestartError> {
-    let settings = supported(problem, analysis, options)?;
+    let (settings, remeshing) = supported(problem, analysis, options)?;
+    if let Some(remeshing) = remeshing {
+        return execute_remeshing(problem, settings, remeshing, options, plan, progress);
+    }
+    let problem = &*problem;
     check_plan(plan, options)?;
     let out = options.out.unwrap_or(Path::new("."));
     let folder = file::folder(out, options.stem);
@@ -222,60 +217,6 @@ pub fn execute_checkpointed(
         material_history: Some(solver.take_history()),
         remeshings: Vec::new(),
     })
-}
-
-/// The checkpoint interval and the run's time limit, checked before anything is read.
-fn check_plan(plan: &CheckpointPlan, options: &ExecuteOptions) -> Result<(), RestartError> {
-    plan.every
-        .check()
-        .map_err(|message| crate::SolverError::InvalidScene {
-            entity: "checkpoint".into(),
-            message,
-        })?;
-    if let Some(limit) = options
-        .time_limit_s
-        .filter(|t| !(*t > 0.0 && t.is_finite()))
-    {
-        return Err(crate::SolverError::InvalidScene {
-            entity: "time limit".into(),
-            message: format!("must be a positive, finite number of seconds, got {limit}"),
-        }
-        .into());
-    }
-    Ok(())
-}
-
-/// The checkpoint the run starts from: with `plan.resume` the newest good one in `folder`
-/// (refusals of damaged ones go to the log); `None` to start from the beginning, after removing
-/// any earlier run's checkpoints so that none is resumed by mistake.
-fn starting_checkpoint(
-    folder: &Path,
-    plan: &CheckpointPlan,
-    options: &ExecuteOptions,
-) -> Result<Option<(PathBuf, Vec<u8>)>, RestartError> {
-    let start = if plan.resume {
-        let (found, refused) = file::newest_good(folder, &plan.inputs)?;
-        refused.iter().for_each(|line| (options.log)(line));
-        found
-    } else {
-        None
-    };
-    if start.is_none() {
-        if plan.resume {
-            (options.log)(&format!(
-                "no checkpoint in `{}`: the run starts from the beginning",
-                folder.display()
-            ));
-        }
-        for old in file::list(folder)? {
-            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
-                path: old.clone(),
-                action: "removing an earlier run's checkpoint",
-                source,
-            })?;
-        }
-    }
-    Ok(start)
 }
 
 /// The solver and output schedule restored from the checkpoint `start` (with the output marks

@@ -13,13 +13,13 @@ use crate::output::{
     field_frame_with_history, Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag,
 };
 use crate::problem::Problem;
-use crate::remesh::{
-    run_remeshing_watched, NearTipStress, RemeshRecord, RemeshSettings, RemeshWatch, RemeshingCsv,
-    SectionPictures, Watches,
-};
+use crate::remesh::{run_remeshing_watched, RemeshRecord, RemeshSettings};
 use crate::scene::{Analysis, ExplicitAnalysis};
 use crate::statics::{solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
+
+mod remesh_outputs;
+pub use remesh_outputs::RemeshOutputs;
 
 /// The outcome of an analysis: the final state and what was recorded on the way.
 pub struct Execution {
@@ -302,31 +302,7 @@ fn explicit_remeshing(
     );
     let mut files = probe.output_observers()?;
     drop(probe);
-    let stem = options.stem;
-    let mut csv = options
-        .out
-        .map(|dir| RemeshingCsv::create(&dir.join(format!("{stem}_remeshing.csv"))))
-        .transpose()?;
-    let mut pictures = match (options.out, &remeshing.section) {
-        (Some(dir), Some(spec)) => {
-            Some(SectionPictures::new(spec.clone(), policy.body, dir, stem)?)
-        }
-        _ => None,
-    };
-    let mut near_tip = match (options.out, &remeshing.near_tip) {
-        (Some(dir), Some(spec)) => Some(NearTipStress::new(
-            spec.clone(),
-            problem,
-            policy.body,
-            &dir.join(format!("{stem}_near_tip.csv")),
-        )?),
-        _ => None,
-    };
-    let mut recorded = RecordedProblems::default();
-    let mut watches: Vec<&mut dyn RemeshWatch> = vec![&mut recorded];
-    watches.extend(csv.as_mut().map(|w| w as &mut dyn RemeshWatch));
-    watches.extend(pictures.as_mut().map(|w| w as &mut dyn RemeshWatch));
-    watches.extend(near_tip.as_mut().map(|w| w as &mut dyn RemeshWatch));
+    let mut outputs = RemeshOutputs::new(problem, remeshing, &policy, options)?;
     let mut watchers = Watchers::new(options, progress);
     let mut observers = watchers.with(&mut files);
     let outcome = run_remeshing_watched(
@@ -336,7 +312,7 @@ fn explicit_remeshing(
         &policy,
         &mut observers,
         &mut |record| (options.log)(&record.summary()),
-        &mut Watches(watches),
+        &mut outputs.watches(),
     );
     // The watches' files are closed (and the last picture taken) whether or not the run
     // completed; the run's own error comes first.
@@ -344,18 +320,8 @@ fn explicit_remeshing(
         .as_ref()
         .ok()
         .map(|run| (run.problem.as_ref().unwrap_or(problem), &run.state));
-    let mut written = Vec::new();
-    let closed = || -> Result<(), SolverError> {
-        written.extend(csv.map(RemeshingCsv::finish).transpose()?);
-        written.extend(near_tip.map(NearTipStress::finish).transpose()?);
-        if let Some(p) = pictures {
-            written.extend(p.finish(end)?);
-        }
-        Ok(())
-    };
-    let closed = closed();
+    let (written, contact_problems) = outputs.close(end);
     // Recorded problems are written whether or not the run completed: they are results too.
-    let contact_problems = recorded.0;
     let written_problems = match options.out {
         Some(dir) if !contact_problems.is_empty() => {
             write_contact_problems(dir, options.stem, &contact_problems)
@@ -363,9 +329,8 @@ fn explicit_remeshing(
         _ => Ok(Vec::new()),
     };
     let run = outcome?;
-    closed?;
     let mut summary = run.summary;
-    summary.written.extend(written);
+    summary.written.extend(written?);
     summary.written.extend(written_problems?);
     if let Some(p) = run.problem {
         *problem = p;
@@ -382,17 +347,6 @@ fn explicit_remeshing(
         material_history: Some(run.state.history),
         remeshings: run.records,
     })
-}
-
-/// The contact problems a run that remeshes records, stretch by stretch (pairs with
-/// `record_problems_every`).
-#[derive(Default)]
-struct RecordedProblems(Vec<RecordedProblem>);
-
-impl RemeshWatch for RecordedProblems {
-    fn contact_problems(&mut self, problems: &[RecordedProblem]) {
-        self.0.extend_from_slice(problems);
-    }
 }
 
 fn statics(
