@@ -13,7 +13,6 @@ use std::time::Instant;
 use nalgebra::Vector3;
 
 use super::apply::remesh_problem;
-use crate::mesh::ops::distortion::distortion;
 use super::record::RemeshRecord;
 use super::resume::{Checkpointing, RemeshCheckpoint, RemeshStart};
 use super::run::RemeshPolicy;
@@ -23,6 +22,7 @@ use crate::dynamics::{
     RestartState, RunState, RunSummary, SegmentEnd,
 };
 use crate::error::{Result, SolverError};
+use crate::mesh::ops::distortion::distortion;
 use crate::output::{ObserverSet, Recorder, RunObserver};
 use crate::problem::Problem;
 
