@@ -106,7 +106,7 @@ pub struct TipReading {
 }
 
 impl TipReading {
-    /// The reading of a tip's propagation heights (see [`speed_windows`], [`reading_status`]).
+    /// The reading of a tip's propagation heights (see `speed_windows`, `reading_status`).
     pub fn of(times: &[f64], heights: &[f64], cell: f64, c_r: f64) -> Self {
         let windows = speed_windows(times, heights, cell);
         let status = reading_status(&windows, c_r);

@@ -1,6 +1,7 @@
 //! Adaptive remeshing (thesis chapter 8, issue 21): when to remesh, where to refine, and how the
-//! mechanical fields go from the old mesh to the new one. The local mesher is [`remesh_region`]
-//! (method in `mesher/`), checked by [`check_remeshed`]; [`remesh_problem`] remeshes one
+//! mechanical fields go from the old mesh to the new one. The local mesher is
+//! [`crate::mesh::ops::remesh_region`] (the operations on a mesh alone are `mesh/ops/`), checked
+//! by [`check_remeshed`]; [`remesh_problem`] remeshes one
 //! body of a running model between two steps (`apply/`, `splice.rs`), and the run goes on
 //! with [`crate::dynamics::ExplicitSolver::resume`]; [`run_remeshing`] is such a run
 //! (`driver.rs`, checkpoints `resume.rs`). What such a run shows besides its history (the records as a CSV written as it

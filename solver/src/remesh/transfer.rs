@@ -4,7 +4,7 @@
 //!
 //! Fields are plain arrays: a nodal field is `width` values per node, an element field `width`
 //! values per element (one Gauss point per linear tetrahedron, at its centroid), row after row.
-//! The new mesh's nodes are located in the old mesh once ([`super::Locator::locate_all`]); the
+//! The new mesh's nodes are located in the old mesh once ([`crate::mesh::ops::Locator::locate_all`]); the
 //! locations serve T3 and the middle step of T1.
 
 use nalgebra::{Matrix3, Vector3};
@@ -30,7 +30,7 @@ pub fn element_volumes(nodes: &[Vector3<f64>], tets: &[[u32; 4]]) -> Vec<f64> {
 /// T3, the nodal transfer (8.10), Box 8.3: the value of a nodal field at each new node is the
 /// old element's interpolation at the node, `u_new = sum_a N_a(xi) u_a^old`, with the
 /// barycentric coordinates `xi` of the node in the old element that holds it (`locations`, from
-/// [`super::Locator::locate_all`]). `old` holds `width` values per old node.
+/// [`crate::mesh::ops::Locator::locate_all`]). `old` holds `width` values per old node.
 ///
 /// Exact for every field that is linear in space (the interpolation reproduces linear
 /// functions), so constant and linear fields come through to round-off; a new node just outside

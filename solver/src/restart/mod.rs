@@ -7,7 +7,7 @@
 //! checkpoint's rows and appended, the field frames and their collection follow.
 //!
 //! - [`bytes`]: the little-endian writer and reader, FNV-1a 64;
-//! - [`file`]: the header, the atomic write, the newest good checkpoint;
+//! - [`file`](mod@file): the header, the atomic write, the newest good checkpoint;
 //! - [`inputs`]: the hashes of the scene, mesh and material files;
 //! - [`payload`]: the state's layout;
 //! - [`problem`]: a remeshed run's problem;

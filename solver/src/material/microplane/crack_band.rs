@@ -59,7 +59,7 @@ pub enum CrackBandError {
     },
 }
 
-/// The crack-band factors of one element (see [`ExponentialLaw::band_factor`]).
+/// The crack-band factors of one element (see [`super::laws::ExponentialLaw::band_factor`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CrackBand {
     /// Element size `h = (6 V)^(1/3)` (m).

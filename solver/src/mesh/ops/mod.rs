@@ -1,9 +1,9 @@
 //! The operations of the local remesher on a tetrahedral mesh (thesis chapter 8): the mesher
-//! that replaces a region by a finer one ([`mesher`]: split, then repair by edge collapse
-//! ([`collapse`]), face and edge flips ([`flip`]), smoothing ([`smoothing`]) and peeling of
-//! boundary slivers ([`peel`])), the shape measures they improve ([`quality`]), and point location
-//! in a mesh ([`locate`], over a box tree, [`box_tree`]); [`fragments`] finds the pieces a mesh
-//! falls into, [`subdivision`] the regular split of one tetrahedron; [`distortion`] the measures of a
+//! that replaces a region by a finer one (`mesher`: split, then repair by edge collapse
+//! (`collapse`), face and edge flips (`flip`), smoothing (`smoothing`) and peeling of
+//! boundary slivers (`peel`)), the shape measures they improve (`quality`), and point location
+//! in a mesh (`locate`, over a box tree, `box_tree`); `fragments` finds the pieces a mesh
+//! falls into, `subdivision` the regular split of one tetrahedron; `distortion` the measures of a
 //! distorted element (thesis Box 8.1) that decide where to remesh.
 //!
 //! They need only the mesh, the geometry of one tetrahedron and the shared geometric queries:
