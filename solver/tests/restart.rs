@@ -21,6 +21,9 @@ use impact_solver::restart::{
 };
 use impact_solver::scene::{build_problem, Analysis, Scene};
 
+mod restart_common;
+use restart_common::{bits, stopped};
+
 const STEM: &str = "small-drop";
 
 fn scene_path() -> PathBuf {
@@ -120,57 +123,21 @@ fn checkpointed(
     )
 }
 
-/// Every output file of `a` has the bytes of the same file in `b`, and `b` has no other.
+/// Every output file of `a` has the bytes of the same file in `b`, `b` has no other, and there
+/// are more than three (a run writes its history, frames and collection).
 fn same_files(a: &Path, b: &Path) {
-    let names = |d: &Path| -> Vec<String> {
-        let mut n: Vec<String> = std::fs::read_dir(d)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| !n.ends_with("-checkpoints"))
-            .collect();
-        n.sort();
-        n
-    };
-    assert_eq!(names(a), names(b));
-    assert!(names(a).len() > 3, "{:?}", names(a));
-    for n in names(a) {
-        let (x, y) = (
-            std::fs::read(a.join(&n)).unwrap(),
-            std::fs::read(b.join(&n)).unwrap(),
-        );
-        assert!(
-            x == y,
-            "{n} differs ({} against {} bytes)",
-            x.len(),
-            y.len()
-        );
-    }
-}
-
-fn bits(e: &Execution) -> (Vec<u64>, Vec<u32>) {
-    let nodal =
-        e.u.iter()
-            .chain(e.v.as_ref().unwrap())
-            .flat_map(|x| x.iter().map(|c| c.to_bits()))
-            .collect();
-    let history = e
-        .material_history
-        .as_ref()
+    let count = std::fs::read_dir(a)
         .unwrap()
-        .bodies
-        .iter()
-        .flatten()
-        .flat_map(|h| h.values.iter().map(|v| v.to_bits()))
-        .collect();
-    (nodal, history)
-}
-
-fn stopped(result: Result<Execution, RestartError>) {
-    match result {
-        Err(RestartError::Run(impact_solver::SolverError::Interrupted { .. })) => {}
-        Err(e) => panic!("expected the stop, got {e}"),
-        Ok(_) => panic!("expected the stop, the run completed"),
-    }
+        .filter(|e| {
+            !e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with("-checkpoints")
+        })
+        .count();
+    assert!(count > 3, "{count} files in {}", a.display());
+    restart_common::same_files(a, b);
 }
 
 #[test]
