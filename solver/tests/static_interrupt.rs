@@ -189,3 +189,50 @@ fn a_body_held_at_one_node_is_named_with_its_free_rotations() {
         "{message}"
     );
 }
+
+/// A static path (a microplane bar, whose history makes the analysis a path) stopped by a
+/// signal writes the history rows it converged before it reports the interruption: the row of
+/// the unloaded state and that of its first load step, as an interrupted explicit run keeps
+/// what it wrote.
+#[test]
+fn an_interrupted_static_path_writes_its_history() {
+    let material = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../cases/materials/thesis-concrete.yaml");
+    let text = format!(
+        "name: bar
+bodies:
+  - name: bar
+    mesh: {{ box: {{ origin: [0, 0, 0], size: [0.05, 0.05, 0.05], divisions: [1, 1, 1] }} }}
+    material: {{ microplane: {{ file: {}, rate_effect: false }} }}
+boundary_conditions:
+  - {{ name: clamp, body: bar, nodes: {{ box: {{ min: [0, 0, 0], max: [0, 0.05, 0.05] }} }}, motion: {{ fixed: [x, y, z] }} }}
+  - name: pull
+    body: bar
+    nodes: {{ box: {{ min: [0.05, 0, 0], max: [0.05, 0.05, 0.05] }} }}
+    motion: {{ displacement: {{ components: [x], value: {{ constant_rate: {{ rate: 5.0e-6, lead_in: 0 }} }} }} }}
+analysis: {{ static: {{ load_steps: 50 }} }}
+",
+        material.display()
+    );
+    let scene = Scene::from_yaml(&text, "bar.yaml").unwrap();
+    let mut problem = build_problem(&scene).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let options = ExecuteOptions {
+        out: Some(dir.path()),
+        stem: "bar",
+        fields: false,
+        time_limit_s: None,
+        stop: Some(Arc::new(AtomicBool::new(true))),
+        ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
+    };
+    match execute(&mut problem, &scene.analysis, &options, &mut |_| {}) {
+        Err(SolverError::Interrupted { step, .. }) => assert_eq!(step, 1),
+        Err(e) => panic!("expected an interruption, got {e}"),
+        Ok(_) => panic!("expected an interruption, the path ran to its end"),
+    }
+    let csv = std::fs::read_to_string(dir.path().join("bar_history.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
+    // The header, the unloaded state (step 0) and the first load step.
+    assert_eq!(rows.len(), 3, "{csv}");
+}

@@ -15,7 +15,7 @@ use crate::output::{
 use crate::problem::Problem;
 use crate::remesh::{run_remeshing_watched, RemeshRecord, RemeshSettings};
 use crate::scene::{Analysis, ExplicitAnalysis};
-use crate::statics::{solve_static_until, StaticSettings, StaticSolution};
+use crate::statics::{solve_static_stoppable, solve_static_until, StaticSettings, StaticSolution};
 use crate::{SolverError, Vector3};
 
 mod remesh_outputs;
@@ -370,7 +370,9 @@ fn statics(
         problem.model.element_count(),
         settings.load_steps
     );
-    let solution = solve_static_until(problem, settings, progress, options.stop.as_deref())?;
+    // A signal ends the path at a converged step: what was computed is written below, and
+    // then the interruption is reported.
+    let solution = solve_static_stoppable(problem, settings, progress, options.stop.as_deref())?;
     let plan = match &solution.stopped {
         Some(reason) => format!("{plan}; stopped: {reason}"),
         None => plan,
@@ -399,6 +401,9 @@ fn statics(
             None,
             1.0,
         ))?);
+    }
+    if let Some((step, time)) = solution.interrupted_at {
+        return Err(SolverError::Interrupted { step, time });
     }
     Ok(Execution {
         plan,

@@ -202,6 +202,10 @@ pub struct StaticSolution {
     pub material_history: Option<MaterialHistory>,
     /// Why the path stopped before the end of the loading, if it did (its limit point).
     pub stopped: Option<String>,
+    /// The load step and the time (load factor times the end time) at whose end a signal
+    /// stopped the solution ([`solve_static_stoppable`]): the fields above are the state
+    /// converged there.
+    pub interrupted_at: Option<(usize, f64)>,
 }
 
 impl StaticSolution {
@@ -252,6 +256,23 @@ pub fn solve_static_until(
     progress: &mut dyn FnMut(f64),
     stop: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<StaticSolution> {
+    let solution = solve_static_stoppable(problem, settings, progress, stop)?;
+    match solution.interrupted_at {
+        Some((step, time)) => Err(SolverError::Interrupted { step, time }),
+        None => Ok(solution),
+    }
+}
+
+/// [`solve_static_until`] that hands back, when `stop` ends it early, the state converged at
+/// the end of that load step, with [`StaticSolution::interrupted_at`] set: the caller writes
+/// what was computed (the history rows so far, the last state) before it reports the
+/// interruption, as an interrupted explicit run does.
+pub fn solve_static_stoppable(
+    problem: &Problem,
+    settings: &StaticSettings,
+    progress: &mut dyn FnMut(f64),
+    stop: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<StaticSolution> {
     settings.check()?;
     let model = &problem.model;
     let (equation, free) = free_equations(problem)?;
@@ -286,6 +307,7 @@ pub fn solve_static_until(
     let mut residuals = Vec::new();
     let mut linear_iterations = Vec::new();
     let steps = settings.load_steps;
+    let mut interrupted_at = None;
     for step in 1..=steps {
         let time = step as f64 / steps as f64 * settings.end_time;
         prescribe(problem, &constraint_of, time, &mut u);
@@ -334,7 +356,8 @@ pub fn solve_static_until(
                 }
                 progress(step as f64 / steps as f64);
                 if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed)) {
-                    return Err(SolverError::Interrupted { step, time });
+                    interrupted_at = Some((step, time));
+                    break;
                 }
             }
             None => {
@@ -368,6 +391,7 @@ pub fn solve_static_until(
         history: None,
         material_history: None,
         stopped: None,
+        interrupted_at,
     })
 }
 

@@ -106,6 +106,7 @@ pub(super) fn solve_path(
     let mut last_increment: Option<(Vec<Vector3<f64>>, f64)> = None;
     let (mut iterations, mut residuals) = (Vec::new(), Vec::new());
     let mut stopped = None;
+    let mut interrupted_at = None;
     // The force scale of the convergence test: the largest reaction or external force norm of
     // the committed steps (see the module documentation).
     let mut path_scale = 0.0_f64;
@@ -178,7 +179,8 @@ pub(super) fn solve_path(
                 ));
                 progress(lambda);
                 if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed)) {
-                    return Err(SolverError::Interrupted { step, time });
+                    interrupted_at = Some((step, time));
+                    break;
                 }
                 cuts = cuts.saturating_sub(1);
             }
@@ -205,6 +207,7 @@ pub(super) fn solve_path(
         history: Some(table),
         material_history: Some(committed.history),
         stopped,
+        interrupted_at,
     })
 }
 
