@@ -174,3 +174,25 @@ fn the_fracture_energy_does_not_depend_on_the_element() {
         );
     }
 }
+
+/// A crack opened past the peak, closed and opened again does not heal: each plane's largest
+/// crack strain only grows, and the healing check of the closed cycles (`closed_strain_cycle`)
+/// reads that, not the ratio of a plane's crack strain to its largest one, which rises each
+/// time the crack reopens. The cycle also dissipates.
+#[test]
+fn a_reopened_crack_is_not_healed() {
+    use impact_solver::material::microplane::experiments::closed_strain_cycle;
+    let model = concrete(Some(0.73));
+    let corner = |e: f64| [e, -0.2 * e, -0.2 * e, 0.0, 0.0, 0.0];
+    let corners = [
+        corner(0.0),
+        corner(1.5e-4),
+        corner(0.0),
+        corner(3.0e-4),
+        corner(0.0),
+        corner(6.0e-4),
+    ];
+    let (_, dissipation, healed) = closed_strain_cycle(&model, H, &corners, 200).unwrap();
+    assert!(!healed, "a reopened crack read as healed");
+    assert!(dissipation > 0.0, "the cycle gave back {dissipation} J/m^3");
+}

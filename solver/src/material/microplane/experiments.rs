@@ -495,10 +495,18 @@ pub fn hydrostatic_compression(
             de / QUASI_STATIC_RATE,
         )
     }));
-    let damaged = point.state.secants(model.planes().len()).iter().any(|&s| {
-        s.is_finite()
-            && s < 0.999 * model.parameters.youngs_modulus / (1.0 + model.parameters.poisson_ratio)
-    });
+    let damaged = point
+        .state
+        .secants(
+            model.planes().len(),
+            model.parameters.tension_boundary.is_some(),
+        )
+        .iter()
+        .any(|&s| {
+            s.is_finite()
+                && s < 0.999 * model.parameters.youngs_modulus
+                    / (1.0 + model.parameters.poisson_ratio)
+        });
     Ok((Curve { points, error }, damaged))
 }
 
@@ -548,7 +556,10 @@ pub fn closed_strain_cycle(
     let mut point = MaterialPoint::new(model, h)?;
     let mut points = vec![point.strain_step(corners[0], 1.0)];
     let start_work_index = points.len() - 1;
-    let mut previous = point.state.secants(model.planes().len());
+    let mut previous = point.state.secants(
+        model.planes().len(),
+        model.parameters.tension_boundary.is_some(),
+    );
     let mut healed = false;
     let legs = corners.iter().zip(corners.iter().cycle().skip(1));
     for (from, to) in legs {
@@ -557,7 +568,10 @@ pub fn closed_strain_cycle(
             let strain: Sym = std::array::from_fn(|j| from[j] + t * (to[j] - from[j]));
             let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
             points.push(point.strain_step(strain, dt));
-            let now = point.state.secants(model.planes().len());
+            let now = point.state.secants(
+                model.planes().len(),
+                model.parameters.tension_boundary.is_some(),
+            );
             healed |= now
                 .iter()
                 .zip(&previous)

@@ -96,7 +96,13 @@ impl MicroplaneState {
     /// Secant `s / e` at the turning point of every branch that has been loaded (volumetric
     /// tension, then per plane D+, D-, M+, M-, K+, K-, for the model's `planes` planes): each
     /// can only fall as damage grows.
-    pub fn secants(&self, planes: usize) -> Vec<f64> {
+    ///
+    /// With `crack_strains` (a model with the tensile boundary) the D+ slots hold a plane's
+    /// largest crack strain `y_max` and its crack strain `y` (`crack_strain`), not a turning
+    /// point: `y / y_max` rises whenever a crack reopens, which is no healing. Their entry is
+    /// then `1 / y_max`, which likewise can only fall as the plane's damage (its boundary's
+    /// fall `F(y_max)`) grows.
+    pub fn secants(&self, planes: usize, crack_strains: bool) -> Vec<f64> {
         let mut out = Vec::new();
         let mut push = |e: f32, s: f32| {
             out.push(if e > 0.0 {
@@ -108,7 +114,11 @@ impl MicroplaneState {
         push(self.values[V_TENSION], self.values[V_TENSION + 1]);
         for plane in self.values[HEADER..].chunks_exact(PER_PLANE).take(planes) {
             for start in [D_POSITIVE, D_NEGATIVE, M, M + 2, K, K + 2] {
-                push(plane[start], plane[start + 1]);
+                if crack_strains && start == D_POSITIVE {
+                    push(plane[start], 1.0);
+                } else {
+                    push(plane[start], plane[start + 1]);
+                }
             }
         }
         out
