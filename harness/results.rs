@@ -6,6 +6,9 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+mod record;
+pub use record::RecordError;
+
 /// The one rule for a case's output folder in a run folder: `<run>/cases/<id, / as __>/`.
 /// Kinds write there; the report reads from there.
 pub fn case_dir(run_dir: &std::path::Path, id: &str) -> std::path::PathBuf {
@@ -318,49 +321,6 @@ pub struct CaseResult {
 }
 
 impl CaseResult {
-    /// The record a kind stored under `key`, read back as its type; `None` when there is none
-    /// or it does not read. The report reads with [`CaseResult::read_record`], which tells the
-    /// two apart.
-    pub fn record<T: serde::de::DeserializeOwned>(&self, key: &str) -> Option<T> {
-        self.read_record(key).ok().flatten()
-    }
-
-    /// The record a kind stored under `key`, read back as its type: `None` when there is none,
-    /// an error naming the case, the key and the field when it does not read as `T` (a results
-    /// file of another version, or edited by hand).
-    pub fn read_record<T: serde::de::DeserializeOwned>(
-        &self,
-        key: &str,
-    ) -> Result<Option<T>, RecordError> {
-        let Some(value) = self.records.get(key) else {
-            return Ok(None);
-        };
-        T::deserialize(value).map(Some).map_err(|e| RecordError {
-            case: self.label(),
-            key: key.to_string(),
-            message: e.to_string(),
-        })
-    }
-
-    /// `id`, or `id [variant]` for a variant other than the case's own analysis.
-    pub fn label(&self) -> String {
-        if self.variant.is_empty() || self.variant == "default" {
-            self.id.clone()
-        } else {
-            format!("{} [{}]", self.id, self.variant)
-        }
-    }
-
-    /// Stores a kind's record under `key`.
-    pub fn set_record<T: Serialize>(&mut self, key: &str, record: &T) {
-        match serde_json::to_value(record) {
-            Ok(v) => {
-                self.records.insert(key.to_string(), v);
-            }
-            Err(e) => eprintln!("{}: the `{key}` record could not be stored: {e}", self.id),
-        }
-    }
-
     /// Whether this result fails the run: a failure or an error, unless it is a failure the
     /// case records as known. Passed, skipped and interrupted cases do not (an interrupted run
     /// has a status of its own).
@@ -371,19 +331,6 @@ impl CaseResult {
             Status::Pass | Status::Skipped | Status::Interrupted => false,
         }
     }
-}
-
-/// A kind's record that does not read as its type: the report shows it in the kind's section
-/// instead of leaving the case out.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("case {case}: the `{key}` record does not read: {message}")]
-pub struct RecordError {
-    /// The case, with its variant.
-    pub case: String,
-    /// The kind's key (`contact_comparison`, `material`, ...) or record file.
-    pub key: String,
-    /// The JSON reader's error, with the field and the type it expected.
-    pub message: String,
 }
 
 /// Contact-solver statistics of one scene run (summed over pairs and passes).
