@@ -46,13 +46,13 @@ pub fn write_report(
     let json = serde_json::to_string_pretty(results).map_err(io::Error::other)?;
     fs::write(dir.join("results.json"), json + "\n")?;
     let summaries = summary::summaries(results);
-    let page = Page {
-        results,
-        summaries: &summaries,
-        run_dir: dir,
-    };
+    let page = Page::new(results, &summaries, dir);
     fs::write(dir.join("summary.md"), markdown::summary(&page, sections))?;
     let index = dir.join("index.html");
     fs::write(&index, html::page(&page, history, sections))?;
+    // The page shows each in its section; the run's log says that the page has them.
+    for e in page.record_errors() {
+        eprintln!("warning: {e}; the report shows the error in its section");
+    }
     Ok(index)
 }

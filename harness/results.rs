@@ -6,6 +6,9 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+mod record;
+pub use record::RecordError;
+
 /// The one rule for a case's output folder in a run folder: `<run>/cases/<id, / as __>/`.
 /// Kinds write there; the report reads from there.
 pub fn case_dir(run_dir: &std::path::Path, id: &str) -> std::path::PathBuf {
@@ -318,22 +321,6 @@ pub struct CaseResult {
 }
 
 impl CaseResult {
-    /// The record a kind stored under `key`, read back as its type; `None` when there is none
-    /// or it does not read (a results file of another version).
-    pub fn record<T: serde::de::DeserializeOwned>(&self, key: &str) -> Option<T> {
-        serde_json::from_value(self.records.get(key)?.clone()).ok()
-    }
-
-    /// Stores a kind's record under `key`.
-    pub fn set_record<T: Serialize>(&mut self, key: &str, record: &T) {
-        match serde_json::to_value(record) {
-            Ok(v) => {
-                self.records.insert(key.to_string(), v);
-            }
-            Err(e) => eprintln!("{}: the `{key}` record could not be stored: {e}", self.id),
-        }
-    }
-
     /// Whether this result fails the run: a failure or an error, unless it is a failure the
     /// case records as known. Passed, skipped and interrupted cases do not (an interrupted run
     /// has a status of its own).

@@ -30,11 +30,11 @@ impl Section for ContactSection {
 
     fn html(&self, page: &Page<'_>) -> Option<String> {
         let results = page.results;
-        if !has_content(results) {
+        if !has_content(page) {
             return None;
         }
         let mut html = String::new();
-        for (case, c) in comparisons(results) {
+        for (case, c) in comparisons(page) {
             html.push_str(&comparison(case, &c));
         }
         for t in solver_tables(results) {
@@ -55,16 +55,17 @@ impl Section for ContactSection {
     }
 
     fn markdown(&self, page: &Page<'_>) -> Option<String> {
-        has_content(page.results).then(|| markdown(page.results))
+        has_content(page).then(|| markdown(page))
     }
 }
 
-/// Cases carrying a contact-solver comparison, in run order.
-pub fn comparisons(results: &RunResults) -> Vec<(&CaseResult, Comparison)> {
-    results
+/// Cases carrying a contact-solver comparison, in run order; one whose comparison does not
+/// read is left to the page's error block ([`Page::record`]).
+pub fn comparisons<'p>(page: &Page<'p>) -> Vec<(&'p CaseResult, Comparison)> {
+    page.results
         .cases
         .iter()
-        .filter_map(|c| c.record(Comparison::KEY).map(|cmp| (c, cmp)))
+        .filter_map(|c| page.record(c, Comparison::KEY).map(|cmp| (c, cmp)))
         .collect()
 }
 
@@ -235,8 +236,9 @@ pub fn variant_work_precision(results: &RunResults) -> Vec<PlotData> {
 }
 
 /// Whether the run has anything for the section.
-pub fn has_content(results: &RunResults) -> bool {
-    !comparisons(results).is_empty()
+pub fn has_content(page: &Page<'_>) -> bool {
+    let results = page.results;
+    !comparisons(page).is_empty()
         || !solver_tables(results).is_empty()
         || !variant_work_precision(results).is_empty()
 }
@@ -258,9 +260,10 @@ pub fn fastest_line(t: &SolverTable) -> String {
 }
 
 /// The section in Markdown for `summary.md`.
-fn markdown(results: &RunResults) -> String {
+fn markdown(page: &Page<'_>) -> String {
+    let results = page.results;
     let mut md = String::new();
-    for (case, c) in comparisons(results) {
+    for (case, c) in comparisons(page) {
         md.push_str(&format!(
             "\n### {}: {} problems\n\nError: {}; ✓ error at most the tolerance within {} s.\n\n",
             case.id,

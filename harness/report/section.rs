@@ -4,12 +4,13 @@
 //! content and nothing else: the `<section>` with its anchor and title, each case's heading
 //! with its status and the way back to the case, and the link from the case's own section.
 
+use std::cell::RefCell;
 use std::path::Path;
 
 use super::blocks::{element, state_badge};
 use super::format;
 use super::summary::{CaseState, CaseSummary};
-use crate::results::RunResults;
+use crate::results::{CaseResult, RecordError, RunResults};
 use serde::de::DeserializeOwned;
 
 /// What a section sees of the run: its results, the summaries of its cases (with their
@@ -21,6 +22,60 @@ pub struct Page<'a> {
     pub summaries: &'a [CaseSummary<'a>],
     /// The run's folder.
     pub run_dir: &'a Path,
+    /// The records that did not read while the current section was written
+    /// ([`Page::record`]); [`html`] and [`markdown`] show them in that section.
+    pending: RefCell<Vec<RecordError>>,
+    /// Every record that did not read on the page, each once: the run's warnings.
+    failed: RefCell<Vec<RecordError>>,
+}
+
+impl<'a> Page<'a> {
+    /// The page of `results` written into `run_dir`.
+    pub fn new(
+        results: &'a RunResults,
+        summaries: &'a [CaseSummary<'a>],
+        run_dir: &'a Path,
+    ) -> Self {
+        Self {
+            results,
+            summaries,
+            run_dir,
+            pending: RefCell::new(Vec::new()),
+            failed: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The record `case`'s kind stored under `key`: `None` when there is none, and also when it
+    /// does not read, which the section being written then shows as an error.
+    pub fn record<T: DeserializeOwned>(&self, case: &CaseResult, key: &str) -> Option<T> {
+        self.read(case.read_record(key))
+    }
+
+    /// A record read by the section itself (from a file of the run): its error, if any, is
+    /// shown in the section being written, as [`Page::record`] does.
+    pub fn read<T>(&self, record: Result<Option<T>, RecordError>) -> Option<T> {
+        record.unwrap_or_else(|e| {
+            let mut failed = self.failed.borrow_mut();
+            if !failed.contains(&e) {
+                failed.push(e.clone());
+            }
+            let mut pending = self.pending.borrow_mut();
+            if !pending.contains(&e) {
+                pending.push(e);
+            }
+            None
+        })
+    }
+
+    /// Every record that did not read on the page so far, each once.
+    pub fn record_errors(&self) -> Vec<RecordError> {
+        self.failed.borrow().clone()
+    }
+
+    /// The errors of the section just written, leaving none pending.
+    fn take_pending(&self) -> Vec<RecordError> {
+        std::mem::take(&mut *self.pending.borrow_mut())
+    }
 }
 
 /// A section of the page and of `summary.md`.
@@ -55,26 +110,59 @@ pub fn cases_with<'p, T: DeserializeOwned>(
 ) -> Vec<(&'p CaseSummary<'p>, T)> {
     page.summaries
         .iter()
-        .filter_map(|s| Some((s, s.case.record(key)?)))
+        .filter_map(|s| Some((s, page.record(s.case, key)?)))
         .collect()
 }
 
-/// The section on the page: its anchor, title and content; empty when it has none.
+/// The section on the page: its anchor, title and content, after an error block for each record
+/// of its cases that did not read; empty when it has none of either.
 pub fn html(section: &dyn Section, page: &Page<'_>) -> String {
-    section.html(page).map_or_else(String::new, |body| {
-        format!(
-            "<section id=\"{}\">\n<h2>{}</h2>\n{body}</section>\n",
-            section.anchor(),
-            format::html(section.title())
-        )
-    })
+    page.take_pending();
+    let body = section.html(page);
+    let errors: String = page
+        .take_pending()
+        .iter()
+        .map(|e| {
+            element(
+                "div",
+                "callout error",
+                &format!(
+                    "<div class=\"callout-title\">Record of {} not shown</div>\n{}",
+                    format::html(&e.case),
+                    element("p", "", &format::html(&e.to_string()))
+                ),
+            )
+        })
+        .collect();
+    if body.is_none() && errors.is_empty() {
+        return String::new();
+    }
+    format!(
+        "<section id=\"{}\">\n<h2>{}</h2>\n{errors}{}</section>\n",
+        section.anchor(),
+        format::html(section.title()),
+        body.unwrap_or_default()
+    )
 }
 
-/// The section in `summary.md`; empty when it has nothing.
+/// The section in `summary.md`, after a line for each record of its cases that did not read;
+/// empty when it has none of either.
 pub fn markdown(section: &dyn Section, page: &Page<'_>) -> String {
-    section.markdown(page).map_or_else(String::new, |body| {
-        format!("\n## {}\n\n{body}", section.title())
-    })
+    page.take_pending();
+    let body = section.markdown(page);
+    let errors: String = page
+        .take_pending()
+        .iter()
+        .map(|e| format!("**Error:** {}\n\n", format::markdown_cell(&e.to_string())))
+        .collect();
+    if body.is_none() && errors.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n## {}\n\n{errors}{}",
+        section.title(),
+        body.unwrap_or_default()
+    )
 }
 
 /// The fragment id of a case's part of a section.

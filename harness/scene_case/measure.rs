@@ -9,6 +9,8 @@ mod motion;
 mod signal;
 mod stress;
 mod structure;
+#[cfg(test)]
+mod synthetic;
 
 use serde::{Deserialize, Serialize};
 

@@ -12,7 +12,8 @@ use serde::{Deserialize, Serialize};
 use super::plots::{bounds, contact_column, plots, tip_plots};
 use super::side_view::{side_view_svg, SIDE_VIEW_WIDTH};
 use super::{BEAM_BODY, FILMSTRIP};
-use crate::results::{file_safe, CaseResult, PlotData, RunResults};
+use crate::report::section::Page;
+use crate::results::{file_safe, CaseResult, PlotData, RecordError};
 use impact_solver::analysis::Execution;
 
 /// The crack indicator `eps_1 / eps_r` of the beam seen from the side at one instant: per cell of
@@ -423,21 +424,36 @@ fn write_record(dir: &Path, record: &BeamRecord) -> std::io::Result<()> {
     Ok(())
 }
 
-/// The records of a run's cases, read back from its folder: `(case index, record)`.
-pub fn load(run_dir: &Path, results: &RunResults) -> Vec<(usize, BeamRecord)> {
-    results
+/// The records of a run's cases, read back from its folder: `(case index, record)`; a record
+/// file that does not read is left to the page's error block ([`Page::read`]).
+pub fn load(page: &Page<'_>) -> Vec<(usize, BeamRecord)> {
+    page.results
         .cases
         .iter()
         .enumerate()
-        .filter_map(|(i, c)| Some((i, load_one(run_dir, c)?)))
+        .filter_map(|(i, c)| Some((i, page.read(load_one(page.run_dir, c))?)))
         .collect()
 }
 
-/// The record of one case, if it wrote one.
-pub fn load_one(run_dir: &Path, c: &CaseResult) -> Option<BeamRecord> {
+/// The record of one case: `None` if it wrote none, an error naming the case and the file if
+/// the file does not read as a record.
+pub fn load_one(run_dir: &Path, c: &CaseResult) -> Result<Option<BeamRecord>, RecordError> {
     let path = record_path(&crate::results::case_dir(run_dir, &c.id), &c.variant);
-    let text = std::fs::read_to_string(path).ok()?;
-    serde_json::from_str(&text).ok()
+    let error = |message: String| RecordError {
+        case: c.label(),
+        key: path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        message,
+    };
+    let text = match std::fs::read_to_string(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(error(e.to_string())),
+    };
+    serde_json::from_str(&text)
+        .map(Some)
+        .map_err(|e| error(e.to_string()))
 }
 
 #[cfg(test)]

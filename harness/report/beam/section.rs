@@ -29,16 +29,17 @@ impl Section for BeamSection {
     }
 
     fn html(&self, page: &Page<'_>) -> Option<String> {
-        let records = load(page.run_dir, page.results);
+        let records = load(page);
         section(page.results, page.summaries, &records)
     }
 
     fn in_case(&self, case: &CaseSummary<'_>, page: &Page<'_>) -> String {
-        load_one(page.run_dir, case.case).map_or_else(String::new, |r| case_pictures(&r))
+        page.read(load_one(page.run_dir, case.case))
+            .map_or_else(String::new, |r| case_pictures(&r))
     }
 
     fn markdown(&self, page: &Page<'_>) -> Option<String> {
-        super::markdown(page.results, &load(page.run_dir, page.results))
+        super::markdown(page.results, &load(page))
     }
 }
 

@@ -54,8 +54,6 @@
 mod apply;
 mod contact_surface;
 mod driver;
-mod kinetic_energy;
-mod mass_scaling;
 mod mesh_check;
 mod near_tip;
 mod record;
@@ -71,7 +69,6 @@ pub use contact_surface::SurfaceSeparation;
 pub use driver::{
     run_remeshing, run_remeshing_checkpointed, run_remeshing_watched, RemeshHooks, RemeshingRun,
 };
-pub use mass_scaling::{add_scaled_mass, mass_scale_factors};
 pub use mesh_check::{check_remeshed, RemeshCheck, REMESH_TOLERANCE};
 pub use near_tip::{
     measure_near_tip, von_mises, NearTipRow, NearTipSpec, NearTipStress, NEAR_TIP_CSV_HEADER,
@@ -84,9 +81,9 @@ pub use resume::{Checkpointing, RemeshCheckpoint, RemeshCheckpoints, RemeshStart
 pub use run::{RemeshPolicy, RemeshSettings};
 pub use section::{SectionBody, SectionFrame, SectionPictures, SectionSpec};
 pub use transfer::{
-    closest_gauss_point_sources, copy_rows, element_integral, element_volumes, interpolate_nodal,
-    matrices_to_rows, nodes_to_elements, project_to_nodes, rows_to_matrices,
-    shape_function_transfer, transfer_nodal_vectors,
+    add_scaled_mass, closest_gauss_point_sources, copy_rows, element_integral, element_volumes,
+    interpolate_nodal, mass_scale_factors, matrices_to_rows, nodes_to_elements, project_to_nodes,
+    rows_to_matrices, shape_function_transfer, transfer_nodal_vectors,
 };
 pub use watch::{
     remeshing_csv_row, NearTipMarks, RemeshWatch, RemeshingCsv, WatchMarks, Watches,

@@ -60,7 +60,7 @@ pub struct RemeshSettings {
     pub regrowth: f64,
     /// The explicit step (s) below which no element of the remeshed body may bring it after a
     /// remeshing: elements whose stable step would be shorter get the mass that lengthens it
-    /// to this over `safety` (selective mass scaling, `mass_scaling.rs`; each remeshing's
+    /// to this over `safety` (selective mass scaling, `transfer/mass_scaling.rs`; each remeshing's
     /// `added_mass`); 0, the default, adds no mass.
     #[serde(default)]
     pub mass_scaling_step: f64,

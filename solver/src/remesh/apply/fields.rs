@@ -12,11 +12,12 @@ use crate::error::Result;
 use crate::mesh::ops::locate::Location;
 use crate::mesh::ops::mesher::RemeshedRegion;
 use crate::model::{light_density_ratio, Body, BodyHistory, MaterialHistory, Model};
-use crate::remesh::kinetic_energy::{restore_kinetic_energy, KineticRestore};
-use crate::remesh::mass_scaling::{add_scaled_mass, mass_scale_factors};
 use crate::remesh::record::{kinetic_energy, momentum};
 use crate::remesh::splice::Splice;
-use crate::remesh::transfer::{element_volumes, shape_function_transfer};
+use crate::remesh::transfer::{
+    add_scaled_mass, element_volumes, mass_scale_factors, restore_kinetic_energy,
+    shape_function_transfer, KineticRestore,
+};
 
 /// The masses of the new model ([`transferred_masses`]).
 pub(super) struct Masses {
@@ -53,7 +54,7 @@ impl OldMasses {
 /// scaled so that the new elements' mass is exactly that of the old elements they replace (the
 /// smoothing changes volumes) and the body's mass is kept; then the nodal masses, with the
 /// mass selective mass scaling adds where an element's stable step falls below
-/// `critical_step` (`mass_scaling.rs`).
+/// `critical_step` (`transfer/mass_scaling.rs`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn transferred_masses(
     model: &Model,

@@ -132,7 +132,7 @@ fn region_body(model: &Model, region: &[usize]) -> Result<usize> {
 /// The stable time step of the new mesh is computed when the run resumes (the new model's
 /// smallest altitudes, in the current configuration). With `critical_step` > 0 (s), the
 /// remeshed body's elements whose stable step falls below it get mass on their nodes that
-/// brings it up to `critical_step` (selective mass scaling, `mass_scaling.rs`): in the new
+/// brings it up to `critical_step` (selective mass scaling, `transfer/mass_scaling.rs`): in the new
 /// model's nodal masses and [`Model::mass_scale`], before the momentum is restored, so the
 /// record's energy and momentum jumps include it; 0 scales nothing.
 pub fn remesh_problem(
