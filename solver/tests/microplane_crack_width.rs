@@ -1,7 +1,8 @@
 //! The crack band across the crack (`material/microplane/crack_width.rs`): an element pulled
 //! across its thin direction dissipates per unit crack area what an element of volume size equal
-//! to that width does, whatever its own volume, where the volume size's band makes a flat
-//! element dissipate its volume size over its width times as much.
+//! to that width does, whatever its own volume, where with the volume size's band a flat element
+//! dissipates only its width over its volume size of that; the band follows the crack's direction;
+//! elements too long for any band, and the tensile boundary, are refused.
 #![allow(clippy::unwrap_used)]
 
 mod common;
@@ -200,4 +201,23 @@ fn an_element_too_wide_for_its_band_is_refused() {
             .with_shapes("needle", std::iter::once(corners), 0)
             .is_ok()
     );
+}
+
+/// The band across the crack is refused with the tensile boundary, whose planes crack through
+/// their own crack strains (the onset is read from the tension laws' history, which the boundary
+/// replaces), with a message that says so.
+#[test]
+fn the_band_across_the_crack_is_refused_with_the_tensile_boundary() {
+    use impact_solver::material::microplane::MicroplaneConcrete;
+    let parameters = MicroplaneParameters {
+        crack_band: CrackBandWidth::AcrossCrack,
+        ..shipped_concrete("thesis-concrete-tension-boundary")
+    };
+    let message = MicroplaneConcrete::new(parameters).unwrap_err().to_string();
+    assert!(message.contains("tension_boundary"), "{message}");
+    let volume = MicroplaneParameters {
+        crack_band: CrackBandWidth::Volume,
+        ..parameters
+    };
+    assert!(MicroplaneConcrete::new(volume).is_ok());
 }
