@@ -50,6 +50,7 @@ fn drop_scene(variant: &str) -> Scene {
                 volumetric_strain: None,
                 crack_friction: None,
                 strength_field: None,
+                crack_band: None,
             }));
         }
         _ => {}

@@ -91,13 +91,17 @@ impl MaterialSource {
     /// The material of a body whose elements have the reference volumes `volumes`
     /// and the reference centroids `centroids` (`first_element` is the global id of the first):
     /// the elastic models need nothing from them, microplane concrete the crack band of each
-    /// element (and its strength where a strength field is given). An element too large for the
-    /// crack band is an error naming the body and the element.
+    /// element (and its strength where a strength field is given), and with the band across the
+    /// crack each element's reference nodes, from `tets` over `reference`. An element too large
+    /// for the crack band is an error naming the body and the element.
+    #[allow(clippy::too_many_arguments)]
     fn prepare(
         self,
         body: &str,
         volumes: &[f64],
         centroids: &[[f64; 3]],
+        tets: &[[u32; 4]],
+        reference: &[Vector3<f64>],
         first_element: usize,
     ) -> Result<Arc<dyn BodyMaterial>> {
         match self {
@@ -107,9 +111,13 @@ impl MaterialSource {
             MaterialSource::Model(MaterialModel::SaintVenantKirchhoff(c)) => {
                 Ok(Arc::new(SaintVenantKirchhoff::new(c)))
             }
-            MaterialSource::Model(MaterialModel::Microplane(p)) => Ok(Arc::new(
-                MicroplaneMaterial::new(body, p, volumes, centroids, first_element)?,
-            )),
+            MaterialSource::Model(MaterialModel::Microplane(p)) => {
+                let corners = tets.iter().map(|t| t.map(|n| reference[n as usize].into()));
+                Ok(Arc::new(
+                    MicroplaneMaterial::new(body, p, volumes, centroids, first_element)?
+                        .with_shapes(body, corners, first_element)?,
+                ))
+            }
             MaterialSource::Prepared(m) => Ok(m),
         }
     }
@@ -252,6 +260,8 @@ impl Model {
                 &name,
                 &volume[elements.clone()],
                 &centroid[elements.clone()],
+                &tets[elements.clone()],
+                &reference,
                 elements.start,
             )?;
             model_bodies.push(Body {

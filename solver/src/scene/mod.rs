@@ -241,6 +241,11 @@ pub struct MicroplaneSpec {
     /// docs/materials.md): `{ coefficient_of_variation, correlation_length, seed }`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strength_field: Option<crate::material::StrengthFieldSpec>,
+    /// Which length of each element is its crack band, replacing the parameters'
+    /// (`MicroplaneParameters::crack_band`): `volume`, `(6 V)^(1/3)`, or `across_crack`, the
+    /// element's width along its crack's normal (`material/microplane/crack_width.rs`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crack_band: Option<crate::material::microplane::CrackBandWidth>,
 }
 
 fn rate_effect_on() -> bool {
@@ -300,6 +305,9 @@ impl MaterialSpec {
                 }
                 if let Some(field) = spec.strength_field {
                     parameters.strength_field = Some(field);
+                }
+                if let Some(band) = spec.crack_band {
+                    parameters.crack_band = band;
                 }
                 MaterialModel::Microplane(parameters)
             }

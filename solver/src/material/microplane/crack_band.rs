@@ -1,7 +1,8 @@
 //! The crack band of the microplane laws (Bazant and Oh 1983): the factors by which
 //! an element of size `h` scales the post-peak part of its tension and shear laws so that it
 //! dissipates the energy calibrated at `h_ref` per unit crack area, and the sizes at which no
-//! factor can.
+//! factor can. `h` is the element's volume size `(6 V)^(1/3)`, or with `crack_band: across_crack`
+//! its length across its crack (`crack_width.rs`), which the same factors scale to.
 
 use super::MicroplaneConcrete;
 
@@ -56,6 +57,22 @@ pub enum CrackBandError {
         largest_mm: f64,
         /// The calibration size (mm).
         h_ref_mm: f64,
+    },
+    /// With the band across the crack (`crack_width.rs`): the element's longest edge, the
+    /// widest its crack band can be, is too large for the laws.
+    #[error(
+        "element's longest edge {width_mm:.1} mm (tensile strength {strength:.3} of the \
+         material's), the widest crack band across it (crack_band: across_crack), exceeds the \
+         {largest_mm:.1} mm above which its softening laws would have to snap back to \
+         dissipate no more than the fracture energy; refine the mesh there"
+    )]
+    TooWide {
+        /// The element's longest edge (mm).
+        width_mm: f64,
+        /// The element's tensile strength over the material's.
+        strength: f64,
+        /// The largest band the laws admit at that strength (mm).
+        largest_mm: f64,
     },
 }
 

@@ -3,7 +3,10 @@
 
 use nalgebra::Matrix3;
 
-use super::{state, CrackBand, MicroplaneConcrete, MicroplaneParameters, Sym};
+use super::{
+    state, CrackBand, CrackBandWidth, ElementShape, MicroplaneConcrete, MicroplaneParameters, Sym,
+    CRACK_HISTORY,
+};
 use crate::error::{Result, SolverError};
 use crate::kinematics::{cofactor, green_lagrange_from_h, polar_rotation, voigt};
 use crate::material::{
@@ -22,13 +25,19 @@ pub struct MicroplaneMaterial {
     /// The body's strength field (`parameters.strength_field`), kept so that a remeshed
     /// element takes the field's value at its own centroid.
     pub strength_field: Option<StrengthField>,
+    /// With `crack_band: across_crack`, each element's reference shape, whose length across its
+    /// crack becomes its band at the crack's onset (`crack_width.rs`); `None` with the
+    /// volume size's band.
+    pub shapes: Option<Vec<ElementShape>>,
 }
 
 impl MicroplaneMaterial {
     /// The model for `parameters` and the crack bands of the elements of `volumes` with the
     /// reference centroids `centroids` (the body's elements in order; `first_element` is the
     /// global id of the first). An element too large for the crack band is an error naming the
-    /// body, the element (global id and id in its mesh), its size and the limit.
+    /// body, the element (global id and id in its mesh), its size and the limit. With
+    /// `crack_band: across_crack` the elements' shapes must follow
+    /// ([`MicroplaneMaterial::with_shapes`]).
     pub fn new(
         body: &str,
         parameters: MicroplaneParameters,
@@ -81,7 +90,61 @@ impl MicroplaneMaterial {
             model,
             bands,
             strength_field,
+            shapes: None,
         })
+    }
+
+    /// The material with the band across the crack, for elements with the reference nodes
+    /// `corners` (in the body's element order; `first_element` is the global id of the first),
+    /// if its parameters ask for it (`crack_band: across_crack`); unchanged otherwise. An
+    /// element whose longest edge, the widest band it can take, is too large for its laws is an
+    /// error naming the body and the element.
+    pub fn with_shapes(
+        mut self,
+        body: &str,
+        corners: impl Iterator<Item = [[f64; 3]; 4]>,
+        first_element: usize,
+    ) -> Result<Self> {
+        if self.model.parameters.crack_band != CrackBandWidth::AcrossCrack {
+            return Ok(self);
+        }
+        let mut shapes = Vec::new();
+        for (local, c) in corners.enumerate() {
+            let shape = ElementShape::new(&c).ok_or_else(|| SolverError::InvalidScene {
+                entity: format!(
+                    "body `{body}` element {} (element {local} of its mesh)",
+                    first_element + local
+                ),
+                message: "degenerate: its nodes span no volume, so it has no length across a \
+                          crack"
+                    .to_string(),
+            })?;
+            shapes.push(shape);
+        }
+        let mut refused =
+            shapes
+                .iter()
+                .zip(&self.bands)
+                .enumerate()
+                .filter_map(|(local, (shape, band))| {
+                    let err = self.model.check_widest_crack(shape, band).err()?;
+                    Some((local, err))
+                });
+        if let Some((local, message)) = refused.next() {
+            let more = match refused.count() {
+                0 => String::new(),
+                n => format!(" ({n} more elements of the body are too wide)"),
+            };
+            return Err(SolverError::InvalidScene {
+                entity: format!(
+                    "body `{body}` element {} (element {local} of its mesh)",
+                    first_element + local
+                ),
+                message: format!("{message}{more}"),
+            });
+        }
+        self.shapes = Some(shapes);
+        Ok(self)
     }
 }
 
@@ -123,7 +186,7 @@ impl Material for MicroplaneMaterial {
     }
 
     fn history_len(&self) -> usize {
-        self.model.state_len()
+        self.model.state_len() + self.shapes.as_ref().map_or(0, |_| CRACK_HISTORY)
     }
 
     /// One elastic-like update per microplane direction on top of the element's own: 22 for the
@@ -133,8 +196,11 @@ impl Material for MicroplaneMaterial {
         1.0 + self.model.planes().len() as f64
     }
 
+    /// The model's virgin history, then (across the crack) no band yet: zeros.
     fn initial_history(&self, history: &mut [f32]) {
-        history.copy_from_slice(&self.model.initial_state().values);
+        let (laws, crack) = history.split_at_mut(self.model.state_len());
+        laws.copy_from_slice(&self.model.initial_state().values);
+        crack.fill(0.0);
     }
 
     /// Only with the rate effect on: without it the rate factor is 1 whatever the rate, so the
@@ -171,9 +237,18 @@ impl Material for MicroplaneMaterial {
         } else {
             0.0
         };
-        let (s, _) = self
-            .model
-            .update(state.history, &strain, gamma_dot, &self.bands[element]);
+        let (s, _) = match &self.shapes {
+            None => self
+                .model
+                .update(state.history, &strain, gamma_dot, &self.bands[element]),
+            Some(shapes) => self.model.update_across_crack(
+                state.history,
+                &strain,
+                gamma_dot,
+                &self.bands[element],
+                &shapes[element],
+            ),
+        };
         let sigma = rotation * matrix(&s) * rotation.transpose();
         if let Some(cauchy) = state.cauchy {
             *cauchy = voigt(&sigma);
@@ -193,6 +268,24 @@ impl Material for MicroplaneMaterial {
     /// strength, with a strength field, at its centroid), so that the fracture energy stays that
     /// of the new element's size (crack band, Bažant & Oh 1983).
     fn remeshed(&self, elements: &RemeshedElements<'_>) -> Result<Option<Self>, (usize, String)> {
+        let new = elements.origin.iter().position(Option::is_none);
+        if let (Some(_), Some(e)) = (&self.shapes, new) {
+            // A remeshed element has no reference shape here to measure its crack across.
+            return Err((
+                e,
+                "crack_band: across_crack does not carry through a remeshing yet (a new \
+                 element's reference nodes are not passed to the material); use crack_band: \
+                 volume"
+                    .to_string(),
+            ));
+        }
+        let shapes = self.shapes.as_ref().map(|shapes| {
+            elements
+                .origin
+                .iter()
+                .map(|o| shapes[o.expect("no new element") as usize])
+                .collect()
+        });
         let mut bands = Vec::with_capacity(elements.origin.len());
         for (e, (o, v)) in elements.origin.iter().zip(elements.volumes).enumerate() {
             bands.push(match o {
@@ -210,6 +303,7 @@ impl Material for MicroplaneMaterial {
             model: self.model.clone(),
             bands,
             strength_field: self.strength_field.clone(),
+            shapes,
         }))
     }
 
@@ -239,11 +333,23 @@ impl Material for MicroplaneMaterial {
                 shear: b[2],
                 strength: b[3],
             })
-            .collect();
+            .collect::<Vec<_>>();
+        if let Some(shapes) = &self.shapes {
+            // The shapes come from the scene's mesh, which a restart reads again; a band fixed
+            // across a crack is in each element's history.
+            if shapes.len() != bands.len() {
+                return Err(ElementDataError {
+                    numbers: data.len(),
+                    per_element: 4,
+                    what: "a crack band for each element of the scene's mesh (across_crack)",
+                });
+            }
+        }
         Ok(Some(MicroplaneMaterial {
             model: self.model.clone(),
             bands,
             strength_field: self.strength_field.clone(),
+            shapes: self.shapes.clone(),
         }))
     }
 
@@ -272,8 +378,12 @@ impl Material for MicroplaneMaterial {
             }
             None => String::new(),
         };
+        let across = match self.shapes {
+            Some(_) => ", crack band across each element's crack (Oliver's length)",
+            None => "",
+        };
         Some(format!(
-            "{} directions, element sizes {:.1}-{:.1} mm, limit {:.1} mm{strength}",
+            "{} directions, element sizes {:.1}-{:.1} mm, limit {:.1} mm{strength}{across}",
             self.model.planes().len(),
             lo * 1e3,
             hi * 1e3,

@@ -17,6 +17,7 @@ pub mod calibration;
 mod crack_band;
 pub mod crack_compression;
 mod crack_strain;
+mod crack_width;
 pub mod cyclic;
 mod dilatancy;
 pub mod directions;
@@ -40,10 +41,12 @@ pub mod volumetric;
 
 pub use boundary_shape::BoundaryShape;
 pub use crack_band::{CrackBand, CrackBandError};
+pub use crack_width::{ElementShape, CRACK_HISTORY};
 pub use directions::{contract, Microplane, SphereRule, Sym};
 pub use element::{sym, MicroplaneMaterial};
 pub use parameters::{
-    MicroplaneParameters, ParameterError, RateEffect, RelaxationDriver, TensionDriver,
+    CrackBandWidth, MicroplaneParameters, ParameterError, RateEffect, RelaxationDriver,
+    TensionDriver,
 };
 pub use principal::{
     largest_principal, mazars_strain, principal_stress_for_closure, principal_values,

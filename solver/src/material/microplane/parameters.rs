@@ -109,6 +109,30 @@ pub struct MicroplaneParameters {
     /// thesis): none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tension_boundary: Option<TensionBoundary>,
+    /// Which length of an element is its crack band (`crack_band.rs`, MICROPLANE "Crack
+    /// band"): `volume` (the default), `h = (6 V)^(1/3)`; `across_crack`, the element's length
+    /// across its crack, fixed where its first tension law passes its peak (`crack_width.rs`).
+    #[serde(default, skip_serializing_if = "is_volume_band")]
+    pub crack_band: CrackBandWidth,
+}
+
+fn is_volume_band(v: &CrackBandWidth) -> bool {
+    *v == CrackBandWidth::Volume
+}
+
+/// The length an element's crack band takes (Bažant & Oh 1983: the width of the band of
+/// material a crack through the element softens).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrackBandWidth {
+    /// `h = (6 V)^(1/3)`, the edge of a cube cut into six tetrahedra of the element's volume,
+    /// the same for every crack direction.
+    #[default]
+    Volume,
+    /// The element's length across its crack, Oliver's (1989) `h(n) = 2 / sum_a |grad N_a . n|`,
+    /// with `n` the direction of the largest principal stress where the element's first tension
+    /// law passes its peak (`crack_width.rs`).
+    AcrossCrack,
 }
 
 fn is_trace(v: &VolumetricStrain) -> bool {
@@ -257,6 +281,9 @@ impl MicroplaneParameters {
         }
         if let Some(boundary) = &self.tension_boundary {
             boundary.validate()?;
+            if self.crack_band == CrackBandWidth::AcrossCrack {
+                return Err(ParameterError::AcrossCrackWithBoundary);
+            }
         }
         if let Some(rate) = self.rate_effect {
             if !(rate.c1 > 0.0 && rate.c1.is_finite() && rate.c2 >= 0.0 && rate.c2.is_finite()) {
@@ -319,6 +346,15 @@ pub enum ParameterError {
     /// The strength field's coefficient of variation or correlation length.
     #[error(transparent)]
     StrengthField(#[from] StrengthFieldError),
+    /// `crack_band: across_crack` with the tensile boundary, whose planes crack through their
+    /// own crack strains: the onset that fixes the band is read from the tension laws' history,
+    /// which the boundary replaces.
+    #[error(
+        "crack_band: across_crack is not available with tension_boundary (the band is fixed \
+         where a tension law passes its peak, and the boundary replaces the tension laws); use \
+         crack_band: volume"
+    )]
+    AcrossCrackWithBoundary,
     /// Constants of the rate law (5.110) out of range.
     #[error("rate_effect needs c1 > 0 and c2 >= 0, got c1 = {c1}, c2 = {c2}")]
     RateEffect {

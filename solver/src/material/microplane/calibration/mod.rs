@@ -504,5 +504,6 @@ pub fn starting_guess() -> MicroplaneParameters {
         crack_friction: None,
         strength_field: None,
         tension_boundary: None,
+        crack_band: Default::default(),
     }
 }
