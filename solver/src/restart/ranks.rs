@@ -5,9 +5,9 @@
 //! - which step is checkpointed (a wall-time cadence is one rank's clock made everyone's by
 //!   [`crate::dynamics::ExplicitSolver::on_any_rank`], in `run.rs`);
 //! - which checkpoint a resume starts from: the newest step for which *every* rank holds a good
-//!   file ([`agreed_start`]); a damaged file on one rank sends all back to the older step;
+//!   file (`agreed_start`); a damaged file on one rank sends all back to the older step;
 //! - whether a write or a resume failed: a rank that fails stops, and every other stops with it
-//!   ([`agree`]).
+//!   (`agree`).
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
