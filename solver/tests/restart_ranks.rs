@@ -310,8 +310,39 @@ fn a_resume_on_another_number_of_ranks_is_refused_naming_both() {
         refused(e, 3);
     }
     refused(checkpointed(&b, true, None, &Log::default(), None), 1);
-    // Nothing was lost: the two ranks still resume.
-    assert_eq!(kept(&b, 2).iter().map(Vec::len).sum::<usize>(), 4);
+    // Nothing was lost: both ranks' checkpoints are there.
+    let kept = kept(&b, 2);
+    assert_eq!(kept.iter().map(Vec::len).sum::<usize>(), 4);
+
+    // A refusal on one rank alone stops both: rank 1's newest written for another scene file.
+    let now = inputs();
+    let mut then = now.clone();
+    then.0[0].hash ^= 1;
+    let payload = file::read(&kept[1][0], &now).unwrap();
+    let step = step_of(&kept[1][0]);
+    let part1 = file::Part { rank: 1, size: 2 };
+    file::write_part(&file::folder(&b, STEM), step, part1, &then, &payload).unwrap();
+    let results = on_ranks(2, |c| {
+        checkpointed(&b, true, None, &Log::default(), Some(c))
+    });
+    let texts: Vec<String> = results
+        .into_iter()
+        .map(|r| match r {
+            Err(RestartError::Checkpoint(e)) => e.to_string(),
+            Err(e) => panic!("expected a refused checkpoint, the run failed: {e}"),
+            Ok(_) => panic!("expected a refused checkpoint, the run resumed"),
+        })
+        .collect();
+    assert!(
+        texts[1].contains("was written for other inputs"),
+        "{}",
+        texts[1]
+    );
+    assert!(
+        texts[0].contains("rank(s) [1] of 2 stopped"),
+        "{}",
+        texts[0]
+    );
 }
 
 #[test]
@@ -353,4 +384,39 @@ fn a_flipped_byte_in_one_ranks_newest_checkpoint_sends_every_rank_to_the_older_o
         );
     }
     same_files(&a, &b);
+}
+
+/// The step of a checkpoint, from its name.
+fn step_of(path: &Path) -> usize {
+    path.file_name().unwrap().to_string_lossy()[4..16]
+        .parse()
+        .unwrap()
+}
+
+/// A newer checkpoint only one rank holds (the other was killed while writing its own) is not
+/// resumed from, and the next checkpoint written removes it, so that it does not take the
+/// place of an older one both ranks hold.
+#[test]
+fn a_newer_checkpoint_that_only_one_rank_holds_is_removed_at_the_next_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = dir.path().join("b");
+    let before = stopped_on_two(&b);
+    let (older, newer) = (step_of(&before[0][1]), step_of(&before[0][0]));
+    std::fs::remove_file(&before[0][0]).unwrap();
+    // Resumed from the older step with a checkpoint every 5 steps, stopped before the newer.
+    let every_5 = CheckpointEvery {
+        every_s: None,
+        every_steps: Some(5),
+    };
+    let results = on_ranks(2, |c| {
+        checkpointed_every(&b, every_5, true, Some(0.47), &Log::default(), Some(c))
+    });
+    results.into_iter().for_each(stopped);
+    let now = kept(&b, 2);
+    let steps = |files: &[PathBuf]| files.iter().map(|p| step_of(p)).collect::<Vec<_>>();
+    assert!(
+        steps(&now[0])[0] > older && steps(&now[0])[0] < newer,
+        "checkpoints between {older} and {newer}: {now:?}"
+    );
+    assert_eq!(steps(&now[0]), steps(&now[1]), "{now:?}");
 }

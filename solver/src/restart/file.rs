@@ -170,9 +170,9 @@ pub fn write(
     write_part(folder, step, Part::ALONE, inputs, payload)
 }
 
-/// Writes the checkpoint of `part` after `step` into `folder` atomically, then removes all but
-/// the newest [`KEEP`] of `part` and the temporary files of `part`'s writes that a kill cut
-/// short. Returns its path.
+/// Writes the checkpoint of `part` after `step` into `folder` atomically, then removes the
+/// temporary files of `part`'s writes that a kill cut short, `part`'s checkpoints of later steps
+/// and all but its newest [`KEEP`]. Returns its path.
 pub fn write_part(
     folder: &Path,
     step: usize,
@@ -228,7 +228,12 @@ pub fn write_part(
     for old in stale {
         std::fs::remove_file(&old).map_err(io(&old, "removing a cut-short checkpoint"))?;
     }
-    for old in list_part(folder, part)?.into_iter().skip(KEEP) {
+    // This part's files of later steps were left by a run stopped after them and resumed from an
+    // earlier checkpoint (another rank lacked them, or they were damaged): this run writes them
+    // again when it gets there, and they must not take the places of the older ones kept.
+    let mine = list_all(folder)?.into_iter().filter(|(_, _, p)| *p == part);
+    let (later, kept): (Vec<_>, Vec<_>) = mine.partition(|(_, s, _)| *s > step);
+    for (old, _, _) in later.into_iter().chain(kept.into_iter().skip(KEEP)) {
         std::fs::remove_file(&old).map_err(io(&old, "removing an old checkpoint"))?;
     }
     Ok(path)
