@@ -370,3 +370,36 @@ pub fn newest_good(
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_give_back_their_step_and_part_and_no_other_name_is_a_checkpoint() {
+        for (step, part) in [
+            (0, Part::ALONE),
+            (987_654_321_012, Part::ALONE),
+            (40, Part { rank: 0, size: 2 }),
+            (40, Part { rank: 11, size: 12 }),
+        ] {
+            assert_eq!(parse_name(&file_name(step, part)), Some((step, part)));
+        }
+        assert_eq!(
+            file_name(7, Part { rank: 1, size: 3 }),
+            "step000000000007.rank1of3.ckpt"
+        );
+        for name in [
+            "step1.ckpt",
+            "step00000000000x.ckpt",
+            "step000000000007.ckpt.tmp",
+            "step000000000007.rank3of3.ckpt",
+            "step000000000007.rank0of1.ckpt",
+            "step000000000007.rank-1of3.ckpt",
+            "step000000000007.rankof3.ckpt",
+            "notes.txt",
+        ] {
+            assert_eq!(parse_name(name), None, "{name}");
+        }
+    }
+}
