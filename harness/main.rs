@@ -279,8 +279,22 @@ fn main() -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
+                    // A rank's own checkpoint refusal is its message alone (rank 0 names the
+                    // rank); another rank count is every rank's, which rank 0 prints.
+                    let own_checkpoint = matches!(
+                        &e,
+                        impact_vv::scene_run::SceneRunError::Checkpoint(c)
+                            if !matches!(
+                                c,
+                                impact_solver::restart::CheckpointError::OtherRanks { .. }
+                                    | impact_solver::restart::CheckpointError::RankCount { .. }
+                            )
+                    );
                     if root {
                         eprintln!("error: {e}");
+                    } else if own_checkpoint {
+                        let rank = comm.map_or(0, |c| c.rank());
+                        eprintln!("rank {rank}: error: {e}");
                     }
                     ExitCode::from(e.exit_code())
                 }

@@ -13,6 +13,10 @@
 # below 1 leaves room for the time each resumed run spends before its first step and the steps
 # it takes again after its checkpoint (the nail: reading the meshes, a 53 MB checkpoint). Needs target/release/impact-vv
 # (cargo build --release). Output under reports/kill-resume/<scene name>/.
+#
+# LAUNCH runs every run under a launcher, e.g. over two MPI ranks (a build with `--features mpi`):
+#   LAUNCH="mpirun -np 2" IMPACT_VV=target/release/impact-vv scripts/kill-resume.sh tests/restart/small-drop.yaml 5 1 0.5
+# A kill then sends SIGKILL to every rank (the launcher's children) and to the launcher.
 set -euo pipefail
 
 scene=${1:?usage: scripts/kill-resume.sh SCENE [KILLS] [SEED] [CHECKPOINT_EVERY_S] [SCALE]}
@@ -21,13 +25,14 @@ seed=${3:-1}
 every=${4:-20}
 scale=${5:-1}
 bin=${IMPACT_VV:-target/release/impact-vv}
+read -r -a launch <<<"${LAUNCH:-}"
 name=$(basename "$scene" .yaml)
 out=reports/kill-resume/$name
 rm -rf "$out"
 mkdir -p "$out"
 
 start=$(date +%s.%N)
-"$bin" scene "$scene" --out "$out/reference" >"$out/reference.log" 2>&1
+"${launch[@]}" "$bin" scene "$scene" --out "$out/reference" >"$out/reference.log" 2>&1
 full=$(echo "$(date +%s.%N) - $start" | bc)
 echo "uninterrupted: $full s"
 
@@ -36,19 +41,21 @@ interrupted=0
 for k in $(seq 1 "$kills"); do
     resume=()
     [ "$k" -gt 1 ] && resume=(--resume)
-    "$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" "${resume[@]}" \
+    "${launch[@]}" "$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" "${resume[@]}" \
         >>"$out/killed.log" 2>&1 &
     pid=$!
     # Uniform in [0.5, 1.5] times scale * full / kills.
     after=$(echo "scale=3; $scale * $full / $kills * (0.5 + $RANDOM / 32767)" | bc)
     sleep "$after"
-    if kill -9 "$pid" 2>/dev/null; then
+    # Under a launcher the ranks are its children: all of them die at once, then the launcher.
+    victims=$(pgrep -P "$pid" || true)
+    if kill -9 $victims "$pid" 2>/dev/null; then
         interrupted=$((interrupted + 1))
     fi
     wait "$pid" 2>/dev/null || true
     echo "kill $k after $after s: $(ls "$out"/killed/*-checkpoints 2>/dev/null | tr '\n' ' ')"
 done
-"$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" --resume >>"$out/killed.log" 2>&1
+"${launch[@]}" "$bin" scene "$scene" --out "$out/killed" --checkpoint-every "$every" --resume >>"$out/killed.log" 2>&1
 echo "$interrupted of $kills kills stopped a run"
 
 status=0

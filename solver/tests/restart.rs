@@ -283,14 +283,14 @@ fn both_checkpoints_damaged_another_version_or_changed_inputs_are_refused() {
     assert!(e.to_string().contains("no usable checkpoint"), "{e}");
     restore();
 
-    // Format version 1 is at bytes 8..12, after the magic.
+    // The format version is at bytes 8..12, after the magic.
     let mut bytes = original[0].clone();
     bytes[8..12].copy_from_slice(&99u32.to_le_bytes());
     std::fs::write(&kept[0], &bytes).unwrap();
     let e = refusal();
     assert!(
         e.to_string()
-            .contains("is of format version 99, this binary reads version 1"),
+            .contains("is of format version 99, this binary reads version 2"),
         "{e}"
     );
     restore();

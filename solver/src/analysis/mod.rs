@@ -215,26 +215,7 @@ fn explicit(
     let mut plan = solver.plan();
     if let Some(comm) = options.ranks.filter(|c| c.size() > 1) {
         solver.distribute(comm)?;
-        let counts = solver.exchange_counts();
-        let shared = solver.shared_nodes();
-        // Compact ranges share about a cross-section; a quarter of all nodes means scattered ones.
-        let hint = if 4 * shared > problem.model.node_count() {
-            ": the ranges are scattered through the mesh, a body's `numbering: spatial` makes \
-             them compact"
-        } else {
-            ""
-        };
-        plan += &format!(
-            "; {} ranks (elements in consecutive ranges, each rank integrating their nodes; {} \
-             nodes exchanged, {shared} of them shared by two ranks' elements{hint}), each step \
-             an all-gather of those nodes' force contributions ({} to {} values of 8 B sent per \
-             rank, {:.1} KB in all), one of the energy sums' leaf shares and two all-reduces",
-            counts.len(),
-            solver.exchanged_nodes(),
-            counts.iter().min().unwrap_or(&0),
-            counts.iter().max().unwrap_or(&0),
-            counts.iter().sum::<usize>() as f64 * 8e-3,
-        );
+        plan += &ranks_plan(&solver, problem.model.node_count());
     }
     let mut files = solver.output_observers()?;
     let mut watchers = Watchers::new(options, progress);
@@ -263,6 +244,31 @@ fn explicit(
         material_history: Some(solver.take_history()),
         remeshings: Vec::new(),
     })
+}
+
+/// The plan's line on the ranks of a distributed solver: how many, the nodes exchanged and what
+/// travels each step.
+pub(crate) fn ranks_plan(solver: &ExplicitSolver, node_count: usize) -> String {
+    let counts = solver.exchange_counts();
+    let shared = solver.shared_nodes();
+    // Compact ranges share about a cross-section; a quarter of all nodes means scattered ones.
+    let hint = if 4 * shared > node_count {
+        ": the ranges are scattered through the mesh, a body's `numbering: spatial` makes \
+         them compact"
+    } else {
+        ""
+    };
+    format!(
+        "; {} ranks (elements in consecutive ranges, each rank integrating their nodes; {} \
+         nodes exchanged, {shared} of them shared by two ranks' elements{hint}), each step \
+         an all-gather of those nodes' force contributions ({} to {} values of 8 B sent per \
+         rank, {:.1} KB in all), one of the energy sums' leaf shares and two all-reduces",
+        counts.len(),
+        solver.exchanged_nodes(),
+        counts.iter().min().unwrap_or(&0),
+        counts.iter().max().unwrap_or(&0),
+        counts.iter().sum::<usize>() as f64 * 8e-3,
+    )
 }
 
 /// An explicit run that remeshes as `remeshing` says

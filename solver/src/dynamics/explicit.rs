@@ -5,6 +5,7 @@
 
 mod contact_phase;
 mod ledger;
+mod rank_restart;
 mod ranks;
 mod records;
 mod restart;

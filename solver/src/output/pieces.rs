@@ -56,6 +56,31 @@ impl PieceFrames {
         })
     }
 
+    /// The observer of a resumed run: the frames `listed` (time, `.pvtu` name) were written
+    /// before, the next one is numbered after them, and rank 0's collection starts with them.
+    pub fn resumed(
+        dir: &Path,
+        stem: &str,
+        rank: usize,
+        size: usize,
+        cells: Range<usize>,
+        listed: &[(f64, String)],
+    ) -> Result<Self> {
+        let mut frames = Self::new(dir, stem, rank, size, cells)?;
+        frames.frames = listed.len();
+        if let Some(collection) = frames.collection.as_mut() {
+            for (time, file) in listed {
+                collection.add_file(*time, file.clone())?;
+            }
+        }
+        Ok(frames)
+    }
+
+    /// The name of the next frame's `.pvtu` (the name the collection lists).
+    pub fn next_name(&self) -> String {
+        format!("{}_{:05}.pvtu", self.stem, self.frames)
+    }
+
     fn piece_name(&self, frame: usize, rank: usize) -> String {
         format!("{}_{frame:05}_{rank}.vtu", self.stem)
     }
@@ -163,6 +188,7 @@ impl RunObserver for PieceFrames {
 
     fn field_frame(&mut self, frame: &FieldFrame) -> Result<Option<PathBuf>> {
         let index = self.frames;
+        let name = self.next_name();
         self.frames += 1;
         let part = frame_piece(frame, self.cells.clone());
         let piece = FieldFrame {
@@ -178,7 +204,6 @@ impl RunObserver for PieceFrames {
             return Ok(Some(path));
         }
         let text = self.pvtu_text(frame, index);
-        let name = format!("{}_{index:05}.pvtu", self.stem);
         let pvtu = self.dir.join(&name);
         std::fs::write(&pvtu, text).map_err(|source| SolverError::Write {
             path: pvtu.clone(),

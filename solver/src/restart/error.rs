@@ -80,6 +80,28 @@ pub enum CheckpointError {
         /// Why each was refused.
         reasons: String,
     },
+    /// The checkpoints were written by a run over another number of ranks: a rank's part fits
+    /// only its own rank of the same count.
+    #[error("the checkpoints in `{dir}` were written by a run over {found} ranks, this run has {this}; resume it on {found} ranks, or run again from the start without --resume")]
+    RankCount {
+        /// The folder.
+        dir: PathBuf,
+        /// The number of ranks of the run that wrote them.
+        found: usize,
+        /// The number of ranks of this run.
+        this: usize,
+    },
+    /// Other ranks of a distributed run refused their checkpoints or could not write them; each
+    /// says why in its own message.
+    #[error("rank(s) {ranks:?} of {size} stopped {what}; their own messages say why")]
+    OtherRanks {
+        /// The ranks that failed.
+        ranks: Vec<usize>,
+        /// The number of ranks.
+        size: usize,
+        /// When (`while writing the checkpoint of step 40`, ...).
+        what: String,
+    },
     /// The run is of a kind that does not checkpoint yet.
     #[error("{what} cannot be checkpointed or resumed yet; run it without --checkpoint-every, --resume and `analysis.explicit.checkpoint`")]
     Unsupported {

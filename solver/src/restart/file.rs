@@ -3,9 +3,12 @@
 //! of the folder) that never leaves a half-written checkpoint under a checkpoint's name, the
 //! last two kept, and the search for the newest good one.
 //!
-//! Layout, little-endian: `IMPACTCK`, version `u32`, the inputs ([`Inputs::write`]), payload
-//! length `u64`, payload FNV-1a 64 `u64`, header FNV-1a 64 `u64` (of every byte before it), then
-//! the payload.
+//! Layout, little-endian: `IMPACTCK`, version `u32`, the writer's rank `u32` and number of ranks
+//! `u32` (0 and 1 on one process), the inputs ([`Inputs::write`]), payload length `u64`, payload
+//! FNV-1a 64 `u64`, header FNV-1a 64 `u64` (of every byte before it), then the payload.
+//!
+//! Each rank of a distributed run writes its own file, `step<step>.rank<r>of<P>.ckpt`, and keeps
+//! its own last two; one process writes `step<step>.ckpt`.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,8 +21,8 @@ use super::inputs::Inputs;
 pub const MAGIC: &[u8; 8] = b"IMPACTCK";
 
 /// The version of the layout and payload this binary writes and reads; raised whenever either
-/// changes.
-pub const FORMAT_VERSION: u32 = 1;
+/// changes (2: the writer's rank and number of ranks in the header).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// How many checkpoints are kept: the newest and the one before it, so that a damaged newest
 /// still leaves one to resume from.
@@ -30,13 +33,57 @@ pub fn folder(out: &Path, stem: &str) -> PathBuf {
     out.join(format!("{stem}-checkpoints"))
 }
 
-/// The name of the checkpoint after `step` steps (zero-padded, so names sort as steps).
-fn file_name(step: usize) -> String {
-    format!("step{step:012}.ckpt")
+/// Which rank of how many ranks wrote a checkpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Part {
+    /// The writer's rank, `0..size`.
+    pub rank: usize,
+    /// The number of ranks of the run.
+    pub size: usize,
 }
 
-/// The checkpoints in `folder`, newest (highest step) first; none when the folder is missing.
-pub fn list(folder: &Path) -> Result<Vec<PathBuf>, CheckpointError> {
+impl Part {
+    /// The run of one process.
+    pub const ALONE: Part = Part { rank: 0, size: 1 };
+}
+
+/// The name of the checkpoint of `part` after `step` steps (zero-padded, so names sort as
+/// steps).
+fn file_name(step: usize, part: Part) -> String {
+    if part == Part::ALONE {
+        format!("step{step:012}.ckpt")
+    } else {
+        format!("step{step:012}.rank{}of{}.ckpt", part.rank, part.size)
+    }
+}
+
+/// The step and the part a checkpoint's file name gives; `None` for another name.
+pub fn parse_name(name: &str) -> Option<(usize, Part)> {
+    let rest = name.strip_prefix("step")?.strip_suffix(".ckpt")?;
+    let (step, part) = match rest.split_once(".rank") {
+        None => (rest, Part::ALONE),
+        Some((step, part)) => {
+            let (rank, size) = part.split_once("of")?;
+            let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+            if !digits(rank) || !digits(size) {
+                return None;
+            }
+            let part = Part {
+                rank: rank.parse().ok()?,
+                size: size.parse().ok()?,
+            };
+            (part.rank < part.size && part.size > 1).then_some((step, part))?
+        }
+    };
+    if step.len() != 12 || !step.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((step.parse().ok()?, part))
+}
+
+/// Every checkpoint in `folder` with its step and part, newest (highest step) first; none when
+/// the folder is missing.
+pub fn list_all(folder: &Path) -> Result<Vec<(PathBuf, usize, Part)>, CheckpointError> {
     let entries = match std::fs::read_dir(folder) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
@@ -48,24 +95,88 @@ pub fn list(folder: &Path) -> Result<Vec<PathBuf>, CheckpointError> {
             })
         }
     };
-    let mut files: Vec<PathBuf> = entries
+    let mut files: Vec<(PathBuf, usize, Part)> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("step") && n.ends_with(".ckpt"))
+        .filter_map(|p| {
+            let (step, part) = parse_name(p.file_name()?.to_str()?)?;
+            Some((p, step, part))
         })
         .collect();
-    files.sort();
-    files.reverse();
+    files.sort_by(|a, b| b.1.cmp(&a.1).then(a.2.rank.cmp(&b.2.rank)));
     Ok(files)
 }
 
-/// Writes the checkpoint of `step` into `folder` atomically, then removes all but the newest
-/// [`KEEP`]. Returns its path.
+/// The checkpoints of `part` in `folder`, newest first.
+pub fn list_part(folder: &Path, part: Part) -> Result<Vec<PathBuf>, CheckpointError> {
+    Ok(list_all(folder)?
+        .into_iter()
+        .filter(|(_, _, p)| *p == part)
+        .map(|(path, _, _)| path)
+        .collect())
+}
+
+/// The checkpoints of a run on one process in `folder`, newest first.
+pub fn list(folder: &Path) -> Result<Vec<PathBuf>, CheckpointError> {
+    list_part(folder, Part::ALONE)
+}
+
+/// Refuses to resume a run on `size` ranks from `folder` when it holds checkpoints of another
+/// number of ranks and none of this one: a rank's part fits only its own rank of the same
+/// count.
+pub fn check_rank_count(folder: &Path, size: usize) -> Result<(), CheckpointError> {
+    let all = list_all(folder)?;
+    if all.iter().any(|(_, _, p)| p.size == size) {
+        return Ok(());
+    }
+    match all.first() {
+        Some((_, _, p)) => Err(CheckpointError::RankCount {
+            dir: folder.to_path_buf(),
+            found: p.size,
+            this: size,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Removes the checkpoints of an earlier run from `folder` before a run from the beginning, so
+/// that none is resumed by mistake: those of `part`, and on rank 0 those of every other number
+/// of ranks (each rank removes its own, so that no two remove the same file).
+pub fn remove_earlier(folder: &Path, part: Part) -> Result<(), CheckpointError> {
+    for (old, _, p) in list_all(folder)? {
+        if p == part || (part.rank == 0 && p.size != part.size) {
+            match std::fs::remove_file(&old) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                Err(source) => {
+                    return Err(CheckpointError::Io {
+                        path: old,
+                        action: "removing an earlier run's checkpoint",
+                        source,
+                    })
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes the checkpoint of a run on one process after `step` steps ([`write_part`]).
 pub fn write(
     folder: &Path,
     step: usize,
+    inputs: &Inputs,
+    payload: &[u8],
+) -> Result<PathBuf, CheckpointError> {
+    write_part(folder, step, Part::ALONE, inputs, payload)
+}
+
+/// Writes the checkpoint of `part` after `step` into `folder` atomically, then removes the
+/// temporary files of `part`'s writes that a kill cut short, `part`'s checkpoints of later steps
+/// and all but its newest [`KEEP`]. Returns its path.
+pub fn write_part(
+    folder: &Path,
+    step: usize,
+    part: Part,
     inputs: &Inputs,
     payload: &[u8],
 ) -> Result<PathBuf, CheckpointError> {
@@ -81,14 +192,16 @@ pub fn write(
     let mut header = Writer::default();
     header.bytes.extend_from_slice(MAGIC);
     header.u32(FORMAT_VERSION);
+    header.u32(part.rank as u32);
+    header.u32(part.size as u32);
     inputs.write(&mut header);
     header.usize(payload.len());
     header.u64(fnv1a64(payload));
     let own = fnv1a64(&header.bytes);
     header.u64(own);
 
-    let path = folder.join(file_name(step));
-    let temporary = folder.join(format!("{}.tmp", file_name(step)));
+    let path = folder.join(file_name(step, part));
+    let temporary = folder.join(format!("{}.tmp", file_name(step, part)));
     {
         let mut f =
             std::fs::File::create(&temporary).map_err(io(&temporary, "creating the file"))?;
@@ -100,14 +213,27 @@ pub fn write(
     std::fs::rename(&temporary, &path).map_err(io(&path, "renaming the temporary file"))?;
     sync_folder(folder)?;
     // Temporary files of writes a kill cut short are no checkpoints: removed, not listed.
+    // Another rank's temporary file may be a write under way: only this part's are removed.
+    let of_part = |p: &Path| {
+        p.file_name()
+            .and_then(|n| n.to_str())
+            .and_then(|n| n.strip_suffix(".tmp"))
+            .and_then(parse_name)
+            .is_some_and(|(_, q)| q == part)
+    };
     let stale = std::fs::read_dir(folder)
         .map_err(io(folder, "listing the checkpoints"))?
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p != &temporary && p.extension().is_some_and(|x| x == "tmp"));
+        .filter(|p| p != &temporary && of_part(p));
     for old in stale {
         std::fs::remove_file(&old).map_err(io(&old, "removing a cut-short checkpoint"))?;
     }
-    for old in list(folder)?.into_iter().skip(KEEP) {
+    // This part's files of later steps were left by a run stopped after them and resumed from an
+    // earlier checkpoint (another rank lacked them, or they were damaged): this run writes them
+    // again when it gets there, and they must not take the places of the older ones kept.
+    let mine = list_all(folder)?.into_iter().filter(|(_, _, p)| *p == part);
+    let (later, kept): (Vec<_>, Vec<_>) = mine.partition(|(_, s, _)| *s > step);
+    for (old, _, _) in later.into_iter().chain(kept.into_iter().skip(KEEP)) {
         std::fs::remove_file(&old).map_err(io(&old, "removing an old checkpoint"))?;
     }
     Ok(path)
@@ -164,6 +290,8 @@ pub fn read(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, CheckpointError> {
             expected: FORMAT_VERSION,
         });
     }
+    let rank = r.u32("writer's rank").map_err(short)? as usize;
+    let size = r.u32("number of ranks").map_err(short)? as usize;
     let stored_inputs = Inputs::read(&mut r).map_err(short)?;
     let payload_len = r.usize("payload length").map_err(short)?;
     let payload_sum = r.u64("payload checksum").map_err(short)?;
@@ -194,6 +322,17 @@ pub fn read(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, CheckpointError> {
             expected: payload_sum,
         });
     }
+    let named = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .and_then(parse_name)
+        .map(|(_, part)| part);
+    if named.is_some_and(|p| p != Part { rank, size }) {
+        return Err(CheckpointError::Mismatch {
+            path: path.to_path_buf(),
+            detail: format!("it was written by rank {rank} of {size}, its name says otherwise"),
+        });
+    }
     if let Some(difference) = stored_inputs.difference(inputs) {
         return Err(CheckpointError::InputsChanged {
             path: path.to_path_buf(),
@@ -212,6 +351,7 @@ pub fn newest_good(
     folder: &Path,
     inputs: &Inputs,
 ) -> Result<(Option<(PathBuf, Vec<u8>)>, Vec<String>), CheckpointError> {
+    check_rank_count(folder, 1)?;
     let mut refused = Vec::new();
     let files = list(folder)?;
     for path in &files {
@@ -228,5 +368,38 @@ pub fn newest_good(
             dir: folder.to_path_buf(),
             reasons: refused.join("; "),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_give_back_their_step_and_part_and_no_other_name_is_a_checkpoint() {
+        for (step, part) in [
+            (0, Part::ALONE),
+            (987_654_321_012, Part::ALONE),
+            (40, Part { rank: 0, size: 2 }),
+            (40, Part { rank: 11, size: 12 }),
+        ] {
+            assert_eq!(parse_name(&file_name(step, part)), Some((step, part)));
+        }
+        assert_eq!(
+            file_name(7, Part { rank: 1, size: 3 }),
+            "step000000000007.rank1of3.ckpt"
+        );
+        for name in [
+            "step1.ckpt",
+            "step00000000000x.ckpt",
+            "step000000000007.ckpt.tmp",
+            "step000000000007.rank3of3.ckpt",
+            "step000000000007.rank0of1.ckpt",
+            "step000000000007.rank-1of3.ckpt",
+            "step000000000007.rankof3.ckpt",
+            "notes.txt",
+        ] {
+            assert_eq!(parse_name(name), None, "{name}");
+        }
     }
 }

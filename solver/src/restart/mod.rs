@@ -11,6 +11,8 @@
 //! - [`inputs`]: the hashes of the scene, mesh and material files;
 //! - [`payload`]: the state's layout;
 //! - [`problem`]: a remeshed run's problem;
+//! - [`ranks`]: the checkpoints of a run over several ranks, each rank's part and the ranks'
+//!   agreement on the step written and the step resumed from;
 //! - [`remeshings`]: the remeshings a run made so far;
 //! - [`remeshing_payload`]: the checkpoint of a run that remeshes;
 //! - `remeshing_run`: the run that remeshes, writing them and resuming from one;
@@ -25,6 +27,7 @@ pub mod inputs;
 pub mod payload;
 mod plan;
 pub mod problem;
+pub mod ranks;
 pub mod remeshing_payload;
 mod remeshing_run;
 pub mod remeshings;

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::error::{CheckpointError, RestartError};
+use super::error::RestartError;
 use super::file;
 use super::inputs::Inputs;
 use crate::analysis::ExecuteOptions;
@@ -68,13 +68,7 @@ pub(super) fn starting_checkpoint(
                 folder.display()
             ));
         }
-        for old in file::list(folder)? {
-            std::fs::remove_file(&old).map_err(|source| CheckpointError::Io {
-                path: old.clone(),
-                action: "removing an earlier run's checkpoint",
-                source,
-            })?;
-        }
+        file::remove_earlier(folder, file::Part::ALONE)?;
     }
     Ok(start)
 }

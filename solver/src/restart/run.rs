@@ -9,12 +9,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::error::{CheckpointError, RestartError};
-use super::file;
+use super::file::{self, Part};
 use super::frames::CheckpointFrames;
+use super::inputs::Inputs;
 use super::payload::{OutputMarks, Payload};
 use super::plan::{check_plan, starting_checkpoint, CheckpointPlan};
+use super::ranks::{agree, agreed_start, rank_solver, RankPayload};
 use super::remeshing_run::execute_remeshing;
 use crate::analysis::{ExecuteOptions, Execution};
+use crate::distributed::Communicator;
 use crate::dynamics::{
     ExplicitSettings, ExplicitSolver, OutputSchedule, OutputSettings, SegmentEnd,
 };
@@ -65,8 +68,9 @@ impl<'p> Observers<'p> {
     }
 }
 
-/// Whether this run can be checkpointed: an explicit analysis on one process, with an output
-/// folder, recording no contact problems; its settings, and its remeshing's where it remeshes.
+/// Whether this run can be checkpointed: an explicit analysis with an output folder, recording
+/// no contact problems, on one process or (without remeshing) over several ranks; its
+/// settings, and its remeshing's where it remeshes.
 #[allow(clippy::type_complexity)]
 fn supported<'a>(
     problem: &Problem,
@@ -82,8 +86,9 @@ fn supported<'a>(
         Analysis::Static(_) => return Err(unsupported("a static analysis")),
         Analysis::Release { .. } => return Err(unsupported("a static preload and release")),
     };
-    if options.ranks.is_some_and(|c| c.size() > 1) {
-        return Err(unsupported("a run over several MPI ranks"));
+    if remeshing.is_some() && options.ranks.is_some_and(|c| c.size() > 1) {
+        // `execute` refuses it too: a remeshing run is not distributed.
+        return Err(unsupported("a remeshing run over several ranks"));
     }
     if options.out.is_none() {
         return Err(unsupported("a run without an output folder"));
@@ -96,11 +101,93 @@ fn supported<'a>(
     Ok((settings, remeshing))
 }
 
+/// What a checkpoint is written with: where, for which inputs, and by which rank.
+struct Writing<'a> {
+    folder: PathBuf,
+    inputs: &'a Inputs,
+    comm: Option<&'a dyn Communicator>,
+}
+
+impl Writing<'_> {
+    fn part(&self) -> Part {
+        self.comm.map_or(Part::ALONE, |c| Part {
+            rank: c.rank(),
+            size: c.size(),
+        })
+    }
+
+    /// Writes the checkpoint of `solver`'s state now, with the output `marks`: the whole state
+    /// on one process, this rank's part in a distributed run (every rank writes at the same
+    /// step and all stop if one fails). Returns the path written and the payload's length.
+    fn write(
+        &self,
+        solver: &ExplicitSolver,
+        schedule: &OutputSchedule,
+        marks: OutputMarks,
+    ) -> Result<(PathBuf, usize), RestartError> {
+        let payload = Payload {
+            state: solver.rank_restart_state(schedule),
+            marks,
+        };
+        let Some(comm) = self.comm else {
+            let bytes = payload.encode();
+            let path = file::write(&self.folder, solver.step, self.inputs, &bytes)?;
+            return Ok((path, bytes.len()));
+        };
+        let bytes = RankPayload {
+            elements: solver.rank_elements().unwrap_or_default(),
+            nodes: solver.active_nodes().to_vec(),
+            payload,
+        }
+        .encode();
+        let written = file::write_part(&self.folder, solver.step, self.part(), self.inputs, &bytes);
+        let what = format!("writing the checkpoint of step {}", solver.step);
+        let path = agree(comm, written, &what)?;
+        Ok((path, bytes.len()))
+    }
+}
+
+/// The solver this run starts with, new or restored from the checkpoint `plan` resumes from
+/// (on one process, or this rank's part, agreed by all ranks), with its output schedule, the
+/// output marks and the plan's line about it.
+#[allow(clippy::type_complexity)]
+fn starting_solver<'a>(
+    problem: &'a Problem,
+    settings: &ExplicitSettings,
+    output: OutputSettings,
+    folder: &Path,
+    plan: &CheckpointPlan,
+    options: &ExecuteOptions<'a>,
+) -> Result<
+    (
+        ExplicitSolver<'a>,
+        OutputSchedule,
+        Option<OutputMarks>,
+        String,
+    ),
+    RestartError,
+> {
+    match options.ranks.filter(|c| c.size() > 1) {
+        None => {
+            let start = starting_checkpoint(folder, plan, options)?;
+            restored_or_new(problem, settings, output, start)
+        }
+        Some(comm) => {
+            let start = agreed_start(folder, plan, options, comm)?;
+            let solver = rank_solver(problem, settings, output, comm, start);
+            let (solver, schedule, marks, line) = agree(comm, solver, "restoring their part")?;
+            let ranks = crate::analysis::ranks_plan(&solver, problem.model.node_count());
+            Ok((solver, schedule, marks, ranks + &line))
+        }
+    }
+}
+
 /// Runs `analysis` on `problem` as [`crate::analysis::execute`] does, writing checkpoints as
 /// `plan` says into `<out>/<stem>-checkpoints/` and, with `plan.resume`, starting from the
 /// newest good one there. Refusals of damaged checkpoints (an older one is then used) and each
 /// checkpoint written go to `options.log`. A run that remeshes ends with `problem` replaced by
-/// the problem over its last mesh, as [`crate::analysis::execute`] leaves it.
+/// the problem over its last mesh, as [`crate::analysis::execute`] leaves it. In a distributed
+/// run (`options.ranks`) each rank writes its own part (`ranks.rs`).
 pub fn execute_checkpointed(
     problem: &mut Problem,
     analysis: &Analysis,
@@ -115,15 +202,18 @@ pub fn execute_checkpointed(
     let problem = &*problem;
     check_plan(plan, options)?;
     let out = options.out.unwrap_or(Path::new("."));
-    let folder = file::folder(out, options.stem);
+    let writing = Writing {
+        folder: file::folder(out, options.stem),
+        inputs: &plan.inputs,
+        comm: options.ranks.filter(|c| c.size() > 1),
+    };
     let output = OutputSettings {
         dir: Some(out.to_path_buf()),
         stem: options.stem.to_string(),
         fields: options.fields,
     };
-    let start = starting_checkpoint(&folder, plan, options)?;
     let (mut solver, mut schedule, marks, mut plan_line) =
-        restored_or_new(problem, settings, output, start)?;
+        starting_solver(problem, settings, output, &writing.folder, plan, options)?;
     let marks = marks.unwrap_or_default();
     if let Some(s) = plan.every.every_s {
         plan_line += &format!("; a checkpoint every {s} s of wall time");
@@ -132,16 +222,22 @@ pub fn execute_checkpointed(
         plan_line += &format!("; a checkpoint every {n} steps");
     }
     let plan_text = solver.plan() + &plan_line;
+    let part = writing.part();
 
     let started = Instant::now();
     let mut observers = Observers {
-        history: Some(HistoryFile::new(
-            out.join(format!("{}_history.csv", options.stem)),
-        )),
-        frames: if options.fields {
-            Some(CheckpointFrames::new(out, options.stem, &marks.frames)?)
-        } else {
-            None
+        history: (part.rank == 0)
+            .then(|| HistoryFile::new(out.join(format!("{}_history.csv", options.stem)))),
+        frames: match (options.fields, solver.rank_elements()) {
+            (false, _) => None,
+            (true, None) => Some(CheckpointFrames::new(out, options.stem, &marks.frames)?),
+            (true, Some(cells)) => Some(CheckpointFrames::pieces(
+                out,
+                options.stem,
+                (part.rank, part.size),
+                cells,
+                &marks.frames,
+            )?),
         },
         deadline: options.time_limit_s.map(Deadline::after),
         stop: options.stop.clone().map(StopFlag),
@@ -167,11 +263,14 @@ pub fn execute_checkpointed(
         let since = last;
         let end = solver.run_segment(&mut set, &mut schedule, &mut |s| {
             every.every_steps.is_some_and(|n| s.step % n == 0)
-                || every
-                    .every_s
-                    .is_some_and(|t| since.elapsed().as_secs_f64() >= t)
+                || every.every_s.is_some_and(|t| {
+                    // One rank's clock decides for all: every rank writes the same step.
+                    s.on_any_rank(since.elapsed().as_secs_f64() >= t)
+                })
         })?;
         if end == SegmentEnd::Finished {
+            // The final stresses of a distributed run are read from the whole history.
+            solver.gather_history();
             set.finish()?;
             written = std::mem::take(&mut set.written);
             break;
@@ -179,25 +278,30 @@ pub fn execute_checkpointed(
         written = std::mem::take(&mut set.written);
         drop(set);
         let clock = Instant::now();
-        let payload = Payload {
-            state: solver.restart_state(&schedule),
-            marks: observers.marks(),
-        }
-        .encode();
-        let path = file::write(&folder, solver.step, &plan.inputs, &payload)?;
+        let (path, bytes) = writing.write(&solver, &schedule, observers.marks())?;
         let took = clock.elapsed().as_secs_f64();
         count += 1;
         seconds += took;
-        (options.log)(&format!(
-            "checkpoint `{}`: step {}, t = {:.6e} s, {:.1} MB in {took:.3} s",
-            path.display(),
-            solver.step,
-            solver.time,
-            payload.len() as f64 / 1e6
-        ));
+        if part.rank == 0 {
+            let ranks = if part.size > 1 {
+                format!(
+                    " (rank 0's part; each of the {} ranks writes its own)",
+                    part.size
+                )
+            } else {
+                String::new()
+            };
+            (options.log)(&format!(
+                "checkpoint `{}`: step {}, t = {:.6e} s, {:.1} MB in {took:.3} s{ranks}",
+                path.display(),
+                solver.step,
+                solver.time,
+                bytes as f64 / 1e6
+            ));
+        }
         last = Instant::now();
     }
-    if count > 0 {
+    if count > 0 && part.rank == 0 {
         (options.log)(&format!(
             "{count} checkpoints written in {seconds:.3} s of the run's {:.3} s of wall time",
             started.elapsed().as_secs_f64()

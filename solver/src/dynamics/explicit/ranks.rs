@@ -141,8 +141,9 @@ impl<'p> ExplicitSolver<'p> {
         (lowest != 0).then(|| (u64::MAX - lowest) as usize)
     }
 
-    /// Whether `mine` holds on any rank (collective; `mine` on one process).
-    pub(super) fn on_any_rank(&self, mine: bool) -> bool {
+    /// Whether `mine` holds on any rank (collective; `mine` on one process): a decision every
+    /// rank takes alike, such as a checkpoint falling due by one rank's clock.
+    pub fn on_any_rank(&self, mine: bool) -> bool {
         match &self.ranks {
             Some(share) => share.comm.max_u64(u64::from(mine)) != 0,
             None => mine,
@@ -213,7 +214,7 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Gives every rank the whole material history before output reads it (collective; nothing
     /// on one process or without a history).
-    pub(super) fn gather_history(&mut self) {
+    pub fn gather_history(&mut self) {
         if let Some(share) = &self.ranks {
             if !self.history.is_empty() {
                 gather_history(

@@ -1,0 +1,180 @@
+//! The state one rank of a distributed run ([`super::ExplicitSolver::distribute`]) holds between
+//! two steps, for its own checkpoint ([`crate::restart`]): what its next steps read and nothing
+//! the other ranks hold. A rank reads and writes the nodal values of its *active* nodes only
+//! (its elements' nodes and the exchanged ones, `crate::distributed::NodePlan`) and the material
+//! history of its own elements only; the other entries of its arrays are stale copies that a
+//! gather overwrites before any output reads them. So a rank's part is those values, in the
+//! order of its active runs and element range, with the values every rank shares (the step and
+//! time, the folded energy ledger, the contact totals, the output schedule).
+
+use std::ops::Range;
+
+use super::{ExplicitSolver, OutputSchedule, RestartState, ScheduleRecord};
+use crate::error::{Result, SolverError};
+use crate::model::{BodyHistory, MaterialHistory};
+
+/// The local element ids of `body` (global ids `body_elements`) that lie in `elements`.
+fn local(body_elements: &Range<usize>, elements: &Range<usize>) -> Range<usize> {
+    let start = elements.start.clamp(body_elements.start, body_elements.end);
+    let end = elements.end.clamp(body_elements.start, body_elements.end);
+    start - body_elements.start..end - body_elements.start
+}
+
+impl<'p> ExplicitSolver<'p> {
+    /// The nodes this rank integrates, as ascending runs of ids (every node on one process).
+    pub fn active_nodes(&self) -> &[Range<usize>] {
+        self.nodes.active()
+    }
+
+    /// This rank's part of the state between two steps ([`RestartState`] whose nodal vectors
+    /// hold the values of [`Self::active_nodes`] one run after the other, and whose histories
+    /// hold the elements of [`Self::rank_elements`] only), with the run's output schedule. On
+    /// one process: the whole state.
+    pub fn rank_restart_state(&self, schedule: &OutputSchedule) -> RestartState {
+        let Some(elements) = self.rank_elements() else {
+            return self.restart_state(schedule);
+        };
+        let active = self.nodes.active();
+        let pick = |v: &[nalgebra::Vector3<f64>]| -> Vec<nalgebra::Vector3<f64>> {
+            active
+                .iter()
+                .flat_map(|r| v[r.clone()].iter().copied())
+                .collect()
+        };
+        let model = &self.problem.model;
+        let history = MaterialHistory {
+            bodies: model
+                .bodies
+                .iter()
+                .zip(&self.history.bodies)
+                .map(|(body, h)| {
+                    h.as_ref().map(|h| {
+                        let mine = local(&body.elements, &elements);
+                        BodyHistory {
+                            state_len: h.state_len,
+                            values: h.values[mine.start * h.state_len..mine.end * h.state_len]
+                                .to_vec(),
+                            cauchy: h.cauchy[mine].to_vec(),
+                        }
+                    })
+                })
+                .collect(),
+        };
+        RestartState {
+            u: pick(&self.u),
+            v_half: pick(&self.v_half),
+            v_full: pick(&self.v_full),
+            du_prev: pick(&self.du_prev),
+            reaction: pick(&self.reaction),
+            step: self.step,
+            time: self.time,
+            time_step: self.dt,
+            step_origin: self.step_origin,
+            time_origin: self.time_origin,
+            dt_before_resume: self.dt_before_resume,
+            energies: self.energies,
+            pending: self.pending,
+            history,
+            contact_totals: self.contact_totals,
+            schedule: ScheduleRecord::from(schedule),
+        }
+    }
+
+    /// Puts back this rank's part `state` ([`Self::rank_restart_state`] of the same rank of the
+    /// same run) into this new, distributed solver, which then goes on as the one that wrote
+    /// it; returns the run's output schedule. The entries of other ranks keep the new solver's
+    /// values, which no step reads before a gather replaces them. Errors when the part does not
+    /// fit this rank (its node count, its histories) or the time step differs.
+    pub fn restore_rank(&mut self, state: RestartState) -> Result<OutputSchedule> {
+        let misfit = |message: String| SolverError::InvalidScene {
+            entity: "checkpoint".into(),
+            message,
+        };
+        let Some(elements) = self.rank_elements() else {
+            return Err(misfit("a rank's part restored on one process".into()));
+        };
+        let active: Vec<Range<usize>> = self.nodes.active().to_vec();
+        let count: usize = active.iter().map(Range::len).sum();
+        let lengths = [
+            state.u.len(),
+            state.v_half.len(),
+            state.v_full.len(),
+            state.du_prev.len(),
+            state.reaction.len(),
+        ];
+        if lengths.iter().any(|&l| l != count) {
+            return Err(misfit(format!(
+                "{lengths:?} nodal values for the {count} nodes this rank integrates"
+            )));
+        }
+        if self.dt.to_bits() != state.time_step.to_bits() || state.step < state.step_origin {
+            return Err(misfit(format!(
+                "written with a time step of {:e} s at step {} (segment from step {}), but this \
+                 scene gives {:e} s",
+                state.time_step, state.step, state.step_origin, self.dt
+            )));
+        }
+        self.restore_rank_history(&elements, state.history)?;
+        for (whole, part) in [
+            (&mut self.u, state.u),
+            (&mut self.v_half, state.v_half),
+            (&mut self.v_full, state.v_full),
+            (&mut self.du_prev, state.du_prev),
+            (&mut self.reaction, state.reaction),
+        ] {
+            let mut values = part.into_iter();
+            for i in active.iter().flat_map(Clone::clone) {
+                whole[i] = values.next().unwrap_or_default();
+            }
+        }
+        self.step = state.step;
+        self.time = state.time;
+        self.step_origin = state.step_origin;
+        self.time_origin = state.time_origin;
+        self.dt_before_resume = state.dt_before_resume;
+        self.energies = state.energies;
+        self.pending = state.pending;
+        self.contact_totals = state.contact_totals;
+        Ok(OutputSchedule::from(state.schedule))
+    }
+
+    /// Copies the histories of this rank's `elements` from `part` into the solver's.
+    fn restore_rank_history(
+        &mut self,
+        elements: &Range<usize>,
+        part: MaterialHistory,
+    ) -> Result<()> {
+        let misfit = || SolverError::InvalidScene {
+            entity: "checkpoint".into(),
+            message: "its material histories do not fit this rank's bodies and elements".into(),
+        };
+        let model = &self.problem.model;
+        if part.bodies.len() != model.bodies.len() {
+            return Err(misfit());
+        }
+        for ((body, whole), part) in model
+            .bodies
+            .iter()
+            .zip(self.history.bodies.iter_mut())
+            .zip(part.bodies)
+        {
+            match (whole, part) {
+                (None, None) => {}
+                (Some(whole), Some(part)) => {
+                    let mine = local(&body.elements, elements);
+                    let len = whole.state_len;
+                    if part.state_len != len
+                        || part.values.len() != mine.len() * len
+                        || part.cauchy.len() != mine.len()
+                    {
+                        return Err(misfit());
+                    }
+                    whole.values[mine.start * len..mine.end * len].copy_from_slice(&part.values);
+                    whole.cauchy[mine].copy_from_slice(&part.cauchy);
+                }
+                _ => return Err(misfit()),
+            }
+        }
+        Ok(())
+    }
+}
