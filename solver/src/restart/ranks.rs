@@ -217,25 +217,25 @@ pub(super) fn agreed_start(
     }))
 }
 
+/// The solver a run starts with, its output schedule, the output marks a checkpoint stored
+/// (none for a run from the beginning) and the plan's line about where it starts.
+pub(super) type StartingSolver<'a> = (
+    ExplicitSolver<'a>,
+    OutputSchedule,
+    Option<OutputMarks>,
+    String,
+);
+
 /// A distributed solver for this rank (over `problem`, rank `comm.rank()`), new or restored from
 /// its checkpoint `start`, with the output schedule, the output marks the checkpoint stored and
 /// a line for the plan. Not collective by itself: the caller [`agree`]s on the result.
-#[allow(clippy::type_complexity)]
 pub(super) fn rank_solver<'a>(
     problem: &'a Problem,
     settings: &ExplicitSettings,
     output: OutputSettings,
     comm: &'a dyn Communicator,
     start: Option<(PathBuf, Vec<u8>)>,
-) -> Result<
-    (
-        ExplicitSolver<'a>,
-        OutputSchedule,
-        Option<OutputMarks>,
-        String,
-    ),
-    RestartError,
-> {
+) -> Result<StartingSolver<'a>, RestartError> {
     let mut solver = ExplicitSolver::new(problem, settings.clone(), output)?;
     solver.distribute(comm)?;
     let Some((path, bytes)) = start else {

@@ -14,7 +14,7 @@ use super::frames::CheckpointFrames;
 use super::inputs::Inputs;
 use super::payload::{OutputMarks, Payload};
 use super::plan::{check_plan, starting_checkpoint, CheckpointPlan};
-use super::ranks::{agree, agreed_start, rank_solver, RankPayload};
+use super::ranks::{agree, agreed_start, rank_solver, RankPayload, StartingSolver};
 use super::remeshing_run::execute_remeshing;
 use crate::analysis::{ExecuteOptions, Execution};
 use crate::distributed::Communicator;
@@ -150,7 +150,6 @@ impl Writing<'_> {
 /// The solver this run starts with, new or restored from the checkpoint `plan` resumes from
 /// (on one process, or this rank's part, agreed by all ranks), with its output schedule, the
 /// output marks and the plan's line about it.
-#[allow(clippy::type_complexity)]
 fn starting_solver<'a>(
     problem: &'a Problem,
     settings: &ExplicitSettings,
@@ -158,15 +157,7 @@ fn starting_solver<'a>(
     folder: &Path,
     plan: &CheckpointPlan,
     options: &ExecuteOptions<'a>,
-) -> Result<
-    (
-        ExplicitSolver<'a>,
-        OutputSchedule,
-        Option<OutputMarks>,
-        String,
-    ),
-    RestartError,
-> {
+) -> Result<StartingSolver<'a>, RestartError> {
     match options.ranks.filter(|c| c.size() > 1) {
         None => {
             let start = starting_checkpoint(folder, plan, options)?;
@@ -325,21 +316,12 @@ pub fn execute_checkpointed(
 
 /// The solver and output schedule restored from the checkpoint `start` (with the output marks
 /// it stored and a line for the plan), or new ones for a run from the beginning.
-#[allow(clippy::type_complexity)]
 fn restored_or_new<'a>(
     problem: &'a Problem,
     settings: &ExplicitSettings,
     output: OutputSettings,
     start: Option<(PathBuf, Vec<u8>)>,
-) -> Result<
-    (
-        ExplicitSolver<'a>,
-        OutputSchedule,
-        Option<OutputMarks>,
-        String,
-    ),
-    RestartError,
-> {
+) -> Result<StartingSolver<'a>, RestartError> {
     let Some((path, bytes)) = start else {
         return Ok((
             ExplicitSolver::new(problem, settings.clone(), output)?,

@@ -95,13 +95,7 @@ impl<'p> ExplicitSolver<'p> {
         };
         let active: Vec<Range<usize>> = self.nodes.active().to_vec();
         let count: usize = active.iter().map(Range::len).sum();
-        let lengths = [
-            state.u.len(),
-            state.v_half.len(),
-            state.v_full.len(),
-            state.du_prev.len(),
-            state.reaction.len(),
-        ];
+        let lengths = state.nodal_lengths();
         if lengths.iter().any(|&l| l != count) {
             return Err(misfit(format!(
                 "{lengths:?} nodal values for the {count} nodes this rank integrates"
@@ -114,6 +108,7 @@ impl<'p> ExplicitSolver<'p> {
                 state.time_step, state.step, state.step_origin, self.dt
             )));
         }
+        self.restore_clock_and_ledgers(&state);
         self.restore_rank_history(&elements, state.history)?;
         for (whole, part) in [
             (&mut self.u, state.u),
@@ -127,14 +122,6 @@ impl<'p> ExplicitSolver<'p> {
                 whole[i] = values.next().unwrap_or_default();
             }
         }
-        self.step = state.step;
-        self.time = state.time;
-        self.step_origin = state.step_origin;
-        self.time_origin = state.time_origin;
-        self.dt_before_resume = state.dt_before_resume;
-        self.energies = state.energies;
-        self.pending = state.pending;
-        self.contact_totals = state.contact_totals;
         Ok(OutputSchedule::from(state.schedule))
     }
 

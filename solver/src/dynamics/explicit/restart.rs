@@ -109,6 +109,19 @@ pub struct RestartState {
     pub schedule: ScheduleRecord,
 }
 
+impl RestartState {
+    /// The lengths of its nodal vectors: `u`, `v_half`, `v_full`, `du_prev`, `reaction`.
+    pub(super) fn nodal_lengths(&self) -> [usize; 5] {
+        [
+            self.u.len(),
+            self.v_half.len(),
+            self.v_full.len(),
+            self.du_prev.len(),
+            self.reaction.len(),
+        ]
+    }
+}
+
 impl<'p> ExplicitSolver<'p> {
     /// The state between two steps with the run's output schedule (see [`RestartState`]).
     pub fn restart_state(&self, schedule: &OutputSchedule) -> RestartState {
@@ -139,20 +152,14 @@ impl<'p> ExplicitSolver<'p> {
         problem: &'p Problem,
         settings: ExplicitSettings,
         output: OutputSettings,
-        state: RestartState,
+        mut state: RestartState,
     ) -> Result<(Self, OutputSchedule)> {
         let misfit = |message: String| SolverError::InvalidScene {
             entity: "checkpoint".into(),
             message,
         };
         let n = problem.model.node_count();
-        let lengths = [
-            state.u.len(),
-            state.v_half.len(),
-            state.v_full.len(),
-            state.du_prev.len(),
-            state.reaction.len(),
-        ];
+        let lengths = state.nodal_lengths();
         if lengths.iter().any(|&l| l != n) {
             return Err(misfit(format!(
                 "{lengths:?} nodal values for a model of {n} nodes: the checkpoint is of another \
@@ -187,26 +194,34 @@ impl<'p> ExplicitSolver<'p> {
                 state.step, state.step_origin
             )));
         }
-        let mut solver = Self::with_history(problem, settings, output, state.history)?;
+        let history = std::mem::take(&mut state.history);
+        let mut solver = Self::with_history(problem, settings, output, history)?;
         if solver.dt.to_bits() != state.time_step.to_bits() {
             return Err(misfit(format!(
                 "written with a time step of {:e} s, but this scene gives {:e} s",
                 state.time_step, solver.dt
             )));
         }
+        solver.restore_clock_and_ledgers(&state);
         solver.u = state.u;
         solver.v_half = state.v_half;
         solver.v_full = state.v_full;
         solver.du_prev = state.du_prev;
         solver.reaction = state.reaction;
-        solver.step = state.step;
-        solver.time = state.time;
-        solver.step_origin = state.step_origin;
-        solver.time_origin = state.time_origin;
-        solver.dt_before_resume = state.dt_before_resume;
-        solver.energies = state.energies;
-        solver.pending = state.pending;
-        solver.contact_totals = state.contact_totals;
         Ok((solver, OutputSchedule::from(state.schedule)))
+    }
+
+    /// The step, the time and the segment's origin, the time step forced before the resume,
+    /// the energy ledgers and the contact totals of `state`: what a restored run reads besides
+    /// its nodal values and histories, the same on one process and on every rank.
+    pub(super) fn restore_clock_and_ledgers(&mut self, state: &RestartState) {
+        self.step = state.step;
+        self.time = state.time;
+        self.step_origin = state.step_origin;
+        self.time_origin = state.time_origin;
+        self.dt_before_resume = state.dt_before_resume;
+        self.energies = state.energies;
+        self.pending = state.pending;
+        self.contact_totals = state.contact_totals;
     }
 }
