@@ -14,52 +14,18 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::CheckpointEvery;
 use impact_solver::restart::{
-    execute_checkpointed, file, CheckpointError, CheckpointPlan, Inputs, RestartError,
+    execute_checkpointed, file, CheckpointError, CheckpointPlan, RestartError,
 };
-use impact_solver::scene::{build_problem, Analysis, Scene};
+use impact_solver::scene::build_problem;
 
 mod restart_common;
-use restart_common::{bits, same_files, stopped};
-
-const STEM: &str = "small-drop";
-
-fn scene_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/restart/small-drop.yaml")
-}
-
-/// The small drop test, shortened to 1.2 ms (about 580 steps) with a frame every 0.2 ms.
-fn scene() -> Scene {
-    let mut scene = Scene::from_yaml_file(&scene_path()).unwrap();
-    let Analysis::Explicit(a) = &mut scene.analysis else {
-        panic!("the small drop is explicit")
-    };
-    a.settings.end_time = 1.2e-3;
-    scene
-}
-
-fn inputs() -> Inputs {
-    Inputs::of_scene_file(
-        &scene_path(),
-        &Scene::from_yaml_file(&scene_path()).unwrap(),
-    )
-    .unwrap()
-}
-
-/// The log lines of one rank.
-#[derive(Default, Clone)]
-struct Log(Arc<Mutex<Vec<String>>>);
-
-impl Log {
-    fn lines(&self) -> Vec<String> {
-        self.0.lock().unwrap().clone()
-    }
-}
+use restart_common::{bits, inputs, same_files, scene, stopped, Log, STEM};
 
 /// `run(rank)` on each of `ranks` threads, one rank each; the results in rank order.
 fn on_ranks<T: Send>(ranks: usize, run: impl Fn(&dyn Communicator) -> T + Sync) -> Vec<T> {
