@@ -73,7 +73,7 @@ pub(super) fn evaluate(
 
 #[cfg(test)]
 mod tests {
-    use super::super::synthetic::{bar, explicit, history, rest, run};
+    use super::super::synthetic::{bar, explicit, history, rest, run, value};
     use super::super::{Measure, MeasureError};
     use super::EnergyError;
     use crate::curve::CurveError;
@@ -85,10 +85,6 @@ mod tests {
         let problem = bar();
         let h = history(&[("kinetic", kinetic), ("stored_energy", stored)]);
         explicit(run(&problem, rest, Some(h)), &problem, rest, 1.0, 0.0125)
-    }
-
-    fn value(measure: Measure, run: &Execution) -> f64 {
-        measure.evaluate(&bar(), run).unwrap()
     }
 
     fn error(measure: Measure, run: &Execution) -> EnergyError {

@@ -166,15 +166,11 @@ fn affine_field_error(
 
 #[cfg(test)]
 mod tests {
-    use super::super::synthetic::{bar, explicit, rest, run};
+    use super::super::synthetic::{bar, explicit, rest, run, value};
     use super::super::{FieldQuantity, Measure, MeasureError, NodeScope};
     use super::MotionError;
     use impact_solver::analysis::Execution;
     use impact_solver::Vector3;
-
-    fn value(measure: Measure, run: &Execution) -> f64 {
-        measure.evaluate(&bar(), run).unwrap()
-    }
 
     fn error(measure: Measure, run: &Execution) -> MotionError {
         match measure.evaluate(&bar(), run) {

@@ -237,7 +237,7 @@ fn value_at_peak(y: &[f64], peak: &[f64]) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::synthetic::{bar, history, rest, run};
+    use super::super::synthetic::{bar, history, rest, run, value};
     use super::super::{Measure, MeasureError};
     use super::{peak_over_neighbours, value_at_peak, SignalError};
     use crate::curve::CurveError;
@@ -262,10 +262,6 @@ mod tests {
                 ("zero", &[0.0; 5]),
             ])),
         )
-    }
-
-    fn value(measure: Measure, run: &Execution) -> f64 {
-        measure.evaluate(&bar(), run).unwrap()
     }
 
     fn error(measure: Measure, run: &Execution) -> SignalError {

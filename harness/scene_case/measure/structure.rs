@@ -229,16 +229,12 @@ fn force_equilibrium_error(
 
 #[cfg(test)]
 mod tests {
-    use super::super::synthetic::{bar, history, rest, run, DENSITY, VOLUME};
+    use super::super::synthetic::{bar, history, rest, run, value, DENSITY, VOLUME};
     use super::super::{Measure, MeasureError};
     use super::StructureError;
     use crate::beam::cracks::CrackError;
     use crate::beam::history::HistoryError;
     use impact_solver::analysis::Execution;
-
-    fn value(measure: Measure, run: &Execution) -> f64 {
-        measure.evaluate(&bar(), run).unwrap()
-    }
 
     fn error(measure: Measure, run: &Execution) -> StructureError {
         match measure.evaluate(&bar(), run) {

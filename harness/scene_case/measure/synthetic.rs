@@ -133,3 +133,8 @@ pub fn explicit(
 pub fn rest(_: &Vector3<f64>) -> Vector3<f64> {
     Vector3::zeros()
 }
+
+/// The value of `measure` on the run `run` of [`bar`], which must evaluate.
+pub fn value(measure: super::Measure, run: &Execution) -> f64 {
+    measure.evaluate(&bar(), run).unwrap()
+}
