@@ -39,6 +39,20 @@ analysis: {analysis}
     Scene::from_yaml(&text, "bar.yaml").unwrap()
 }
 
+/// The options of an analysis of stem `bar` writing into `out`, its stop flag already raised
+/// (as a signal raises it), without fields.
+fn raised_stop(out: Option<&std::path::Path>) -> ExecuteOptions<'_> {
+    ExecuteOptions {
+        out,
+        stem: "bar",
+        fields: false,
+        time_limit_s: None,
+        stop: Some(Arc::new(AtomicBool::new(true))),
+        ranks: None,
+        log: &impact_solver::analysis::log_to_stderr,
+    }
+}
+
 fn static_settings(scene: &Scene) -> impact_solver::statics::StaticSettings {
     let Analysis::Static(settings) = &scene.analysis else {
         unreachable!()
@@ -84,15 +98,7 @@ fn a_raised_stop_flag_ends_the_preload_of_a_release() {
         ),
     );
     let mut problem = build_problem(&scene).unwrap();
-    let options = ExecuteOptions {
-        out: None,
-        stem: "bar",
-        fields: false,
-        time_limit_s: None,
-        stop: Some(Arc::new(AtomicBool::new(true))),
-        ranks: None,
-        log: &impact_solver::analysis::log_to_stderr,
-    };
+    let options = raised_stop(None);
     let mut reported = Vec::new();
     let start = Instant::now();
     let outcome = execute(&mut problem, &scene.analysis, &options, &mut |f| {
@@ -217,15 +223,7 @@ analysis: {{ static: {{ load_steps: 50 }} }}
     let scene = Scene::from_yaml(&text, "bar.yaml").unwrap();
     let mut problem = build_problem(&scene).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let options = ExecuteOptions {
-        out: Some(dir.path()),
-        stem: "bar",
-        fields: false,
-        time_limit_s: None,
-        stop: Some(Arc::new(AtomicBool::new(true))),
-        ranks: None,
-        log: &impact_solver::analysis::log_to_stderr,
-    };
+    let options = raised_stop(Some(dir.path()));
     match execute(&mut problem, &scene.analysis, &options, &mut |_| {}) {
         Err(SolverError::Interrupted { step, .. }) => assert_eq!(step, 1),
         Err(e) => panic!("expected an interruption, got {e}"),
