@@ -196,3 +196,71 @@ fn a_reopened_crack_is_not_healed() {
     assert!(!healed, "a reopened crack read as healed");
     assert!(dissipation > 0.0, "the cycle gave back {dissipation} J/m^3");
 }
+
+/// `sigma : C0^-1 : sigma / 2`, the least elastic energy a point at the stress `s` gives back on
+/// unloading (its unloading stiffness is at most the virgin one; tensor shears counted twice).
+fn elastic_energy(s: &[f64; 6], youngs: f64, poisson: f64) -> f64 {
+    let trace = s[0] + s[1] + s[2];
+    let normal: f64 = (0..3)
+        .map(|i| s[i] * ((1.0 + poisson) * s[i] - poisson * trace))
+        .sum();
+    let shear: f64 = (3..6).map(|i| 2.0 * (1.0 + poisson) * s[i] * s[i]).sum();
+    0.5 * (normal + shear) / youngs
+}
+
+/// A crack opened in x far past the peak (its boundary exhausted), the point then compressed
+/// in y and stretched in x again under that compression: a dissipative material takes in, from
+/// the virgin state, at least the elastic energy it could give back, `int sigma : dE >=
+/// sigma : C0^-1 : sigma / 2`, at every point of the path. Kupfer's term `theta nu <-s_min>` of
+/// the driver (`crack_strain`) must not open the exhausted plane against a compressive traction
+/// (`examples/tension_boundary_work.rs` prints the path).
+#[test]
+fn a_crack_stretched_under_lateral_compression_gives_back_no_work() {
+    use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
+    use impact_solver::material::microplane::experiments::QUASI_STATIC_RATE;
+    let parameters = common::shipped_concrete("thesis-concrete-tension-boundary");
+    let (youngs, poisson) = (parameters.youngs_modulus, parameters.poisson_ratio);
+    let model = MicroplaneConcrete::new(MicroplaneParameters {
+        rate_effect: None,
+        ..parameters
+    })
+    .unwrap();
+    let corner = |x: f64, y: f64| [x, y, 0.0, 0.0, 0.0, 0.0];
+    let corners = [
+        corner(0.0, 0.0),
+        corner(5e-3, 0.0),
+        corner(5e-3, -1.2e-3),
+        corner(1e-2, -1.2e-3),
+    ];
+    let mut point = MaterialPoint::new(&model, H).unwrap();
+    let (mut work, mut worst) = (0.0, (f64::INFINITY, 0, 0.0));
+    for (leg, pair) in corners.windows(2).enumerate() {
+        for i in 1..=400 {
+            let t = i as f64 / 400.0;
+            let strain: [f64; 6] =
+                std::array::from_fn(|j| pair[0][j] + t * (pair[1][j] - pair[0][j]));
+            let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
+            let (e0, s0) = (point.strain, point.stress);
+            let p = point.strain_step(strain, dt);
+            work += (0..6)
+                .map(|j| {
+                    let factor = if j < 3 { 1.0 } else { 2.0 };
+                    factor * 0.5 * (s0[j] + p.stress[j]) * (p.strain[j] - e0[j])
+                })
+                .sum::<f64>();
+            let margin = work - elastic_energy(&p.stress, youngs, poisson);
+            if margin < worst.0 {
+                worst = (margin, leg + 1, work);
+            }
+        }
+    }
+    // 1 J/m^3 of the trapezoidal rule's error over 1200 steps (the work is of order 1e5 J/m^3).
+    assert!(
+        worst.0 >= -1.0,
+        "work less the elastic energy fell to {:.1} J/m^3 on leg {} (work {:.1} J/m^3); \
+         {work:.1} J/m^3 at the end",
+        worst.0,
+        worst.1,
+        worst.2
+    );
+}

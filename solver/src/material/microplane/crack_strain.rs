@@ -48,6 +48,14 @@
 //! boundary of `tension_boundary`), on the secant `q = F(y_max) y / y_max` to the origin below
 //! it, and zero where the plane is closed (`q <= 0`). The planes are coupled through `eps_cr` and
 //! solved by Gauss-Seidel sweeps to a fixed point.
+//!
+//! A plane does not open against a compressive traction: where the root lies beyond the crack
+//! strain of the last update and its traction `t = q - theta nu <-s_min>` is negative (the
+//! boundary `F(y)` exhausted below Kupfer's term), the plane opens only to where its traction is
+//! zero, or keeps its last crack strain. Otherwise an exhausted plane under a lateral compression
+//! opened while pushed shut, with the traction `F(y) - theta nu <-s_min> < 0`, and its crack work
+//! `t dy` was negative: the point generated energy (`examples/tension_boundary_work.rs`). The
+//! lateral planes of uniaxial compression, at zero traction, still open by Kupfer's term.
 
 use super::directions::MAX_PLANES;
 use super::state;
@@ -95,13 +103,17 @@ impl CrackStrainSolver {
     /// The part of a plane's driver that does not change within the update: the traction of the
     /// last stress less the elastic traction of the last strain less cracks, and Kupfer's term
     /// `theta nu <-s_min>` of the last stress (see the module doc).
-    fn driver_base(&self, plane: &Microplane) -> f64 {
+    /// Returned as `(base, kupfer)`, `base` including `kupfer`.
+    fn driver_base(&self, plane: &Microplane) -> (f64, f64) {
         let (s, e) = (&self.previous_stress, &self.previous_elastic);
         let (m, k) = (&plane.m, &plane.k);
         let (smm, skk, smk) = (bilinear(m, s, m), bilinear(k, s, k), bilinear(m, s, k));
         let smallest = 0.5 * (smm + skk) - (0.25 * (smm - skk).powi(2) + smk * smk).sqrt();
-        normal_part(&plane.nn, s) - self.elastic_traction(&plane.nn, e)
-            + self.strain_weight * self.poisson * (-smallest).max(0.0)
+        let kupfer = self.strain_weight * self.poisson * (-smallest).max(0.0);
+        (
+            normal_part(&plane.nn, s) - self.elastic_traction(&plane.nn, e) + kupfer,
+            kupfer,
+        )
     }
 
     /// `n . C : e . n = lambda tr(e) + 2 mu e_N`, the elastic traction of the strain `e`.
@@ -116,9 +128,24 @@ impl CrackStrainSolver {
         6.0 * plane.weight * (self.lambda + self.two_mu)
     }
 
+    /// The crack strain of a plane whose driver is `q0` at zero own crack strain, with Kupfer's
+    /// term `kupfer` in it, the largest crack strain `reached` and the crack strain `last` of the
+    /// last update (see the module doc): the root of the boundary or its secant, except that the
+    /// plane does not open beyond `last` against a compressive traction `t = q0 - kupfer - k y`.
+    /// There it opens only to where its traction is zero, `y = (q0 - kupfer) / k`, or stays at
+    /// `last`, so that the work `t dy` of a plane that opens is never negative.
+    fn plane_crack_strain(&self, q0: f64, kupfer: f64, k: f64, reached: f64, last: f64) -> f64 {
+        let root = self.boundary_root(q0, k, reached);
+        if root > last && q0 - kupfer - k * root < 0.0 {
+            return root.min(last.max((q0 - kupfer) / k));
+        }
+        root
+    }
+
     /// The crack strain of a plane whose driver is `q0` at zero own crack strain, with the
-    /// largest crack strain `reached` (see the module doc).
-    fn plane_crack_strain(&self, q0: f64, k: f64, reached: f64) -> f64 {
+    /// largest crack strain `reached`, on the boundary `q = F(y)` beyond `reached`, on its secant
+    /// below it, and zero where the driver is not positive.
+    fn boundary_root(&self, q0: f64, k: f64, reached: f64) -> f64 {
         if q0 <= 0.0 {
             return 0.0;
         }
@@ -145,10 +172,10 @@ impl CrackStrainSolver {
     /// the histories untouched, while no plane has cracked and none reaches its strength.
     pub(super) fn solve(&self, planes: &[Microplane], histories: &mut [f32], strain: &Sym) -> Sym {
         let slot = |p: usize| state::PER_PLANE * p + state::D_POSITIVE;
-        let mut base = [0.0; MAX_PLANES];
-        let base = &mut base[..planes.len()];
-        for (b, plane) in base.iter_mut().zip(planes) {
-            *b = self.driver_base(plane);
+        let (mut base, mut kupfer) = ([0.0; MAX_PLANES], [0.0; MAX_PLANES]);
+        let (base, kupfer) = (&mut base[..planes.len()], &mut kupfer[..planes.len()]);
+        for ((b, c), plane) in base.iter_mut().zip(kupfer.iter_mut()).zip(planes) {
+            (*b, *c) = self.driver_base(plane);
         }
         let driver = |p: usize, e: &Sym| base[p] + self.elastic_traction(&planes[p].nn, e);
         let cracked = (0..planes.len()).any(|p| histories[slot(p)] > 0.0);
@@ -175,7 +202,8 @@ impl CrackStrainSolver {
                 let elastic: Sym = std::array::from_fn(|i| strain[i] - crack[i]);
                 // The driver with the plane's own crack strain given back.
                 let q0 = driver(p, &elastic) + k * y[p];
-                let next = self.plane_crack_strain(q0, k, histories[slot(p)] as f64);
+                let (reached, last) = (histories[slot(p)] as f64, histories[slot(p) + 1] as f64);
+                let next = self.plane_crack_strain(q0, kupfer[p], k, reached, last);
                 let step = next - y[p];
                 if step != 0.0 {
                     for i in 0..6 {
