@@ -12,8 +12,8 @@
 #   scripts/gregoire-pair-sweep.sh 4.3,100 5.0,60 6.0,30
 #
 # Needs target/release/impact-vv (or IMPACT_VV) and Gmsh 4.15.2 (`pip install gmsh==4.15.2`) for
-# the slice meshes. Each pair takes a minute of calibration and the two slices (several minutes
-# each on two cores). Output under reports/gregoire-pair-sweep/.
+# the slice meshes, and bc. Each pair is a calibration (about a minute) and the two slices' static
+# paths. Output under reports/gregoire-pair-sweep/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${IMPACT_VV:-target/release/impact-vv}")
