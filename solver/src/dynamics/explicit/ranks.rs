@@ -236,15 +236,15 @@ impl<'p> ExplicitSolver<'p> {
                 return;
             }
             share.gathered_at = Some(self.step);
-            self.nodes.gather(
-                share.comm,
-                &mut [
-                    &mut self.u[..],
-                    &mut self.v_half[..],
-                    &mut self.v_full[..],
-                    &mut self.reaction[..],
-                ],
-            );
+            // One field at a time: the gathered buffer is one field's, not all four's.
+            for field in [
+                &mut self.u,
+                &mut self.v_half,
+                &mut self.v_full,
+                &mut self.reaction,
+            ] {
+                self.nodes.gather(share.comm, &mut [&mut field[..]]);
+            }
         }
     }
 
