@@ -22,7 +22,7 @@ fn stiffness_times(model: &Model, u: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
     for (e, tet) in model.tets.iter().enumerate() {
         let c = model.material_of(e).constants();
         let (lambda, mu) = (c.lambda(), c.mu());
-        let g = &model.grad_n[e];
+        let g = &model.grad_n(e);
         let h: Matrix3<f64> = (0..4).map(|a| u[tet[a] as usize] * g[a].transpose()).sum();
         let eps = 0.5 * (h + h.transpose());
         let sigma = Matrix3::identity() * (lambda * eps.trace()) + eps * (2.0 * mu);
@@ -108,7 +108,7 @@ fn main() {
         let new = (0..model.element_count())
             .map(|e| {
                 let c = model.material_of(e).constants();
-                stable_length(model.min_altitude[e], &model.grad_n[e], c.lambda(), c.mu())
+                stable_length(model.min_altitude[e], &model.grad_n(e), c.lambda(), c.mu())
                     / c.dilatational_wave_speed()
             })
             .fold(f64::INFINITY, f64::min);

@@ -7,23 +7,29 @@
 
 mod common;
 
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
-use impact_solver::dynamics::{ExplicitSolver, OutputSettings};
+use impact_solver::dynamics::{keep_rank_element_data, ExplicitSolver, OutputSettings};
+use impact_solver::model::{body_part, BodyHistory, MaterialHistory};
 use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 fn case(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
 }
 
-/// Bits of a run: the history rows, the final displacement and velocity, the material history.
+/// Bits of a run: the history rows, the final displacement and velocity, the material history
+/// (a rank's: that of its own elements).
 #[derive(Debug, PartialEq)]
 struct Bits {
     history: Vec<u64>,
     state: Vec<u64>,
-    material: Vec<u64>,
+    material: MaterialHistory,
+    /// The elements of each body, and those of this rank (all on one process).
+    bodies: Vec<Range<usize>>,
+    elements: Range<usize>,
     /// The snapshots' times, displacements and crack openings.
     snapshots: Vec<u64>,
     /// Values this rank sent per step to complete the forces.
@@ -38,7 +44,10 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     let scene = Scene::from_yaml_file_entry(path, "scene")
         .or_else(|_| Scene::from_yaml_file(path))
         .unwrap();
-    let problem = build_problem(&scene).unwrap();
+    let mut problem = build_problem(&scene).unwrap();
+    // As `analysis::execute` does: a rank keeps its own elements' shape gradients only.
+    keep_rank_element_data(&mut problem.model, comm);
+    let problem = problem;
     let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("{}: an explicit scene", path.display())
     };
@@ -47,10 +56,12 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     settings
         .snapshot_interval
         .get_or_insert(settings.end_time / 1000.0);
-    let mut solver = ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap();
-    if let Some(comm) = comm {
-        solver.distribute(comm).unwrap();
-    }
+    let mut solver = match comm {
+        Some(comm) => {
+            ExplicitSolver::new_rank(&problem, settings, OutputSettings::default(), comm).unwrap()
+        }
+        None => ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap(),
+    };
     let summary = solver.run(&mut |_| {}).unwrap();
     let sent = comm.map_or(0, |c| solver.exchange_counts()[c.rank()]);
     let history = &summary.history;
@@ -74,7 +85,16 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .chain(&solver.v_full)
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect(),
-        material: material_history_bits(solver.history()),
+        material: solver.history().clone(),
+        bodies: problem
+            .model
+            .bodies
+            .iter()
+            .map(|b| b.elements.clone())
+            .collect(),
+        elements: solver
+            .rank_elements()
+            .unwrap_or(0..problem.model.element_count()),
         snapshots: summary
             .snapshots
             .iter()
@@ -114,6 +134,53 @@ fn same(got: &[u64], expected: &[u64], what: &str) {
     }
 }
 
+/// The history of the elements of `elements` (global ids) cut from a whole `history` of bodies
+/// over `bodies`.
+fn part(
+    history: &MaterialHistory,
+    bodies: &[Range<usize>],
+    elements: &Range<usize>,
+) -> MaterialHistory {
+    let bodies = history
+        .bodies
+        .iter()
+        .zip(bodies)
+        .map(|(h, body)| {
+            h.as_ref().map(|h| {
+                assert_eq!(h.held(), 0..body.len(), "one process holds every element");
+                let mine = body_part(body, elements);
+                BodyHistory {
+                    state_len: h.state_len,
+                    first: mine.start,
+                    values: h.values[mine.start * h.state_len..mine.end * h.state_len].to_vec(),
+                    cauchy: h.cauchy[mine].to_vec(),
+                }
+            })
+        })
+        .collect();
+    MaterialHistory { bodies }
+}
+
+/// Each rank's material history holds exactly its own elements of each body, and the ranks'
+/// together hold every element once.
+fn holds_own_elements_only(bits: &[Bits], path: &Path) {
+    for (b, body) in bits[0].bodies.iter().enumerate() {
+        let mut covered = 0;
+        for (rank, r) in bits.iter().enumerate() {
+            let Some(h) = &r.material.bodies[b] else {
+                continue;
+            };
+            let own = body_part(body, &r.elements);
+            assert_eq!(h.held(), own, "{}: rank {rank}, body {b}", path.display());
+            assert_eq!(h.values.len(), own.len() * h.state_len);
+            covered += own.len();
+        }
+        if bits[0].material.bodies[b].is_some() {
+            assert_eq!(covered, body.len(), "{}: body {b}", path.display());
+        }
+    }
+}
+
 /// Runs the case alone and on each count of `ranks`; with `contact`, the bodies must touch.
 fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
     let path = case(path);
@@ -141,8 +208,8 @@ fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
             same(&b.history, &alone.history, &format!("{what}: history"));
             same(&b.state, &alone.state, &format!("{what}: final state"));
             same(
-                &b.material,
-                &alone.material,
+                &material_history_bits(&b.material),
+                &material_history_bits(&part(&alone.material, &b.bodies, &b.elements)),
                 &format!("{what}: material history"),
             );
             same(
@@ -151,6 +218,7 @@ fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
                 &format!("{what}: snapshots"),
             );
         }
+        holds_own_elements_only(&bits, &path);
         // Ranks above the first send contributions to their lower neighbour's nodes: the
         // exchange is exercised, not bypassed.
         assert!(

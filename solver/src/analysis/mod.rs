@@ -134,7 +134,10 @@ pub fn execute(
             settings,
             remeshing: Some(remeshing),
         }) => explicit_remeshing(problem, settings, remeshing, options, progress),
-        Analysis::Explicit(a) => explicit(problem, &a.settings, None, options, progress),
+        Analysis::Explicit(a) => {
+            crate::dynamics::keep_rank_element_data(&mut problem.model, options.ranks);
+            explicit(problem, &a.settings, None, options, progress)
+        }
         Analysis::Static(settings) => statics(problem, settings, options, progress),
         Analysis::Release {
             preload,
@@ -208,13 +211,17 @@ fn explicit(
         stem: options.stem.to_string(),
         fields: options.fields,
     };
-    let mut solver = ExplicitSolver::new(problem, settings.clone(), output)?;
+    let ranks = options.ranks.filter(|c| c.size() > 1);
+    // A rank allocates the material history of its own elements only.
+    let mut solver = match ranks {
+        Some(comm) => ExplicitSolver::new_rank(problem, settings.clone(), output, comm)?,
+        None => ExplicitSolver::new(problem, settings.clone(), output)?,
+    };
     if let Some(u0) = initial_u {
         solver.set_initial_displacement(u0);
     }
     let mut plan = solver.plan();
-    if let Some(comm) = options.ranks.filter(|c| c.size() > 1) {
-        solver.distribute(comm)?;
+    if ranks.is_some() {
         plan += &ranks_plan(&solver, problem.model.node_count());
     }
     let mut files = solver.output_observers()?;

@@ -2,7 +2,9 @@
 //! (issue 22).
 //!
 //! **Decomposition.** Rank `r` owns the elements of one range of consecutive ids
-//! ([`element_ranges`]): it alone computes their forces and advances their material history.
+//! ([`element_ranges`]): it alone computes their forces and advances their material history, and
+//! it holds the history of those elements only (`crate::model::BodyHistory::held`): its piece of
+//! a field frame and its checkpoint read its own elements, so no rank ever gathers another's.
 //! Consecutive ids because the one-process assembly folds each node's forces in ascending element
 //! order (`model/assembly.rs`): with ranges, every contribution of rank `r` to a node precedes
 //! every one of rank `r + 1`, so a node's fold is the fold of its owner (the rank of its first
@@ -29,7 +31,6 @@
 //! of one process, for tests that need no MPI installation.
 
 mod exchange;
-mod history;
 #[cfg(feature = "mpi")]
 mod mpi_world;
 mod nodes;
@@ -38,7 +39,6 @@ mod threads;
 use std::ops::Range;
 
 pub use exchange::ForceExchange;
-pub use history::gather_history;
 #[cfg(feature = "mpi")]
 pub use mpi_world::MpiWorld;
 pub use nodes::{NodePlan, NODE_LEAF};

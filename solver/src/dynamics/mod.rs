@@ -11,6 +11,7 @@ pub use crate::error::InstabilityReport;
 pub use crate::output::Snapshot;
 pub use checkpoint_every::CheckpointEvery;
 pub use energy::EnergyLedger;
+pub use explicit::keep_rank_element_data;
 pub use explicit::{
     ExplicitSolver, OutputSchedule, RestartState, RunState, ScheduleRecord, SegmentEnd,
 };

@@ -122,6 +122,9 @@ struct HistoryWrites {
     values: DisjointWrites<f32>,
     len: usize,
     cauchy: DisjointWrites<[f64; 6]>,
+    /// The body's local ids of the elements whose history is held (a rank's own part),
+    /// `held.0..held.1`.
+    held: (usize, usize),
 }
 
 /// Adds the force `fa` of element `e` (in the chunk over `elements`) on node `n`: directly when
@@ -306,12 +309,13 @@ impl ForceAssembler {
                         .zip(&model.bodies)
                         .map(|(h, body)| {
                             h.as_mut().map(|h| {
-                                assert_eq!(h.values.len(), h.state_len * body.elements.len());
-                                assert_eq!(h.cauchy.len(), body.elements.len());
+                                assert_eq!(h.values.len(), h.state_len * h.cauchy.len());
+                                assert!(h.held().end <= body.elements.len());
                                 HistoryWrites {
                                     values: DisjointWrites(h.values.as_mut_ptr()),
                                     len: h.state_len,
                                     cauchy: DisjointWrites(h.cauchy.as_mut_ptr()),
+                                    held: (h.held().start, h.held().end),
                                 }
                             })
                         })
@@ -443,6 +447,13 @@ where
     let writes = match job.history {
         Some(w) if len > 0 => {
             assert_eq!(w.len, len, "history of another material");
+            // Every element of the chunk must be held: the pointer offsets below rely on it.
+            let local = range.start - job.body_start..range.end - job.body_start;
+            assert!(
+                local.is_empty() || (w.held.0 <= local.start && local.end <= w.held.1),
+                "elements {local:?} outside the held history {:?}",
+                w.held
+            );
             Some(w)
         }
         _ => {
@@ -452,7 +463,7 @@ where
     };
     let elements = model.tets[range.clone()]
         .iter()
-        .zip(&model.grad_n[range.clone()])
+        .zip(model.kept_grad_n(range.clone()))
         .zip(&model.volume[range.clone()]);
     // The corner displacements and velocities of each element are written into these in
     // place: `tet.map` built each array elsewhere and moved it with loads that straddled its
@@ -474,14 +485,15 @@ where
             None
         };
         let state = match writes {
-            // SAFETY: the body's history holds `len` values and one stress per element
-            // (asserted in `assemble_with`), `local` is an element of the body, and only the
-            // chunk holding element `e` touches its values and its stress; the history outlives
-            // the loop.
+            // SAFETY: the body's history holds `len` values and one stress per held element
+            // (asserted in `assemble_with`), `local` is a held element of the body (asserted
+            // for the chunk above), and only the chunk holding element `e` touches its values
+            // and its stress; the history outlives the loop.
             Some(w) => unsafe {
+                let at = local - w.held.0;
                 ElementState {
-                    history: std::slice::from_raw_parts_mut(w.values.0.add(local * len), len),
-                    cauchy: Some(&mut *w.cauchy.0.add(local)),
+                    history: std::slice::from_raw_parts_mut(w.values.0.add(at * len), len),
+                    cauchy: Some(&mut *w.cauchy.0.add(at)),
                 }
             },
             None => ElementState::stateless(),

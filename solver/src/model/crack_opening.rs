@@ -56,7 +56,13 @@ impl Model {
                 .for_each(|(w, e)| {
                     let local = e - body.elements.start;
                     let strain = green_lagrange_from_h(&self.strain_gradient(e, u));
-                    let inelastic = strain - elastic_strain(&h.cauchy[local], young, nu);
+                    let inelastic = strain
+                        - elastic_strain(
+                            &h.stress(local)
+                                .expect("the history of the elements asked for"),
+                            young,
+                            nu,
+                        );
                     let length = self
                         .crack_indicator
                         .length

@@ -148,9 +148,11 @@ impl Model {
             for e in body.elements.clone() {
                 strains(&mut out, e);
                 let local = e - body.elements.start;
-                match body_history {
-                    Some(h) => {
-                        out.cauchy.push(h.cauchy[local]);
+                // A rank of a distributed run holds its own elements' history only, and writes
+                // only their cells: the others get no value.
+                match body_history.and_then(|h| h.stress(local).map(|c| (h, c))) {
+                    Some((h, cauchy)) => {
+                        out.cauchy.push(cauchy);
                         out.rate_factor.push(material.rate_factor(h.element(local)));
                     }
                     None => {

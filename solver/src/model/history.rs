@@ -10,6 +10,8 @@
 //! each Newton iteration and commits one per converged load step (`statics::path`), and stored
 //! energy and field output read the history without changing it.
 
+use std::ops::Range;
+
 use super::Model;
 
 /// The history of one body of a material with history.
@@ -17,17 +19,50 @@ use super::Model;
 pub struct BodyHistory {
     /// `f32` values per element ([`crate::material::Material::history_len`]).
     pub state_len: usize,
-    /// The elements' histories one after the other, in the body's element order.
+    /// The body's local id of the first element held: a rank of a distributed run holds the
+    /// elements of its own range only ([`Self::held`]); 0 for a whole body.
+    pub first: usize,
+    /// The held elements' histories one after the other, in the body's element order.
     pub values: Vec<f32>,
-    /// Cauchy stress of each element at the last update, `[xx, yy, zz, xy, yz, xz]` (Pa), for the
-    /// output: zero before the first step.
+    /// Cauchy stress of each held element at the last update, `[xx, yy, zz, xy, yz, xz]` (Pa),
+    /// for the output: zero before the first step.
     pub cauchy: Vec<[f64; 6]>,
 }
 
 impl BodyHistory {
-    /// History of element `local` of the body.
+    /// A virgin history of the body's elements `held` (local ids), `state_len` values each,
+    /// each element's set by `init`.
+    pub fn virgin(state_len: usize, held: Range<usize>, init: impl Fn(&mut [f32])) -> Self {
+        let n = held.len();
+        let mut values = vec![0.0; n * state_len];
+        for element in values.chunks_exact_mut(state_len) {
+            init(element);
+        }
+        BodyHistory {
+            state_len,
+            first: held.start,
+            values,
+            cauchy: vec![[0.0; 6]; n],
+        }
+    }
+
+    /// The body's local ids of the elements held.
+    pub fn held(&self) -> Range<usize> {
+        self.first..self.first + self.cauchy.len()
+    }
+
+    /// History of element `local` of the body (held: [`Self::held`]).
     pub fn element(&self, local: usize) -> &[f32] {
-        &self.values[local * self.state_len..(local + 1) * self.state_len]
+        let at = local - self.first;
+        &self.values[at * self.state_len..(at + 1) * self.state_len]
+    }
+
+    /// Stress of element `local` of the body at its last update, `None` when not held.
+    pub fn stress(&self, local: usize) -> Option<[f64; 6]> {
+        local
+            .checked_sub(self.first)
+            .and_then(|at| self.cauchy.get(at))
+            .copied()
     }
 
     /// Bytes held per element.
@@ -61,7 +96,7 @@ impl Model {
         let (mut fast, mut elements) = (0.0, 0usize);
         for (body, h) in self.bodies.iter().zip(&history.bodies) {
             let Some(h) = h else { continue };
-            for local in 0..body.elements.len() {
+            for local in h.held() {
                 if let Some(n) = body.material.fast_updates(h.element(local)) {
                     fast += n;
                     elements += 1;
@@ -73,6 +108,13 @@ impl Model {
 
     /// A virgin history for every body whose material has one.
     pub fn initial_history(&self) -> MaterialHistory {
+        self.initial_history_of(0..self.element_count())
+    }
+
+    /// A virgin history of the elements of `elements` (global ids; a rank's range in a
+    /// distributed run) for every body whose material has one: each body holds its elements in
+    /// that range only, so a rank allocates its own part of the history and no other.
+    pub fn initial_history_of(&self, elements: Range<usize>) -> MaterialHistory {
         MaterialHistory {
             bodies: self
                 .bodies
@@ -80,16 +122,8 @@ impl Model {
                 .map(|body| {
                     let state_len = body.material.history_len();
                     (state_len > 0).then(|| {
-                        let n = body.elements.len();
-                        let mut values = vec![0.0; n * state_len];
-                        for element in values.chunks_exact_mut(state_len) {
-                            body.material.initial_history(element);
-                        }
-                        BodyHistory {
-                            state_len,
-                            values,
-                            cauchy: vec![[0.0; 6]; n],
-                        }
+                        let held = body_part(&body.elements, &elements);
+                        BodyHistory::virgin(state_len, held, |e| body.material.initial_history(e))
                     })
                 })
                 .collect(),
@@ -100,4 +134,12 @@ impl Model {
     pub fn has_history(&self) -> bool {
         self.bodies.iter().any(|b| b.material.history_len() > 0)
     }
+}
+
+/// The body's local ids of the elements of `elements` (global ids) that belong to it (a body
+/// whose elements are `body_elements`): empty, at the clamped position, when none do.
+pub fn body_part(body_elements: &Range<usize>, elements: &Range<usize>) -> Range<usize> {
+    let start = elements.start.clamp(body_elements.start, body_elements.end);
+    let end = elements.end.clamp(body_elements.start, body_elements.end);
+    start - body_elements.start..end - body_elements.start
 }

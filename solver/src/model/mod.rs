@@ -28,7 +28,7 @@ pub use carried::CarriedState;
 pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunction};
 pub use element::{element_forces, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
-pub use history::{BodyHistory, MaterialHistory};
+pub use history::{body_part, BodyHistory, MaterialHistory};
 pub use probe::{Probe, ProbeQuantity};
 
 use crate::error::{Result, SolverError};
@@ -143,8 +143,12 @@ pub struct Model {
     pub reference: Vec<Vector3<f64>>,
     /// Global connectivity.
     pub tets: Vec<[u32; 4]>,
-    /// Reference shape-function gradients `grad_X N_a` per element (3.44).
-    pub grad_n: Vec<[Vector3<f64>; 4]>,
+    /// Reference shape-function gradients `grad_X N_a` (3.44) of the elements
+    /// `grad_n_first..grad_n_first + grad_n.len()`: every element's, or one rank's own in a
+    /// distributed run ([`Self::keep_element_data`]); [`Self::grad_n`] reads them.
+    grad_n: Vec<[Vector3<f64>; 4]>,
+    /// The first element of `grad_n`.
+    grad_n_first: usize,
     /// Reference volumes `V` (m^3).
     pub volume: Vec<f64>,
     /// Smallest altitude `3 V / A_max` per element (m), the length of the stable step.
@@ -289,6 +293,7 @@ impl Model {
             reference,
             tets,
             grad_n,
+            grad_n_first: 0,
             volume,
             min_altitude,
             mass,
@@ -392,6 +397,46 @@ impl Model {
         }
     }
 
+    /// Reference shape-function gradients `grad_X N_a` of element `e` (3.44): the stored ones,
+    /// or for an element whose gradients this rank does not keep ([`Self::keep_element_data`]),
+    /// the same ones computed again from the reference coordinates by the same function.
+    #[inline]
+    pub fn grad_n(&self, e: usize) -> [Vector3<f64>; 4] {
+        match e.checked_sub(self.grad_n_first) {
+            Some(at) if at < self.grad_n.len() => self.grad_n[at],
+            _ => {
+                let x = self.tets[e].map(|n| self.reference[n as usize]);
+                shape_gradients(&x)
+                    .expect("validated meshes have positive volumes")
+                    .0
+            }
+        }
+    }
+
+    /// The stored shape-function gradients of the elements of `range`, which must be kept
+    /// ([`Self::keep_element_data`]).
+    pub(crate) fn kept_grad_n(&self, range: Range<usize>) -> &[[Vector3<f64>; 4]] {
+        &self.grad_n[range.start - self.grad_n_first..range.end - self.grad_n_first]
+    }
+
+    /// The elements whose shape-function gradients are stored.
+    pub fn kept_elements(&self) -> Range<usize> {
+        self.grad_n_first..self.grad_n_first + self.grad_n.len()
+    }
+
+    /// Keeps the per-element data that only the elements' own force computation reads (the
+    /// shape-function gradients, 96 bytes per element) for the elements of `elements` only: a
+    /// rank of a distributed run computes the forces of its own elements, and reads any other
+    /// element's gradients rarely (output, an error message), through [`Self::grad_n`]. The
+    /// volumes and altitudes stay whole: every rank computes the same stable step from them.
+    pub fn keep_element_data(&mut self, elements: Range<usize>) {
+        let kept = self.kept_elements();
+        assert!(kept.start <= elements.start && elements.end <= kept.end);
+        let at = elements.start - kept.start..elements.end - kept.start;
+        self.grad_n = self.grad_n[at].to_vec();
+        self.grad_n_first = elements.start;
+    }
+
     /// Displacements of element `e`'s nodes.
     #[inline]
     pub fn element_displacements(&self, e: usize, u: &[Vector3<f64>]) -> [Vector3<f64>; 4] {
@@ -401,7 +446,7 @@ impl Model {
     /// Deformation gradient `F` of element `e` from the stress-free configuration: `F_r F_0`
     /// after a remeshing ([`CarriedState`]), else `I + grad_X u`.
     pub fn deformation_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
-        let f = deformation_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+        let f = deformation_gradient(&self.element_displacements(e, u), &self.grad_n(e));
         match &self.carried {
             Some(c) => f * c.deformation[e],
             None => f,
@@ -416,7 +461,7 @@ impl Model {
     pub fn strain_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
         match &self.carried {
             Some(_) => self.deformation_gradient(e, u) - Matrix3::identity(),
-            None => displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]),
+            None => displacement_gradient(&self.element_displacements(e, u), &self.grad_n(e)),
         }
     }
 
@@ -542,7 +587,7 @@ impl Model {
                 }
                 None => {
                     let h =
-                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n[e]);
+                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n(e));
                     material
                         .strain_energy_density(&h)
                         .map(|w| self.volume[e] * w)

@@ -127,7 +127,7 @@ fn cauchy(
     let local = e - body.elements.start;
     if body.material.history_len() > 0 {
         let h = history?.bodies.get(b)?.as_ref()?;
-        return h.cauchy.get(local).copied();
+        return h.stress(local);
     }
     let f = m.deformation_gradient(e, u);
     let p = body.material.update(

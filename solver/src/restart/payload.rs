@@ -79,6 +79,7 @@ fn history(w: &mut Writer, h: &MaterialHistory) {
             state_len,
             values,
             cauchy,
+            ..
         }) = body
         {
             w.usize(*state_len);
@@ -107,8 +108,11 @@ fn read_history(r: &mut Reader) -> Read<MaterialHistory> {
             .chunks_exact(6)
             .map(|c| [c[0], c[1], c[2], c[3], c[4], c[5]])
             .collect();
+        // Which elements the values belong to is the reader's to set (a rank's part starts at
+        // its range, `dynamics::explicit::rank_restart`).
         bodies.push(Some(BodyHistory {
             state_len,
+            first: 0,
             values,
             cauchy,
         }));

@@ -236,8 +236,7 @@ pub(super) fn rank_solver<'a>(
     comm: &'a dyn Communicator,
     start: Option<(PathBuf, Vec<u8>)>,
 ) -> Result<StartingSolver<'a>, RestartError> {
-    let mut solver = ExplicitSolver::new(problem, settings.clone(), output)?;
-    solver.distribute(comm)?;
+    let mut solver = ExplicitSolver::new_rank(problem, settings.clone(), output, comm)?;
     let Some((path, bytes)) = start else {
         return Ok((solver, OutputSchedule::default(), None, String::new()));
     };

@@ -190,8 +190,9 @@ pub fn execute_checkpointed(
     if let Some(remeshing) = remeshing {
         return execute_remeshing(problem, settings, remeshing, options, plan, progress);
     }
-    let problem = &*problem;
     check_plan(plan, options)?;
+    crate::dynamics::keep_rank_element_data(&mut problem.model, options.ranks);
+    let problem = &*problem;
     let out = options.out.unwrap_or(Path::new("."));
     let writing = Writing {
         folder: file::folder(out, options.stem),
@@ -260,8 +261,6 @@ pub fn execute_checkpointed(
                 })
         })?;
         if end == SegmentEnd::Finished {
-            // The final stresses of a distributed run are read from the whole history.
-            solver.gather_history();
             set.finish()?;
             written = std::mem::take(&mut set.written);
             break;

@@ -521,7 +521,7 @@ fn trial_forces(
             let local = e - elements.start;
             let update = material.static_element_forces(
                 local,
-                &model.grad_n[e],
+                &model.grad_n(e),
                 model.volume[e],
                 &model.element_displacements(e, u),
                 ElementState {

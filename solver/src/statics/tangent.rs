@@ -40,7 +40,7 @@ fn consistent_tangent(
     e: usize,
     u: &[Vector3<f64>],
 ) -> Option<ElementTangent> {
-    let g = &model.grad_n[e];
+    let g = &model.grad_n(e);
     let f = deformation_gradient(&model.element_displacements(e, u), g);
     let mut k = [0.0; 144];
     for b in 0..4 {
@@ -94,7 +94,7 @@ pub(super) fn forward_difference_tangents(
                             material
                                 .static_element_forces(
                                     local,
-                                    &model.grad_n[e],
+                                    &model.grad_n(e),
                                     model.volume[e],
                                     ue,
                                     ElementState {

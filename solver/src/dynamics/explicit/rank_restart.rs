@@ -11,14 +11,7 @@ use std::ops::Range;
 
 use super::{ExplicitSolver, OutputSchedule, RestartState, ScheduleRecord};
 use crate::error::{Result, SolverError};
-use crate::model::{BodyHistory, MaterialHistory};
-
-/// The local element ids of `body` (global ids `body_elements`) that lie in `elements`.
-fn local(body_elements: &Range<usize>, elements: &Range<usize>) -> Range<usize> {
-    let start = elements.start.clamp(body_elements.start, body_elements.end);
-    let end = elements.end.clamp(body_elements.start, body_elements.end);
-    start - body_elements.start..end - body_elements.start
-}
+use crate::model::{body_part, MaterialHistory};
 
 impl<'p> ExplicitSolver<'p> {
     /// The nodes this rank integrates, as ascending runs of ids (every node on one process).
@@ -41,25 +34,14 @@ impl<'p> ExplicitSolver<'p> {
                 .flat_map(|r| v[r.clone()].iter().copied())
                 .collect()
         };
+        // The rank holds the history of its own elements only (`Self::distribute`).
         let model = &self.problem.model;
-        let history = MaterialHistory {
-            bodies: model
-                .bodies
-                .iter()
-                .zip(&self.history.bodies)
-                .map(|(body, h)| {
-                    h.as_ref().map(|h| {
-                        let mine = local(&body.elements, &elements);
-                        BodyHistory {
-                            state_len: h.state_len,
-                            values: h.values[mine.start * h.state_len..mine.end * h.state_len]
-                                .to_vec(),
-                            cauchy: h.cauchy[mine].to_vec(),
-                        }
-                    })
-                })
-                .collect(),
-        };
+        for (body, h) in model.bodies.iter().zip(&self.history.bodies) {
+            if let Some(h) = h {
+                assert_eq!(h.held(), body_part(&body.elements, &elements));
+            }
+        }
+        let history = self.history.clone();
         RestartState {
             u: pick(&self.u),
             v_half: pick(&self.v_half),
@@ -125,7 +107,7 @@ impl<'p> ExplicitSolver<'p> {
         Ok(OutputSchedule::from(state.schedule))
     }
 
-    /// Copies the histories of this rank's `elements` from `part` into the solver's.
+    /// Takes `part`, the histories of this rank's `elements`, as the solver's.
     fn restore_rank_history(
         &mut self,
         elements: &Range<usize>,
@@ -147,8 +129,8 @@ impl<'p> ExplicitSolver<'p> {
         {
             match (whole, part) {
                 (None, None) => {}
-                (Some(whole), Some(part)) => {
-                    let mine = local(&body.elements, elements);
+                (Some(whole), Some(mut part)) => {
+                    let mine = body_part(&body.elements, elements);
                     let len = whole.state_len;
                     if part.state_len != len
                         || part.values.len() != mine.len() * len
@@ -156,8 +138,8 @@ impl<'p> ExplicitSolver<'p> {
                     {
                         return Err(misfit());
                     }
-                    whole.values[mine.start * len..mine.end * len].copy_from_slice(&part.values);
-                    whole.cauchy[mine].copy_from_slice(&part.cauchy);
+                    part.first = mine.start;
+                    *whole = part;
                 }
                 _ => return Err(misfit()),
             }

@@ -7,11 +7,70 @@ use std::ops::Range;
 use nalgebra::Vector3;
 
 use super::ExplicitSolver;
-use crate::distributed::{
-    element_ranges_by_cost, gather_history, Communicator, ForceExchange, NodePlan,
-};
+use super::{ExplicitSettings, OutputSettings};
+use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
-use crate::model::ELEMENT_LEAF;
+use crate::model::{body_part, BodyHistory, MaterialHistory, Model, ELEMENT_LEAF};
+use crate::problem::Problem;
+
+/// The element ranges of `size` ranks over `model` ([`element_ranges_by_cost`], by the
+/// materials' relative cost): those of [`ExplicitSolver::distribute`].
+fn rank_ranges(model: &Model, size: usize) -> Vec<Range<usize>> {
+    let cost: Vec<f64> = model
+        .bodies
+        .iter()
+        .map(|b| b.material.relative_cost())
+        .collect();
+    element_ranges_by_cost(model.element_count(), size, |e| {
+        cost[model.element_body[e] as usize]
+    })
+}
+
+/// Keeps in `model` the per-element data of this rank's elements only
+/// ([`Model::keep_element_data`]) when `comm` runs more than one rank and the run can be
+/// distributed: before the solver is built, so that the whole model's data is freed before the
+/// rank allocates its history.
+pub fn keep_rank_element_data(model: &mut Model, comm: Option<&dyn Communicator>) {
+    if let Some(comm) = comm.filter(|c| c.size() > 1 && model.carried.is_none()) {
+        let mine = rank_ranges(model, comm.size())[comm.rank()].clone();
+        model.keep_element_data(mine);
+    }
+}
+
+/// The part of `history` that holds the elements of `elements` (global ids) only: a copy of
+/// that part where `history` holds more, `history` itself where it holds exactly that.
+fn history_part(
+    model: &Model,
+    history: MaterialHistory,
+    elements: &Range<usize>,
+) -> MaterialHistory {
+    let bodies = model
+        .bodies
+        .iter()
+        .zip(history.bodies)
+        .map(|(body, h)| {
+            h.map(|h| {
+                let part = body_part(&body.elements, elements);
+                if h.held() == part {
+                    return h;
+                }
+                let held = h.held();
+                assert!(
+                    held.start <= part.start && part.end <= held.end,
+                    "a history of elements {held:?} has no part {part:?}"
+                );
+                let at = part.start - held.start..part.end - held.start;
+                BodyHistory {
+                    state_len: h.state_len,
+                    first: part.start,
+                    values: h.values[at.start * h.state_len..at.end * h.state_len].to_vec(),
+                    cauchy: h.cauchy[at].to_vec(),
+                }
+            })
+        })
+        .collect();
+    MaterialHistory { bodies }
+}
 
 /// A rank's part of a distributed run.
 pub(super) struct RankShare<'p> {
@@ -33,11 +92,32 @@ impl<'p> RankShare<'p> {
 }
 
 impl<'p> ExplicitSolver<'p> {
+    /// [`Self::new`] as rank `comm.rank()` of `comm.size()` ([`Self::distribute`]), allocating
+    /// the material history of this rank's elements only, never the whole model's.
+    pub fn new_rank(
+        problem: &'p Problem,
+        settings: ExplicitSettings,
+        output: OutputSettings,
+        comm: &'p dyn Communicator,
+    ) -> Result<Self> {
+        let model = &problem.model;
+        let elements = if comm.size() > 1 && model.carried.is_none() {
+            rank_ranges(model, comm.size())[comm.rank()].clone()
+        } else {
+            0..model.element_count()
+        };
+        let history = model.initial_history_of(elements);
+        let mut solver = Self::with_history(problem, settings, output, history)?;
+        solver.distribute(comm)?;
+        Ok(solver)
+    }
+
     /// Runs this solver as rank `comm.rank()` of `comm.size()`: from the next step on it computes
     /// the forces and advances the history of its elements only ([`element_ranges_by_cost`], by
     /// the materials' relative cost), completes the forces of the shared nodes with the other
     /// ranks and integrates its nodes ([`NodePlan`]); the other ranks must make the same call on
-    /// the same problem. One rank changes nothing. A run that remeshes cannot be distributed.
+    /// the same problem. It keeps the material history of its own elements only. One rank
+    /// changes nothing. A run that remeshes cannot be distributed.
     pub fn distribute(&mut self, comm: &'p dyn Communicator) -> Result<()> {
         if comm.size() <= 1 {
             return Ok(());
@@ -49,15 +129,10 @@ impl<'p> ExplicitSolver<'p> {
                 message: "a run that remeshes runs on one rank (no mpirun)".into(),
             });
         }
-        let cost: Vec<f64> = model
-            .bodies
-            .iter()
-            .map(|b| b.material.relative_cost())
-            .collect();
-        let ranges = element_ranges_by_cost(model.element_count(), comm.size(), |e| {
-            cost[model.element_body[e] as usize]
-        });
-        model.restrict_assembly(ranges[comm.rank()].clone());
+        let ranges = rank_ranges(model, comm.size());
+        let mine = ranges[comm.rank()].clone();
+        model.restrict_assembly(mine.clone());
+        self.history = history_part(model, std::mem::take(&mut self.history), &mine);
         // Every rank integrates what contact reads and moves and what the history rows read.
         let mut replicated = self
             .contact
@@ -161,15 +236,15 @@ impl<'p> ExplicitSolver<'p> {
                 return;
             }
             share.gathered_at = Some(self.step);
-            self.nodes.gather(
-                share.comm,
-                &mut [
-                    &mut self.u[..],
-                    &mut self.v_half[..],
-                    &mut self.v_full[..],
-                    &mut self.reaction[..],
-                ],
-            );
+            // One field at a time: the gathered buffer is one field's, not all four's.
+            for field in [
+                &mut self.u,
+                &mut self.v_half,
+                &mut self.v_full,
+                &mut self.reaction,
+            ] {
+                self.nodes.gather(share.comm, &mut [&mut field[..]]);
+            }
         }
     }
 
@@ -210,20 +285,5 @@ impl<'p> ExplicitSolver<'p> {
         let mut all = vec![0.0; model.element_count()];
         share.comm.all_gather_f32(&mine, &counts, &mut all);
         all
-    }
-
-    /// Gives every rank the whole material history before output reads it (collective; nothing
-    /// on one process or without a history).
-    pub fn gather_history(&mut self) {
-        if let Some(share) = &self.ranks {
-            if !self.history.is_empty() {
-                gather_history(
-                    share.comm,
-                    &self.problem.model,
-                    &share.ranges,
-                    &mut self.history,
-                );
-            }
-        }
     }
 }

@@ -230,7 +230,6 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Shows the observers the field frame of the current state.
     pub(super) fn field_frame(&mut self, observers: &mut ObserverSet) -> Result<()> {
-        self.gather_history();
         self.gather_nodes();
         let model = &self.problem.model;
         let points: Vec<Vector3<f64>> = model

@@ -59,8 +59,6 @@ impl<'p> ExplicitSolver<'p> {
         set.history_columns(&self.history_columns())?;
         let mut schedule = OutputSchedule::default();
         self.run_segment(&mut set, &mut schedule, &mut |_| false)?;
-        // The final stresses of a distributed run are read from the whole history.
-        self.gather_history();
         set.finish()?;
         let written = std::mem::take(&mut set.written);
         drop(set);

@@ -195,6 +195,7 @@ fn remeshed_history(
     }
     BodyHistory {
         state_len: n,
+        first: 0,
         values,
         cauchy: stresses,
     }
