@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::{keep_rank_element_data, ExplicitSolver, OutputSettings};
-use impact_solver::model::{body_part, BodyHistory, MaterialHistory};
+use impact_solver::model::{body_part, MaterialHistory};
 use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
 
 fn case(path: &str) -> PathBuf {
@@ -148,13 +148,7 @@ fn part(
         .map(|(h, body)| {
             h.as_ref().map(|h| {
                 assert_eq!(h.held(), 0..body.len(), "one process holds every element");
-                let mine = body_part(body, elements);
-                BodyHistory {
-                    state_len: h.state_len,
-                    first: mine.start,
-                    values: h.values[mine.start * h.state_len..mine.end * h.state_len].to_vec(),
-                    cauchy: h.cauchy[mine].to_vec(),
-                }
+                h.part(body_part(body, elements))
             })
         })
         .collect();

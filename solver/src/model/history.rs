@@ -51,6 +51,22 @@ impl BodyHistory {
         self.first..self.first + self.cauchy.len()
     }
 
+    /// A copy of the history of the elements `part` (local ids) only, which this one holds.
+    pub fn part(&self, part: Range<usize>) -> Self {
+        let held = self.held();
+        assert!(
+            held.start <= part.start && part.end <= held.end,
+            "a history of elements {held:?} has no part {part:?}"
+        );
+        let at = part.start - held.start..part.end - held.start;
+        BodyHistory {
+            state_len: self.state_len,
+            first: part.start,
+            values: self.values[at.start * self.state_len..at.end * self.state_len].to_vec(),
+            cauchy: self.cauchy[at].to_vec(),
+        }
+    }
+
     /// History of element `local` of the body (held: [`Self::held`]).
     pub fn element(&self, local: usize) -> &[f32] {
         let at = local - self.first;

@@ -10,7 +10,7 @@ use super::ExplicitSolver;
 use super::{ExplicitSettings, OutputSettings};
 use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
-use crate::model::{body_part, BodyHistory, MaterialHistory, Model, ELEMENT_LEAF};
+use crate::model::{body_part, MaterialHistory, Model, ELEMENT_LEAF};
 use crate::problem::Problem;
 
 /// The element ranges of `size` ranks over `model` ([`element_ranges_by_cost`], by the
@@ -54,18 +54,7 @@ fn history_part(
                 if h.held() == part {
                     return h;
                 }
-                let held = h.held();
-                assert!(
-                    held.start <= part.start && part.end <= held.end,
-                    "a history of elements {held:?} has no part {part:?}"
-                );
-                let at = part.start - held.start..part.end - held.start;
-                BodyHistory {
-                    state_len: h.state_len,
-                    first: part.start,
-                    values: h.values[at.start * h.state_len..at.end * h.state_len].to_vec(),
-                    cauchy: h.cauchy[at].to_vec(),
-                }
+                h.part(part)
             })
         })
         .collect();
