@@ -12,7 +12,9 @@
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
-use impact_solver::material::microplane::experiments::QUASI_STATIC_RATE;
+use impact_solver::material::microplane::experiments::{
+    least_recoverable_energy, step_work, QUASI_STATIC_RATE,
+};
 use impact_solver::material::microplane::{MicroplaneConcrete, Sym};
 use impact_solver::material::read_microplane_file;
 
@@ -24,16 +26,6 @@ const CORNERS: [Sym; 4] = [
     [1e-2, -1.2e-3, 0.0, 0.0, 0.0, 0.0],
 ];
 const STEPS: usize = 400;
-
-/// `sigma : C0^-1 : sigma / 2` for the isotropic virgin stiffness (tensor shears counted twice).
-fn elastic_energy(s: &Sym, youngs: f64, poisson: f64) -> f64 {
-    let trace = s[0] + s[1] + s[2];
-    let normal: f64 = (0..3)
-        .map(|i| s[i] * ((1.0 + poisson) * s[i] - poisson * trace))
-        .sum();
-    let shear: f64 = (3..6).map(|i| 2.0 * (1.0 + poisson) * s[i] * s[i]).sum();
-    0.5 * (normal + shear) / youngs
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -56,14 +48,9 @@ fn main() {
             let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
             let (e0, s0) = (point.strain, point.stress);
             let p = point.strain_step(strain, dt);
-            let dw: f64 = (0..6)
-                .map(|j| {
-                    let factor = if j < 3 { 1.0 } else { 2.0 };
-                    factor * 0.5 * (s0[j] + p.stress[j]) * (p.strain[j] - e0[j])
-                })
-                .sum();
+            let dw = step_work(&e0, &s0, &p.strain, &p.stress);
             work += dw;
-            let margin = work - elastic_energy(&p.stress, youngs, poisson);
+            let margin = work - least_recoverable_energy(&p.stress, youngs, poisson);
             lowest = lowest.min(margin);
             if i % every == 0 {
                 println!(

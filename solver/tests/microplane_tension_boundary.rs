@@ -197,17 +197,6 @@ fn a_reopened_crack_is_not_healed() {
     assert!(dissipation > 0.0, "the cycle gave back {dissipation} J/m^3");
 }
 
-/// `sigma : C0^-1 : sigma / 2`, the least elastic energy a point at the stress `s` gives back on
-/// unloading (its unloading stiffness is at most the virgin one; tensor shears counted twice).
-fn elastic_energy(s: &[f64; 6], youngs: f64, poisson: f64) -> f64 {
-    let trace = s[0] + s[1] + s[2];
-    let normal: f64 = (0..3)
-        .map(|i| s[i] * ((1.0 + poisson) * s[i] - poisson * trace))
-        .sum();
-    let shear: f64 = (3..6).map(|i| 2.0 * (1.0 + poisson) * s[i] * s[i]).sum();
-    0.5 * (normal + shear) / youngs
-}
-
 /// A crack opened in x far past the peak (its boundary exhausted), the point then compressed
 /// in y and stretched in x again under that compression: a dissipative material takes in, from
 /// the virgin state, at least the elastic energy it could give back, `int sigma : dE >=
@@ -217,7 +206,9 @@ fn elastic_energy(s: &[f64; 6], youngs: f64, poisson: f64) -> f64 {
 #[test]
 fn a_crack_stretched_under_lateral_compression_gives_back_no_work() {
     use impact_solver::material::microplane::driver::{equivalent_rate, MaterialPoint};
-    use impact_solver::material::microplane::experiments::QUASI_STATIC_RATE;
+    use impact_solver::material::microplane::experiments::{
+        least_recoverable_energy, step_work, QUASI_STATIC_RATE,
+    };
     let parameters = common::shipped_concrete("thesis-concrete-tension-boundary");
     let (youngs, poisson) = (parameters.youngs_modulus, parameters.poisson_ratio);
     let model = MicroplaneConcrete::new(MicroplaneParameters {
@@ -242,13 +233,8 @@ fn a_crack_stretched_under_lateral_compression_gives_back_no_work() {
             let dt = equivalent_rate(&point.strain, &strain, 1.0) / QUASI_STATIC_RATE;
             let (e0, s0) = (point.strain, point.stress);
             let p = point.strain_step(strain, dt);
-            work += (0..6)
-                .map(|j| {
-                    let factor = if j < 3 { 1.0 } else { 2.0 };
-                    factor * 0.5 * (s0[j] + p.stress[j]) * (p.strain[j] - e0[j])
-                })
-                .sum::<f64>();
-            let margin = work - elastic_energy(&p.stress, youngs, poisson);
+            work += step_work(&e0, &s0, &p.strain, &p.stress);
+            let margin = work - least_recoverable_energy(&p.stress, youngs, poisson);
             if margin < worst.0 {
                 worst = (margin, leg + 1, work);
             }

@@ -5,7 +5,7 @@
 use super::driver::{
     equivalent_rate, uniaxial_controls, Control, DriverError, MaterialPoint, PathPoint,
 };
-use super::{MicroplaneConcrete, Sym, TensionDriver};
+use super::{contract, MicroplaneConcrete, Sym, TensionDriver};
 
 /// Strain rate of the quasi-static tests (1/s): the rate factor is 1.0003 here, so "static" tests
 /// are static to well within every band.
@@ -585,6 +585,29 @@ pub fn closed_strain_cycle(
     };
     let dissipation = curve.work();
     Ok((curve, dissipation, healed))
+}
+
+/// `sigma : C0^-1 : sigma / 2` of the isotropic virgin stiffness (Young's modulus `youngs`,
+/// Poisson's ratio `poisson`): the least elastic energy a point at the stress `sigma` gives back
+/// on unloading, its unloading stiffness being at most the virgin one. A dissipative point has
+/// taken in at least this much work from the virgin state.
+pub fn least_recoverable_energy(sigma: &Sym, youngs: f64, poisson: f64) -> f64 {
+    let trace = sigma[0] + sigma[1] + sigma[2];
+    let normal: f64 = (0..3)
+        .map(|i| sigma[i] * ((1.0 + poisson) * sigma[i] - poisson * trace))
+        .sum();
+    let shear: f64 = (3..6)
+        .map(|i| 2.0 * (1.0 + poisson) * sigma[i] * sigma[i])
+        .sum();
+    0.5 * (normal + shear) / youngs
+}
+
+/// The work `sigma : dE` of one step from `(strain0, stress0)` to `(strain1, stress1)`, by the
+/// trapezoidal rule (as [`Curve::work`]).
+pub fn step_work(strain0: &Sym, stress0: &Sym, strain1: &Sym, stress1: &Sym) -> f64 {
+    let mean: Sym = std::array::from_fn(|i| 0.5 * (stress0[i] + stress1[i]));
+    let change: Sym = std::array::from_fn(|i| strain1[i] - strain0[i]);
+    contract(&mean, &change)
 }
 
 /// Peak uniaxial tensile stress at each strain rate, with the rate factor at the peak.
