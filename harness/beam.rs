@@ -13,7 +13,7 @@ pub mod history;
 
 pub use cracks::{
     classify, crack_tip_report, failure_mode_details, failure_mode_judged, BeamFrame, BeamSpec,
-    Crack, CrackKind, CrackTipMeasure, CrackTipReport, FailureMode, JudgedAt,
+    Crack, CrackKind, CrackTipMeasure, CrackTipReport, FailureMode, JudgedAt, ModeSet,
 };
 
 /// Name of the metric whose value is a beam case's failure-mode code ([`FailureMode::code`]):

@@ -89,6 +89,7 @@ pub fn judge_readings<E: std::fmt::Display>(
             });
         match judged {
             Ok((measured, r, source)) => {
+                let r = reference.judged_value(r, measured.value);
                 let mut result = judge(m, measured.value, r, &source, peak);
                 if let Some(reading) = measured.reading {
                     result.pass &= reading.pass;
@@ -237,6 +238,48 @@ mod tests {
         assert!(!judge(&spec, 2.5, 0.0, "", &peak).pass);
         // Without the column the scale is unknown and the metric never passes.
         assert!(!judge(&spec, 0.0, 0.0, "", &|_| None).pass);
+    }
+
+    /// A failure-mode metric as a case file writes it, with the reference `modes`.
+    fn mode_metric(modes: &str) -> MetricSpec {
+        let yaml = format!(
+            "{{ name: failure_mode, measure: {{ failure_mode: {{ body: beam }} }}, reference: {{ failure_mode: {modes} }}, tolerance: {{ absolute: 0.0 }} }}"
+        );
+        // As the catalogue reads a case: externally tagged enums as single-key maps.
+        serde_norway::with::singleton_map_recursive::deserialize(
+            serde_norway::Deserializer::from_str(&yaml),
+        )
+        .expect("parses")
+    }
+
+    /// Whether a measured failure-mode code passes against the reference `modes`.
+    fn mode_passes(modes: &str, measured: crate::beam::FailureMode) -> bool {
+        let metrics = [mode_metric(modes)];
+        let j = judge_readings(
+            &metrics,
+            None,
+            &mut |_, _, _| Ok::<_, String>(Measured::from(measured.code())),
+            &|_| None,
+        );
+        assert!(j.failures.is_empty(), "{:?}", j.failures);
+        j.metrics[0].pass
+    }
+
+    #[test]
+    fn a_failure_mode_passes_when_it_is_one_the_reference_accepts() {
+        use crate::beam::FailureMode::*;
+        assert!(mode_passes("bending", Bending));
+        assert!(!mode_passes("bending", Mixed));
+        for m in [Mixed, Shear] {
+            assert!(mode_passes("[mixed, shear]", m), "{m:?}");
+        }
+        for m in [None, Bending, BendingInclined] {
+            assert!(!mode_passes("[mixed, shear]", m), "{m:?}");
+        }
+        assert!(mode_passes("[bending_inclined, mixed]", BendingInclined));
+        assert!(!mode_passes("[bending_inclined, mixed]", Shear));
+        // An empty list accepts nothing.
+        assert!(!mode_passes("[]", Mixed));
     }
 
     #[test]

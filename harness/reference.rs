@@ -94,8 +94,10 @@ pub enum Reference {
         key: String,
     },
     /// An observed failure mode of a beam (thesis 10.3.2), as the code of the `failure_mode`
-    /// measure (`crate::beam::FailureMode::code`): `{ failure_mode: bending }`.
-    FailureMode(crate::beam::FailureMode),
+    /// measure (`crate::beam::FailureMode::code`): `{ failure_mode: bending }`, or the modes a
+    /// bar accepts, `{ failure_mode: [mixed, shear] }`: a measured mode among them is judged
+    /// against its own code ([`Reference::judged_value`]).
+    FailureMode(crate::beam::ModeSet),
     /// The elastic stiffness of the case's own scene, solved by the implicit static solver on a
     /// refined mesh (see `references/elastic_refinement.rs`).
     ElasticRefinement(elastic_refinement::ElasticStiffnessSpec),
@@ -365,6 +367,15 @@ fn constants_of(
 }
 
 impl Reference {
+    /// The value a measured `value` is judged against, given the reference's value `r`: the
+    /// measured mode's own code when it is one a failure-mode reference accepts, else `r`.
+    pub fn judged_value(&self, r: f64, value: f64) -> f64 {
+        match self {
+            Reference::FailureMode(modes) if modes.code_for(value) == value => value,
+            _ => r,
+        }
+    }
+
     /// The reference value and a line saying where it comes from.
     pub fn evaluate(&self, scene: &Scene) -> Result<(f64, String), ReferenceEvalError> {
         self.evaluate_for(Some(scene))
@@ -376,11 +387,11 @@ impl Reference {
         use analytic::*;
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
-            Reference::FailureMode(mode) => (
-                mode.code(),
+            Reference::FailureMode(modes) => (
+                modes.code_for(f64::NAN),
                 format!(
-                    "failure mode `{}` (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear, 4 bending_inclined)",
-                    mode.name()
+                    "failure mode {} (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear, 4 bending_inclined)",
+                    modes.name()
                 ),
             ),
             Reference::Published { file, key } => {

@@ -26,7 +26,7 @@ pub use error::CrackError;
 pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
     cohesive_opening, crack_tip_report, opening_at_stress_fraction, CrackTipMeasure,
-    CrackTipQuantity, CrackTipReport, Initiation, SpeedWindow, TipReading, TipStatus,
+    CrackTipQuantity, CrackTipReport, Initiation, SpeedWindow, TipReading, TipStatus, WaveSpeeds,
     COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
 };
 
@@ -167,6 +167,49 @@ impl FailureMode {
             FailureMode::Mixed => "mixed",
             FailureMode::Shear => "shear",
             FailureMode::BendingInclined => "bending_inclined",
+        }
+    }
+}
+
+/// The failure modes a reference accepts: one mode (`failure_mode: bending`) or any of a list
+/// (`failure_mode: [mixed, shear]`, for a bar that accepts either: at 6 and 8 m/s shear
+/// dominates, thesis 10.3.2, with or without a bending crack reaching half the height).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ModeSet {
+    /// Exactly this mode.
+    One(FailureMode),
+    /// Any of these modes (at least one).
+    AnyOf(Vec<FailureMode>),
+}
+
+impl ModeSet {
+    /// The accepted modes.
+    pub fn modes(&self) -> &[FailureMode] {
+        match self {
+            ModeSet::One(m) => std::slice::from_ref(m),
+            ModeSet::AnyOf(m) => m,
+        }
+    }
+
+    /// The names joined by "or" (`mixed or shear`).
+    pub fn name(&self) -> String {
+        let names: Vec<String> = self
+            .modes()
+            .iter()
+            .map(|m| format!("`{}`", m.name()))
+            .collect();
+        names.join(" or ")
+    }
+
+    /// The code a measured mode is judged against: its own when it is accepted, else the first
+    /// accepted mode's (NaN for an empty list, which then never passes).
+    pub fn code_for(&self, measured: f64) -> f64 {
+        let modes = self.modes();
+        if modes.iter().any(|m| m.code() == measured) {
+            measured
+        } else {
+            modes.first().map_or(f64::NAN, |m| m.code())
         }
     }
 }

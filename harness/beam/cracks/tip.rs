@@ -132,21 +132,39 @@ impl TipReading {
 
     /// One line: the verdict and its deciding window over `c_R`, with the resolution.
     pub fn describe(&self, c_r: f64) -> String {
+        self.describe_against(c_r, "c_R")
+    }
+
+    /// One line: the verdict and its deciding window over the bounding speed `bound` named
+    /// `name`, with the resolution.
+    pub fn describe_against(&self, bound: f64, name: &str) -> String {
         match &self.decisive {
             None => format!(
                 "{}: no window of {WINDOW_CELLS} cells of propagation",
                 self.status.name()
             ),
             Some(w) => format!(
-                "{}: {:.2} ± {:.2} c_R over {:.4}-{:.4} ms ({:.3} m; {} windows)",
+                "{}: {:.2} ± {:.2} {name} over {:.4}-{:.4} ms ({:.3} m; {} windows)",
                 self.status.name(),
-                w.speed / c_r,
-                w.resolution / c_r,
+                w.speed / bound,
+                w.resolution / bound,
                 w.start * 1e3,
                 w.end * 1e3,
                 w.advance,
                 self.windows
             ),
+        }
+    }
+}
+
+impl Default for TipReading {
+    /// No window: nothing to judge (a record written before a reading existed reads back so).
+    fn default() -> Self {
+        Self {
+            status: TipStatus::NoTip,
+            fastest: None,
+            decisive: None,
+            windows: 0,
         }
     }
 }
@@ -197,11 +215,27 @@ pub struct CrackTipReport {
     /// The traction-free tip's speed, from where it passes the initiation length, coalescence
     /// taken out.
     pub traction_free_speed: TipReading,
+    /// Dilatational wave speed of the beam's concrete `c_p` (m/s), the bound of the damage
+    /// front (NaN in a record written before the front was measured).
+    #[serde(default = "nan", deserialize_with = "crate::results::lenient::f64")]
+    pub dilatational_speed: f64,
+    /// Depth of the pre-damage front below the top face per snapshot (m), NaN before it exists
+    /// (`track::damage_front`).
+    #[serde(default, deserialize_with = "crate::results::lenient::vec")]
+    pub damage_front: Vec<f64>,
+    /// The pre-damage front's speed down the column, judged against `c_p`.
+    #[serde(default)]
+    pub damage_front_speed: TipReading,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl CrackTipReport {
     /// The report of a track (see the module documentation).
-    pub fn of(track: &TipTrack, cell: f64, c_r: f64, w_p: f64, w_tf: f64) -> Self {
+    pub fn of(track: &TipTrack, speeds: WaveSpeeds, cell: f64, w_p: f64, w_tf: f64) -> Self {
+        let c_r = speeds.rayleigh;
         let times = &track.times;
         let nan = |h: &[Option<f64>]| h.iter().map(|h| h.unwrap_or(f64::NAN)).collect();
         // Propagation heights: the tip's height less the coalescence it went through, from `from`.
@@ -240,6 +274,19 @@ impl CrackTipReport {
             passed,
         );
         let traction_free_speed = TipReading::of(&t, &h, cell, c_r);
+        // The front enters the column at its shallowest first element one snapshot before it
+        // shows: a column opened at once over many cells advances that far in one interval.
+        let front_from = track.damage_front.iter().position(Option::is_some);
+        let damage_front_speed = match (front_from, track.damage_entry) {
+            (Some(k), Some(entry)) => {
+                let from = k.saturating_sub(1);
+                let d: Vec<f64> = (from..times.len())
+                    .map(|i| track.damage_front[i].unwrap_or(entry))
+                    .collect();
+                TipReading::of(&times[from..], &d, cell, speeds.dilatational)
+            }
+            _ => TipReading::default(),
+        };
         Self {
             cell,
             rayleigh_speed: c_r,
@@ -253,8 +300,20 @@ impl CrackTipReport {
             coalesced_elements: track.coalesced.iter().filter(|c| **c).count(),
             cohesive_speed,
             traction_free_speed,
+            dilatational_speed: speeds.dilatational,
+            damage_front: nan(&track.damage_front),
+            damage_front_speed,
         }
     }
+}
+
+/// The wave speeds the fronts of a beam are judged against (m/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WaveSpeeds {
+    /// Rayleigh speed `c_R`: the bound of a crack tip.
+    pub rayleigh: f64,
+    /// Dilatational speed `c_p`: the bound of a damage front the compressive wave drives.
+    pub dilatational: f64,
 }
 
 /// The crack-tip report of `spec`'s beam over the snapshots of a run: the path from the mesh,
@@ -284,7 +343,11 @@ pub fn crack_tip_report(
         })?;
     let w_p = cohesive_opening(&model, frame.cell)?;
     let w_tf = TIP_OPENING_FRACTION * problem.model.crack_indicator.crack_width;
-    let c_r = impact_references::analytic::rayleigh_wave_speed(&material.constants());
+    let constants = material.constants();
+    let speeds = WaveSpeeds {
+        rayleigh: impact_references::analytic::rayleigh_wave_speed(&constants),
+        dilatational: impact_references::analytic::dilatational_wave_speed(&constants),
+    };
     let path = CrackPath::of(&frame, &elements);
     let times: Vec<f64> = snapshots.iter().map(|s| s.time).collect();
     let openings = snapshots.iter().map(|s| {
@@ -296,5 +359,5 @@ pub fn crack_tip_report(
             })
     });
     let track = track(&path, &times, openings, w_p, w_tf)?;
-    Ok(CrackTipReport::of(&track, frame.cell, c_r, w_p, w_tf))
+    Ok(CrackTipReport::of(&track, speeds, frame.cell, w_p, w_tf))
 }

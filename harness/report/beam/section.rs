@@ -159,6 +159,7 @@ fn section(
                     .map_or_else(|| text("—"), |t| text(&format::num(t.coalescence_length))),
                 tip_text(r.record, |t| &t.cohesive_speed),
                 tip_text(r.record, |t| &t.traction_free_speed),
+                damage_front_text(r.record),
             ])
         })
         .collect();
@@ -177,6 +178,7 @@ fn section(
             "coalescence length (m)",
             "cohesive tip speed / c_R ± h/T (thesis 0.55)",
             "traction-free tip speed / c_R ± h/T",
+            "pre-damage front down the column / c_p ± h/T (depth reached)",
         ]),
         &table_rows,
     ));
@@ -225,4 +227,30 @@ fn tip_text(
         || text("—"),
         |t| text(&reading(t).describe(t.rayleigh_speed)),
     )
+}
+
+/// The pre-damage front's speed reading over `c_p` and the depth it reached, or that there is
+/// none (`crate::beam::cracks::track::damage_front`).
+fn damage_front_text(record: &BeamRecord) -> Cell {
+    let Some(t) = record.crack_tip.as_ref() else {
+        return text("—");
+    };
+    if t.dilatational_speed.is_nan() {
+        return text("— (not measured in this record)");
+    }
+    match t
+        .damage_front
+        .iter()
+        .copied()
+        .filter(|d| d.is_finite())
+        .last()
+    {
+        None => text("none"),
+        Some(depth) => text(&format!(
+            "{}; {} m",
+            t.damage_front_speed
+                .describe_against(t.dilatational_speed, "c_p"),
+            format::num(depth)
+        )),
+    }
 }

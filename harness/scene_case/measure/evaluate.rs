@@ -6,7 +6,7 @@ use impact_solver::problem::Problem;
 use super::columns::Histories;
 use super::{energy, motion, signal, stress, structure};
 use super::{Measure, MeasureError};
-use crate::judge::{Measured, Reading};
+use crate::judge::Measured;
 use impact_solver::analysis::Execution;
 
 impl Measure {
@@ -26,13 +26,7 @@ impl Measure {
             Measure::CrackTip(m) => {
                 let report = crate::beam::crack_tip_report(problem, run.snapshots(), &m.beam)?;
                 let (value, reading) = m.read(&report);
-                return Ok(Measured {
-                    value,
-                    reading: reading.map(|r| Reading {
-                        pass: r.status == crate::beam::cracks::TipStatus::Pass,
-                        text: r.describe(report.rayleigh_speed),
-                    }),
-                });
+                return Ok(Measured { value, reading });
             }
             Measure::ContactReplay {
                 solver,

@@ -2,8 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{CrackTipReport, TipReading};
+use super::{CrackTipReport, TipReading, TipStatus};
 use crate::beam::BeamSpec;
+use crate::judge::Reading;
 
 /// What a `crack_tip` metric reads from the beam's [`CrackTipReport`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -22,6 +23,12 @@ pub enum CrackTipQuantity {
     /// Advance of the cohesive tip through elements past `w_p` before the crack reached a
     /// neighbour of theirs (m): pre-damage joined by coalescence.
     CoalescenceLength,
+    /// Largest windowed speed of the pre-damage front down the column under the load over the
+    /// dilatational speed `c_p` (`track::damage_front`): a damage front the compressive wave
+    /// drives cannot outrun it. Judged by its resolution (`v + h/T < c_p` in every window
+    /// passes, an inconclusive reading does not); no pre-damage front passes, since nothing then
+    /// runs ahead of the wave.
+    DamageFrontSpeedRatio,
 }
 
 /// A `crack_tip` measure: a quantity of a beam's crack tips.
@@ -36,20 +43,42 @@ pub struct CrackTipMeasure {
 }
 
 impl CrackTipMeasure {
-    /// The quantity from a report, with the speed reading it is judged by for the speed
-    /// ratios (a fail, an inconclusive reading or no tip does not pass, whatever the tolerance
-    /// says). The value of a speed ratio is its fastest window's speed over `c_R`, NaN without
-    /// a window.
-    pub fn read<'a>(&self, report: &'a CrackTipReport) -> (f64, Option<&'a TipReading>) {
-        let c_r = report.rayleigh_speed;
-        let speed = |r: &'a TipReading| (r.fastest.map_or(f64::NAN, |w| w.speed / c_r), Some(r));
+    /// The quantity from a report, with the verdict of its speed reading for the speed ratios
+    /// (a tip's fail, inconclusive reading or no tip does not pass, whatever the tolerance
+    /// says; the damage front's fail or inconclusive reading does not). The value of a speed
+    /// ratio is its fastest window's speed over its bound, NaN without a window.
+    pub fn read(&self, report: &CrackTipReport) -> (f64, Option<Reading>) {
+        let ratio = |r: &TipReading, bound: f64| r.fastest.map_or(f64::NAN, |w| w.speed / bound);
+        let tip = |r: &TipReading| {
+            let c_r = report.rayleigh_speed;
+            let verdict = Reading {
+                pass: r.status == TipStatus::Pass,
+                text: r.describe(c_r),
+            };
+            (ratio(r, c_r), Some(verdict))
+        };
         match self.quantity {
-            CrackTipQuantity::CohesiveSpeedRatio => speed(&report.cohesive_speed),
-            CrackTipQuantity::TractionFreeSpeedRatio => speed(&report.traction_free_speed),
+            CrackTipQuantity::CohesiveSpeedRatio => tip(&report.cohesive_speed),
+            CrackTipQuantity::TractionFreeSpeedRatio => tip(&report.traction_free_speed),
             CrackTipQuantity::InitiationLength => {
                 (report.initiation.map_or(f64::NAN, |i| i.length), None)
             }
             CrackTipQuantity::CoalescenceLength => (report.coalescence_length, None),
+            CrackTipQuantity::DamageFrontSpeedRatio => {
+                let (r, c_p) = (&report.damage_front_speed, report.dilatational_speed);
+                let verdict = if report.damage_front.iter().all(|d| d.is_nan()) {
+                    Reading {
+                        pass: true,
+                        text: "no pre-damage front in the column under the load".into(),
+                    }
+                } else {
+                    Reading {
+                        pass: matches!(r.status, TipStatus::Pass | TipStatus::NoTip),
+                        text: r.describe_against(c_p, "c_p"),
+                    }
+                };
+                (ratio(r, c_p), Some(verdict))
+            }
         }
     }
 }

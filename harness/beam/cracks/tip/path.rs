@@ -23,6 +23,12 @@ pub struct CrackPath {
     pub allowed: Vec<bool>,
     /// Height of each element's centroid above the bottom face (m).
     pub height: Vec<f64>,
+    /// Whether an element is in the column under the load that the compressive wave runs down:
+    /// allowed, and within one cell of the load's centre line (`|x - x_load| <= c`), the seeds'
+    /// strip.
+    pub column: Vec<bool>,
+    /// Depth of each element's centroid below the top face (m).
+    pub depth: Vec<f64>,
 }
 
 /// Face neighbours of tetrahedra: two elements are neighbours when they share three nodes.
@@ -80,11 +86,19 @@ impl CrackPath {
             })
             .map(|(i, _)| i)
             .collect();
+        let column = elements
+            .iter()
+            .zip(&allowed)
+            .map(|(e, &a)| a && (e.centroid.x - frame.x_load).abs() <= frame.cell)
+            .collect();
+        let depth = height.iter().map(|h| frame.height - h).collect();
         Self {
             neighbours,
             seeds,
             allowed,
             height,
+            column,
+            depth,
         }
     }
 

@@ -11,8 +11,9 @@ const DT: f64 = 2.5e-6;
 /// Openings of the two tips in these tests (m): `w_p` and `w_cr / 2`.
 const W_P: f64 = 1e-5;
 const W_TF: f64 = 1e-4;
-/// Rayleigh speed of the thesis concrete (m/s).
+/// Rayleigh and dilatational speeds of the thesis concrete (m/s).
 const C_R: f64 = 2134.0;
+const C_P: f64 = 3763.0;
 
 /// Row-major index of cell `(i, j)` (column, row) of the 60-column grid.
 fn at(i: usize, j: usize) -> usize {
@@ -59,7 +60,11 @@ fn report(n: usize, w: impl Fn(f64, usize, usize) -> f64) -> CrackTipReport {
             .collect::<Vec<f64>>())
     });
     let track = track(&path, &times, openings, W_P, W_TF).unwrap();
-    CrackTipReport::of(&track, CELL, C_R, W_P, W_TF)
+    let speeds = WaveSpeeds {
+        rayleigh: C_R,
+        dilatational: C_P,
+    };
+    CrackTipReport::of(&track, speeds, CELL, W_P, W_TF)
 }
 
 /// `v` is within the reading's resolution of every window's speed.
@@ -294,4 +299,103 @@ fn a_report_reads_back_from_json_with_its_missing_heights() {
     assert_eq!(back.cohesive[29], r.cohesive[29]);
     assert_eq!(back.initiation, r.initiation);
     assert_eq!(back.cohesive_speed, r.cohesive_speed);
+}
+
+/// Depth of the centroid of row `j` below the top face (m).
+fn depth(j: usize) -> f64 {
+    0.6 - row(j)
+}
+
+/// The damage-front quantity of a report, with its verdict.
+fn damage_front_read(r: &CrackTipReport) -> (f64, crate::judge::Reading) {
+    let m = CrackTipMeasure {
+        quantity: CrackTipQuantity::DamageFrontSpeedRatio,
+        beam: Default::default(),
+    };
+    let (v, reading) = m.read(r);
+    (v, reading.expect("the damage front carries a verdict"))
+}
+
+#[test]
+fn a_wave_driven_damage_front_below_c_p_passes() {
+    // Splitting under the load: the two mid-span columns (29 and 30) pass w_p top-down at
+    // 2000 m/s from row 9 (rows 10 and 11 are the loading region) to row 1, joined to no
+    // crack (the bottom row, where the bending crack starts, stays closed).
+    let v = 2000.0;
+    let r = report(200, |t, i, j| {
+        if (i == 29 || i == 30) && (1..=9).contains(&j) && t >= 20e-6 + (depth(j) - depth(9)) / v {
+            2e-5
+        } else {
+            0.0
+        }
+    });
+    assert_eq!(r.damage_front_speed.status, TipStatus::Pass, "{r:?}");
+    // Advance over the window: the least-squares slope of a staircase is v within h/T.
+    let w = r.damage_front_speed.fastest.unwrap();
+    assert!((w.speed - v).abs() <= w.resolution, "{w:?}");
+    assert!((r.damage_front.last().unwrap() - depth(1)).abs() < 1e-12);
+    let (ratio, verdict) = damage_front_read(&r);
+    assert!(verdict.pass, "{}", verdict.text);
+    assert!((ratio - w.speed / C_P).abs() < 1e-12);
+    // Not a bending crack: nothing at the bottom of mid-span connects it.
+    assert_eq!(r.cohesive_speed.status, TipStatus::NoTip);
+}
+
+#[test]
+fn a_column_opening_at_once_runs_ahead_of_the_wave() {
+    // Rows 3..=9 of column 29 pass w_p in one snapshot: 0.3 m of column in 2.5 us
+    // (120 km/s, 32 c_p), a state released at once, which no wave drives.
+    let r = report(40, |t, i, j| {
+        if i == 29 && (3..=9).contains(&j) && t >= 20e-6 {
+            2e-5
+        } else {
+            0.0
+        }
+    });
+    assert_eq!(r.damage_front_speed.status, TipStatus::Fail, "{r:?}");
+    let (ratio, verdict) = damage_front_read(&r);
+    assert!(!verdict.pass, "{}", verdict.text);
+    assert!(ratio > 10.0, "{ratio}");
+    // One element alone opening deep in the column is no front moving.
+    let r = report(40, |t, i, j| {
+        if i == 29 && j == 3 && t >= 20e-6 {
+            2e-5
+        } else {
+            0.0
+        }
+    });
+    assert_eq!(r.damage_front_speed.status, TipStatus::NoTip);
+    assert!(damage_front_read(&r).1.pass);
+}
+
+#[test]
+fn the_bending_crack_rising_into_the_column_is_no_damage_front() {
+    // The crack rises from mid-span's bottom at 600 m/s through column 29 up to row 9:
+    // every column element it opens joins the crack in the snapshot it passes w_p.
+    let r = report(400, |t, i, j| {
+        if i == 29 && j <= 9 && t >= row(j) / 600.0 {
+            2e-4
+        } else {
+            0.0
+        }
+    });
+    assert!(r.damage_front.iter().all(|d| d.is_nan()));
+    let (ratio, verdict) = damage_front_read(&r);
+    assert!(ratio.is_nan());
+    assert!(verdict.pass, "{}", verdict.text);
+    assert!(verdict.text.contains("no pre-damage front"));
+}
+
+#[test]
+fn a_report_written_before_the_damage_front_reads_back() {
+    let r = report(30, |_, _, _| 0.0);
+    let mut json: serde_json::Value = serde_json::to_value(&r).unwrap();
+    let record = json.as_object_mut().unwrap();
+    for key in ["dilatational_speed", "damage_front", "damage_front_speed"] {
+        assert!(record.remove(key).is_some(), "{key}");
+    }
+    let back: CrackTipReport = serde_json::from_value(json).unwrap();
+    assert!(back.dilatational_speed.is_nan());
+    assert!(back.damage_front.is_empty());
+    assert_eq!(back.damage_front_speed.status, TipStatus::NoTip);
 }

@@ -21,6 +21,12 @@ pub struct TipTrack {
     pub traction_free_coalescence: Vec<f64>,
     /// Which elements are pre-damaged ([`coalesced`]).
     pub coalesced: Vec<bool>,
+    /// Depth below the top face of the pre-damage front in the column under the load
+    /// ([`damage_front`]) at each snapshot (m), `None` before there is any.
+    pub damage_front: Vec<Option<f64>>,
+    /// Depth of the shallowest element of the pre-damage front at the snapshot it appears (m),
+    /// `None` without one: where the front entered the column.
+    pub damage_entry: Option<f64>,
 }
 
 /// Follows the crack over snapshots of the beam's element openings `w` (m): `openings` yields
@@ -69,6 +75,7 @@ where
     let coalesced = coalesced(path, &past_p, &in_cohesive);
     let (cohesive, cohesive_coalescence) = heights(path, &in_cohesive, &coalesced, count);
     let (traction_free, traction_free_coalescence) = heights(path, &in_free, &coalesced, count);
+    let (damage_front, damage_entry) = damage_front(path, &past_p, &in_cohesive, count);
     Ok(TipTrack {
         times: times.to_vec(),
         cohesive,
@@ -76,7 +83,46 @@ where
         cohesive_coalescence,
         traction_free_coalescence,
         coalesced,
+        damage_front,
+        damage_entry,
     })
+}
+
+/// The pre-damage front in the column under the load: at each snapshot, the greatest depth
+/// below the top face of a column element that went past `w_p` while not in the connected
+/// cohesive crack (opened by the compressive wave's splitting, not by the crack's own tip;
+/// an element that passes `w_p` in the snapshot the crack reaches it is the crack's). The
+/// front only deepens. Also the depth of its shallowest element at the snapshot it appears. A damage front triggered by a passing wave cannot outrun the wave that
+/// triggers it: top-down in the column, the dilatational wave `c_p`
+/// (`../shared/research/drop-test-physics.md`, section 6 of its recommendations).
+pub fn damage_front(
+    path: &CrackPath,
+    past_p: &[Option<usize>],
+    in_cohesive: &[Option<usize>],
+    count: usize,
+) -> (Vec<Option<f64>>, Option<f64>) {
+    // Shallowest and deepest pre-damaged element first past w_p at each snapshot.
+    let mut range: Vec<Option<(f64, f64)>> = vec![None; count];
+    for e in (0..past_p.len()).filter(|&e| path.column[e]) {
+        let Some(p) = past_p[e] else { continue };
+        if in_cohesive[e].is_some_and(|j| j <= p) {
+            continue;
+        }
+        let d = path.depth[e];
+        range[p] = Some(range[p].map_or((d, d), |(a, b): (f64, f64)| (a.min(d), b.max(d))));
+    }
+    let entry = range.iter().flatten().next().map(|r| r.0);
+    let mut front: Option<f64> = None;
+    let front = range
+        .into_iter()
+        .map(|r| {
+            if let Some((_, d)) = r {
+                front = Some(front.map_or(d, |f| f.max(d)));
+            }
+            front
+        })
+        .collect();
+    (front, entry)
 }
 
 fn mark(first: &mut [Option<usize>], now: &[bool], k: usize) {
