@@ -36,7 +36,8 @@ mod tests;
 pub use measure::{CrackTipMeasure, CrackTipQuantity};
 pub use path::CrackPath;
 pub use speed::{
-    reading_status, speed_windows, window_status, SpeedWindow, TipStatus, WINDOW_CELLS,
+    reading_status, speed_windows, whole_window, window_status, SpeedWindow, TipStatus,
+    WINDOW_CELLS,
 };
 pub use track::{track, TipTrack};
 
@@ -127,6 +128,25 @@ impl TipReading {
             fastest: by(|w| w.speed, &|_| true),
             decisive,
             windows: windows.len(),
+        }
+    }
+
+    /// The reading of a damage front's depths: as [`Self::of`], and where the front never
+    /// advances [`WINDOW_CELLS`] cells, one window over its whole record ([`whole_window`]), so
+    /// that a front that hardly moves reads a speed near zero with the resolution of the run.
+    pub fn of_front(times: &[f64], depths: &[f64], cell: f64, c_p: f64) -> Self {
+        let reading = Self::of(times, depths, cell, c_p);
+        if reading.windows > 0 {
+            return reading;
+        }
+        match whole_window(times, depths, cell) {
+            Some(w) => Self {
+                status: window_status(&w, c_p),
+                fastest: Some(w),
+                decisive: Some(w),
+                windows: 1,
+            },
+            None => reading,
         }
     }
 
@@ -283,7 +303,7 @@ impl CrackTipReport {
                 let d: Vec<f64> = (from..times.len())
                     .map(|i| track.damage_front[i].unwrap_or(entry))
                     .collect();
-                TipReading::of(&times[from..], &d, cell, speeds.dilatational)
+                TipReading::of_front(&times[from..], &d, cell, speeds.dilatational)
             }
             _ => TipReading::default(),
         };

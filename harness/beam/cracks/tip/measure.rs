@@ -27,7 +27,8 @@ pub enum CrackTipQuantity {
     /// dilatational speed `c_p` (`track::damage_front`): a damage front the compressive wave
     /// drives cannot outrun it. Judged by its resolution (`v + h/T < c_p` in every window
     /// passes, an inconclusive reading does not); no pre-damage front passes, since nothing then
-    /// runs ahead of the wave.
+    /// runs ahead of the wave: its value is then 0. A front that never advances 3 cells is
+    /// read over its whole record (`TipReading::of_front`).
     DamageFrontSpeedRatio,
 }
 
@@ -66,16 +67,16 @@ impl CrackTipMeasure {
             CrackTipQuantity::CoalescenceLength => (report.coalescence_length, None),
             CrackTipQuantity::DamageFrontSpeedRatio => {
                 let (r, c_p) = (&report.damage_front_speed, report.dilatational_speed);
-                let verdict = if report.damage_front.iter().all(|d| d.is_nan()) {
-                    Reading {
+                if report.damage_front.iter().all(|d| d.is_nan()) {
+                    let none = Reading {
                         pass: true,
                         text: "no pre-damage front in the column under the load".into(),
-                    }
-                } else {
-                    Reading {
-                        pass: matches!(r.status, TipStatus::Pass | TipStatus::NoTip),
-                        text: r.describe_against(c_p, "c_p"),
-                    }
+                    };
+                    return (0.0, Some(none));
+                }
+                let verdict = Reading {
+                    pass: r.status == TipStatus::Pass,
+                    text: r.describe_against(c_p, "c_p"),
                 };
                 (ratio(r, c_p), Some(verdict))
             }

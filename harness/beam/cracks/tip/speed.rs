@@ -75,6 +75,20 @@ pub fn speed_windows(times: &[f64], heights: &[f64], cell: f64) -> Vec<SpeedWind
     out
 }
 
+/// One window over the whole of `times` and `heights` (at least two snapshots), whatever the
+/// advance: the speed of a front that never advances [`WINDOW_CELLS`] cells, with the
+/// resolution of the whole span. `None` with fewer than two snapshots.
+pub fn whole_window(times: &[f64], heights: &[f64], cell: f64) -> Option<SpeedWindow> {
+    let (first, last) = (*times.first()?, *times.last()?);
+    (times.len() >= 2 && last > first).then(|| SpeedWindow {
+        start: first,
+        end: last,
+        advance: heights[heights.len() - 1] - heights[0],
+        speed: least_squares_slope(times, heights).unwrap_or(f64::NAN),
+        resolution: cell / (last - first),
+    })
+}
+
 /// The verdict of one window: pass when `v + h/T < c_R`, fail when `v - h/T > c_R`,
 /// inconclusive in between.
 pub fn window_status(w: &SpeedWindow, c_r: f64) -> TipStatus {
