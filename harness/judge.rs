@@ -140,6 +140,17 @@ pub fn failure_line(m: &MetricResult) -> String {
     )
 }
 
+/// Relative round-off a one-sided bound allows: a value that meets its bound exactly in exact
+/// arithmetic passes although the floating-point sums that produced it land a few ulps past it
+/// (a coalescence of exactly one 50 mm cell, summed from centroid heights, reads
+/// 0.05 + 4e-17 m in `beam/drop-2ms`).
+pub const BOUND_ROUND_OFF: f64 = 1e-12;
+
+/// The round-off allowance of a one-sided bound `bound` on `value` ([`BOUND_ROUND_OFF`]).
+fn round_off(value: f64, bound: f64) -> f64 {
+    BOUND_ROUND_OFF * value.abs().max(bound.abs())
+}
+
 /// Judges `value` for `spec` against the evaluated `reference` (value and source). `peak` gives
 /// `max |column|` of the run's history for `relative_to_peak` tolerances.
 pub fn judge(
@@ -158,8 +169,18 @@ pub fn judge(
             let e = (value - reference).abs() / reference.abs();
             (e, *t, e <= *t, ToleranceKind::Relative)
         }
-        Tolerance::AtMost(t) => (value, *t, value <= *t, ToleranceKind::AtMost),
-        Tolerance::AtLeast(t) => (value, *t, value >= *t, ToleranceKind::AtLeast),
+        Tolerance::AtMost(t) => (
+            value,
+            *t,
+            value <= *t + round_off(value, *t),
+            ToleranceKind::AtMost,
+        ),
+        Tolerance::AtLeast(t) => (
+            value,
+            *t,
+            value >= *t - round_off(value, *t),
+            ToleranceKind::AtLeast,
+        ),
         Tolerance::AtLeastRatio(t) => {
             let e = value / reference;
             (e, *t, e >= *t, ToleranceKind::AtLeastRatio)
@@ -280,6 +301,35 @@ mod tests {
         assert!(!mode_passes("[bending_inclined, mixed]", Shear));
         // An empty list accepts nothing.
         assert!(!mode_passes("[]", Mixed));
+    }
+
+    #[test]
+    fn a_one_sided_bound_holds_to_round_off_only() {
+        let spec = |tolerance: serde_json::Value| -> MetricSpec {
+            serde_json::from_value(serde_json::json!({
+                "name": "coalescence",
+                "measure": { "history_final": { "column": "x" } },
+                "tolerance": tolerance
+            }))
+            .unwrap()
+        };
+        let none = |_: &str| None;
+        let at_most = spec(serde_json::json!({ "at_most": 0.05 }));
+        // One cell from centroid heights: 6 * 0.0125 - 2 * 0.0125 lands 1e-17 past 0.05.
+        let one_cell = 6.0 * 0.0125 - 2.0 * 0.0125;
+        assert!(one_cell > 0.05);
+        assert!(judge(&at_most, one_cell, 0.0, "", &none).pass);
+        assert!(!judge(&at_most, 0.05 + 1e-9, 0.0, "", &none).pass);
+        assert!(!judge(&at_most, 0.0625, 0.0, "", &none).pass);
+        let at_least = spec(serde_json::json!({ "at_least": 0.05 }));
+        assert!(judge(&at_least, 0.05 - 4e-17, 0.0, "", &none).pass);
+        assert!(!judge(&at_least, 0.05 - 1e-9, 0.0, "", &none).pass);
+        // A bound of zero allows nothing: 1e-300 above it fails.
+        let zero = spec(serde_json::json!({ "at_most": 0.0 }));
+        assert!(judge(&zero, 0.0, 0.0, "", &none).pass);
+        assert!(!judge(&zero, 1e-300, 0.0, "", &none).pass);
+        // NaN never passes.
+        assert!(!judge(&at_most, f64::NAN, 0.0, "", &none).pass);
     }
 
     #[test]
