@@ -258,3 +258,95 @@ fn tip_against_hinge() {
         );
     }
 }
+
+/// What the coalescence rule takes out at the start of a bending crack: runs a beam case
+/// (`BEAM_CASE`, default `drop-2ms`) and prints, for each element of the connected cohesive
+/// crack that passed `w_p` before a face neighbour of it was in the crack, its centroid, the
+/// snapshot it passed `w_p`, the snapshot its first face neighbour joined and the snapshot its
+/// first node-sharing neighbour joined. An element whose node-sharing neighbour was in the crack
+/// before it passed `w_p` was reached through an edge or a corner, which the face rule does not
+/// see:
+/// `BEAM_CASE=drop-2ms cargo test --release -p impact-vv --lib -- --ignored coalescence_neighbours --nocapture`.
+#[test]
+#[ignore]
+fn coalescence_neighbours() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
+    let case =
+        crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml"))).unwrap();
+    let mut scene = case.scene.clone().unwrap();
+    if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
+        x.settings.end_time = 0.7e-3;
+    }
+    std::env::set_current_dir(root.join("cases/beam")).unwrap();
+    let (problem, run) = run_scene(&scene);
+    let spec = BeamSpec::default();
+    let report = crack_tip_report(&problem, run.snapshots(), &spec).unwrap();
+    let (frame, elements) = BeamFrame::of(&problem, &spec).unwrap();
+    let range = beam_elements(&problem, &spec).unwrap();
+    let path = tip::CrackPath::of(&frame, &elements);
+    let w_p = report.cohesive_opening;
+    let n = elements.len();
+    // First snapshot past w_p and first snapshot in the connected cohesive crack.
+    let (mut past, mut joined) = (vec![None; n], vec![None; n]);
+    let mut w_max = vec![0.0f64; n];
+    for (k, s) in run.snapshots().iter().enumerate() {
+        for (m, w) in w_max.iter_mut().zip(&s.crack_opening[range.clone()]) {
+            *m = m.max(f64::from(*w));
+        }
+        let open: Vec<bool> = w_max.iter().map(|&w| w >= w_p).collect();
+        let crack = path.connected(&open);
+        for e in 0..n {
+            if open[e] && past[e].is_none() {
+                past[e] = Some(k);
+            }
+            if crack[e] && joined[e].is_none() {
+                joined[e] = Some(k);
+            }
+        }
+    }
+    let mut by_node: std::collections::HashMap<u32, Vec<usize>> = Default::default();
+    for (e, el) in elements.iter().enumerate() {
+        for &v in &el.nodes {
+            by_node.entry(v).or_default().push(e);
+        }
+    }
+    let seed: std::collections::HashSet<usize> = path.seeds.iter().copied().collect();
+    let times: Vec<f64> = run.snapshots().iter().map(|s| s.time * 1e3).collect();
+    let at = |k: Option<usize>| k.map_or("never".to_string(), |k| format!("{:.4}", times[k]));
+    let (mut by_corner, mut count) = (0, 0);
+    for e in 0..n {
+        let (Some(p), Some(_)) = (past[e], joined[e]) else {
+            continue;
+        };
+        let face = path.neighbours[e].iter().filter_map(|&m| joined[m]).min();
+        if seed.contains(&e) || face.is_none_or(|f| p >= f) {
+            continue;
+        }
+        let corner = elements[e]
+            .nodes
+            .iter()
+            .flat_map(|v| &by_node[v])
+            .filter(|&&m| m != e)
+            .filter_map(|&m| joined[m])
+            .min();
+        count += 1;
+        if corner.is_some_and(|c| c <= p) {
+            by_corner += 1;
+        }
+        let c = elements[e].centroid;
+        println!(
+            "pre-damaged ({:.4}, {:.4}, {:.4}) m: past w_p {} ms, face neighbour joined {} ms, node neighbour joined {} ms",
+            c.x,
+            c.y,
+            c.z,
+            at(Some(p)),
+            at(face),
+            at(corner)
+        );
+    }
+    println!(
+        "{count} pre-damaged elements in the cohesive crack to 0.7 ms, {by_corner} with a node-sharing neighbour in the crack when they passed w_p; coalescence {:.4} m",
+        report.coalescence_length
+    );
+}

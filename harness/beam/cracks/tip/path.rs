@@ -29,6 +29,34 @@ pub struct CrackPath {
     pub column: Vec<bool>,
     /// Depth of each element's centroid below the top face (m).
     pub depth: Vec<f64>,
+    /// The elements that share a node with each element, itself excluded (ascending): those
+    /// next to it across a face, an edge or a corner.
+    pub touching: Vec<Vec<usize>>,
+}
+
+/// The elements sharing at least one node with each element (itself excluded, ascending).
+pub fn node_neighbours(elements: &[BeamElement]) -> Vec<Vec<usize>> {
+    let mut by_node: HashMap<u32, Vec<usize>> = HashMap::with_capacity(elements.len());
+    for (e, el) in elements.iter().enumerate() {
+        for &v in &el.nodes {
+            by_node.entry(v).or_default().push(e);
+        }
+    }
+    elements
+        .iter()
+        .enumerate()
+        .map(|(e, el)| {
+            let mut near: Vec<usize> = el
+                .nodes
+                .iter()
+                .flat_map(|v| by_node[v].iter().copied())
+                .filter(|&m| m != e)
+                .collect();
+            near.sort_unstable();
+            near.dedup();
+            near
+        })
+        .collect()
 }
 
 /// Face neighbours of tetrahedra: two elements are neighbours when they share three nodes.
@@ -99,6 +127,7 @@ impl CrackPath {
             height,
             column,
             depth,
+            touching: node_neighbours(elements),
         }
     }
 
