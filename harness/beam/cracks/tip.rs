@@ -14,8 +14,9 @@
 //!   `w_th = TIP_OPENING_FRACTION w_cr` = 0.1 mm, where the calibrated law keeps about 11 % of
 //!   `f_t`: the visible crack.
 //! - **What is not propagation** ([`track`]): an element past `w_p` before the connected
-//!   cohesive crack reached a face neighbour of it is pre-damaged (the wave's splitting,
-//!   another crack): the advance into it is *coalescence*, taken out of the propagation height
+//!   cohesive crack reached an element sharing a node with it is pre-damaged (the wave's
+//!   splitting, another crack; a tetrahedral front advances across edges and corners as well as
+//!   faces): the advance into it is *coalescence*, taken out of the propagation height
 //!   and reported as a length. The traction-free crack appears inside the process zone present
 //!   then: its speed counts only once it has passed the height the cohesive tip had at that
 //!   moment, the *initiation length* (a front sweeping an existing process zone is not bounded
