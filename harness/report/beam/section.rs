@@ -238,13 +238,7 @@ fn damage_front_text(record: &BeamRecord) -> Cell {
     if t.dilatational_speed.is_nan() {
         return text("— (not measured in this record)");
     }
-    match t
-        .damage_front
-        .iter()
-        .copied()
-        .filter(|d| d.is_finite())
-        .last()
-    {
+    match t.damage_front.iter().copied().rfind(|d| d.is_finite()) {
         None => text("none"),
         Some(depth) => text(&format!(
             "{}; {} m",
