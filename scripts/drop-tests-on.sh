@@ -20,11 +20,12 @@ shift
 stem=$(basename "$concrete" .yaml)
 out=$PWD/reports/drop-tests-on-$stem
 catalogue=$out/cases
-mkdir -p "$catalogue/beam"
-# Relative paths in the cases (../materials, ../meshes) resolve as in the catalogue.
-ln -sfn "$PWD/cases/materials" "$catalogue/materials"
+rm -rf "$catalogue"
+mkdir -p "$catalogue/beam" "$catalogue/materials"
+# Relative paths in the cases (../materials, ../meshes) resolve as in the catalogue; the
+# catalogue reads every file outside materials/ and meshes/ as a case.
 ln -sfn "$PWD/cases/meshes" "$catalogue/meshes"
-cp "$concrete" "$catalogue/beam/concrete-under-test.yaml"
+cp "$concrete" "$catalogue/materials/concrete-under-test.yaml"
 if [ $# -gt 0 ]; then
   cases=("$@")
 else
@@ -38,7 +39,7 @@ for c in "${cases[@]}"; do
     echo "$src: no beam of ../materials/thesis-concrete.yaml to replace" >&2
     exit 2
   }
-  sed -e 's#file: ../materials/thesis-concrete.yaml#file: concrete-under-test.yaml#' \
+  sed -e 's#file: ../materials/thesis-concrete.yaml#file: ../materials/concrete-under-test.yaml#' \
     -e "s#^id: beam/#id: $stem/#" -e '/^known_failure:/d' "$src" >"$catalogue/beam/$c.yaml"
   "$bin" run --catalogue "$catalogue" --reports "$out/runs" --serial "$catalogue/beam/$c.yaml" \
     >"$out/$c.log" 2>&1 || true
