@@ -26,8 +26,8 @@ pub use error::CrackError;
 pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
     cohesive_opening, crack_tip_report, opening_at_stress_fraction, CrackTipMeasure,
-    CrackTipQuantity, CrackTipReport, Initiation, SpeedWindow, TipReading, TipStatus, WaveSpeeds,
-    COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
+    CrackTipQuantity, CrackTipReport, Initiation, SpeedVerdict, SpeedWindow, TipReading, TipStatus,
+    WaveSpeeds, COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
 };
 
 use impact_solver::problem::Problem;

@@ -34,7 +34,7 @@ mod track;
 #[cfg(test)]
 mod tests;
 
-pub use measure::{CrackTipMeasure, CrackTipQuantity};
+pub use measure::{CrackTipMeasure, CrackTipQuantity, SpeedVerdict};
 pub use path::CrackPath;
 pub use speed::{
     reading_status, speed_windows, whole_window, window_status, SpeedWindow, TipStatus,
@@ -133,7 +133,7 @@ impl TipReading {
     }
 
     /// The reading of a damage front's depths: as [`Self::of`], and where the front never
-    /// advances [`WINDOW_CELLS`] cells, one window over its whole record ([`whole_window`]), so
+    /// advances [`WINDOW_CELLS`] cells, one window over its whole record (`whole_window`), so
     /// that a front that hardly moves reads a speed near zero with the resolution of the run.
     pub fn of_front(times: &[f64], depths: &[f64], cell: f64, c_p: f64) -> Self {
         let reading = Self::of(times, depths, cell, c_p);

@@ -6,7 +6,7 @@ use impact_solver::problem::Problem;
 use super::columns::Histories;
 use super::{energy, motion, signal, stress, structure};
 use super::{Measure, MeasureError};
-use crate::judge::Measured;
+use crate::judge::{Measured, Reading};
 use impact_solver::analysis::Execution;
 
 impl Measure {
@@ -25,7 +25,11 @@ impl Measure {
         let value = match self {
             Measure::CrackTip(m) => {
                 let report = crate::beam::crack_tip_report(problem, run.snapshots(), &m.beam)?;
-                let (value, reading) = m.read(&report);
+                let (value, verdict) = m.read(&report);
+                let reading = verdict.map(|v| Reading {
+                    pass: v.pass,
+                    text: v.text,
+                });
                 return Ok(Measured { value, reading });
             }
             Measure::ContactReplay {

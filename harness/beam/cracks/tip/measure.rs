@@ -4,7 +4,16 @@ use serde::{Deserialize, Serialize};
 
 use super::{CrackTipReport, TipReading, TipStatus};
 use crate::beam::BeamSpec;
-use crate::judge::Reading;
+
+/// A speed reading's verdict: whether it passes, and one line saying why (the judge's
+/// `Reading`, kept here so that the beam measures do not depend on the judge).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeedVerdict {
+    /// Whether the reading passes.
+    pub pass: bool,
+    /// Its status and deciding window, as the report shows it.
+    pub text: String,
+}
 
 /// What a `crack_tip` metric reads from the beam's [`CrackTipReport`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -48,11 +57,11 @@ impl CrackTipMeasure {
     /// (a tip's fail, inconclusive reading or no tip does not pass, whatever the tolerance
     /// says; the damage front's fail or inconclusive reading does not). The value of a speed
     /// ratio is its fastest window's speed over its bound, NaN without a window.
-    pub fn read(&self, report: &CrackTipReport) -> (f64, Option<Reading>) {
+    pub fn read(&self, report: &CrackTipReport) -> (f64, Option<SpeedVerdict>) {
         let ratio = |r: &TipReading, bound: f64| r.fastest.map_or(f64::NAN, |w| w.speed / bound);
         let tip = |r: &TipReading| {
             let c_r = report.rayleigh_speed;
-            let verdict = Reading {
+            let verdict = SpeedVerdict {
                 pass: r.status == TipStatus::Pass,
                 text: r.describe(c_r),
             };
@@ -68,13 +77,13 @@ impl CrackTipMeasure {
             CrackTipQuantity::DamageFrontSpeedRatio => {
                 let (r, c_p) = (&report.damage_front_speed, report.dilatational_speed);
                 if report.damage_front.iter().all(|d| d.is_nan()) {
-                    let none = Reading {
+                    let none = SpeedVerdict {
                         pass: true,
                         text: "no pre-damage front in the column under the load".into(),
                     };
                     return (0.0, Some(none));
                 }
-                let verdict = Reading {
+                let verdict = SpeedVerdict {
                     pass: r.status == TipStatus::Pass,
                     text: r.describe_against(c_p, "c_p"),
                 };

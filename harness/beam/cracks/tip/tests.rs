@@ -307,7 +307,7 @@ fn depth(j: usize) -> f64 {
 }
 
 /// The damage-front quantity of a report, with its verdict.
-fn damage_front_read(r: &CrackTipReport) -> (f64, crate::judge::Reading) {
+fn damage_front_read(r: &CrackTipReport) -> (f64, measure::SpeedVerdict) {
     let m = CrackTipMeasure {
         quantity: CrackTipQuantity::DamageFrontSpeedRatio,
         beam: Default::default(),
