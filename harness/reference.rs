@@ -371,7 +371,7 @@ impl Reference {
     /// measured mode's own code when it is one a failure-mode reference accepts, else `r`.
     pub fn judged_value(&self, r: f64, value: f64) -> f64 {
         match self {
-            Reference::FailureMode(modes) if modes.code_for(value) == value => value,
+            Reference::FailureMode(modes) if modes.accepts(value) => value,
             _ => r,
         }
     }
@@ -388,7 +388,7 @@ impl Reference {
         Ok(match self {
             Reference::Value { value, source } => (*value, source.clone()),
             Reference::FailureMode(modes) => (
-                modes.code_for(f64::NAN),
+                modes.first_code(),
                 format!(
                     "failure mode {} (thesis 10.3.2; code 0 none, 1 bending, 2 mixed, 3 shear, 4 bending_inclined)",
                     modes.name()

@@ -202,15 +202,14 @@ impl ModeSet {
         names.join(" or ")
     }
 
-    /// The code a measured mode is judged against: its own when it is accepted, else the first
-    /// accepted mode's (NaN for an empty list, which then never passes).
-    pub fn code_for(&self, measured: f64) -> f64 {
-        let modes = self.modes();
-        if modes.iter().any(|m| m.code() == measured) {
-            measured
-        } else {
-            modes.first().map_or(f64::NAN, |m| m.code())
-        }
+    /// Whether a measured failure-mode code is one of the accepted modes.
+    pub fn accepts(&self, code: f64) -> bool {
+        self.modes().iter().any(|m| m.code() == code)
+    }
+
+    /// The first accepted mode's code (NaN for an empty list, which then never passes).
+    pub fn first_code(&self) -> f64 {
+        self.modes().first().map_or(f64::NAN, |m| m.code())
     }
 }
 

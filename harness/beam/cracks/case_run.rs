@@ -74,18 +74,26 @@ fn run_scene(
     (problem, run)
 }
 
-#[test]
-#[ignore]
-fn print_beam_case() {
+/// The beam case `BEAM_CASE` names (a case of `cases/beam` by name, or a case file's path;
+/// `default` without it), loaded; the working directory then moves to `cases/beam`, where the
+/// cases name their material files relatively.
+fn beam_case(default: &str) -> crate::catalogue::CaseSpec {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
-    // A case of cases/beam by name, or a case file's path.
+    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| default.into());
     let path = if name.ends_with(".yaml") {
         std::path::PathBuf::from(&name)
     } else {
         root.join("cases/beam").join(format!("{name}.yaml"))
     };
     let case = crate::case_file::load_spec(&path).unwrap();
+    std::env::set_current_dir(root.join("cases/beam")).unwrap();
+    case
+}
+
+#[test]
+#[ignore]
+fn print_beam_case() {
+    let case = beam_case("drop-2ms");
     let mut scene = case.scene.clone().unwrap();
     // BEAM_END_MS and BEAM_SNAPSHOT_US shorten the run and refine the snapshots.
     if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
@@ -96,8 +104,6 @@ fn print_beam_case() {
             x.settings.snapshot_interval = Some(dt.parse::<f64>().unwrap() * 1e-6);
         }
     }
-    // The microplane file is named relative to the case's folder.
-    std::env::set_current_dir(root.join("cases/beam")).unwrap();
     let (problem, run) = run_scene(&scene);
     let spec = BeamSpec::default();
     let (mode, cracks, frame) = failure_mode_at(&problem, &spec, &run.u).unwrap();
@@ -162,10 +168,7 @@ fn print_beam_case() {
 #[test]
 #[ignore]
 fn tip_against_hinge() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "static-3pt-slice-h50".into());
-    let case =
-        crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml"))).unwrap();
+    let case = beam_case("static-3pt-slice-h50");
     let hinge_spec = case
         .metrics
         .iter()
@@ -180,7 +183,6 @@ fn tip_against_hinge() {
             std::env::var("BEAM_SNAPSHOT_MS").map_or(1e-3, |v| v.parse::<f64>().unwrap() * 1e-3),
         );
     }
-    std::env::set_current_dir(root.join("cases/beam")).unwrap();
     let hinge = impact_references::hinge::scene_hinge(&scene, &hinge_spec)
         .unwrap()
         .hinge;
@@ -270,15 +272,11 @@ fn tip_against_hinge() {
 #[test]
 #[ignore]
 fn coalescence_neighbours() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let name = std::env::var("BEAM_CASE").unwrap_or_else(|_| "drop-2ms".into());
-    let case =
-        crate::case_file::load_spec(&root.join("cases/beam").join(format!("{name}.yaml"))).unwrap();
+    let case = beam_case("drop-2ms");
     let mut scene = case.scene.clone().unwrap();
     if let impact_solver::scene::Analysis::Explicit(x) = &mut scene.analysis {
         x.settings.end_time = 0.7e-3;
     }
-    std::env::set_current_dir(root.join("cases/beam")).unwrap();
     let (problem, run) = run_scene(&scene);
     let spec = BeamSpec::default();
     let report = crack_tip_report(&problem, run.snapshots(), &spec).unwrap();
@@ -305,12 +303,6 @@ fn coalescence_neighbours() {
             }
         }
     }
-    let mut by_node: std::collections::HashMap<u32, Vec<usize>> = Default::default();
-    for (e, el) in elements.iter().enumerate() {
-        for &v in &el.nodes {
-            by_node.entry(v).or_default().push(e);
-        }
-    }
     let seed: std::collections::HashSet<usize> = path.seeds.iter().copied().collect();
     let times: Vec<f64> = run.snapshots().iter().map(|s| s.time * 1e3).collect();
     let at = |k: Option<usize>| k.map_or("never".to_string(), |k| format!("{:.4}", times[k]));
@@ -323,13 +315,7 @@ fn coalescence_neighbours() {
         if seed.contains(&e) || face.is_none_or(|f| p >= f) {
             continue;
         }
-        let corner = elements[e]
-            .nodes
-            .iter()
-            .flat_map(|v| &by_node[v])
-            .filter(|&&m| m != e)
-            .filter_map(|&m| joined[m])
-            .min();
+        let corner = path.touching[e].iter().filter_map(|&m| joined[m]).min();
         count += 1;
         if corner.is_some_and(|c| c <= p) {
             by_corner += 1;

@@ -410,31 +410,26 @@ fn a_crack_reaching_an_element_by_its_corner_is_propagation() {
     // before either of its face neighbours (29, 4) and (30, 3): the crack's own front reached
     // it across the corner, and nothing is coalescence. (29, 4) opens 20 us later and joins.
     let v = 400.0;
-    let r = report(240, |t, i, j| {
-        let crack = i == 29 && j <= 3 && t >= row(j) / v;
-        let corner = i == 30 && j == 4 && t >= row(3) / v + 10e-6;
-        let above = i == 29 && j == 4 && t >= row(3) / v + 30e-6;
-        if crack || corner || above {
-            2e-5
-        } else {
-            0.0
-        }
-    });
+    // The crack, (29, 4) above it, and (30, 4) opening at `corner_opens`.
+    let with_corner_at = |corner_opens: f64| {
+        report(240, move |t, i, j| {
+            let crack = i == 29 && j <= 3 && t >= row(j) / v;
+            let corner = i == 30 && j == 4 && t >= corner_opens;
+            let above = i == 29 && j == 4 && t >= row(3) / v + 30e-6;
+            if crack || corner || above {
+                2e-5
+            } else {
+                0.0
+            }
+        })
+    };
+    let r = with_corner_at(row(3) / v + 10e-6);
     assert_eq!(r.coalesced_elements, 0, "{r:?}");
     assert_eq!(r.coalescence_length, 0.0);
     // Both (30, 4) and (29, 4) are in the crack at the end: its tip is row 4.
     assert!((r.cohesive.last().unwrap() - row(4)).abs() < 1e-12);
     // The same element opened at 100 us, when the crack is still in row 0 and nothing of it
     // touches the element, is pre-damage joined by coalescence.
-    let r = report(240, |t, i, j| {
-        let crack = i == 29 && j <= 3 && t >= row(j) / v;
-        let apart = i == 30 && j == 4 && t >= 100e-6;
-        let above = i == 29 && j == 4 && t >= row(3) / v + 30e-6;
-        if crack || apart || above {
-            2e-5
-        } else {
-            0.0
-        }
-    });
+    let r = with_corner_at(100e-6);
     assert_eq!(r.coalesced_elements, 1, "{r:?}");
 }
