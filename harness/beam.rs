@@ -5,9 +5,12 @@
 //!
 //! - [`cracks`]: cracked zones, their crack planes, the failure-mode classification and the
 //!   bending-crack tips ([`crack_tip_report`], for the report too).
+//! - [`column_demand`]: the elastic column's demand under the hammer against the rate-enhanced
+//!   Kupfer envelope, beside the measured pre-damage in the report.
 //! - [`history`]: checks on history columns (quasi-static ratio, secant stiffness, peak ratios,
 //!   the force balance (6.48) of a body).
 
+pub mod column_demand;
 pub mod cracks;
 pub mod history;
 

@@ -27,7 +27,7 @@ pub use frame::{BeamElement, BeamFrame};
 pub use tip::{
     cohesive_opening, crack_tip_report, opening_at_stress_fraction, CrackTipMeasure,
     CrackTipQuantity, CrackTipReport, Initiation, SpeedVerdict, SpeedWindow, TipReading, TipStatus,
-    WaveSpeeds, COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
+    TipTrack, WaveSpeeds, COHESIVE_STRESS_FRACTION, TIP_OPENING_FRACTION, WINDOW_CELLS,
 };
 
 use impact_solver::problem::Problem;

@@ -11,6 +11,7 @@
 //! folder `<run>/cases/<id>/`, with one SVG file per picture next to it. `impact-vv report`
 //! reads the records back from there ([`load`]), so the page stays self-contained.
 
+mod column_demand;
 mod failure_modes;
 mod plots;
 mod record;

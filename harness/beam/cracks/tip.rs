@@ -247,6 +247,10 @@ pub struct CrackTipReport {
     /// The pre-damage front's speed down the column, judged against `c_p`.
     #[serde(default)]
     pub damage_front_speed: TipReading,
+    /// Depth below the top face of the shallowest pre-damaged element of the column (m), NaN
+    /// without pre-damage or in a record written before it was measured.
+    #[serde(default = "nan", deserialize_with = "crate::results::lenient::f64")]
+    pub damage_shallowest: f64,
 }
 
 fn nan() -> f64 {
@@ -324,6 +328,7 @@ impl CrackTipReport {
             dilatational_speed: speeds.dilatational,
             damage_front: nan(&track.damage_front),
             damage_front_speed,
+            damage_shallowest: track.damage_shallowest.unwrap_or(f64::NAN),
         }
     }
 }

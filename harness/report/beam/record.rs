@@ -84,6 +84,13 @@ pub struct BeamRecord {
     /// Rayleigh wave speed of the beam's concrete `c_R` (m/s).
     #[serde(default)]
     pub rayleigh_speed: Option<f64>,
+    /// The elastic column's demand against the rate-enhanced Kupfer envelope
+    /// (`crate::beam::column_demand`), for an impact on calibrated concrete; `None` otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column_demand: Option<crate::beam::column_demand::ColumnDemand>,
+    /// Why the column's demand is missing from an impact case, if it could not be computed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column_demand_error: Option<String>,
 }
 
 /// A failure mode judged at the end of the contact.
@@ -297,6 +304,8 @@ fn beam_record(
     frames.push(frame(&run.u, end, true));
     let spec = crate::beam::BeamSpec::default();
     let crack_tip = crate::beam::crack_tip_report(problem, snapshots, &spec).ok();
+    let speed = (speed > 0.0 && peak_force_label != "peak load").then_some(speed);
+    let demand = speed.map(|_| crate::beam::column_demand::column_demand(scene, problem, &spec));
     BeamRecord {
         case: case.id.clone(),
         variant: case.variant.clone(),
@@ -304,7 +313,7 @@ fn beam_record(
         size,
         supports,
         footprint,
-        speed: (speed > 0.0 && peak_force_label != "peak load").then_some(speed),
+        speed,
         peak_force,
         peak_force_label,
         frames,
@@ -316,6 +325,10 @@ fn beam_record(
         rayleigh_speed: Some(crate::reference::analytic::rayleigh_wave_speed(
             &b.material.constants(),
         )),
+        column_demand_error: demand
+            .as_ref()
+            .and_then(|d| d.as_ref().err().map(ToString::to_string)),
+        column_demand: demand.and_then(Result::ok),
     }
 }
 
@@ -531,6 +544,8 @@ mod tests {
             tip: Vec::new(),
             crack_tip: None,
             rayleigh_speed: None,
+            column_demand: None,
+            column_demand_error: None,
         };
         let frame = SideView {
             time: 1e-3,

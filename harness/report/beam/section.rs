@@ -198,6 +198,7 @@ fn section(
                 .collect::<String>(),
         ));
     }
+    column_demand_table(&rows, &anchor_of, &mut html);
     match monotonic_statement(&rows) {
         Some(s) => html.push_str(&element("p", "", &format::html(&s))),
         None => html.push_str(&note(
@@ -210,6 +211,43 @@ fn section(
     });
     html.push_str(&plots("plots", finals));
     Some(html)
+}
+
+/// The elastic column's demand against the envelope, beside the measured pre-damage
+/// (`super::column_demand`); nothing without an impact case.
+fn column_demand_table(
+    rows: &[super::FailureRow<'_>],
+    anchor_of: &dyn Fn(&CaseResult) -> Option<String>,
+    html: &mut String,
+) {
+    let cells = super::column_demand::cells(rows);
+    if cells.is_empty() {
+        return;
+    }
+    html.push_str(&element(
+        "h4",
+        "",
+        "The column under the hammer: elastic demand against the rate-enhanced Kupfer envelope",
+    ));
+    html.push_str(&element(
+        "p",
+        "",
+        &format::html(super::column_demand::EXPLANATION),
+    ));
+    let table_rows: Vec<Row> = cells
+        .iter()
+        .map(|(id, c)| {
+            let case = rows.iter().find(|r| &r.case.id == id).map(|r| r.case);
+            let name = match case.and_then(anchor_of) {
+                Some(a) => format!("<a href=\"#{a}\">{}</a>", format::html(id)),
+                None => format::html(id),
+            };
+            let mut row = vec![Cell::Html(name), Cell::Num(c[0].clone())];
+            row.extend(c[1..].iter().map(|s| text(s)));
+            Row::new(row)
+        })
+        .collect();
+    html.push_str(&table(&titles(&super::column_demand::TITLES), &table_rows));
 }
 
 /// When the traction-free crack appears and the cohesive tip's height then

@@ -334,6 +334,8 @@ fn a_wave_driven_damage_front_below_c_p_passes() {
     let w = r.damage_front_speed.fastest.unwrap();
     assert!((w.speed - v).abs() <= w.resolution, "{w:?}");
     assert!((r.damage_front.last().unwrap() - depth(1)).abs() < 1e-12);
+    // The pre-damaged column reaches up to row 9, the first below the loading region.
+    assert!((r.damage_shallowest - depth(9)).abs() < 1e-12, "{r:?}");
     let (ratio, verdict) = damage_front_read(&r);
     assert!(verdict.pass, "{}", verdict.text);
     assert!((ratio - w.speed / C_P).abs() < 1e-12);
@@ -365,6 +367,7 @@ fn a_column_opening_at_once_runs_ahead_of_the_wave() {
         }
     });
     let (ratio, verdict) = damage_front_read(&r);
+    assert!((r.damage_shallowest - depth(3)).abs() < 1e-12, "{r:?}");
     // A front that does not move: speed zero to round-off over the whole record.
     assert_eq!(r.damage_front_speed.status, TipStatus::Pass);
     assert!(ratio.abs() < 1e-12, "{ratio}");
@@ -383,6 +386,7 @@ fn the_bending_crack_rising_into_the_column_is_no_damage_front() {
         }
     });
     assert!(r.damage_front.iter().all(|d| d.is_nan()));
+    assert!(r.damage_shallowest.is_nan());
     let (ratio, verdict) = damage_front_read(&r);
     assert_eq!(ratio, 0.0);
     assert!(verdict.pass, "{}", verdict.text);
@@ -394,11 +398,17 @@ fn a_report_written_before_the_damage_front_reads_back() {
     let r = report(30, |_, _, _| 0.0);
     let mut json: serde_json::Value = serde_json::to_value(&r).unwrap();
     let record = json.as_object_mut().unwrap();
-    for key in ["dilatational_speed", "damage_front", "damage_front_speed"] {
+    for key in [
+        "dilatational_speed",
+        "damage_front",
+        "damage_front_speed",
+        "damage_shallowest",
+    ] {
         assert!(record.remove(key).is_some(), "{key}");
     }
     let back: CrackTipReport = serde_json::from_value(json).unwrap();
     assert!(back.dilatational_speed.is_nan());
+    assert!(back.damage_shallowest.is_nan());
     assert!(back.damage_front.is_empty());
     assert_eq!(back.damage_front_speed.status, TipStatus::NoTip);
 }

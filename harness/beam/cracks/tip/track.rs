@@ -27,6 +27,9 @@ pub struct TipTrack {
     /// Depth of the shallowest element of the pre-damage front at the snapshot it appears (m),
     /// `None` without one: where the front entered the column.
     pub damage_entry: Option<f64>,
+    /// Depth of the shallowest pre-damaged element of the column at any snapshot (m), `None`
+    /// without one: whether pre-damage reached above the bending neutral axis.
+    pub damage_shallowest: Option<f64>,
 }
 
 /// Follows the crack over snapshots of the beam's element openings `w` (m): `openings` yields
@@ -76,6 +79,7 @@ where
     let (cohesive, cohesive_coalescence) = heights(path, &in_cohesive, &coalesced, count);
     let (traction_free, traction_free_coalescence) = heights(path, &in_free, &coalesced, count);
     let (damage_front, damage_entry) = damage_front(path, &past_p, &in_cohesive, count);
+    let damage_shallowest = damage_front_top(path, &past_p, &in_cohesive);
     Ok(TipTrack {
         times: times.to_vec(),
         cohesive,
@@ -85,7 +89,29 @@ where
         coalesced,
         damage_front,
         damage_entry,
+        damage_shallowest,
     })
+}
+
+/// Depth of the shallowest pre-damaged element of the column ([`damage_front`]'s elements) over
+/// the whole run, `None` without one.
+pub fn damage_front_top(
+    path: &CrackPath,
+    past_p: &[Option<usize>],
+    in_cohesive: &[Option<usize>],
+) -> Option<f64> {
+    (0..past_p.len())
+        .filter(|&e| path.column[e])
+        .filter(|&e| {
+            past_p[e].is_some_and(|p| {
+                in_cohesive[e].is_none_or(|j| j > p)
+                    && !path.touching[e]
+                        .iter()
+                        .any(|&m| in_cohesive[m].is_some_and(|j| j <= p))
+            })
+        })
+        .map(|e| path.depth[e])
+        .min_by(f64::total_cmp)
 }
 
 /// The pre-damage front in the column under the load: at each snapshot, the greatest depth
