@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use impact_solver::scene::{build_problem, Scene};
+use impact_solver::scene::{build_problem_on_rank, Scene};
 use impact_solver::SolverError;
 
 use crate::progress::fraction_bar;
@@ -165,7 +165,8 @@ pub fn run_scene_file_with(
     } else {
         Scene::from_yaml_file(path)?
     };
-    let mut problem = build_problem(&scene).map_err(|e| in_file(path, e))?;
+    let mut problem = build_problem_on_rank(&scene, ranks.map(|c| (c.rank(), c.size())))
+        .map_err(|e| in_file(path, e))?;
     let bar = fraction_bar(&scene.name);
     if ranks.is_some_and(|c| c.rank() > 0) {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());

@@ -7,7 +7,7 @@ use std::time::Instant;
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::problem::Problem;
-use impact_solver::scene::{build_problem, Scene};
+use impact_solver::scene::{build_problem_on_rank, Scene};
 use impact_solver::SolverError;
 
 use crate::case_kind::RunOptions;
@@ -76,7 +76,7 @@ impl LevelRunner<'_> {
     /// Builds the problem of `scene` and executes its analysis as one of `ranks` (or alone),
     /// writing files under `stem`.
     fn execute(&self, scene: &Scene, stem: &str, ranks: Option<&dyn Communicator>) -> LevelOutcome {
-        build_problem(scene).and_then(|mut problem| {
+        build_problem_on_rank(scene, ranks.map(|c| (c.rank(), c.size()))).and_then(|mut problem| {
             let opts = ExecuteOptions {
                 out: self.case_dir,
                 stem,

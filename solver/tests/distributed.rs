@@ -14,7 +14,7 @@ use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::{keep_rank_element_data, ExplicitSolver, OutputSettings};
 use impact_solver::model::{body_part, MaterialHistory};
-use impact_solver::scene::{build_problem, Analysis, ExplicitAnalysis, Scene};
+use impact_solver::scene::{build_problem_on_rank, Analysis, ExplicitAnalysis, Scene};
 
 fn case(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
@@ -30,6 +30,8 @@ struct Bits {
     /// The elements of each body, and those of this rank (all on one process).
     bodies: Vec<Range<usize>>,
     elements: Range<usize>,
+    /// The elements whose shape-function gradients the model holds.
+    kept: Range<usize>,
     /// The snapshots' times, displacements and crack openings.
     snapshots: Vec<u64>,
     /// Values this rank sent per step to complete the forces.
@@ -44,9 +46,12 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     let scene = Scene::from_yaml_file_entry(path, "scene")
         .or_else(|_| Scene::from_yaml_file(path))
         .unwrap();
-    let mut problem = build_problem(&scene).unwrap();
-    // As `analysis::execute` does: a rank keeps its own elements' shape gradients only.
+    // As a scene run does: a rank's model computes its own elements' shape gradients only, and
+    // keeping them is then nothing to do.
+    let mut problem = build_problem_on_rank(&scene, comm.map(|c| (c.rank(), c.size()))).unwrap();
+    let built = problem.model.kept_elements();
     keep_rank_element_data(&mut problem.model, comm);
+    assert_eq!(problem.model.kept_elements(), built);
     let problem = problem;
     let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("{}: an explicit scene", path.display())
@@ -95,6 +100,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
         elements: solver
             .rank_elements()
             .unwrap_or(0..problem.model.element_count()),
+        kept: problem.model.kept_elements(),
         snapshots: summary
             .snapshots
             .iter()
@@ -155,9 +161,17 @@ fn part(
     MaterialHistory { bodies }
 }
 
-/// Each rank's material history holds exactly its own elements of each body, and the ranks'
-/// together hold every element once.
+/// Each rank's material history and shape-function gradients hold exactly its own elements of
+/// each body, and the ranks' histories together hold every element once.
 fn holds_own_elements_only(bits: &[Bits], path: &Path) {
+    for (rank, r) in bits.iter().enumerate() {
+        assert_eq!(
+            r.kept,
+            r.elements,
+            "{}: rank {rank}'s gradients",
+            path.display()
+        );
+    }
     for (b, body) in bits[0].bodies.iter().enumerate() {
         let mut covered = 0;
         for (rank, r) in bits.iter().enumerate() {

@@ -26,7 +26,7 @@ use crate::model::{MaterialHistory, Motion};
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use crate::problem::Problem;
 use contact_phase::ContactScratch;
-pub use ranks::keep_rank_element_data;
+pub use ranks::{keep_rank_element_data, rank_ranges_of};
 pub use restart::{RestartState, ScheduleRecord};
 pub use resume::RunState;
 pub use run_loop::{OutputSchedule, SegmentEnd};

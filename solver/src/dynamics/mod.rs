@@ -11,7 +11,7 @@ pub use crate::error::InstabilityReport;
 pub use crate::output::Snapshot;
 pub use checkpoint_every::CheckpointEvery;
 pub use energy::EnergyLedger;
-pub use explicit::keep_rank_element_data;
+pub use explicit::{keep_rank_element_data, rank_ranges_of};
 pub use explicit::{
     ExplicitSolver, OutputSchedule, RestartState, RunState, ScheduleRecord, SegmentEnd,
 };

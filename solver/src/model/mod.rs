@@ -187,6 +187,19 @@ impl Model {
         bodies: Vec<(String, Mesh, M)>,
         regions: Vec<Region>,
     ) -> Result<Self> {
+        Self::with_regions_on_rank(bodies, regions, None)
+    }
+
+    /// As [`Self::with_regions`], for rank `rank` of `size` of a distributed run
+    /// (`Some((rank, size))`): the shape-function gradients are computed for this rank's
+    /// elements only ([`Self::keep_element_data`] of its range, `crate::dynamics::rank_ranges`),
+    /// so that no rank holds every element's gradients even while the model is built (96 bytes
+    /// per element: 92 MiB for a million). `None`, or one rank, computes every element's.
+    pub fn with_regions_on_rank<M: Into<MaterialSource>>(
+        bodies: Vec<(String, Mesh, M)>,
+        regions: Vec<Region>,
+        rank: Option<(usize, usize)>,
+    ) -> Result<Self> {
         let mut reference = Vec::new();
         let mut tets = Vec::new();
         // Name, nodes, elements, node sets and material of each body, prepared below.
@@ -244,7 +257,6 @@ impl Model {
                 material,
             ));
         }
-        let mut grad_n = Vec::with_capacity(tets.len());
         let mut volume = Vec::with_capacity(tets.len());
         let mut min_altitude = Vec::with_capacity(tets.len());
         let mut centroid = Vec::with_capacity(tets.len());
@@ -253,8 +265,7 @@ impl Model {
             centroid.push(std::array::from_fn(|i| {
                 0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i])
             }));
-            let (g, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
-            grad_n.push(g);
+            let (_, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
             volume.push(v);
             min_altitude.push(element_quality(&x).min_altitude);
         }
@@ -276,6 +287,22 @@ impl Model {
                 node_sets,
             });
         }
+        drop(centroid);
+        let kept = match rank {
+            Some((rank, size)) if size > 1 => {
+                crate::dynamics::rank_ranges_of(&model_bodies, &element_body, size)[rank].clone()
+            }
+            _ => 0..tets.len(),
+        };
+        let grad_n: Vec<[Vector3<f64>; 4]> = tets[kept.clone()]
+            .iter()
+            .map(|tet| {
+                let x = tet.map(|n| reference[n as usize]);
+                shape_gradients(&x)
+                    .expect("validated meshes have positive volumes")
+                    .0
+            })
+            .collect();
         let density: Vec<f64> = model_bodies
             .iter()
             .map(|b| b.material.constants().density)
@@ -293,7 +320,7 @@ impl Model {
             reference,
             tets,
             grad_n,
-            grad_n_first: 0,
+            grad_n_first: kept.start,
             volume,
             min_altitude,
             mass,
@@ -432,6 +459,9 @@ impl Model {
     pub fn keep_element_data(&mut self, elements: Range<usize>) {
         let kept = self.kept_elements();
         assert!(kept.start <= elements.start && elements.end <= kept.end);
+        if kept == elements {
+            return;
+        }
         let at = elements.start - kept.start..elements.end - kept.start;
         self.grad_n = self.grad_n[at].to_vec();
         self.grad_n_first = elements.start;

@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix3, Unit, Vector3};
 
-use super::{BodySpec, Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
+use super::{Analysis, BodySpec, Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
 use crate::error::{Result, SolverError};
 use crate::material::MaterialModel;
 use crate::mesh::{
@@ -97,9 +97,21 @@ fn scene_body(scene: &Scene, entity: &str, name: &str) -> Result<usize> {
 
 /// Builds the model and the conditions of `scene`.
 pub fn build_problem(scene: &Scene) -> Result<Problem> {
+    build_problem_on_rank(scene, None)
+}
+
+/// As [`build_problem`], for rank `rank` of `size` of a distributed run (`Some((rank, size))`):
+/// where the scene's analysis can run on several ranks (explicit, without remeshing), the model
+/// computes the shape-function gradients of this rank's elements only
+/// ([`Model::with_regions_on_rank`]). The problem is otherwise the same.
+pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Result<Problem> {
     scene.validate()?;
     let (bodies, regions, meshes) = scene_bodies(scene)?;
-    let mut model = Model::with_regions(bodies, regions)?;
+    let distributable = matches!(
+        &scene.analysis,
+        Analysis::Explicit(a) if a.remeshing.is_none()
+    );
+    let mut model = Model::with_regions_on_rank(bodies, regions, rank.filter(|_| distributable))?;
     scene
         .crack_indicator
         .validate()

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::material::without_byte_order_mark;
 pub use crate::model::Component;
-pub use build::build_problem;
+pub use build::{build_problem, build_problem_on_rank};
 pub use explicit::ExplicitAnalysis;
 pub use selector::Selector;
 pub use solver_spec::ContactSolverSpec;

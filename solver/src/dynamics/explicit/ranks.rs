@@ -10,20 +10,21 @@ use super::ExplicitSolver;
 use super::{ExplicitSettings, OutputSettings};
 use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
-use crate::model::{body_part, MaterialHistory, Model, ELEMENT_LEAF};
+use crate::model::{body_part, Body, MaterialHistory, Model, ELEMENT_LEAF};
 use crate::problem::Problem;
 
 /// The element ranges of `size` ranks over `model` ([`element_ranges_by_cost`], by the
 /// materials' relative cost): those of [`ExplicitSolver::distribute`].
 fn rank_ranges(model: &Model, size: usize) -> Vec<Range<usize>> {
-    let cost: Vec<f64> = model
-        .bodies
-        .iter()
-        .map(|b| b.material.relative_cost())
-        .collect();
-    element_ranges_by_cost(model.element_count(), size, |e| {
-        cost[model.element_body[e] as usize]
-    })
+    rank_ranges_of(&model.bodies, &model.element_body, size)
+}
+
+/// The element ranges of `size` ranks over the elements of `bodies` (body index of each element
+/// `element_body`), by the materials' relative cost: [`rank_ranges`] before the model exists,
+/// while it is built for one rank (`Model::with_regions_on_rank`).
+pub fn rank_ranges_of(bodies: &[Body], element_body: &[u16], size: usize) -> Vec<Range<usize>> {
+    let cost: Vec<f64> = bodies.iter().map(|b| b.material.relative_cost()).collect();
+    element_ranges_by_cost(element_body.len(), size, |e| cost[element_body[e] as usize])
 }
 
 /// Keeps in `model` the per-element data of this rank's elements only
