@@ -17,6 +17,7 @@ mod plots;
 mod record;
 pub mod section;
 mod side_view;
+mod tip_agreement;
 
 pub use crate::beam::FAILURE_MODE_METRIC;
 pub use failure_modes::{

@@ -223,6 +223,10 @@ pub fn markdown(results: &RunResults, records: &[(usize, BeamRecord)]) -> Option
         md.push_str(&format!("\n- {line}"));
     }
     md.push('\n');
+    for line in super::tip_agreement::agreement_lines(&rows) {
+        md.push_str(&format!("\n- {line}"));
+    }
+    md.push('\n');
     if let Some(table) = super::column_demand::markdown(&rows) {
         md.push_str(&format!(
             "\n{}\n\n{table}",

@@ -198,6 +198,22 @@ fn section(
                 .collect::<String>(),
         ));
     }
+    let agreement = super::tip_agreement::agreement_lines(&rows);
+    if !agreement.is_empty() {
+        html.push_str(&element(
+            "h4",
+            "",
+            "Crack-tip speeds across the meshes at each velocity (fastest windows, agreement within resolution)",
+        ));
+        html.push_str(&element(
+            "ul",
+            "",
+            &agreement
+                .iter()
+                .map(|l| format!("<li>{}</li>", format::html(l)))
+                .collect::<String>(),
+        ));
+    }
     column_demand_table(&rows, &anchor_of, &mut html);
     match monotonic_statement(&rows) {
         Some(s) => html.push_str(&element("p", "", &format::html(&s))),
