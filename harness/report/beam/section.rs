@@ -198,7 +198,26 @@ fn section(
                 .collect::<String>(),
         ));
     }
-    let agreement = super::tip_agreement::agreement_lines(&rows);
+    tip_agreement_list(&rows, &mut html);
+    column_demand_table(&rows, &anchor_of, &mut html);
+    match monotonic_statement(&rows) {
+        Some(s) => html.push_str(&element("p", "", &format::html(&s))),
+        None => html.push_str(&note(
+            "fewer than two impact cases with a contact force: no monotonicity to state",
+        )),
+    }
+    let finals = rows.iter().filter_map(|r| {
+        let f = r.record.frames.iter().find(|f| f.last)?;
+        Some(side_view_svg(r.record, f, FILMSTRIP_WIDTH + 60))
+    });
+    html.push_str(&plots("plots", finals));
+    Some(html)
+}
+
+/// The tips' speeds across the meshes at each velocity (`super::tip_agreement`); nothing
+/// without a crack-tip reading.
+fn tip_agreement_list(rows: &[super::FailureRow<'_>], html: &mut String) {
+    let agreement = super::tip_agreement::agreement_lines(rows);
     if !agreement.is_empty() {
         html.push_str(&element(
             "h4",
@@ -214,19 +233,6 @@ fn section(
                 .collect::<String>(),
         ));
     }
-    column_demand_table(&rows, &anchor_of, &mut html);
-    match monotonic_statement(&rows) {
-        Some(s) => html.push_str(&element("p", "", &format::html(&s))),
-        None => html.push_str(&note(
-            "fewer than two impact cases with a contact force: no monotonicity to state",
-        )),
-    }
-    let finals = rows.iter().filter_map(|r| {
-        let f = r.record.frames.iter().find(|f| f.last)?;
-        Some(side_view_svg(r.record, f, FILMSTRIP_WIDTH + 60))
-    });
-    html.push_str(&plots("plots", finals));
-    Some(html)
 }
 
 /// The elastic column's demand against the envelope, beside the measured pre-damage

@@ -36,6 +36,10 @@ use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradi
 use crate::material::{LinearElastic, MaterialModel, MicroplaneMaterial, SaintVenantKirchhoff};
 use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
 
+/// Which elements' shape-function gradients a model computes, from its bodies and the body index
+/// of each element ([`Model::with_regions_keeping`]).
+pub type KeptElements<'a> = dyn Fn(&[Body], &[u16]) -> Range<usize> + 'a;
+
 /// One body of the model: a mesh of one material.
 #[derive(Debug, Clone)]
 pub struct Body {
@@ -187,18 +191,18 @@ impl Model {
         bodies: Vec<(String, Mesh, M)>,
         regions: Vec<Region>,
     ) -> Result<Self> {
-        Self::with_regions_on_rank(bodies, regions, None)
+        Self::with_regions_keeping(bodies, regions, &|_, element_body| 0..element_body.len())
     }
 
-    /// As [`Self::with_regions`], for rank `rank` of `size` of a distributed run
-    /// (`Some((rank, size))`): the shape-function gradients are computed for this rank's
-    /// elements only ([`Self::keep_element_data`] of its range, `crate::dynamics::rank_ranges`),
-    /// so that no rank holds every element's gradients even while the model is built (96 bytes
-    /// per element: 92 MiB for a million). `None`, or one rank, computes every element's.
-    pub fn with_regions_on_rank<M: Into<MaterialSource>>(
+    /// As [`Self::with_regions`], computing the shape-function gradients of the elements
+    /// `kept(bodies, element_body)` only (the body index of each element; the range
+    /// [`Self::keep_element_data`] would keep): a rank of a distributed run passes its own range
+    /// (`crate::dynamics::rank_ranges_of`), so that no rank holds every element's gradients even
+    /// while the model is built (96 bytes per element: 92 MiB for a million).
+    pub fn with_regions_keeping<M: Into<MaterialSource>>(
         bodies: Vec<(String, Mesh, M)>,
         regions: Vec<Region>,
-        rank: Option<(usize, usize)>,
+        kept: &KeptElements<'_>,
     ) -> Result<Self> {
         let mut reference = Vec::new();
         let mut tets = Vec::new();
@@ -288,12 +292,7 @@ impl Model {
             });
         }
         drop(centroid);
-        let kept = match rank {
-            Some((rank, size)) if size > 1 => {
-                crate::dynamics::rank_ranges_of(&model_bodies, &element_body, size)[rank].clone()
-            }
-            _ => 0..tets.len(),
-        };
+        let kept = kept(&model_bodies, &element_body);
         let grad_n: Vec<[Vector3<f64>; 4]> = tets[kept.clone()]
             .iter()
             .map(|tet| {

@@ -3,12 +3,13 @@
 use nalgebra::{Matrix3, Unit, Vector3};
 
 use super::{Analysis, BodySpec, Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
+use crate::dynamics::rank_ranges_of;
 use crate::error::{Result, SolverError};
 use crate::material::MaterialModel;
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
 };
-use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Region};
+use crate::model::{Body, Constraint, Model, Motion, NodalLoad, Probe, Region};
 use crate::problem::Problem;
 
 fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
@@ -103,7 +104,8 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
 /// As [`build_problem`], for rank `rank` of `size` of a distributed run (`Some((rank, size))`):
 /// where the scene's analysis can run on several ranks (explicit, without remeshing), the model
 /// computes the shape-function gradients of this rank's elements only
-/// ([`Model::with_regions_on_rank`]). The problem is otherwise the same.
+/// ([`Model::with_regions_keeping`] of its range of [`rank_ranges_of`]). The problem is
+/// otherwise the same.
 pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Result<Problem> {
     scene.validate()?;
     let (bodies, regions, meshes) = scene_bodies(scene)?;
@@ -111,7 +113,13 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
         &scene.analysis,
         Analysis::Explicit(a) if a.remeshing.is_none()
     );
-    let mut model = Model::with_regions_on_rank(bodies, regions, rank.filter(|_| distributable))?;
+    let kept = |bodies: &[Body], element_body: &[u16]| match rank {
+        Some((rank, size)) if size > 1 && distributable => {
+            rank_ranges_of(bodies, element_body, size)[rank].clone()
+        }
+        _ => 0..element_body.len(),
+    };
+    let mut model = Model::with_regions_keeping(bodies, regions, &kept)?;
     scene
         .crack_indicator
         .validate()

@@ -15,14 +15,14 @@ pub struct TipTrack {
     /// Height of the traction-free tip (the same at `w >= w_tf`), `None` before that set exists.
     pub traction_free: Vec<Option<f64>>,
     /// Length of the cohesive tip's advance up to each snapshot that went into pre-damaged
-    /// elements (coalescence, [`coalesced`]), the advance with which it appears included (m).
+    /// elements (coalescence, `coalesced`), the advance with which it appears included (m).
     pub cohesive_coalescence: Vec<f64>,
     /// The same for the traction-free tip (m).
     pub traction_free_coalescence: Vec<f64>,
-    /// Which elements are pre-damaged ([`coalesced`]).
+    /// Which elements are pre-damaged (`coalesced`).
     pub coalesced: Vec<bool>,
     /// Depth below the top face of the pre-damage front in the column under the load
-    /// ([`damage_front`]) at each snapshot (m), `None` before there is any.
+    /// (`damage_front`) at each snapshot (m), `None` before there is any.
     pub damage_front: Vec<Option<f64>>,
     /// Depth of the shallowest element of the pre-damage front at the snapshot it appears (m),
     /// `None` without one: where the front entered the column.

@@ -20,8 +20,8 @@ fn rank_ranges(model: &Model, size: usize) -> Vec<Range<usize>> {
 }
 
 /// The element ranges of `size` ranks over the elements of `bodies` (body index of each element
-/// `element_body`), by the materials' relative cost: [`rank_ranges`] before the model exists,
-/// while it is built for one rank (`Model::with_regions_on_rank`).
+/// `element_body`), by the materials' relative cost: the ranges the solver distributes, before the model exists,
+/// while it is built for one rank (`Model::with_regions_keeping`).
 pub fn rank_ranges_of(bodies: &[Body], element_body: &[u16], size: usize) -> Vec<Range<usize>> {
     let cost: Vec<f64> = bodies.iter().map(|b| b.material.relative_cost()).collect();
     element_ranges_by_cost(element_body.len(), size, |e| cost[element_body[e] as usize])
