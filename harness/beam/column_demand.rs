@@ -3,8 +3,9 @@
 //! under lateral compression, i.e. whether the pre-damage the drop tests measure is expected.
 //!
 //! The beam of a drop case is run again, linear elastic with the concrete's own elastic
-//! constants, over the first two round trips of the dilatational wave through its height
-//! (`t <= 4 H / c_p`, where the splitting state behind the spreading wave lives). The column is
+//! constants, over one round trip of the dilatational wave through its height (`t <= 2 H / c_p`,
+//! where the splitting state behind the spreading wave lives; later the elastic beam's bending
+//! takes over, which the concrete has long cracked through by then). The column is
 //! that of the pre-damage front (`crate::beam::cracks::CrackPath::column`): the elements within
 //! one cell of the load's centre line, below the loading region. Per layer of one cell and
 //! field frame, the volume-weighted mean Cauchy stress gives the principal stresses
@@ -98,7 +99,7 @@ pub struct ColumnDemand {
     pub tensile_strength: f64,
     /// The calibrated compressive strength `f_c` (Pa).
     pub compressive_strength: f64,
-    /// End of the elastic run, `4 H / c_p` (s).
+    /// End of the elastic run, `2 H / c_p` (s).
     pub until: f64,
     /// Beam height `H` (m).
     pub height: f64,
@@ -290,7 +291,7 @@ impl RunObserver for Frames<'_> {
 }
 
 /// The demand of the elastic column of `spec`'s beam in `scene` (whose built problem is
-/// `problem`): the elastic companion run to `4 H / c_p`, its column's layers judged against the
+/// `problem`): the elastic companion run to `2 H / c_p`, its column's layers judged against the
 /// envelope of the concrete's calibrated strengths.
 pub fn column_demand(
     scene: &Scene,

@@ -8,8 +8,8 @@ use crate::report::format::num;
 
 /// What the section says above the table.
 pub const EXPLANATION: &str = "The column under the hammer, elastic: each impact case's beam run \
-    again linear elastic (the concrete's own elastic constants) for two round trips of the \
-    dilatational wave through its height, 4 H / c_p. Per layer of one cell of the column of the \
+    again linear elastic (the concrete's own elastic constants) for one round trip of the \
+    dilatational wave through its height, 2 H / c_p. Per layer of one cell of the column of the \
     pre-damage front (within one cell of the load's centre line, below the loading region), the \
     volume mean of the Cauchy stress gives sigma_1 >= sigma_3, judged against Kupfer & Gerstle's \
     (1973) tension-compression line raised by the concrete's own rate factor F at the layer's \
