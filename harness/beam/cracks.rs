@@ -301,15 +301,21 @@ pub fn first_crack_time(
     Ok(None)
 }
 
-/// The model's element range of the beam body.
-fn beam_elements(problem: &Problem, spec: &BeamSpec) -> Result<std::ops::Range<usize>, CrackError> {
-    let b = problem
+/// The model's index of the beam body, or the error naming it.
+pub(crate) fn beam_body_index(problem: &Problem, spec: &BeamSpec) -> Result<usize, CrackError> {
+    problem
         .model
         .body_index(&spec.body)
         .ok_or_else(|| CrackError::NoBody {
             body: spec.body.clone(),
-        })?;
-    Ok(problem.model.bodies[b].elements.clone())
+        })
+}
+
+/// The model's element range of the beam body.
+fn beam_elements(problem: &Problem, spec: &BeamSpec) -> Result<std::ops::Range<usize>, CrackError> {
+    Ok(problem.model.bodies[beam_body_index(problem, spec)?]
+        .elements
+        .clone())
 }
 
 #[cfg(test)]

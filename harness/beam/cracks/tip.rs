@@ -48,7 +48,7 @@ use impact_solver::material::MaterialModel;
 use impact_solver::problem::Problem;
 use serde::{Deserialize, Serialize};
 
-use super::{beam_elements, BeamFrame, BeamSpec, CrackError};
+use super::{beam_body_index, BeamFrame, BeamSpec, CrackError};
 
 /// The opening of the traction-free tip, as a fraction of the critical opening `w_cr` of the
 /// crack indicator: with `w_cr` = 0.2 mm, 0.1 mm, where the calibrated concrete's law keeps
@@ -354,13 +354,8 @@ pub fn crack_tip_report(
         return Err(CrackError::NoSnapshots);
     }
     let (frame, elements) = BeamFrame::of(problem, spec)?;
-    let range = beam_elements(problem, spec)?;
-    let b = problem
-        .model
-        .body_index(&spec.body)
-        .ok_or_else(|| CrackError::NoBody {
-            body: spec.body.clone(),
-        })?;
+    let b = beam_body_index(problem, spec)?;
+    let range = problem.model.bodies[b].elements.clone();
     let material = &problem.model.bodies[b].material;
     let model = material
         .model()

@@ -7,7 +7,7 @@ use super::{
     failure_rows, load, load_one, metric_text, monotonic_statement, side_view_svg, verdicts,
     BeamRecord, FAILURE_MODE_METRIC, FILMSTRIP_WIDTH, SIDE_VIEW_WIDTH,
 };
-use crate::report::blocks::{element, note, plots, table, text, titles, Cell, Row};
+use crate::report::blocks::{element, list, note, plots, table, text, titles, Cell, Row};
 use crate::report::format;
 use crate::report::section::{Page, Section};
 use crate::report::summary::CaseSummary;
@@ -189,14 +189,7 @@ fn section(
             "",
             "Verdict per velocity (failure mode at the end of the contact)",
         ));
-        html.push_str(&element(
-            "ul",
-            "",
-            &lines
-                .iter()
-                .map(|l| format!("<li>{}</li>", format::html(l)))
-                .collect::<String>(),
-        ));
+        html.push_str(&list(&lines));
     }
     tip_agreement_list(&rows, &mut html);
     column_demand_table(&rows, &anchor_of, &mut html);
@@ -224,14 +217,7 @@ fn tip_agreement_list(rows: &[super::FailureRow<'_>], html: &mut String) {
             "",
             "Crack-tip speeds across the meshes at each velocity (fastest windows, agreement within resolution)",
         ));
-        html.push_str(&element(
-            "ul",
-            "",
-            &agreement
-                .iter()
-                .map(|l| format!("<li>{}</li>", format::html(l)))
-                .collect::<String>(),
-        ));
+        html.push_str(&list(&agreement));
     }
 }
 

@@ -78,8 +78,11 @@ where
     let coalesced = coalesced(path, &past_p, &in_cohesive);
     let (cohesive, cohesive_coalescence) = heights(path, &in_cohesive, &coalesced, count);
     let (traction_free, traction_free_coalescence) = heights(path, &in_free, &coalesced, count);
-    let (damage_front, damage_entry) = damage_front(path, &past_p, &in_cohesive, count);
-    let damage_shallowest = damage_front_top(path, &past_p, &in_cohesive);
+    let DamageFront {
+        front: damage_front,
+        entry: damage_entry,
+        shallowest: damage_shallowest,
+    } = damage_front(path, &past_p, &in_cohesive, count);
     Ok(TipTrack {
         times: times.to_vec(),
         cohesive,
@@ -93,41 +96,20 @@ where
     })
 }
 
-/// Depth of the shallowest pre-damaged element of the column ([`damage_front`]'s elements) over
-/// the whole run, `None` without one.
-pub fn damage_front_top(
-    path: &CrackPath,
-    past_p: &[Option<usize>],
-    in_cohesive: &[Option<usize>],
-) -> Option<f64> {
-    (0..past_p.len())
-        .filter(|&e| path.column[e])
-        .filter(|&e| {
-            past_p[e].is_some_and(|p| {
-                in_cohesive[e].is_none_or(|j| j > p)
-                    && !path.touching[e]
-                        .iter()
-                        .any(|&m| in_cohesive[m].is_some_and(|j| j <= p))
-            })
-        })
-        .map(|e| path.depth[e])
-        .min_by(f64::total_cmp)
-}
-
 /// The pre-damage front in the column under the load: at each snapshot, the greatest depth
 /// below the top face of a column element that went past `w_p` while neither it nor an element
 /// touching it was in the connected cohesive crack (opened by the compressive wave's splitting,
 /// not by the crack's own tip; an element that passes `w_p` in the snapshot the crack reaches it
-/// or a node-sharing neighbour is the crack's). The
-/// front only deepens. Also the depth of its shallowest element at the snapshot it appears. A damage front triggered by a passing wave cannot outrun the wave that
-/// triggers it: top-down in the column, the dilatational wave `c_p`
-/// (`../shared/research/drop-test-physics.md`, section 6 of its recommendations).
+/// or a node-sharing neighbour is the crack's). The front only deepens. A damage front triggered
+/// by a passing wave cannot outrun the wave that triggers it: top-down in the column, the
+/// dilatational wave `c_p` (`../shared/research/drop-test-physics.md`, section 6 of its
+/// recommendations).
 pub fn damage_front(
     path: &CrackPath,
     past_p: &[Option<usize>],
     in_cohesive: &[Option<usize>],
     count: usize,
-) -> (Vec<Option<f64>>, Option<f64>) {
+) -> DamageFront {
     // Shallowest and deepest pre-damaged element first past w_p at each snapshot.
     let mut range: Vec<Option<(f64, f64)>> = vec![None; count];
     for e in (0..past_p.len()).filter(|&e| path.column[e]) {
@@ -142,6 +124,7 @@ pub fn damage_front(
         range[p] = Some(range[p].map_or((d, d), |(a, b): (f64, f64)| (a.min(d), b.max(d))));
     }
     let entry = range.iter().flatten().next().map(|r| r.0);
+    let shallowest = range.iter().flatten().map(|r| r.0).min_by(f64::total_cmp);
     let mut front: Option<f64> = None;
     let front = range
         .into_iter()
@@ -152,7 +135,22 @@ pub fn damage_front(
             front
         })
         .collect();
-    (front, entry)
+    DamageFront {
+        front,
+        entry,
+        shallowest,
+    }
+}
+
+/// The pre-damaged elements of the column over a run ([`damage_front`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DamageFront {
+    /// Depth of the front below the top face at each snapshot (m), `None` before there is any.
+    pub front: Vec<Option<f64>>,
+    /// Depth of its shallowest element at the snapshot it appears (m): where it entered.
+    pub entry: Option<f64>,
+    /// Depth of the shallowest pre-damaged element at any snapshot (m).
+    pub shallowest: Option<f64>,
 }
 
 fn mark(first: &mut [Option<usize>], now: &[bool], k: usize) {
