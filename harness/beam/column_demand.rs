@@ -317,7 +317,7 @@ pub fn column_demand(
             .map(|(i, el)| {
                 let depth = frame.y_bottom + frame.height - el.centroid.y;
                 let layer = ((depth / frame.cell).floor().max(0.0) as usize).min(layers - 1);
-                (first + i, layer, problem.model.volume[first + i])
+                (first + i, layer, problem.model.volume(first + i))
             })
             .collect(),
         layers,

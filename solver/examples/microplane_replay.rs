@@ -99,7 +99,7 @@ fn record(step: usize) -> (MicroplaneParameters, Vec<Update>) {
                 strain: parameters.volumetric_strain.measured(&sym(&now)),
                 gamma_dot: (0.5 * rate.norm_squared()).sqrt(),
                 band: laws
-                    .crack_band(MicroplaneConcrete::element_size(model.volume[e]))
+                    .crack_band(MicroplaneConcrete::element_size(model.volume(e)))
                     .unwrap(),
             }
         })

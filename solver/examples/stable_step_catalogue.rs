@@ -27,7 +27,7 @@ fn stiffness_times(model: &Model, u: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
         let eps = 0.5 * (h + h.transpose());
         let sigma = Matrix3::identity() * (lambda * eps.trace()) + eps * (2.0 * mu);
         for a in 0..4 {
-            f[tet[a] as usize] += model.volume[e] * (sigma * g[a]);
+            f[tet[a] as usize] += model.volume(e) * (sigma * g[a]);
         }
     }
 }
@@ -108,7 +108,7 @@ fn main() {
         let new = (0..model.element_count())
             .map(|e| {
                 let c = model.material_of(e).constants();
-                stable_length(model.min_altitude[e], &model.grad_n(e), c.lambda(), c.mu())
+                stable_length(model.min_altitude(e), &model.grad_n(e), c.lambda(), c.mu())
                     / c.dilatational_wave_speed()
             })
             .fold(f64::INFINITY, f64::min);

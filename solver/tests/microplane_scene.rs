@@ -94,7 +94,7 @@ fn a_parameter_file_is_found_relative_to_the_scene_file() {
     // The stable step comes from the elastic constants of the parameters.
     let c = expected.elastic().dilatational_wave_speed();
     let (dt, e) = problem.model.critical_time_step();
-    assert_eq!(dt, problem.model.min_altitude[e] / c);
+    assert_eq!(dt, problem.model.min_altitude(e) / c);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

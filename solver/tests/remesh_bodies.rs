@@ -174,7 +174,7 @@ fn a_microplane_body_carries_its_history_from_each_new_elements_parent() {
             );
             let band = micro
                 .model
-                .crack_band(MicroplaneConcrete::element_size(new_model.volume[e]))
+                .crack_band(MicroplaneConcrete::element_size(new_model.volume(e)))
                 .unwrap();
             assert_eq!(
                 micro.bands[e], band,

@@ -81,8 +81,8 @@ fn exact_limit(problem: &Problem) -> f64 {
     let mu = e / (2.0 * (1.0 + nu));
     let n = model.node_count();
     let mut k = DMatrix::<f64>::zeros(3 * n, 3 * n);
-    for (e, (tet, v)) in model.tets.iter().zip(&model.volume).enumerate() {
-        let g = model.grad_n(e);
+    for (e, tet) in model.tets.iter().enumerate() {
+        let (g, v) = (model.grad_n(e), model.volume(e));
         for a in 0..4 {
             for b in 0..4 {
                 let block = (g[a] * g[b].transpose()) * lambda

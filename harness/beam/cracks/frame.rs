@@ -76,7 +76,7 @@ impl BeamFrame {
             });
         }
         let mean_volume =
-            body.elements.clone().map(|e| model.volume[e]).sum::<f64>() / elements.len() as f64;
+            body.elements.clone().map(|e| model.volume(e)).sum::<f64>() / elements.len() as f64;
         let cell = (6.0 * mean_volume).cbrt();
         let height = hi.y - lo.y;
         let on_bottom = |n: u32| (model.reference[n as usize].y - lo.y).abs() <= 1e-6 * height;

@@ -149,7 +149,7 @@ fn grid_of(scene: &Scene, problem: &Problem, body: usize, size: [f64; 2]) -> (us
         }
     }
     let elements = problem.model.bodies[body].elements.clone();
-    let volume: f64 = problem.model.volume[elements.clone()].iter().sum();
+    let volume: f64 = elements.clone().map(|e| problem.model.volume(e)).sum();
     let h = (6.0 * volume / elements.len().max(1) as f64).cbrt();
     let n = |l: f64| ((l / h).round() as usize).max(1);
     (n(size[0]), n(size[1]))

@@ -180,8 +180,9 @@ impl<'p> ExplicitSolver<'p> {
             .collect();
         let mut node_length = vec![f64::INFINITY; n];
         for (e, tet) in model.tets.iter().enumerate() {
+            let l = model.min_altitude(e);
             for &a in tet {
-                node_length[a as usize] = node_length[a as usize].min(model.min_altitude[e]);
+                node_length[a as usize] = node_length[a as usize].min(l);
             }
         }
         let v0 = problem.initial_velocity.clone();

@@ -464,7 +464,7 @@ where
     let elements = model.tets[range.clone()]
         .iter()
         .zip(model.kept_grad_n(range.clone()))
-        .zip(&model.volume[range.clone()]);
+        .zip(model.kept_volumes(range.clone()));
     // The corner displacements and velocities of each element are written into these in
     // place: `tet.map` built each array elsewhere and moved it with loads that straddled its
     // 24-byte stores, which store forwarding cannot serve (perf: an eighth of this loop's

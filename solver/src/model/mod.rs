@@ -9,6 +9,7 @@ mod crack_opening;
 mod element;
 mod fields;
 mod history;
+mod kept;
 mod probe;
 pub mod stable_step;
 
@@ -92,18 +93,16 @@ impl MaterialSource {
         })
     }
 
-    /// The material of a body whose elements have the reference volumes `volumes`
-    /// and the reference centroids `centroids` (`first_element` is the global id of the first):
+    /// The material of a body whose elements have the reference volumes `volumes` and the
+    /// connectivity `tets` over `reference` (`first_element` is the global id of the first):
     /// the elastic models need nothing from them, microplane concrete the crack band of each
-    /// element (and its strength where a strength field is given), and with the band across the
-    /// crack each element's reference nodes, from `tets` over `reference`. An element too large
-    /// for the crack band is an error naming the body and the element.
-    #[allow(clippy::too_many_arguments)]
+    /// element (and its strength at the element's reference centroid where a strength field is
+    /// given), and with the band across the crack each element's reference nodes. An element too
+    /// large for the crack band is an error naming the body and the element.
     fn prepare(
         self,
         body: &str,
         volumes: &[f64],
-        centroids: &[[f64; 3]],
         tets: &[[u32; 4]],
         reference: &[Vector3<f64>],
         first_element: usize,
@@ -116,6 +115,16 @@ impl MaterialSource {
                 Ok(Arc::new(SaintVenantKirchhoff::new(c)))
             }
             MaterialSource::Model(MaterialModel::Microplane(p)) => {
+                // Only this body's, and only for concrete: a million elements' centroids are
+                // 23 MiB that the elastic bodies never read.
+                let centroids: Vec<[f64; 3]> = tets
+                    .iter()
+                    .map(|tet| {
+                        let x = tet.map(|n| reference[n as usize]);
+                        std::array::from_fn(|i| 0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i]))
+                    })
+                    .collect();
+                let centroids = &centroids[..];
                 let corners = tets.iter().map(|t| t.map(|n| reference[n as usize].into()));
                 Ok(Arc::new(
                     MicroplaneMaterial::new(body, p, volumes, centroids, first_element)?
@@ -147,16 +156,11 @@ pub struct Model {
     pub reference: Vec<Vector3<f64>>,
     /// Global connectivity.
     pub tets: Vec<[u32; 4]>,
-    /// Reference shape-function gradients `grad_X N_a` (3.44) of the elements
-    /// `grad_n_first..grad_n_first + grad_n.len()`: every element's, or one rank's own in a
-    /// distributed run ([`Self::keep_element_data`]); [`Self::grad_n`] reads them.
-    grad_n: Vec<[Vector3<f64>; 4]>,
-    /// The first element of `grad_n`.
-    grad_n_first: usize,
-    /// Reference volumes `V` (m^3).
-    pub volume: Vec<f64>,
-    /// Smallest altitude `3 V / A_max` per element (m), the length of the stable step.
-    pub min_altitude: Vec<f64>,
+    /// Reference shape-function gradients, volumes and smallest altitudes of the elements
+    /// [`Self::kept_elements`]: every element's, or one rank's own in a distributed run
+    /// ([`Self::keep_element_data`]); [`Self::grad_n`], [`Self::volume`] and
+    /// [`Self::min_altitude`] read them.
+    kept: kept::KeptElementData,
     /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes.
     pub mass: Vec<f64>,
     /// The bodies, in the order given; their nodes and elements are consecutive global ranges.
@@ -263,12 +267,8 @@ impl Model {
         }
         let mut volume = Vec::with_capacity(tets.len());
         let mut min_altitude = Vec::with_capacity(tets.len());
-        let mut centroid = Vec::with_capacity(tets.len());
         for tet in &tets {
             let x = tet.map(|n| reference[n as usize]);
-            centroid.push(std::array::from_fn(|i| {
-                0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i])
-            }));
             let (_, v) = shape_gradients(&x).expect("validated meshes have positive volumes");
             volume.push(v);
             min_altitude.push(element_quality(&x).min_altitude);
@@ -278,7 +278,6 @@ impl Model {
             let material = material.prepare(
                 &name,
                 &volume[elements.clone()],
-                &centroid[elements.clone()],
                 &tets[elements.clone()],
                 &reference,
                 elements.start,
@@ -291,17 +290,7 @@ impl Model {
                 node_sets,
             });
         }
-        drop(centroid);
         let kept = kept(&model_bodies, &element_body);
-        let grad_n: Vec<[Vector3<f64>; 4]> = tets[kept.clone()]
-            .iter()
-            .map(|tet| {
-                let x = tet.map(|n| reference[n as usize]);
-                shape_gradients(&x)
-                    .expect("validated meshes have positive volumes")
-                    .0
-            })
-            .collect();
         let density: Vec<f64> = model_bodies
             .iter()
             .map(|b| b.material.constants().density)
@@ -315,13 +304,11 @@ impl Model {
         }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
         let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
+        let kept = kept::KeptElementData::new(&tets, &reference, kept, volume, min_altitude);
         Ok(Self {
             reference,
             tets,
-            grad_n,
-            grad_n_first: kept.start,
-            volume,
-            min_altitude,
+            kept,
             mass,
             bodies: model_bodies,
             element_body,
@@ -359,8 +346,8 @@ impl Model {
     /// (`Self::stable_length`).
     pub fn critical_time_step(&self) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
-        for (e, &l) in self.min_altitude.iter().enumerate() {
-            let dt = self.stable_length(e, l, self.volume[e])
+        for e in 0..self.element_count() {
+            let dt = self.stable_length(e, self.min_altitude(e), self.volume(e))
                 / self.material_of(e).constants().dilatational_wave_speed();
             if dt < best.0 {
                 best = (dt, e);
@@ -413,7 +400,7 @@ impl Model {
         let rho_0 = self.material_of(e).constants().density;
         let mass = match &self.carried {
             Some(c) => c.element_mass[e],
-            None => rho_0 * self.volume[e],
+            None => rho_0 * self.volume(e),
         };
         let factor = scale * light_density_ratio(mass, rho_0, volume);
         if factor == 1.0 {
@@ -423,47 +410,56 @@ impl Model {
         }
     }
 
+    /// The reference corners of element `e`.
+    #[inline]
+    fn reference_corners(&self, e: usize) -> [Vector3<f64>; 4] {
+        self.tets[e].map(|n| self.reference[n as usize])
+    }
+
     /// Reference shape-function gradients `grad_X N_a` of element `e` (3.44): the stored ones,
-    /// or for an element whose gradients this rank does not keep ([`Self::keep_element_data`]),
-    /// the same ones computed again from the reference coordinates by the same function.
+    /// or for an element whose data this rank does not keep ([`Self::keep_element_data`]), the
+    /// same ones computed again from the reference coordinates by the same function.
     #[inline]
     pub fn grad_n(&self, e: usize) -> [Vector3<f64>; 4] {
-        match e.checked_sub(self.grad_n_first) {
-            Some(at) if at < self.grad_n.len() => self.grad_n[at],
-            _ => {
-                let x = self.tets[e].map(|n| self.reference[n as usize]);
-                shape_gradients(&x)
-                    .expect("validated meshes have positive volumes")
-                    .0
-            }
-        }
+        self.kept.grad_n(e, || self.reference_corners(e))
+    }
+
+    /// Reference volume `V` of element `e` (m^3), stored or computed again as [`Self::grad_n`].
+    #[inline]
+    pub fn volume(&self, e: usize) -> f64 {
+        self.kept.volume(e, || self.reference_corners(e))
+    }
+
+    /// Smallest altitude `3 V / A_max` of element `e` (m), the length of its stable step, stored
+    /// or computed again as [`Self::grad_n`].
+    #[inline]
+    pub fn min_altitude(&self, e: usize) -> f64 {
+        self.kept.min_altitude(e, || self.reference_corners(e))
     }
 
     /// The stored shape-function gradients of the elements of `range`, which must be kept
     /// ([`Self::keep_element_data`]).
     pub(crate) fn kept_grad_n(&self, range: Range<usize>) -> &[[Vector3<f64>; 4]] {
-        &self.grad_n[range.start - self.grad_n_first..range.end - self.grad_n_first]
+        self.kept.grad_n_of(range)
     }
 
-    /// The elements whose shape-function gradients are stored.
+    /// The stored volumes of the elements of `range`, which must be kept.
+    pub(crate) fn kept_volumes(&self, range: Range<usize>) -> &[f64] {
+        self.kept.volumes_of(range)
+    }
+
+    /// The elements whose gradients, volumes and altitudes are stored.
     pub fn kept_elements(&self) -> Range<usize> {
-        self.grad_n_first..self.grad_n_first + self.grad_n.len()
+        self.kept.range()
     }
 
-    /// Keeps the per-element data that only the elements' own force computation reads (the
-    /// shape-function gradients, 96 bytes per element) for the elements of `elements` only: a
-    /// rank of a distributed run computes the forces of its own elements, and reads any other
-    /// element's gradients rarely (output, an error message), through [`Self::grad_n`]. The
-    /// volumes and altitudes stay whole: every rank computes the same stable step from them.
+    /// Keeps the per-element data that the elements' own force computation reads (the
+    /// shape-function gradients, volumes and smallest altitudes, 112 bytes per element) for the
+    /// elements of `elements` only: a rank of a distributed run computes the forces of its own
+    /// elements, and reads any other element's rarely (its stable step once, output, an error
+    /// message), through [`Self::grad_n`], [`Self::volume`] and [`Self::min_altitude`].
     pub fn keep_element_data(&mut self, elements: Range<usize>) {
-        let kept = self.kept_elements();
-        assert!(kept.start <= elements.start && elements.end <= kept.end);
-        if kept == elements {
-            return;
-        }
-        let at = elements.start - kept.start..elements.end - kept.start;
-        self.grad_n = self.grad_n[at].to_vec();
-        self.grad_n_first = elements.start;
+        self.kept.keep(elements);
     }
 
     /// Displacements of element `e`'s nodes.
@@ -564,7 +560,7 @@ impl Model {
             None => (0..self.element_count())
                 .map(|e| {
                     let body = &self.bodies[self.element_body[e] as usize];
-                    body.material.constants().density * self.volume[e]
+                    body.material.constants().density * self.volume(e)
                 })
                 .collect(),
         }
@@ -612,14 +608,14 @@ impl Model {
                     let h = self.deformation_gradient(e, u) - Matrix3::identity();
                     material
                         .strain_energy_density(&h)
-                        .map(|w| self.volume[e] / c.deformation[e].determinant() * w)
+                        .map(|w| self.volume(e) / c.deformation[e].determinant() * w)
                 }
                 None => {
                     let h =
                         displacement_gradient(&self.element_displacements(e, u), &self.grad_n(e));
                     material
                         .strain_energy_density(&h)
-                        .map(|w| self.volume[e] * w)
+                        .map(|w| self.volume(e) * w)
                 }
             };
             if let Some(energy) = energy {
@@ -632,7 +628,7 @@ impl Model {
     /// Element size `(6 V)^(1/3)` (m): the edge of a cube cut into six tetrahedra of this
     /// volume, the crack band's `h` and the default length of the crack indicator.
     pub fn element_size(&self, e: usize) -> f64 {
-        (6.0 * self.volume[e]).cbrt()
+        (6.0 * self.volume(e)).cbrt()
     }
 
     /// Nodes of `body` that lie in the node set named `set` (a Gmsh physical group).
@@ -648,12 +644,10 @@ impl Model {
     /// Bytes held per element by the model's element arrays (connectivity, gradients, volume,
     /// altitude, body id, assembly slots), for the memory report of the benchmarks.
     pub fn bytes_per_element(&self) -> f64 {
-        let per_element = std::mem::size_of::<[u32; 4]>()
-            + std::mem::size_of::<[Vector3<f64>; 4]>()
-            + 2 * std::mem::size_of::<f64>()
-            + std::mem::size_of::<u16>();
+        let per_element = std::mem::size_of::<[u32; 4]>() + std::mem::size_of::<u16>();
         let per_node = std::mem::size_of::<Vector3<f64>>() + std::mem::size_of::<f64>();
         (per_element * self.element_count()
+            + self.kept.heap_bytes()
             + per_node * self.node_count()
             + self.assembler.heap_bytes()) as f64
             / self.element_count().max(1) as f64

@@ -162,7 +162,7 @@ pub fn measure_near_tip(
         let Some(s) = cauchy(problem, history, e, u) else {
             continue;
         };
-        let v = m.volume[e];
+        let v = m.volume(e);
         let mises = von_mises(&s);
         count += 1;
         max = if max.is_nan() { mises } else { max.max(mises) };

@@ -522,7 +522,7 @@ fn trial_forces(
             let update = material.static_element_forces(
                 local,
                 &model.grad_n(e),
-                model.volume[e],
+                model.volume(e),
                 &model.element_displacements(e, u),
                 ElementState {
                     history: state,

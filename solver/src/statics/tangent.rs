@@ -47,7 +47,7 @@ fn consistent_tangent(
         for j in 0..3 {
             let mut df = Matrix3::zeros();
             df.set_row(j, &g[b].transpose());
-            let dp = material.first_piola_derivative(&f, &df)? * model.volume[e];
+            let dp = material.first_piola_derivative(&f, &df)? * model.volume(e);
             for a in 0..4 {
                 let force = dp * g[a];
                 for i in 0..3 {
@@ -95,7 +95,7 @@ pub(super) fn forward_difference_tangents(
                                 .static_element_forces(
                                     local,
                                     &model.grad_n(e),
-                                    model.volume[e],
+                                    model.volume(e),
                                     ue,
                                     ElementState {
                                         history: state,

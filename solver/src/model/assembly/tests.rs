@@ -63,7 +63,7 @@ fn serial(model: &Model, u: &[Vector3<f64>]) -> (Vec<Vector3<f64>>, Option<usize
             let update = body.material.static_element_forces(
                 local,
                 &model.grad_n(e),
-                model.volume[e],
+                model.volume(e),
                 &ue,
                 ElementState::stateless(),
             );

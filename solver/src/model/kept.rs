@@ -1,0 +1,133 @@
+//! The per-element data that an element's own force computation reads, kept for one range of
+//! elements: every element's on one process, a rank's own in a distributed run
+//! (`crate::distributed`). Another element's, which only the run's setup (the stable step), the
+//! output and error messages read, is computed again from the reference coordinates by the same
+//! functions that computed the kept values, so it is the same bits.
+
+use std::ops::Range;
+
+use nalgebra::Vector3;
+
+use crate::kinematics::shape_gradients;
+use crate::mesh::element_quality;
+
+/// Shape-function gradients, reference volumes and smallest altitudes of the elements
+/// `first..first + grad_n.len()` (136 bytes per element).
+#[derive(Debug)]
+pub(super) struct KeptElementData {
+    first: usize,
+    /// Reference shape-function gradients `grad_X N_a` (3.44).
+    grad_n: Vec<[Vector3<f64>; 4]>,
+    /// Reference volumes `V` (m^3).
+    volume: Vec<f64>,
+    /// Smallest altitude `3 V / A_max` (m), the length of the stable step.
+    min_altitude: Vec<f64>,
+}
+
+/// The reference gradients and volume of the tetrahedron with corners `x` (validated meshes
+/// have positive volumes).
+fn gradients_and_volume(x: &[Vector3<f64>; 4]) -> ([Vector3<f64>; 4], f64) {
+    shape_gradients(x).expect("validated meshes have positive volumes")
+}
+
+impl KeptElementData {
+    /// The data of the elements `range` of `tets` over `reference`, the volumes and altitudes
+    /// taken from `volume` and `min_altitude` (every element's).
+    pub(super) fn new(
+        tets: &[[u32; 4]],
+        reference: &[Vector3<f64>],
+        range: Range<usize>,
+        volume: Vec<f64>,
+        min_altitude: Vec<f64>,
+    ) -> Self {
+        let grad_n = tets[range.clone()]
+            .iter()
+            .map(|tet| gradients_and_volume(&tet.map(|n| reference[n as usize])).0)
+            .collect();
+        let part = |all: Vec<f64>| {
+            if range == (0..all.len()) {
+                all
+            } else {
+                all[range.clone()].to_vec()
+            }
+        };
+        Self {
+            first: range.start,
+            grad_n,
+            volume: part(volume),
+            min_altitude: part(min_altitude),
+        }
+    }
+
+    /// The elements whose data is kept.
+    pub(super) fn range(&self) -> Range<usize> {
+        self.first..self.first + self.grad_n.len()
+    }
+
+    /// The position of element `e` in the kept arrays, if it is kept.
+    #[inline]
+    fn slot(&self, e: usize) -> Option<usize> {
+        e.checked_sub(self.first)
+            .filter(|&at| at < self.grad_n.len())
+    }
+
+    /// The gradients of element `e` with corners `x` (read only where `e` is not kept).
+    #[inline]
+    pub(super) fn grad_n(
+        &self,
+        e: usize,
+        x: impl FnOnce() -> [Vector3<f64>; 4],
+    ) -> [Vector3<f64>; 4] {
+        match self.slot(e) {
+            Some(at) => self.grad_n[at],
+            None => gradients_and_volume(&x()).0,
+        }
+    }
+
+    /// The reference volume of element `e` with corners `x` (read only where `e` is not kept).
+    #[inline]
+    pub(super) fn volume(&self, e: usize, x: impl FnOnce() -> [Vector3<f64>; 4]) -> f64 {
+        match self.slot(e) {
+            Some(at) => self.volume[at],
+            None => gradients_and_volume(&x()).1,
+        }
+    }
+
+    /// The smallest altitude of element `e` with corners `x` (read only where `e` is not kept).
+    #[inline]
+    pub(super) fn min_altitude(&self, e: usize, x: impl FnOnce() -> [Vector3<f64>; 4]) -> f64 {
+        match self.slot(e) {
+            Some(at) => self.min_altitude[at],
+            None => element_quality(&x()).min_altitude,
+        }
+    }
+
+    /// The gradients of the kept elements of `range`.
+    pub(super) fn grad_n_of(&self, range: Range<usize>) -> &[[Vector3<f64>; 4]] {
+        &self.grad_n[range.start - self.first..range.end - self.first]
+    }
+
+    /// The volumes of the kept elements of `range`.
+    pub(super) fn volumes_of(&self, range: Range<usize>) -> &[f64] {
+        &self.volume[range.start - self.first..range.end - self.first]
+    }
+
+    /// Keeps the elements of `elements` only, which must be kept now.
+    pub(super) fn keep(&mut self, elements: Range<usize>) {
+        let kept = self.range();
+        assert!(kept.start <= elements.start && elements.end <= kept.end);
+        if kept == elements {
+            return;
+        }
+        let at = elements.start - kept.start..elements.end - kept.start;
+        self.grad_n = self.grad_n[at.clone()].to_vec();
+        self.volume = self.volume[at.clone()].to_vec();
+        self.min_altitude = self.min_altitude[at].to_vec();
+        self.first = elements.start;
+    }
+
+    /// Heap bytes held.
+    pub(super) fn heap_bytes(&self) -> usize {
+        self.grad_n.len() * (std::mem::size_of::<[Vector3<f64>; 4]>() + 2 * 8)
+    }
+}
