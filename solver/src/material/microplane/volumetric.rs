@@ -55,27 +55,9 @@ pub fn volume_ratio_squared_minus_one(e: &Sym) -> f64 {
 pub fn dilatational_strain(e: &Sym) -> Option<f64> {
     let d = volume_ratio_squared_minus_one(e);
     (d > -1.0).then(|| {
-        let r = cube_root_of_one_plus(d);
+        let r = (1.0 + d).cbrt();
         0.5 * d / (r * r + r + 1.0)
     })
-}
-
-/// `(1 + d)^(1/3)`. Within a few per cent of 1 (`|d| <= 0.05`, strains below about 1 %) from
-/// the Taylor polynomial of degree 3, `1 + d/3 - d^2/9 + 5 d^3/81` (error at most `10 d^4 / 243`,
-/// 2.6e-7), and one step of Halley's iteration for `r^3 = y`,
-/// `r <- r - r (r^3 - y) / (2 r^3 + y)`, which cubes the relative error (to 2e-20, below
-/// round-off); written as a correction so that its rounding is that of a small term. Elsewhere
-/// `cbrt`. The `cbrt` this build links is compiler_builtins' correctly rounded one: 3.7 % of the
-/// samples of the 2 m/s drop test's run (perf, `examples/drop_test_cost.rs`), where every beam
-/// element takes this root every step.
-#[inline]
-fn cube_root_of_one_plus(d: f64) -> f64 {
-    if d.abs() > 0.05 {
-        return (1.0 + d).cbrt();
-    }
-    let r = 1.0 + d * (1.0 / 3.0 + d * (-1.0 / 9.0 + d * (5.0 / 81.0)));
-    let (y, r3) = (1.0 + d, r * r * r);
-    r - r * (r3 - y) / (2.0 * r3 + y)
 }
 
 impl VolumetricStrain {
@@ -183,24 +165,6 @@ mod tests {
             1.0 + 2.0 * e[2],
         );
         assert!((volume_ratio_squared_minus_one(&e) - (m.determinant() - 1.0)).abs() < 1e-14);
-    }
-
-    /// The root near 1 against `cbrt` (correctly rounded) from `d = 1e-14` to the end of its
-    /// range and just past it: within two units in the last place.
-    #[test]
-    fn the_root_near_one_is_the_cube_root() {
-        let mut worst: f64 = 0.0;
-        for k in 0..4000 {
-            let magnitude = 10f64.powf(-14.0 + 12.8 * k as f64 / 3999.0);
-            for d in [magnitude, -magnitude] {
-                let exact = (1.0 + d).cbrt();
-                worst = worst.max(((cube_root_of_one_plus(d) - exact) / exact).abs());
-            }
-        }
-        assert!(
-            worst <= 2.0 * f64::EPSILON,
-            "largest relative difference {worst:e}"
-        );
     }
 
     /// The `cbrt` form against `0.5 expm1(log1p(d) / 3)`, which keeps its digits by construction,
