@@ -120,6 +120,15 @@ impl Component {
         stress: &mut Lanes,
         virgin: &mut [bool; LANES],
     ) -> bool {
+        // Most components of most updates have every plane at or before its peak (`e <= e_p`),
+        // where the modulus after the peak, and its division, is never selected: the pass
+        // without it gives the same bits. `!(e <= e_p)` also takes a NaN turning point, which
+        // selects the modulus after the peak. Padding lanes (turning point 1) unload to zero
+        // stress with either modulus, so only the planes are asked.
+        let past_peak = (0..PLANES).any(|p| !(self.reached[p] <= peak.0[p]));
+        if !past_peak {
+            return self.unloading_before_peak(c0, rule, stress, virgin);
+        }
         let (alpha, beta) = (rule.alpha, rule.beta);
         let mut any = false;
         for p in 0..LANES {
@@ -138,6 +147,31 @@ impl Component {
             } else {
                 after
             };
+            let unloaded = s - modulus * (e - x);
+            stress[p] = if unloaded > 0.0 { unloaded } else { 0.0 };
+            virgin[p] = x >= e;
+            any |= x >= e;
+        }
+        any
+    }
+
+    /// [`Self::unloading`] where no plane is past its peak: the modulus before the peak (or the
+    /// initial one at a turning point `e <= 0`), the same operations in the same order.
+    #[inline(always)]
+    fn unloading_before_peak(
+        &self,
+        c0: f64,
+        rule: &UnloadingRule,
+        stress: &mut Lanes,
+        virgin: &mut [bool; LANES],
+    ) -> bool {
+        let alpha = rule.alpha;
+        let mut any = false;
+        for p in 0..LANES {
+            let (e, s, x) = (self.reached[p], self.stress_reached[p], self.x[p]);
+            let before = alpha * c0 + (1.0 - alpha) * (s / e);
+            let before = if before < c0 { before } else { c0 };
+            let modulus = if e <= 0.0 { c0 } else { before };
             let unloaded = s - modulus * (e - x);
             stress[p] = if unloaded > 0.0 { unloaded } else { 0.0 };
             virgin[p] = x >= e;
