@@ -126,9 +126,24 @@ impl Component {
         // selects the modulus after the peak. Padding lanes (turning point 1) unload to zero
         // stress with either modulus, so only the planes are asked.
         let past_peak = (0..PLANES).any(|p| !(self.reached[p] <= peak.0[p]));
-        if !past_peak {
-            return self.unloading_before_peak(c0, rule, stress, virgin);
+        if past_peak {
+            self.unloading_lines::<true>(c0, peak, rule, stress, virgin)
+        } else {
+            self.unloading_lines::<false>(c0, peak, rule, stress, virgin)
         }
+    }
+
+    /// The pass of [`Self::unloading`] over the lanes; `PAST_PEAK` false leaves out the modulus
+    /// after the peak, which no lane then selects (the compiler drops its arithmetic).
+    #[inline(always)]
+    fn unloading_lines<const PAST_PEAK: bool>(
+        &self,
+        c0: f64,
+        peak: (&Lanes, &Lanes),
+        rule: &UnloadingRule,
+        stress: &mut Lanes,
+        virgin: &mut [bool; LANES],
+    ) -> bool {
         let (alpha, beta) = (rule.alpha, rule.beta);
         let mut any = false;
         for p in 0..LANES {
@@ -137,41 +152,15 @@ impl Component {
             // `UnloadingRule::modulus` with both sides of its tests computed, then selected.
             let before = alpha * c0 + (1.0 - alpha) * (s / e);
             let before = if before < c0 { before } else { c0 };
-            let residual = (at_peak + beta * (e - e_p)).min(e);
-            let towards = if e > residual { s / (e - residual) } else { c0 };
-            let after = (alpha * c0 + (1.0 - alpha) * towards).max(s / e).min(c0);
             let modulus = if e <= 0.0 {
                 c0
-            } else if e <= e_p {
+            } else if !PAST_PEAK || e <= e_p {
                 before
             } else {
-                after
+                let residual = (at_peak + beta * (e - e_p)).min(e);
+                let towards = if e > residual { s / (e - residual) } else { c0 };
+                (alpha * c0 + (1.0 - alpha) * towards).max(s / e).min(c0)
             };
-            let unloaded = s - modulus * (e - x);
-            stress[p] = if unloaded > 0.0 { unloaded } else { 0.0 };
-            virgin[p] = x >= e;
-            any |= x >= e;
-        }
-        any
-    }
-
-    /// [`Self::unloading`] where no plane is past its peak: the modulus before the peak (or the
-    /// initial one at a turning point `e <= 0`), the same operations in the same order.
-    #[inline(always)]
-    fn unloading_before_peak(
-        &self,
-        c0: f64,
-        rule: &UnloadingRule,
-        stress: &mut Lanes,
-        virgin: &mut [bool; LANES],
-    ) -> bool {
-        let alpha = rule.alpha;
-        let mut any = false;
-        for p in 0..LANES {
-            let (e, s, x) = (self.reached[p], self.stress_reached[p], self.x[p]);
-            let before = alpha * c0 + (1.0 - alpha) * (s / e);
-            let before = if before < c0 { before } else { c0 };
-            let modulus = if e <= 0.0 { c0 } else { before };
             let unloaded = s - modulus * (e - x);
             stress[p] = if unloaded > 0.0 { unloaded } else { 0.0 };
             virgin[p] = x >= e;
