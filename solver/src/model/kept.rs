@@ -132,3 +132,59 @@ impl KeptElementData {
         self.grad_n.len() * (std::mem::size_of::<[Vector3<f64>; 4]>() + 2 * 8)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{gradients_and_volume, KeptElementData};
+    use crate::mesh::element_quality;
+    use nalgebra::Vector3;
+
+    /// Four tetrahedra of different shapes sharing nodes.
+    fn mesh() -> (Vec<[u32; 4]>, Vec<Vector3<f64>>) {
+        let reference = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.1, 0.9, 0.0),
+            Vector3::new(0.2, 0.3, 0.7),
+            Vector3::new(1.1, 1.0, 0.4),
+            Vector3::new(0.4, 0.2, -0.6),
+        ];
+        let tets = vec![[0, 1, 2, 3], [1, 4, 2, 3], [0, 2, 1, 5], [1, 2, 4, 5]];
+        (tets, reference)
+    }
+
+    /// A part keeps the slices of the whole, and an element outside the part reads, computed
+    /// again from its corners, the bits the build stored for it.
+    #[test]
+    fn an_element_outside_the_part_reads_the_bits_of_the_whole() {
+        let (tets, reference) = mesh();
+        let corners = |e: usize| tets[e].map(|n| reference[n as usize]);
+        let volume: Vec<f64> = (0..4)
+            .map(|e| gradients_and_volume(&corners(e)).1)
+            .collect();
+        let altitude: Vec<f64> = (0..4)
+            .map(|e| element_quality(&corners(e)).min_altitude)
+            .collect();
+        let whole = KeptElementData::new(&tets, &reference, 0..4, volume.clone(), altitude.clone());
+        let mut part = KeptElementData::new(&tets, &reference, 0..4, volume, altitude);
+        part.keep(1..3);
+        assert_eq!(part.range(), 1..3);
+        assert_eq!(part.grad_n_of(1..3), whole.grad_n_of(1..3));
+        assert_eq!(part.volumes_of(1..3), whole.volumes_of(1..3));
+        for e in 0..4 {
+            let x = || corners(e);
+            assert_eq!(part.grad_n(e, x), whole.grad_n(e, x), "gradients of {e}");
+            assert_eq!(
+                part.volume(e, x).to_bits(),
+                whole.volume(e, x).to_bits(),
+                "volume of {e}"
+            );
+            assert_eq!(
+                part.min_altitude(e, x).to_bits(),
+                whole.min_altitude(e, x).to_bits(),
+                "altitude of {e}"
+            );
+        }
+        assert_eq!(part.heap_bytes(), 2 * 112);
+    }
+}
