@@ -322,22 +322,14 @@ impl MicroplaneConcrete {
             return self.update_laws(header, planes, strain, f, band);
         };
         // With the tensile boundary every law sees the strain less the planes' crack strains
-        // (`crack_strain`), whose drivers start from the last stress and the strain less cracks
-        // it saw, kept after the planes.
-        let (planes, last) = planes.split_at_mut(planes.len() - state::BOUNDARY_HISTORY);
-        let uncracked = self.strain_less_cracks(boundary, planes, last, strain, f, band);
-        let (sigma, info) = self.update_laws(header, planes, &uncracked, f, band);
-        for i in 0..6 {
-            last[i] = sigma[i] as f32;
-            last[6 + i] = uncracked[i] as f32;
-        }
-        (sigma, info)
+        // (`crack_strain`), solved with the stress they give.
+        self.update_with_boundary(boundary, header, planes, strain, f, band)
     }
 
     /// The laws of the volumetric stress and of the planes for the strain `strain` (less the
     /// crack strains with the tensile boundary).
     #[inline(always)]
-    fn update_laws(
+    pub(super) fn update_laws(
         &self,
         header: &mut [f32],
         planes: &mut [f32],
