@@ -3,14 +3,10 @@
 //! its energy balance failed (docs/MICROPLANE.md "Tensile boundary").
 //!
 //! One material point (h = 50 mm, no rate effect) is pulled in uniaxial stress along x past its
-//! peak to 0.9, 0.6, 0.3, 0.1 and 0.03 of it. About each state one strain component oscillates,
-//! `e_c = e_c* + a sin(2 pi n / P)` over the updates `n` with the others held, for 30 periods of
-//! `P` updates; the work the point takes per period, `sum_n sigma_n : (e_(n+1) - e_(n-1)) / 2`
-//! (central differences, as the explicit solver's), is printed over `E a^2`, averaged over
-//! periods 2-11 and over the last 10. A stress that is a function of the strain gives zero to
-//! second order in `a`, a secant unloading line exactly zero; a negative work is energy the
-//! update creates: a stiffness that lags the strain (a delayed restoring force is a negative
-//! damping), which central differences turn into growing modes of the mesh.
+//! peak to 0.9, 0.6, 0.3, 0.1 and 0.03 of it. About each state each strain component in turn
+//! oscillates by `a` over 30 periods of `P` updates (`oscillation::oscillation_work`: a negative
+//! work is energy the update creates); the work per period is printed over `E a^2`, averaged over
+//! periods 2-11 and over the last 10.
 //!
 //! `cargo run --release -p impact-solver --example tension_boundary_oscillation [-- MATERIAL_FILE [AMPLITUDE]]`
 //! (the concrete with the tensile boundary and `a` = 1e-7 by default; about a second)
@@ -18,6 +14,7 @@
 // Example code: an `unwrap` that fails stops the example (the lint is for library code).
 #![allow(clippy::unwrap_used)]
 use impact_solver::material::microplane::driver::{uniaxial_controls, MaterialPoint};
+use impact_solver::material::microplane::oscillation::oscillation_work;
 use impact_solver::material::microplane::MicroplaneConcrete;
 use impact_solver::material::read_microplane_file;
 
@@ -27,13 +24,9 @@ const PERIODS: [usize; 8] = [2, 3, 4, 5, 6, 8, 12, 24];
 /// The states about which the strain oscillates: the stress after the peak, over the peak.
 const STATES: [f64; 5] = [0.9, 0.6, 0.3, 0.1, 0.03];
 
-/// `s : e` with tensor shears.
-fn contract(s: &[f64; 6], e: &[f64; 6]) -> f64 {
-    s[0] * e[0] + s[1] * e[1] + s[2] * e[2] + 2.0 * (s[3] * e[3] + s[4] * e[4] + s[5] * e[5])
-}
-
-/// The work per period over `E a^2` (periods 2-11, last 10) of component `c` oscillating with
-/// amplitude `a` and period `period` about the state of `point`.
+/// The work per period over `E a^2` of component `c` oscillating with amplitude `a` and
+/// period `period` about the state of `point`: averaged over periods 2-11 and over the last 10
+/// of 30.
 fn work_per_period(
     point: &MaterialPoint,
     c: usize,
@@ -41,31 +34,9 @@ fn work_per_period(
     period: usize,
     youngs: f64,
 ) -> (f64, f64) {
-    let mut p = point.clone();
-    let base = p.strain;
-    let cycles = 30;
-    let n_steps = cycles * period;
-    let strain_at = |n: usize| {
-        let mut s = base;
-        s[c] += a * (2.0 * std::f64::consts::PI * n as f64 / period as f64).sin();
-        s
-    };
-    let stresses: Vec<[f64; 6]> = (0..=n_steps + 1)
-        .map(|n| p.strain_step(strain_at(n), 1e-6).stress)
-        .collect();
-    let (mut first, mut last) = (0.0, 0.0);
-    for n in 1..=n_steps {
-        let de: [f64; 6] =
-            std::array::from_fn(|i| 0.5 * (strain_at(n + 1)[i] - strain_at(n - 1)[i]));
-        let dw = contract(&stresses[n], &de);
-        if n > period && n <= 11 * period {
-            first += dw;
-        }
-        if n > n_steps - 10 * period {
-            last += dw;
-        }
-    }
+    let work = oscillation_work(point, c, a, period, 30, 1e-6);
     let scale = 10.0 * youngs * a * a;
+    let (first, last): (f64, f64) = (work[1..11].iter().sum(), work[20..].iter().sum());
     (first / scale, last / scale)
 }
 

@@ -28,6 +28,7 @@ mod elastic_path;
 mod element;
 pub mod experiments;
 pub mod laws;
+pub mod oscillation;
 pub mod parameters;
 mod plane_loop;
 mod principal;
