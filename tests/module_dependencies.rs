@@ -28,7 +28,8 @@ const SOLVER_LAYERS: &[&[&str]] = &[
     // The error vocabulary of every layer (`SolverError` and the reports its variants carry),
     // random numbers, the geometry of one tetrahedron, the geometric queries (boxes, closest
     // points) that contact and the mesh operations share.
-    &["error", "rng", "kinematics", "geometry"],
+    // Values at nodes stored for a rank's nodes only.
+    &["error", "rng", "kinematics", "geometry", "nodal"],
     &["mesh"],
     &["material"],
     &["model"],

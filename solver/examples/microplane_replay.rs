@@ -77,9 +77,10 @@ fn record(step: usize) -> (MicroplaneParameters, Vec<Update>) {
         solver.step().unwrap();
     }
     let histories = solver.history().clone();
-    let u_before = solver.u.clone();
+    let u_before = solver.whole(&solver.u).into_owned();
     solver.step().unwrap();
     let dt = solver.time_step();
+    let u_now = solver.whole(&solver.u);
     let model = &problem.model;
     let body = model.bodies.iter().position(|b| b.name == "beam").unwrap();
     let beam_history = histories.bodies[body].as_ref().unwrap();
@@ -92,7 +93,7 @@ fn record(step: usize) -> (MicroplaneParameters, Vec<Update>) {
         .clone()
         .enumerate()
         .map(|(local, e)| {
-            let (now, before) = (strain_of(e, &solver.u), strain_of(e, &u_before));
+            let (now, before) = (strain_of(e, &u_now), strain_of(e, &u_before));
             let rate = (now - before) / dt;
             Update {
                 history: beam_history.element(local).to_vec(),

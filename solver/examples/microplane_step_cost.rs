@@ -58,7 +58,7 @@ fn cost(p: &Problem, threads: usize) -> (f64, f64) {
         times.push(per_step / p.model.element_count() as f64 * 1e9);
         let fields = p
             .model
-            .element_fields_with_history(&solver.u, Some(solver.history()));
+            .element_fields_with_history(&solver.whole(&solver.u), Some(solver.history()));
         rate = fields.rate_factor.iter().fold(rate, |a, &b| a.max(b));
     }
     times.sort_by(f64::total_cmp);

@@ -25,6 +25,7 @@ pub mod kinematics;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod nodal;
 pub mod output;
 pub mod problem;
 pub mod remesh;

@@ -6,6 +6,7 @@ use nalgebra::Vector3;
 
 use crate::contact::ContactPair;
 use crate::model::{Constraint, Model, NodalLoad, Probe, ProbeQuantity};
+use crate::nodal::{NodeStoreMut, NodeValues};
 
 /// A model with its boundary conditions, loads and initial state.
 #[derive(Debug)]
@@ -74,14 +75,17 @@ impl Problem {
     /// of their reactions; velocities are zero where `v` is `None`, a static state) and each
     /// condition's reaction over the components it owns (`constraint_of`, from
     /// [`Self::constraint_map`]: a later condition on the same node component takes it over).
-    pub fn push_probe_values(
+    pub fn push_probe_values<N, C>(
         &self,
         row: &mut Vec<f64>,
-        u: &[Vector3<f64>],
-        v: Option<&[Vector3<f64>]>,
-        reaction: &[Vector3<f64>],
-        constraint_of: &[[Option<u16>; 3]],
-    ) {
+        u: &N,
+        v: Option<&N>,
+        reaction: &N,
+        constraint_of: &C,
+    ) where
+        N: NodeValues<Vector3<f64>> + ?Sized,
+        C: NodeValues<[Option<u16>; 3]> + ?Sized,
+    {
         for p in &self.probes {
             let (field, mean) = match (p.quantity, v) {
                 (ProbeQuantity::Displacement, _) => (u, true),
@@ -126,22 +130,25 @@ impl Problem {
 
     /// External nodal forces at time `t` (loads and gravity) into `f`; `false` when the problem
     /// has none, so the caller can skip the term.
-    pub fn external_forces(&self, t: f64, f: &mut [Vector3<f64>]) -> bool {
+    pub fn external_forces(
+        &self,
+        t: f64,
+        f: &mut (impl NodeStoreMut<Vector3<f64>> + ?Sized),
+    ) -> bool {
         if self.loads.is_empty() && self.gravity.is_none() {
             return false;
         }
         match self.gravity {
-            Some(g) => {
-                for (fi, m) in f.iter_mut().zip(&self.model.mass) {
-                    *fi = g * *m;
-                }
-            }
-            None => f.iter_mut().for_each(|x| *x = Vector3::zeros()),
+            Some(g) => f.for_each_stored(|a, fa| *fa = g * self.model.mass[a]),
+            None => f.for_each_stored(|_, fa| *fa = Vector3::zeros()),
         }
+        // A rank stores its own nodes only: a load on another's is that rank's.
         for load in &self.loads {
             let force = load.force_per_node * load.function.eval(t);
             for &n in &load.nodes {
-                f[n as usize] += force;
+                if let Some(fa) = f.stored_mut_at(n as usize) {
+                    *fa += force;
+                }
             }
         }
         true

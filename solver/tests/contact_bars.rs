@@ -254,7 +254,7 @@ fn contact_runs_are_bitwise_identical_on_one_and_two_threads() {
                 ExplicitSolver::new(&p, settings(1e-3), OutputSettings::default()).unwrap();
             let summary = solver.run(&mut |_| {}).unwrap();
             let mut bits: Vec<u64> = solver
-                .u
+                .whole(&solver.u)
                 .iter()
                 .flat_map(|x| x.iter().map(|c| c.to_bits()))
                 .collect();

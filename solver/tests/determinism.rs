@@ -25,9 +25,9 @@ fn run(threads: usize, material: MaterialModel) -> (Vec<u64>, Vec<u64>, Vec<u64>
         let mut solver = ExplicitSolver::new(&p, settings, OutputSettings::default()).unwrap();
         let summary = solver.run(&mut |_| {}).unwrap();
         let state = solver
-            .u
+            .whole(&solver.u)
             .iter()
-            .chain(&solver.v_full)
+            .chain(solver.whole(&solver.v_full).iter())
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect();
         let history = summary

@@ -85,9 +85,9 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .map(|x| x.to_bits())
             .collect(),
         state: solver
-            .u
+            .whole(&solver.u)
             .iter()
-            .chain(&solver.v_full)
+            .chain(solver.whole(&solver.v_full).iter())
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect(),
         material: solver.history().clone(),

@@ -58,7 +58,12 @@ fn run(problem: &Problem) -> (f64, f64) {
     let (mut least, mut error) = (f64::INFINITY, 0.0_f64);
     while solver.time < 1e-2 {
         solver.step().unwrap();
-        for (x, u) in problem.model.reference.iter().zip(&solver.u) {
+        for (x, u) in problem
+            .model
+            .reference
+            .iter()
+            .zip(solver.whole(&solver.u).iter())
+        {
             least = least.min(x.x + u.x);
         }
         // Relative to the energy put in so far, which starts at zero: judged over the second

@@ -239,10 +239,11 @@ fn explicit(
     };
     let mut summary = outcome?;
     summary.written.append(&mut written_problems);
+    let (u, v) = solver.final_nodes();
     Ok(Execution {
         plan,
-        u: solver.u.clone(),
-        v: Some(solver.v_full.clone()),
+        u,
+        v: Some(v),
         history: Some(summary.history.clone()),
         written: summary.written.clone(),
         summary: Some(summary),

@@ -413,7 +413,10 @@ mod tests {
         settings.safety = 0.6;
         let mut solver = ExplicitSolver::new(p, settings, OutputSettings::default()).unwrap();
         solver.run(&mut |_| {}).unwrap();
-        (solver.u.clone(), solver.take_recorded_ccd_queries())
+        (
+            solver.whole(&solver.u).into_owned(),
+            solver.take_recorded_ccd_queries(),
+        )
     }
 
     #[test]

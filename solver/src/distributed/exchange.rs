@@ -2,6 +2,8 @@
 
 use std::ops::Range;
 
+use std::ops::IndexMut;
+
 use nalgebra::Vector3;
 
 use super::Communicator;
@@ -145,7 +147,7 @@ impl ForceExchange {
         &mut self,
         comm: &dyn Communicator,
         foreign: &[Vector3<f64>],
-        f: &mut [Vector3<f64>],
+        f: &mut (impl IndexMut<usize, Output = Vector3<f64>> + ?Sized),
     ) {
         assert_eq!(
             foreign.len(),

@@ -22,9 +22,11 @@
 //! fixed blocks of node ids, *leaves* ([`NODE_LEAF`]), one process or many: each leaf is summed by
 //! one rank that holds all its nodes (a leaf that no rank holds whole is exchanged), and every
 //! rank folds the leaves' shares in leaf order. The stored energy is likewise folded over blocks
-//! of elements, which the element ranges keep whole. Output that reads every node (history rows
-//! need only exchanged nodes and sums; field frames, snapshots and the end of a run do) first
-//! gathers the nodes from the ranks that sum their leaves.
+//! of elements, which the element ranges keep whole. A rank stores the nodal values of its active
+//! nodes only ([`crate::nodal::NodeField`]: pages of [`crate::nodal::NODE_PAGE`] ids, indexed by
+//! global id), so output that
+//! reads every node (history rows need only exchanged nodes and sums; field frames, snapshots
+//! and the end of a run do) gathers a whole copy from the ranks that sum the nodes' leaves.
 //!
 //! **Collectives.** [`Communicator`] is the few collective operations the run needs. The MPI one
 //! (`mpi` feature, `mpi_world.rs`) runs under `mpirun`; [`ThreadGroup`] runs the ranks as threads

@@ -6,6 +6,7 @@ use std::ops::Range;
 use nalgebra::Vector3;
 
 use super::Communicator;
+use crate::nodal::{NodeField, NodeSlots};
 
 /// Nodes per leaf: every sum over nodes (energies, momenta) is the fold, in leaf order, of the
 /// folds over consecutive blocks of this many node ids, on one process as on many.
@@ -206,16 +207,28 @@ impl NodePlan {
         total
     }
 
-    /// Gives every rank every node's values of the `fields`, each leaf's from its rank (the
-    /// values of a rank's active nodes do not change: both copies are the same). Collective.
-    pub fn gather(&self, comm: &dyn Communicator, fields: &mut [&mut [Vector3<f64>]]) {
-        let width = 3 * fields.len();
+    /// The storage of this rank's node fields ([`NodeField`]): every node on one process, the
+    /// pages of its active nodes on a rank.
+    pub fn slots(&self) -> NodeSlots {
+        if self.exchanged.is_empty() {
+            NodeSlots::dense(self.node_count)
+        } else {
+            NodeSlots::paged(self.node_count, &self.active)
+        }
+    }
+
+    /// Every node's value of `field` on every rank, each leaf's from the rank that sums it (the
+    /// values of a node that several ranks integrate are the same on each). Collective.
+    pub fn gather(
+        &self,
+        comm: &dyn Communicator,
+        field: &NodeField<Vector3<f64>>,
+    ) -> Vec<Vector3<f64>> {
+        const WIDTH: usize = 3;
         let mut mine = Vec::new();
         for &k in &self.my_leaves {
             for a in self.leaf_nodes(k) {
-                for f in fields.iter() {
-                    mine.extend(f[a].iter());
-                }
+                mine.extend(field[a].iter());
             }
         }
         // The leaves in gathered (rank-major) order, where each starts and what each rank sends.
@@ -223,33 +236,28 @@ impl NodePlan {
         for (k, &slot) in self.leaf_slot.iter().enumerate() {
             by_slot[slot as usize] = self.leaf_nodes(k as u32);
         }
-        let mut slot_start = Vec::with_capacity(by_slot.len());
-        let mut at = 0;
-        for nodes in &by_slot {
-            slot_start.push(at);
-            at += nodes.len() * width;
-        }
         let mut counts = Vec::with_capacity(self.leaf_counts.len());
         let mut first = 0;
         for &c in &self.leaf_counts {
             counts.push(
                 by_slot[first..first + c]
                     .iter()
-                    .map(|r| r.len() * width)
+                    .map(|r| r.len() * WIDTH)
                     .sum(),
             );
             first += c;
         }
-        let mut all = vec![0.0; at];
+        let mut all = vec![0.0; WIDTH * self.node_count];
         comm.all_gather_f64(&mine, &counts, &mut all);
-        for (nodes, start) in by_slot.into_iter().zip(slot_start) {
-            for (j, a) in nodes.enumerate() {
-                let values = &all[start + j * width..start + (j + 1) * width];
-                for (f, v) in fields.iter_mut().zip(values.chunks_exact(3)) {
-                    f[a] = Vector3::new(v[0], v[1], v[2]);
-                }
+        let mut whole = vec![Vector3::zeros(); self.node_count];
+        let mut values = all.chunks_exact(WIDTH);
+        for nodes in by_slot {
+            for a in nodes {
+                let v = values.next().expect("one value per node");
+                whole[a] = Vector3::new(v[0], v[1], v[2]);
             }
         }
+        whole
     }
 }
 

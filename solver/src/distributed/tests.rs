@@ -1,6 +1,7 @@
 use nalgebra::Vector3;
 
 use super::*;
+use crate::nodal::NodeField;
 
 #[test]
 fn element_ranges_cover_the_elements_in_order_and_nearly_equal() {
@@ -182,12 +183,11 @@ fn leaf_folds_and_node_gathers_give_every_rank_the_one_process_values() {
                         let plan = NodePlan::new(tets, nodes as usize, ranges, comm.rank(), &[]);
                         let folded = plan.fold(Some(&comm), 2, &shares(&plan));
                         // Only the active nodes hold values before the gather.
-                        let mut field = vec![Vector3::repeat(f64::NAN); nodes as usize];
+                        let mut field = NodeField::filled(&plan.slots(), Vector3::repeat(f64::NAN));
                         for a in plan.active().iter().flat_map(Clone::clone) {
                             field[a] = Vector3::new(value(a), a as f64, -value(a));
                         }
-                        plan.gather(&comm, &mut [&mut field[..]]);
-                        (folded, field)
+                        (folded, plan.gather(&comm, &field))
                     })
                 })
                 .collect();

@@ -20,9 +20,10 @@ use nalgebra::Vector3;
 
 use super::settings::{ContactTotals, PhaseTimes, RunSummary};
 use super::{EnergyLedger, ExplicitSettings, OutputSettings};
-use crate::distributed::NodePlan;
+use crate::distributed::{Communicator, NodePlan};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion};
+use crate::nodal::NodeField;
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use crate::problem::Problem;
 use contact_phase::ContactScratch;
@@ -58,24 +59,26 @@ pub struct ExplicitSolver<'p> {
     dt: f64,
     dt_critical: f64,
     critical_element: usize,
-    constraint_of: Vec<[Option<u16>; 3]>,
+    constraint_of: NodeField<[Option<u16>; 3]>,
     constrained_nodes: Vec<u32>,
     /// Symmetry planes that hold every node of their body reaching them.
     walls: symmetry_wall::SymmetryWalls,
-    node_length: Vec<f64>,
+    node_length: NodeField<f64>,
+    // The nodal values are stored for this rank's nodes only in a distributed run
+    // ([`NodeField`]); [`Self::whole`] gives every node's.
     /// Displacement `u_n`.
-    pub u: Vec<Vector3<f64>>,
+    pub u: NodeField<Vector3<f64>>,
     /// Velocity at the last half step, `v_{n-1/2}` (before the first step: `v_0`).
-    pub v_half: Vec<Vector3<f64>>,
+    pub v_half: NodeField<Vector3<f64>>,
     /// Velocity at the last full step, `v_n`.
-    pub v_full: Vec<Vector3<f64>>,
-    f_int: Vec<Vector3<f64>>,
-    f_ext: Vec<Vector3<f64>>,
-    du_prev: Vec<Vector3<f64>>,
+    pub v_full: NodeField<Vector3<f64>>,
+    f_int: NodeField<Vector3<f64>>,
+    f_ext: NodeField<Vector3<f64>>,
+    du_prev: NodeField<Vector3<f64>>,
     /// Scratch for `v_{n+1/2}` while `v_{n-1/2}` is still needed.
-    v_next: Vec<Vector3<f64>>,
+    v_next: NodeField<Vector3<f64>>,
     /// Reaction forces at prescribed components, `M a + a M v - f_ext + f_int` (N).
-    pub reaction: Vec<Vector3<f64>>,
+    pub reaction: NodeField<Vector3<f64>>,
     contact: Option<ContactScratch>,
     /// History of the bodies whose material has one (microplane concrete), advanced once per
     /// step by the force computation of [`Self::advance`].
@@ -102,7 +105,7 @@ pub struct ExplicitSolver<'p> {
     /// The time step of the run before a resume, when it differs: the first step after it
     /// spans `(dt_before + dt) / 2` between its half-step velocities ([`Self::advance`]).
     dt_before_resume: Option<f64>,
-    /// This rank's share of a distributed run ([`Self::distribute`]); `None` on one process.
+    /// This rank's share of a distributed run ([`Self::new_rank`]); `None` on one process.
     ranks: Option<ranks::RankShare<'p>>,
     /// The nodes this rank integrates and the leaves of the sums over nodes it computes (all of
     /// them on one process).
@@ -117,16 +120,18 @@ impl<'p> ExplicitSolver<'p> {
         output: OutputSettings,
     ) -> Result<Self> {
         let history = problem.model.initial_history();
-        Self::with_history(problem, settings, output, history)
+        Self::with_history(problem, settings, output, history, None)
     }
 
     /// [`Self::new`] with the material histories `history` (a resumed run's, which the model's
-    /// initial ones would only be built to be replaced by).
+    /// initial ones would only be built to be replaced by), as rank `comm.rank()` of
+    /// `comm.size()` when `comm` is given ([`Self::new_rank`]).
     fn with_history(
         problem: &'p Problem,
         settings: ExplicitSettings,
         output: OutputSettings,
         history: MaterialHistory,
+        comm: Option<&'p dyn Communicator>,
     ) -> Result<Self> {
         let model = &problem.model;
         settings.validate("analysis.explicit")?;
@@ -174,18 +179,37 @@ impl<'p> ExplicitSolver<'p> {
             });
         }
         let n = model.node_count();
-        let constraint_of = problem.constraint_map();
+        let contact = (!problem.contact.is_empty()).then(|| ContactScratch::new(problem));
+        // A rank's nodes are known before any nodal array is allocated: it allocates its own.
+        let (nodes, ranks, history) = match comm.filter(|c| c.size() > 1) {
+            Some(comm) => {
+                let (nodes, share, history) =
+                    ranks::rank_share(problem, contact.as_ref(), history, comm)?;
+                (nodes, Some(share), history)
+            }
+            None => (NodePlan::single(n), None, history),
+        };
+        let slots = nodes.slots();
+        let constraint_map = problem.constraint_map();
         let constrained_nodes = (0..n as u32)
-            .filter(|&i| constraint_of[i as usize].iter().any(Option::is_some))
+            .filter(|&i| constraint_map[i as usize].iter().any(Option::is_some))
             .collect();
-        let mut node_length = vec![f64::INFINITY; n];
+        let constraint_of = NodeField::from_whole(&slots, &constraint_map);
+        drop(constraint_map);
+        let mut node_length = NodeField::filled(&slots, f64::INFINITY);
         for (e, tet) in model.tets.iter().enumerate() {
+            if tet.iter().all(|&a| node_length.get(a as usize).is_none()) {
+                continue;
+            }
             let l = model.min_altitude(e);
             for &a in tet {
-                node_length[a as usize] = node_length[a as usize].min(l);
+                if let Some(length) = node_length.get_mut(a as usize) {
+                    *length = length.min(l);
+                }
             }
         }
-        let v0 = problem.initial_velocity.clone();
+        let v0 = &problem.initial_velocity;
+        let zeros = NodeField::filled(&slots, Vector3::zeros());
         let mut solver = Self {
             problem,
             settings,
@@ -197,14 +221,14 @@ impl<'p> ExplicitSolver<'p> {
             constrained_nodes,
             walls: symmetry_wall::SymmetryWalls::new(problem),
             node_length,
-            u: vec![Vector3::zeros(); n],
-            v_full: v0.clone(),
-            v_half: v0,
-            f_int: vec![Vector3::zeros(); n],
-            f_ext: vec![Vector3::zeros(); n],
-            du_prev: vec![Vector3::zeros(); n],
-            v_next: vec![Vector3::zeros(); n],
-            contact: (!problem.contact.is_empty()).then(|| ContactScratch::new(problem)),
+            u: zeros.clone(),
+            v_full: NodeField::from_whole(&slots, v0),
+            v_half: NodeField::from_whole(&slots, v0),
+            f_int: zeros.clone(),
+            f_ext: zeros.clone(),
+            du_prev: zeros.clone(),
+            v_next: zeros.clone(),
+            contact,
             history,
             history_node: if model.has_history() {
                 let mut flags = vec![false; n];
@@ -224,7 +248,7 @@ impl<'p> ExplicitSolver<'p> {
             contact_steps: Vec::new(),
             phases: PhaseTimes::default(),
             contact_totals: ContactTotals::default(),
-            reaction: vec![Vector3::zeros(); n],
+            reaction: zeros,
             energies: EnergyLedger::default(),
             pending: EnergyLedger::default(),
             step: 0,
@@ -232,10 +256,10 @@ impl<'p> ExplicitSolver<'p> {
             time_origin: 0.0,
             step_origin: 0,
             dt_before_resume: None,
-            ranks: None,
-            nodes: NodePlan::single(n),
+            ranks,
+            nodes,
         };
-        let k0 = solver.kinetic_energy(&solver.v_full);
+        let k0 = solver.kinetic_energy(v0);
         solver.energies.initial_kinetic = k0;
         solver.energies.kinetic = k0;
         Ok(solver)
@@ -245,7 +269,7 @@ impl<'p> ExplicitSolver<'p> {
     /// reference configuration. Work is counted from this state on. Histories stay virgin: the
     /// first step of a microplane body loads it from zero to the strain of `u0` at once.
     pub fn set_initial_displacement(&mut self, u0: &[Vector3<f64>]) {
-        self.u.copy_from_slice(u0);
+        self.u = NodeField::from_whole(self.u.slots(), u0);
     }
 
     /// The history of the bodies whose material has one, as of the last step's force
@@ -312,8 +336,8 @@ impl<'p> ExplicitSolver<'p> {
     /// move to `u_{n+1}`; whether the mesh stability check flagged a node. For benchmarks and
     /// callers that drive the integrator themselves ([`Self::run_with`] is the run with output,
     /// the energy-balance stop and progress). An instability is returned as the error it is in
-    /// a run, with nothing written. In a distributed run ([`Self::distribute`]) it moves this
-    /// rank's nodes only; a run gathers every node at its end.
+    /// a run, with nothing written. In a distributed run ([`Self::new_rank`]) it moves this
+    /// rank's nodes only ([`Self::whole`] gathers every node's values).
     pub fn step(&mut self) -> Result<bool> {
         match self.advance() {
             Ok(moved_too_far) => {
@@ -343,7 +367,7 @@ impl<'p> ExplicitSolver<'p> {
 
     /// The observers that write what the output settings ask for: the history CSV
     /// (`<stem>_history.csv`) and, with `fields`, the VTU frames and their `<stem>.pvd`.
-    /// In a distributed run ([`Self::distribute`]) rank 0 writes the history, and every rank its
+    /// In a distributed run ([`Self::new_rank`]) rank 0 writes the history, and every rank its
     /// piece of each frame (`PieceFrames`: `<stem>_<i>_<rank>.vtu`, joined by rank 0's
     /// `<stem>_<i>.pvtu`).
     pub fn output_observers(&self) -> Result<Vec<Box<dyn RunObserver>>> {
@@ -423,13 +447,22 @@ impl<'p> ExplicitSolver<'p> {
         let problem = self.problem;
         let model = &problem.model;
         if !problem.external_forces(self.time, &mut self.f_ext) && self.step == 0 {
-            self.f_ext.iter_mut().for_each(|f| *f = Vector3::zeros());
+            self.f_ext.fill(Vector3::zeros());
         }
         let alpha = self.settings.damping;
         let (c_old, c_new) = (1.0 - 0.5 * alpha * h, 1.0 / (1.0 + 0.5 * alpha * h));
-        for i in self.nodes.active().iter().flat_map(Clone::clone) {
-            let a = (self.f_ext[i] - self.f_int[i]) / model.mass[i];
-            self.v_next[i] = (c_old * self.v_half[i] + h * a) * c_new;
+        // Run by run over slices: a rank's fields store each run contiguously.
+        for run in self.nodes.active() {
+            let v_next = self.v_next.run_mut(run.clone());
+            let old = self.v_half.run(run.clone());
+            let (f_ext, f_int) = (self.f_ext.run(run.clone()), self.f_int.run(run.clone()));
+            let mass = &model.mass[run.clone()];
+            for ((((v, v_old), fe), fi), m) in
+                v_next.iter_mut().zip(old).zip(f_ext).zip(f_int).zip(mass)
+            {
+                let a = (fe - fi) / *m;
+                *v = (c_old * v_old + h * a) * c_new;
+            }
         }
     }
 
@@ -509,8 +542,11 @@ impl<'p> ExplicitSolver<'p> {
     }
 
     fn finish_step(&mut self) {
-        for i in self.nodes.active().iter().flat_map(Clone::clone) {
-            self.u[i] += self.du_prev[i];
+        for run in self.nodes.active() {
+            let du = self.du_prev.run(run.clone());
+            for (u, du) in self.u.run_mut(run.clone()).iter_mut().zip(du) {
+                *u += du;
+            }
         }
         self.step += 1;
         self.time = self.time_origin + (self.step - self.step_origin) as f64 * self.dt;

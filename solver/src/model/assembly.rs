@@ -38,6 +38,7 @@ use super::element::{element_forces, element_forces_carried, ElementForces};
 use super::history::MaterialHistory;
 use super::Model;
 use crate::material::{ElementState, Material};
+use crate::nodal::{NodeIndexer, NodeView, NodeViewMut};
 
 /// Chunks per thread (on more than one thread). More chunks let rayon move work off a thread that
 /// runs slow (a busy core, a preempted vCPU); each extra boundary costs slot traffic. Linear
@@ -110,7 +111,7 @@ unsafe impl<T> Sync for DisjointWrites<T> {}
 /// What the assembly needs for materials with history: the nodal velocities of the half step
 /// before, the time step and the history it advances.
 pub(super) struct Stateful<'a> {
-    pub v: &'a [Vector3<f64>],
+    pub v: NodeView<'a, Vector3<f64>>,
     pub dt: f64,
     pub history: &'a mut MaterialHistory,
 }
@@ -127,11 +128,12 @@ struct HistoryWrites {
     held: (usize, usize),
 }
 
-/// Adds the force `fa` of element `e` (in the chunk over `elements`) on node `n`: directly when
-/// the chunk owns the node, else to the chunk's next slot.
+/// Adds the force `fa` of element `e` (in the chunk over `elements`) on the node whose first
+/// element is `first`, stored at `at` behind `nodal`: directly when the chunk owns the node, else
+/// to the chunk's next slot.
 ///
 /// # Safety
-/// `n < f.len()` where `nodal` points into `f`, and the slots `next_slot..slots_end` of the
+/// `at` lies inside the storage `nodal` points into, and the slots `next_slot..slots_end` of the
 /// buffer behind `slot_out` belong to this chunk alone; `first_element` is that of the model's
 /// elements, so that exactly one chunk owns each node.
 #[inline(always)]
@@ -139,10 +141,10 @@ struct HistoryWrites {
 unsafe fn scatter(
     elements: &Range<usize>,
     e: usize,
-    n: u32,
     first: u32,
     fa: Vector3<f64>,
     nodal: DisjointWrites<Vector3<f64>>,
+    at: usize,
     slot_out: DisjointWrites<Vector3<f64>>,
     next_slot: &mut usize,
     slots_end: usize,
@@ -151,7 +153,7 @@ unsafe fn scatter(
     if owns(elements, first) {
         // SAFETY: only the chunk holding `first` writes node `n` (see the caller's contract).
         unsafe {
-            let node = nodal.0.add(n as usize);
+            let node = nodal.0.add(at);
             // The owner starts the fold at the node's first element.
             let sum = if first as usize == e {
                 Vector3::zeros()
@@ -263,13 +265,13 @@ impl ForceAssembler {
 
     /// Internal forces at `u` into `f`, with the velocities, time step and history the materials
     /// with a history need (`stateful`; a model without such materials may pass `None`). Returns
-    /// the lowest inverted element, if any.
+    /// the lowest inverted element, if any. `u` and `f` store the same nodes alike.
     pub(super) fn assemble(
         &self,
         model: &Model,
-        u: &[Vector3<f64>],
+        u: NodeView<'_, Vector3<f64>>,
         stateful: Option<Stateful<'_>>,
-        f: &mut [Vector3<f64>],
+        f: NodeViewMut<'_, Vector3<f64>>,
     ) -> Option<usize> {
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         let threads = rayon::current_num_threads();
@@ -286,44 +288,49 @@ impl ForceAssembler {
         &self,
         layout: &mut Layout,
         model: &Model,
-        u: &[Vector3<f64>],
+        u: NodeView<'_, Vector3<f64>>,
         stateful: Option<Stateful<'_>>,
-        f: &mut [Vector3<f64>],
+        mut f: NodeViewMut<'_, Vector3<f64>>,
     ) -> Option<usize> {
-        assert_eq!(u.len(), f.len());
-        assert_eq!(u.len(), self.first_element.len());
+        // Every write below goes to a node whose displacement was read at the same position.
+        assert!(u.indexer().same_as(&f.indexer()), "u and f stored alike");
+        assert_eq!(u.storage().len(), f.storage_mut().len());
         for &n in &self.orphans {
             f[n as usize] = Vector3::zeros();
         }
         let inverted = AtomicUsize::new(usize::MAX);
-        let nodal = DisjointWrites(f.as_mut_ptr());
+        let indexer = f.indexer();
+        let nodal = DisjointWrites(f.storage_mut().as_mut_ptr());
         let slot_out = DisjointWrites(layout.buffer.as_mut_ptr());
         let first_element = &self.first_element[..];
-        let (velocity, dt, histories): (&[Vector3<f64>], f64, Vec<Option<HistoryWrites>>) =
-            match stateful {
-                Some(s) => {
-                    let writes = s
-                        .history
-                        .bodies
-                        .iter_mut()
-                        .zip(&model.bodies)
-                        .map(|(h, body)| {
-                            h.as_mut().map(|h| {
-                                assert_eq!(h.values.len(), h.state_len * h.cauchy.len());
-                                assert!(h.held().end <= body.elements.len());
-                                HistoryWrites {
-                                    values: DisjointWrites(h.values.as_mut_ptr()),
-                                    len: h.state_len,
-                                    cauchy: DisjointWrites(h.cauchy.as_mut_ptr()),
-                                    held: (h.held().start, h.held().end),
-                                }
-                            })
+        let (velocity, dt, histories): (
+            NodeView<'_, Vector3<f64>>,
+            f64,
+            Vec<Option<HistoryWrites>>,
+        ) = match stateful {
+            Some(s) => {
+                let writes = s
+                    .history
+                    .bodies
+                    .iter_mut()
+                    .zip(&model.bodies)
+                    .map(|(h, body)| {
+                        h.as_mut().map(|h| {
+                            assert_eq!(h.values.len(), h.state_len * h.cauchy.len());
+                            assert!(h.held().end <= body.elements.len());
+                            HistoryWrites {
+                                values: DisjointWrites(h.values.as_mut_ptr()),
+                                len: h.state_len,
+                                cauchy: DisjointWrites(h.cauchy.as_mut_ptr()),
+                                held: (h.held().start, h.held().end),
+                            }
                         })
-                        .collect();
-                    (s.v, s.dt, writes)
-                }
-                None => (&[], 0.0, Vec::new()),
-            };
+                    })
+                    .collect();
+                (s.v, s.dt, writes)
+            }
+            None => (NodeView::from(&[][..]), 0.0, Vec::new()),
+        };
         layout.chunks.par_iter().for_each(|chunk| {
             let body = &model.bodies[chunk.body];
             let job = ChunkJob {
@@ -334,6 +341,7 @@ impl ForceAssembler {
                 elements: chunk.elements.clone(),
                 body_start: body.elements.start,
                 first_element,
+                indexer,
                 nodal,
                 slot_out,
                 slots: chunk.slots.clone(),
@@ -356,10 +364,11 @@ impl ForceAssembler {
                 #[allow(clippy::redundant_locals)]
                 let nodal = nodal;
                 let range = offsets[i] as usize..offsets[i + 1] as usize;
-                // SAFETY: `n < f.len()`, each shared node appears once in `shared_nodes`, and the
-                // element loop that also wrote it has finished.
+                // SAFETY: `n` is stored in `f` (an element of this range wrote it), each shared
+                // node appears once in `shared_nodes`, and the element loop that also wrote it
+                // has finished.
                 unsafe {
-                    let node = nodal.0.add(n as usize);
+                    let node = nodal.0.add(indexer.slot(n as usize));
                     *node = slots[range]
                         .iter()
                         .fold(*node, |acc, &s| acc + buffer[s as usize]);
@@ -375,14 +384,16 @@ impl ForceAssembler {
 /// One chunk of the assembly, as its material's element loop sees it.
 pub struct ChunkJob<'a> {
     model: &'a Model,
-    u: &'a [Vector3<f64>],
+    u: NodeView<'a, Vector3<f64>>,
     /// Nodal velocities of the half step before (empty without materials with a history).
-    velocity: &'a [Vector3<f64>],
+    velocity: NodeView<'a, Vector3<f64>>,
     dt: f64,
     elements: Range<usize>,
     /// Global id of the first element of the chunk's body.
     body_start: usize,
     first_element: &'a [u32],
+    /// Where each node's force lies behind `nodal`.
+    indexer: NodeIndexer<'a>,
     nodal: DisjointWrites<Vector3<f64>>,
     slot_out: DisjointWrites<Vector3<f64>>,
     slots: Range<usize>,
@@ -439,7 +450,7 @@ where
 {
     // Locals, so that the loop reads them from registers.
     let (model, u, velocity, first_element) = (job.model, job.u, job.velocity, job.first_element);
-    let (nodal, slot_out, dt) = (job.nodal, job.slot_out, job.dt);
+    let (nodal, slot_out, dt, indexer) = (job.nodal, job.slot_out, job.dt, job.indexer);
     let range = job.elements.clone();
     let mut next_slot = job.slots.start;
     let mut first_inverted = usize::MAX;
@@ -503,7 +514,8 @@ where
             first_inverted = first_inverted.min(e);
         }
         for (&n, fa) in tet.iter().zip(update.forces) {
-            // SAFETY: `n < f.len()` (it indexed `u` above, and `u.len() == f.len()`).
+            // SAFETY: `n` is stored in `f` (it indexed `u` above, and `u` and `f` are stored
+            // alike).
             // `first_element` was computed from the same `model.tets` (the model never changes
             // its elements), so `first <= e` and only the chunk holding `first` writes node `n`:
             // no other thread touches it during this loop. The chunk's slots are its own. `f`
@@ -512,10 +524,10 @@ where
                 scatter(
                     &range,
                     e,
-                    n,
                     first_element[n as usize],
                     fa,
                     nodal,
+                    indexer.slot(n as usize),
                     slot_out,
                     &mut next_slot,
                     job.slots.end,

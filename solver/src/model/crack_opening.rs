@@ -22,20 +22,25 @@ use rayon::prelude::*;
 use super::{MaterialHistory, Model};
 use crate::kinematics::green_lagrange_from_h;
 use crate::material::microplane::{largest_principal, sym};
+use crate::nodal::NodeValues;
 
 impl Model {
     /// The crack opening `w` (m) of every element at displacement `u`, with the stresses of the
     /// bodies' last updates in `history` (see the module documentation). Each element is
     /// computed on its own, so the result does not depend on the thread count.
-    pub fn crack_openings(&self, u: &[Vector3<f64>], history: &MaterialHistory) -> Vec<f32> {
+    pub fn crack_openings<U: NodeValues<Vector3<f64>> + ?Sized>(
+        &self,
+        u: &U,
+        history: &MaterialHistory,
+    ) -> Vec<f32> {
         self.crack_openings_of(u, history, 0..self.element_count())
     }
 
     /// [`Self::crack_openings`] of the elements of `elements` only, in order (one rank's part of
     /// a distributed run: it reads their nodes and their history only).
-    pub fn crack_openings_of(
+    pub fn crack_openings_of<U: NodeValues<Vector3<f64>> + ?Sized>(
         &self,
-        u: &[Vector3<f64>],
+        u: &U,
         history: &MaterialHistory,
         elements: Range<usize>,
     ) -> Vec<f32> {

@@ -36,6 +36,7 @@ use crate::error::{Result, SolverError};
 use crate::kinematics::{deformation_gradient, displacement_gradient, shape_gradients};
 use crate::material::{LinearElastic, MaterialModel, MicroplaneMaterial, SaintVenantKirchhoff};
 use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
+use crate::nodal::{NodeValues, NodeView, NodeViewMut};
 
 /// Which elements' shape-function gradients a model computes, from its bodies and the body index
 /// of each element ([`Model::with_regions_keeping`]).
@@ -464,13 +465,21 @@ impl Model {
 
     /// Displacements of element `e`'s nodes.
     #[inline]
-    pub fn element_displacements(&self, e: usize, u: &[Vector3<f64>]) -> [Vector3<f64>; 4] {
+    pub fn element_displacements<U: NodeValues<Vector3<f64>> + ?Sized>(
+        &self,
+        e: usize,
+        u: &U,
+    ) -> [Vector3<f64>; 4] {
         self.tets[e].map(|n| u[n as usize])
     }
 
     /// Deformation gradient `F` of element `e` from the stress-free configuration: `F_r F_0`
     /// after a remeshing ([`CarriedState`]), else `I + grad_X u`.
-    pub fn deformation_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
+    pub fn deformation_gradient<U: NodeValues<Vector3<f64>> + ?Sized>(
+        &self,
+        e: usize,
+        u: &U,
+    ) -> Matrix3<f64> {
         let f = deformation_gradient(&self.element_displacements(e, u), &self.grad_n(e));
         match &self.carried {
             Some(c) => f * c.deformation[e],
@@ -483,7 +492,11 @@ impl Model {
     /// it always was); after one, `F_r F_0 - I` with [`Self::deformation_gradient`], not the
     /// gradient of the displacement since the remeshing, which knows nothing of the
     /// deformation reached before it.
-    pub fn strain_gradient(&self, e: usize, u: &[Vector3<f64>]) -> Matrix3<f64> {
+    pub fn strain_gradient<U: NodeValues<Vector3<f64>> + ?Sized>(
+        &self,
+        e: usize,
+        u: &U,
+    ) -> Matrix3<f64> {
         match &self.carried {
             Some(_) => self.deformation_gradient(e, u) - Matrix3::identity(),
             None => displacement_gradient(&self.element_displacements(e, u), &self.grad_n(e)),
@@ -498,10 +511,10 @@ impl Model {
     /// `det F <= 0` (or a non-finite `F`) if any: the caller stops the run. A body whose material
     /// keeps a history is an error ([`SolverError::ForcesAdvanceHistory`]): its forces advance
     /// that history and come from [`Self::advance_internal_forces`], once per step.
-    pub fn internal_forces(
+    pub fn internal_forces<'a>(
         &self,
-        u: &[Vector3<f64>],
-        f: &mut [Vector3<f64>],
+        u: impl Into<NodeView<'a, Vector3<f64>>>,
+        f: impl Into<NodeViewMut<'a, Vector3<f64>>>,
     ) -> Result<Option<usize>> {
         if let Some(body) = self.bodies.iter().find(|b| b.material.history_len() > 0) {
             return Err(SolverError::ForcesAdvanceHistory {
@@ -509,7 +522,7 @@ impl Model {
                 material: body.material.name(),
             });
         }
-        Ok(self.assembler.assemble(self, u, None, f))
+        Ok(self.assembler.assemble(self, u.into(), None, f.into()))
     }
 
     /// Internal nodal forces at displacement `u_n` as [`Self::internal_forces`], for any model:
@@ -519,15 +532,16 @@ impl Model {
     /// every call advances the history. Bitwise reproducible whatever the number of threads: each
     /// element's history is written only by the assembly chunk that holds the element. An
     /// inverted element keeps its history.
-    pub fn advance_internal_forces(
+    pub fn advance_internal_forces<'a>(
         &self,
-        u: &[Vector3<f64>],
-        v: &[Vector3<f64>],
+        u: impl Into<NodeView<'a, Vector3<f64>>>,
+        v: impl Into<NodeView<'a, Vector3<f64>>>,
         dt: f64,
         history: &mut MaterialHistory,
-        f: &mut [Vector3<f64>],
+        f: impl Into<NodeViewMut<'a, Vector3<f64>>>,
     ) -> Option<usize> {
-        assert_eq!(v.len(), u.len());
+        let (u, v, f) = (u.into(), v.into(), f.into());
+        assert_eq!(v.storage().len(), u.storage().len());
         assert_eq!(
             history.bodies.len(),
             self.bodies.len(),
@@ -575,7 +589,7 @@ impl Model {
     ///
     /// The sum is the fold, in order, of the shares of blocks of [`ELEMENT_LEAF`] elements
     /// ([`Self::stored_energy_shares`]), so that ranks holding whole blocks give the same bits.
-    pub fn stored_energy(&self, u: &[Vector3<f64>]) -> f64 {
+    pub fn stored_energy<U: NodeValues<Vector3<f64>> + ?Sized>(&self, u: &U) -> f64 {
         let leaves = 0..self.element_count().div_ceil(ELEMENT_LEAF);
         self.stored_energy_shares(u, leaves).iter().sum()
     }
@@ -583,7 +597,11 @@ impl Model {
     /// The elastic energy of each block `j` of elements `j L..(j + 1) L` in `leaves`
     /// (`L` = [`ELEMENT_LEAF`]), each the fold over its elements in ascending order; reads the
     /// displacement of those elements' nodes only.
-    pub fn stored_energy_shares(&self, u: &[Vector3<f64>], leaves: Range<usize>) -> Vec<f64> {
+    pub fn stored_energy_shares<U: NodeValues<Vector3<f64>> + ?Sized>(
+        &self,
+        u: &U,
+        leaves: Range<usize>,
+    ) -> Vec<f64> {
         let mut shares = vec![0.0; leaves.len()];
         let elements =
             leaves.start * ELEMENT_LEAF..(leaves.end * ELEMENT_LEAF).min(self.element_count());

@@ -171,7 +171,13 @@ impl<'a> Checks<'a> {
             return None;
         }
         let m = &problem.model;
-        let x: Vec<Vector3<f64>> = m.reference.iter().zip(&s.u).map(|(x, u)| x + u).collect();
+        let u = s.whole(&s.u);
+        let x: Vec<Vector3<f64>> = m
+            .reference
+            .iter()
+            .zip(u.iter())
+            .map(|(x, u)| x + u)
+            .collect();
         let region = policy.region(problem, &x, self.threshold);
         if !region.is_empty() {
             // With erosion, every element past the limit is offered to the remesher (the
@@ -180,7 +186,7 @@ impl<'a> Checks<'a> {
             // reshaped or eroded.
             return Some(Pause::Remesh(if policy.mesher.erode {
                 let mut offered = policy.region(problem, &x, policy.collapse_limit);
-                offered.extend(policy.torn(problem, &s.u));
+                offered.extend(policy.torn(problem, &u));
                 offered.sort_unstable();
                 offered.dedup();
                 offered
@@ -189,7 +195,7 @@ impl<'a> Checks<'a> {
             }));
         }
         if self.adapt {
-            let (limit, _) = m.current_critical_time_step(&s.u);
+            let (limit, _) = m.current_critical_time_step(&u);
             // An element turned inside out since the last step has a negative altitude: the
             // next step's forces stop the run on it, naming the element (a step from it would
             // be negative, and the error would blame the step).

@@ -259,7 +259,7 @@ impl RemeshWatch for NearTipStress {
             self.body,
             self.probe,
             self.spec.radius,
-            (&solver.u, Some(solver.history())),
+            (&solver.whole(&solver.u), Some(solver.history())),
             (solver.step, solver.time),
         );
         if self.after > 0 {

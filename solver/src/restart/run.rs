@@ -299,10 +299,11 @@ pub fn execute_checkpointed(
     }
     let recorder = std::mem::take(&mut observers.recorder);
     let summary = solver.summary(&schedule, started, recorder, written);
+    let (u, v) = solver.final_nodes();
     Ok(Execution {
         plan: plan_text,
-        u: solver.u.clone(),
-        v: Some(solver.v_full.clone()),
+        u,
+        v: Some(v),
         history: Some(summary.history.clone()),
         written: summary.written.clone(),
         summary: Some(summary),

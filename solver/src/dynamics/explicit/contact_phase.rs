@@ -1,6 +1,8 @@
 //! The contact phase of an explicit step: the buffers it keeps over a run and the correction
 //! of the predicted velocities by the contact solvers (thesis chapter 6).
 
+use std::ops::{Index, IndexMut};
+
 use nalgebra::Vector3;
 
 use crate::problem::Problem;
@@ -81,15 +83,20 @@ impl ContactScratch {
 
     /// Corrects the predicted velocities `v_next` (and records forces) so that the positions
     /// `x + dt v` at the end of the step violate no contact (thesis 6.4.2.3, (6.58)-(6.61)).
-    pub(super) fn correct(
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn correct<U, V>(
         &mut self,
         step: usize,
         model: &crate::model::Model,
         dt: f64,
         force_per_dv: f64,
-        u: &[Vector3<f64>],
-        v_next: &mut [Vector3<f64>],
-    ) -> Vec<crate::contact::ContactStep> {
+        u: &U,
+        v_next: &mut V,
+    ) -> Vec<crate::contact::ContactStep>
+    where
+        U: Index<usize, Output = Vector3<f64>> + ?Sized,
+        V: IndexMut<usize, Output = Vector3<f64>> + ?Sized,
+    {
         for &i in &self.layer_nodes {
             let i = i as usize;
             self.x1[i] = predicted_position(model, u, v_next, dt, i);
@@ -144,12 +151,16 @@ impl ContactScratch {
 /// The position `x + dt v` the step predicts for node `i` before contact; the correction is
 /// measured from it, so it is formed the same way wherever it is read.
 #[inline]
-fn predicted_position(
+fn predicted_position<U, V>(
     model: &crate::model::Model,
-    u: &[Vector3<f64>],
-    v_next: &[Vector3<f64>],
+    u: &U,
+    v_next: &V,
     dt: f64,
     i: usize,
-) -> Vector3<f64> {
+) -> Vector3<f64>
+where
+    U: Index<usize, Output = Vector3<f64>> + ?Sized,
+    V: Index<usize, Output = Vector3<f64>> + ?Sized,
+{
     (model.reference[i] + u[i]) + v_next[i] * dt
 }

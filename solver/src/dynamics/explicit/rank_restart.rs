@@ -1,9 +1,9 @@
-//! The state one rank of a distributed run ([`super::ExplicitSolver::distribute`]) holds between
+//! The state one rank of a distributed run ([`super::ExplicitSolver::new_rank`]) holds between
 //! two steps, for its own checkpoint ([`crate::restart`]): what its next steps read and nothing
 //! the other ranks hold. A rank reads and writes the nodal values of its *active* nodes only
-//! (its elements' nodes and the exchanged ones, `crate::distributed::NodePlan`) and the material
-//! history of its own elements only; the other entries of its arrays are stale copies that a
-//! gather overwrites before any output reads them. So a rank's part is those values, in the
+//! (its elements' nodes and the exchanged ones, `crate::distributed::NodePlan`), the only ones its
+//! nodal fields store besides the rest of their pages (`crate::nodal::NodeField`), and the
+//! material history of its own elements only. So a rank's part is those values, in the
 //! order of its active runs and element range, with the values every rank shares (the step and
 //! time, the folded energy ledger, the contact totals, the output schedule).
 
@@ -12,6 +12,7 @@ use std::ops::Range;
 use super::{ExplicitSolver, OutputSchedule, RestartState, ScheduleRecord};
 use crate::error::{Result, SolverError};
 use crate::model::{body_part, MaterialHistory};
+use crate::nodal::NodeField;
 
 impl<'p> ExplicitSolver<'p> {
     /// The nodes this rank integrates, as ascending runs of ids (every node on one process).
@@ -28,13 +29,13 @@ impl<'p> ExplicitSolver<'p> {
             return self.restart_state(schedule);
         };
         let active = self.nodes.active();
-        let pick = |v: &[nalgebra::Vector3<f64>]| -> Vec<nalgebra::Vector3<f64>> {
+        let pick = |v: &NodeField<nalgebra::Vector3<f64>>| -> Vec<nalgebra::Vector3<f64>> {
             active
                 .iter()
-                .flat_map(|r| v[r.clone()].iter().copied())
+                .flat_map(|r| v.run(r.clone()).iter().copied())
                 .collect()
         };
-        // The rank holds the history of its own elements only (`Self::distribute`).
+        // The rank holds the history of its own elements only (`Self::new_rank`).
         let model = &self.problem.model;
         for (body, h) in model.bodies.iter().zip(&self.history.bodies) {
             if let Some(h) = h {
@@ -64,8 +65,7 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Puts back this rank's part `state` ([`Self::rank_restart_state`] of the same rank of the
     /// same run) into this new, distributed solver, which then goes on as the one that wrote
-    /// it; returns the run's output schedule. The entries of other ranks keep the new solver's
-    /// values, which no step reads before a gather replaces them. Errors when the part does not
+    /// it; returns the run's output schedule. Errors when the part does not
     /// fit this rank (its node count, its histories) or the time step differs.
     pub fn restore_rank(&mut self, state: RestartState) -> Result<OutputSchedule> {
         let misfit = |message: String| SolverError::InvalidScene {

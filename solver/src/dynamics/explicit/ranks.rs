@@ -2,19 +2,22 @@
 //! its elements and integrates their nodes; the nodes two ranks share, the contact surfaces and
 //! the probed and prescribed nodes are completed and integrated on every rank alike.
 
+use std::borrow::Cow;
 use std::ops::Range;
 
 use nalgebra::Vector3;
 
+use super::contact_phase::ContactScratch;
 use super::ExplicitSolver;
 use super::{ExplicitSettings, OutputSettings};
 use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
 use crate::model::{body_part, Body, MaterialHistory, Model, ELEMENT_LEAF};
+use crate::nodal::NodeField;
 use crate::problem::Problem;
 
 /// The element ranges of `size` ranks over `model` ([`element_ranges_by_cost`], by the
-/// materials' relative cost): those of [`ExplicitSolver::distribute`].
+/// materials' relative cost): those of [`ExplicitSolver::new_rank`].
 fn rank_ranges(model: &Model, size: usize) -> Vec<Range<usize>> {
     rank_ranges_of(&model.bodies, &model.element_body, size)
 }
@@ -69,9 +72,6 @@ pub(super) struct RankShare<'p> {
     exchange: ForceExchange,
     /// This rank's contributions to nodes of lower ranks, reused from step to step.
     foreign: Vec<Vector3<f64>>,
-    /// The step at which the nodes were last gathered: the outputs of one step (a snapshot, a
-    /// frame, the end or a stop) share one gather.
-    gathered_at: Option<usize>,
 }
 
 impl<'p> RankShare<'p> {
@@ -81,9 +81,68 @@ impl<'p> RankShare<'p> {
     }
 }
 
+/// Rank `comm.rank()`'s part of a distributed run on `problem` (`comm.size() > 1`): the nodes it
+/// integrates ([`NodePlan`]) and its share (element ranges by the materials' relative cost,
+/// [`element_ranges_by_cost`], and the force exchange), with the part of `history` that holds
+/// its elements. It then computes the forces and advances the history of its elements only,
+/// completes the forces of the shared nodes with the other ranks and integrates its nodes; the
+/// other ranks make the same call on the same problem. A run that remeshes cannot be
+/// distributed.
+pub(super) fn rank_share<'p>(
+    problem: &'p Problem,
+    contact: Option<&ContactScratch>,
+    history: MaterialHistory,
+    comm: &'p dyn Communicator,
+) -> Result<(NodePlan, RankShare<'p>, MaterialHistory)> {
+    let model = &problem.model;
+    if model.carried.is_some() {
+        return Err(SolverError::InvalidScene {
+            entity: "analysis.explicit.remeshing".into(),
+            message: "a run that remeshes runs on one rank (no mpirun)".into(),
+        });
+    }
+    let ranges = rank_ranges(model, comm.size());
+    let mine = ranges[comm.rank()].clone();
+    model.restrict_assembly(mine.clone());
+    let history = history_part(model, history, &mine);
+    // Every rank integrates what contact reads and moves and what the history rows read.
+    let mut replicated = contact.map(|c| c.replicated_nodes()).unwrap_or_default();
+    for probe in &problem.probes {
+        replicated.extend(&probe.nodes);
+    }
+    for constraint in &problem.constraints {
+        replicated.extend(&constraint.nodes);
+    }
+    let nodes = NodePlan::new(
+        &model.tets,
+        model.node_count(),
+        &ranges,
+        comm.rank(),
+        &replicated,
+    );
+    let exchange = ForceExchange::new(
+        &model.tets,
+        model.node_count(),
+        &ranges,
+        comm.rank(),
+        nodes.exchanged(),
+    );
+    let share = RankShare {
+        comm,
+        ranges,
+        exchange,
+        foreign: Vec::new(),
+    };
+    Ok((nodes, share, history))
+}
+
 impl<'p> ExplicitSolver<'p> {
-    /// [`Self::new`] as rank `comm.rank()` of `comm.size()` ([`Self::distribute`]), allocating
-    /// the material history of this rank's elements only, never the whole model's.
+    /// [`Self::new`] as rank `comm.rank()` of `comm.size()`: from the first step
+    /// on it computes the forces and advances the history of its elements only, completes the
+    /// forces of the shared nodes with the other ranks and integrates its nodes, allocating the
+    /// material history of its own elements and the nodal values of its own nodes only, never
+    /// the whole model's. The other ranks must make the same call on the same problem. One rank
+    /// is [`Self::new`].
     pub fn new_rank(
         problem: &'p Problem,
         settings: ExplicitSettings,
@@ -97,67 +156,7 @@ impl<'p> ExplicitSolver<'p> {
             0..model.element_count()
         };
         let history = model.initial_history_of(elements);
-        let mut solver = Self::with_history(problem, settings, output, history)?;
-        solver.distribute(comm)?;
-        Ok(solver)
-    }
-
-    /// Runs this solver as rank `comm.rank()` of `comm.size()`: from the next step on it computes
-    /// the forces and advances the history of its elements only ([`element_ranges_by_cost`], by
-    /// the materials' relative cost), completes the forces of the shared nodes with the other
-    /// ranks and integrates its nodes ([`NodePlan`]); the other ranks must make the same call on
-    /// the same problem. It keeps the material history of its own elements only. One rank
-    /// changes nothing. A run that remeshes cannot be distributed.
-    pub fn distribute(&mut self, comm: &'p dyn Communicator) -> Result<()> {
-        if comm.size() <= 1 {
-            return Ok(());
-        }
-        let model = &self.problem.model;
-        if model.carried.is_some() {
-            return Err(SolverError::InvalidScene {
-                entity: "analysis.explicit.remeshing".into(),
-                message: "a run that remeshes runs on one rank (no mpirun)".into(),
-            });
-        }
-        let ranges = rank_ranges(model, comm.size());
-        let mine = ranges[comm.rank()].clone();
-        model.restrict_assembly(mine.clone());
-        self.history = history_part(model, std::mem::take(&mut self.history), &mine);
-        // Every rank integrates what contact reads and moves and what the history rows read.
-        let mut replicated = self
-            .contact
-            .as_ref()
-            .map(|c| c.replicated_nodes())
-            .unwrap_or_default();
-        for probe in &self.problem.probes {
-            replicated.extend(&probe.nodes);
-        }
-        for constraint in &self.problem.constraints {
-            replicated.extend(&constraint.nodes);
-        }
-        let nodes = NodePlan::new(
-            &model.tets,
-            model.node_count(),
-            &ranges,
-            comm.rank(),
-            &replicated,
-        );
-        let exchange = ForceExchange::new(
-            &model.tets,
-            model.node_count(),
-            &ranges,
-            comm.rank(),
-            nodes.exchanged(),
-        );
-        self.nodes = nodes;
-        self.ranks = Some(RankShare {
-            comm,
-            ranges,
-            exchange,
-            foreign: Vec::new(),
-            gathered_at: None,
-        });
-        Ok(())
+        Self::with_history(problem, settings, output, history, Some(comm))
     }
 
     /// The rank and the number of ranks (0 and 1 for a run on one process).
@@ -215,27 +214,42 @@ impl<'p> ExplicitSolver<'p> {
         }
     }
 
-    /// Gives every rank every node's displacement, velocities and reaction, each from the rank
-    /// that sums the node's leaf (collective; nothing on one process). Before output that reads
-    /// nodes beyond this rank's and at the end of a run.
-    pub(super) fn gather_nodes(&mut self) {
-        if let Some(share) = &mut self.ranks {
-            // Nothing moves between the outputs of one step (the step counter advances with the
-            // displacement in `finish_step`).
-            if share.gathered_at == Some(self.step) {
-                return;
-            }
-            share.gathered_at = Some(self.step);
-            // One field at a time: the gathered buffer is one field's, not all four's.
-            for field in [
-                &mut self.u,
-                &mut self.v_half,
-                &mut self.v_full,
-                &mut self.reaction,
-            ] {
-                self.nodes.gather(share.comm, &mut [&mut field[..]]);
-            }
+    /// Every node's values of `field` (one of this solver's nodal fields): the field itself on
+    /// one process; on a rank, gathered from the ranks that sum each node's leaf (collective:
+    /// every rank asks for the same fields in the same order).
+    pub fn whole<'a>(&self, field: &'a NodeField<Vector3<f64>>) -> Cow<'a, [Vector3<f64>]> {
+        match (&self.ranks, field.as_slice()) {
+            (None, Some(values)) => Cow::Borrowed(values),
+            (Some(share), _) => Cow::Owned(self.nodes.gather(share.comm, field)),
+            (None, None) => unreachable!("one process stores every node"),
         }
+    }
+
+    /// Every node's displacement and full-step velocity at the end of a run, for its caller
+    /// ([`Self::whole`]; collective). The run is over: the fields of the step are freed first, so
+    /// that the gathered values take their place, and the solver cannot step again.
+    pub fn final_nodes(&mut self) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+        for field in [
+            &mut self.f_int,
+            &mut self.f_ext,
+            &mut self.du_prev,
+            &mut self.v_next,
+            &mut self.v_half,
+        ] {
+            *field = NodeField::dense(Vec::new());
+        }
+        let mut u = std::mem::replace(&mut self.u, NodeField::dense(Vec::new()));
+        let mut v = std::mem::replace(&mut self.v_full, NodeField::dense(Vec::new()));
+        if self.ranks.is_some() {
+            // The gathered displacement takes the place of the stored one before the velocity's.
+            let whole = self.whole(&u).into_owned();
+            u = NodeField::dense(whole);
+            let whole = self.whole(&v).into_owned();
+            v = NodeField::dense(whole);
+        }
+        let dense = "every node's values";
+        let (u, v) = (u.into_dense().expect(dense), v.into_dense().expect(dense));
+        (u, v)
     }
 
     /// The elastic energy stored in all elements ([`crate::model::Model::stored_energy`]): each

@@ -230,20 +230,20 @@ impl<'p> ExplicitSolver<'p> {
 
     /// Shows the observers the field frame of the current state.
     pub(super) fn field_frame(&mut self, observers: &mut ObserverSet) -> Result<()> {
-        self.gather_nodes();
+        let (u, v) = (self.whole(&self.u), self.whole(&self.v_full));
         let model = &self.problem.model;
         let points: Vec<Vector3<f64>> = model
             .reference
             .iter()
-            .zip(&self.u)
+            .zip(u.iter())
             .map(|(x, u)| x + u)
             .collect();
         observers.field_frame(&field_frame_with_history(
             model,
             Some(&self.history),
             &points,
-            &self.u,
-            Some(&self.v_full),
+            &u,
+            Some(&v),
             self.time,
         ))
     }

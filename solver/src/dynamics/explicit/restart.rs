@@ -18,6 +18,7 @@ use crate::dynamics::settings::ContactTotals;
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings, StopProgress};
 use crate::error::{Result, SolverError};
 use crate::model::MaterialHistory;
+use crate::nodal::NodeField;
 use crate::problem::Problem;
 
 /// The output schedule's numbers ([`OutputSchedule`]), as plain fields.
@@ -126,11 +127,11 @@ impl<'p> ExplicitSolver<'p> {
     /// The state between two steps with the run's output schedule (see [`RestartState`]).
     pub fn restart_state(&self, schedule: &OutputSchedule) -> RestartState {
         RestartState {
-            u: self.u.clone(),
-            v_half: self.v_half.clone(),
-            v_full: self.v_full.clone(),
-            du_prev: self.du_prev.clone(),
-            reaction: self.reaction.clone(),
+            u: self.whole(&self.u).into_owned(),
+            v_half: self.whole(&self.v_half).into_owned(),
+            v_full: self.whole(&self.v_full).into_owned(),
+            du_prev: self.whole(&self.du_prev).into_owned(),
+            reaction: self.whole(&self.reaction).into_owned(),
             step: self.step,
             time: self.time,
             time_step: self.dt,
@@ -195,7 +196,7 @@ impl<'p> ExplicitSolver<'p> {
             )));
         }
         let history = std::mem::take(&mut state.history);
-        let mut solver = Self::with_history(problem, settings, output, history)?;
+        let mut solver = Self::with_history(problem, settings, output, history, None)?;
         if solver.dt.to_bits() != state.time_step.to_bits() {
             return Err(misfit(format!(
                 "written with a time step of {:e} s, but this scene gives {:e} s",
@@ -203,11 +204,11 @@ impl<'p> ExplicitSolver<'p> {
             )));
         }
         solver.restore_clock_and_ledgers(&state);
-        solver.u = state.u;
-        solver.v_half = state.v_half;
-        solver.v_full = state.v_full;
-        solver.du_prev = state.du_prev;
-        solver.reaction = state.reaction;
+        solver.u = NodeField::dense(state.u);
+        solver.v_half = NodeField::dense(state.v_half);
+        solver.v_full = NodeField::dense(state.v_full);
+        solver.du_prev = NodeField::dense(state.du_prev);
+        solver.reaction = NodeField::dense(state.reaction);
         Ok((solver, OutputSchedule::from(state.schedule)))
     }
 

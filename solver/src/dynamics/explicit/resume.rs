@@ -9,6 +9,7 @@ use crate::dynamics::settings::{ContactTotals, PhaseTimes};
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
 use crate::model::MaterialHistory;
+use crate::nodal::NodeField;
 use crate::problem::Problem;
 
 /// The state of the central-difference scheme between two steps (after a step's move to
@@ -47,10 +48,10 @@ impl<'p> ExplicitSolver<'p> {
     /// The run's state between two steps (see [`RunState`]).
     pub fn state(&self) -> RunState {
         RunState {
-            u: self.u.clone(),
-            v_half: self.v_half.clone(),
-            v_full: self.v_full.clone(),
-            du_prev: self.du_prev.clone(),
+            u: self.whole(&self.u).into_owned(),
+            v_half: self.whole(&self.v_half).into_owned(),
+            v_full: self.whole(&self.v_full).into_owned(),
+            du_prev: self.whole(&self.du_prev).into_owned(),
             step: self.step,
             time_step: self.dt,
             time: self.time,
@@ -65,11 +66,13 @@ impl<'p> ExplicitSolver<'p> {
     /// [`Self::state`], moving the fields out instead of copying them (a remeshing run ends a
     /// segment so at each remeshing, and a microplane body's history is large).
     pub fn into_state(self) -> RunState {
+        // A remeshing run is never distributed: its fields are dense.
+        let dense = "a run on one process stores every node";
         RunState {
-            u: self.u,
-            v_half: self.v_half,
-            v_full: self.v_full,
-            du_prev: self.du_prev,
+            u: self.u.into_dense().expect(dense),
+            v_half: self.v_half.into_dense().expect(dense),
+            v_full: self.v_full.into_dense().expect(dense),
+            du_prev: self.du_prev.into_dense().expect(dense),
             step: self.step,
             time_step: self.dt,
             time: self.time,
@@ -129,11 +132,11 @@ impl<'p> ExplicitSolver<'p> {
                 ),
             });
         }
-        let mut solver = Self::with_history(problem, settings, output, state.history)?;
-        solver.u = state.u;
-        solver.v_half = state.v_half;
-        solver.v_full = state.v_full;
-        solver.du_prev = state.du_prev;
+        let mut solver = Self::with_history(problem, settings, output, state.history, None)?;
+        solver.u = NodeField::dense(state.u);
+        solver.v_half = NodeField::dense(state.v_half);
+        solver.v_full = NodeField::dense(state.v_full);
+        solver.du_prev = NodeField::dense(state.du_prev);
         solver.step = state.step;
         solver.step_origin = state.step;
         solver.time = state.time;

@@ -174,11 +174,11 @@ impl<'p> ExplicitSolver<'p> {
             }
             if let Some(interval) = self.settings.snapshot_interval_at(self.time) {
                 if last || self.time >= schedule.next_snapshot - 1e-9 * self.dt {
-                    self.gather_nodes();
+                    let u = self.whole(&self.u);
                     let crack_opening = self.crack_openings();
                     set.snapshot(&SnapshotView {
                         time: self.time,
-                        u: &self.u,
+                        u: &u,
                         crack_opening: &crack_opening,
                     });
                     schedule.next_snapshot += interval;
@@ -204,11 +204,7 @@ impl<'p> ExplicitSolver<'p> {
             };
             match halt {
                 Some(halt) if !last => return Err(self.halt(halt, set)),
-                _ if last => {
-                    // The caller reads the final state of every node.
-                    self.gather_nodes();
-                    break;
-                }
+                _ if last => break,
                 _ => {}
             }
             self.finish_step();

@@ -16,10 +16,14 @@ impl<'p> ExplicitSolver<'p> {
         (reason, element): (String, Option<usize>),
         observers: &mut ObserverSet,
     ) -> SolverError {
-        self.gather_nodes();
         // The state at the stop may hold NaN; the last good frame is already on disk.
         let wants_fields = self.on_any_rank(observers.wants_fields());
-        if wants_fields && self.u.iter().all(|u| u.iter().all(|x| x.is_finite())) {
+        if wants_fields
+            && self
+                .whole(&self.u)
+                .iter()
+                .all(|u| u.iter().all(|x| x.is_finite()))
+        {
             // What could not be written is left out of the report's list; the error is the
             // instability.
             let _ = self.field_frame(observers);
@@ -46,7 +50,6 @@ impl<'p> ExplicitSolver<'p> {
     /// asked for. A failed write stops an interrupted run with that error instead; a run past its
     /// time limit reports the limit.
     pub(super) fn halt(&mut self, halt: Halt, observers: &mut ObserverSet) -> SolverError {
-        self.gather_nodes();
         let finished = observers.finish();
         match halt {
             Halt::TimeLimit { limit_s } => SolverError::TimeLimit {
@@ -64,12 +67,14 @@ impl<'p> ExplicitSolver<'p> {
         }
     }
 
-    /// The element with the largest Green-Lagrange strain norm (or a non-finite one).
+    /// The element with the largest Green-Lagrange strain norm (or a non-finite one), of all
+    /// ranks' (collective).
     pub(super) fn most_strained_element(&self) -> Option<usize> {
         let model = &self.problem.model;
+        let u = self.whole(&self.u);
         let mut worst: Option<(f64, usize)> = None;
         for e in 0..model.element_count() {
-            let h = model.strain_gradient(e, &self.u);
+            let h = model.strain_gradient(e, &*u);
             let norm = green_lagrange_from_h(&h).norm();
             let norm = if norm.is_finite() {
                 norm

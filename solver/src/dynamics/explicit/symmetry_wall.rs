@@ -11,6 +11,7 @@
 //! dynamic balance, in the energy ledger as external work); the node is free again the next
 //! step, so it can leave the plane when the body pulls it back.
 
+use crate::nodal::NodeField;
 use std::ops::Range;
 
 use nalgebra::Vector3;
@@ -85,7 +86,7 @@ impl SymmetryWalls {
         dx_extra: impl Fn(usize) -> Vector3<f64>,
         dt: f64,
         constrained: impl Fn(usize, usize) -> bool,
-        v_next: &mut [Vector3<f64>],
+        v_next: &mut NodeField<Vector3<f64>>,
     ) {
         if self.walls.is_empty() {
             return;
@@ -94,7 +95,8 @@ impl SymmetryWalls {
         for w in &self.walls {
             for i in w.nodes.clone() {
                 let d = w.axis;
-                if constrained(i, d) {
+                // A rank holds the nodes it stores; another rank holds the others.
+                if v_next.get(i).is_none() || constrained(i, d) {
                     continue;
                 }
                 let start = x_now(i)[d] + dx_extra(i)[d];

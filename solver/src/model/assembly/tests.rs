@@ -103,8 +103,15 @@ fn any_chunking_gives_the_serial_sum_bitwise() {
                     .unwrap();
                 // Garbage in `f` must not leak into the result.
                 let mut f = vec![Vector3::repeat(f64::NAN); u.len()];
-                let found =
-                    pool.install(|| assembler.assemble_with(&mut layout, &model, &u, None, &mut f));
+                let found = pool.install(|| {
+                    assembler.assemble_with(
+                        &mut layout,
+                        &model,
+                        u[..].into(),
+                        None,
+                        f[..].as_mut().into(),
+                    )
+                });
                 assert_eq!(found, inverted, "length {length}, {threads} threads");
                 let same = f
                     .iter()
