@@ -252,3 +252,36 @@ fn the_microplane_drop_test_on_two_ranks_is_bitwise_the_one_process_run() {
     // 60 steps of 4.4 us: the hammer, 0.1 mm above the beam at 2 m/s, is on it from step 11.
     check("cases/beam/drop-2ms.yaml", 60, &[2], true);
 }
+
+#[test]
+fn the_mirrored_drop_test_with_its_symmetry_planes_on_two_ranks_is_bitwise_the_one_process_run() {
+    // The symmetry planes hold nodes of every rank, each rank those it stores.
+    check("cases/beam/drop-2ms-mirrored.yaml", 60, &[2], true);
+}
+
+#[test]
+fn gravity_and_a_load_spread_over_the_ranks_are_bitwise_the_one_process_run() {
+    // A rank applies the load to the nodes it stores; the loaded top face crosses every rank's
+    // slab, and its nodes are neither probed nor prescribed (not exchanged).
+    let scene = "name: loaded-cantilever
+bodies:
+  - name: beam
+    mesh: { box: { origin: [0, 0, 0], size: [0.4, 0.1, 0.1], divisions: [16, 4, 4] } }
+    material: { linear_elastic: { density: 2400, youngs_modulus: 30.0e9, poisson_ratio: 0.2 } }
+gravity: [0, -9.81, 0]
+boundary_conditions:
+  - { name: clamp, body: beam, nodes: { plane: { point: [0, 0, 0], normal: [1, 0, 0] } }, motion: { fixed: [x, y, z] } }
+loads:
+  - { name: top, body: beam, nodes: { plane: { point: [0, 0.1, 0], normal: [0, 1, 0] } }, force_per_node: [0, -50.0, 20.0] }
+probes:
+  - { name: tip, body: beam, nodes: { plane: { point: [0.4, 0, 0], normal: [1, 0, 0] } }, quantity: displacement }
+analysis:
+  explicit: { end_time: 1.0e-3, safety: 0.6, history_interval: 1.0e-5 }
+";
+    let dir = std::env::temp_dir().join(format!("distributed-loads-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("loaded-cantilever.yaml");
+    std::fs::write(&path, scene).unwrap();
+    check(path.to_str().unwrap(), 200, &[2, 3], false);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
