@@ -288,6 +288,11 @@ impl NodeIndexer<'_> {
         slot_in(self.pages, a)
     }
 
+    /// Whether every node lies at its own id.
+    pub fn is_dense(&self) -> bool {
+        self.pages.is_none()
+    }
+
     /// Whether `other` lays values out as this one does.
     pub fn same_as(&self, other: &NodeIndexer<'_>) -> bool {
         match (self.pages, other.pages) {

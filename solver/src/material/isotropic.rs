@@ -76,6 +76,7 @@ impl IsotropicElastic {
     }
 
     /// Stored energy of Saint-Venant-Kirchhoff form `W = lambda/2 (tr E)^2 + mu tr(E^2)` (2.120).
+    #[inline]
     pub fn strain_energy_density(&self, e: &Matrix3<f64>) -> f64 {
         let tr = e.trace();
         0.5 * self.lambda() * tr * tr + self.mu() * e.component_mul(e).sum()
