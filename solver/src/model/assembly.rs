@@ -526,13 +526,15 @@ where
     let mut ue = [Vector3::zeros(); 4];
     let mut ve = [Vector3::zeros(); 4];
     for (e, ((tet, grad_n), &volume)) in range.clone().zip(elements) {
-        for (corner, &n) in ue.iter_mut().zip(tet) {
-            *corner = u[slots.at(n as usize)];
+        // Where each corner's values lie, looked up once for the reads and the scatter.
+        let at = [0, 1, 2, 3].map(|c| slots.at(tet[c] as usize));
+        for (corner, &s) in ue.iter_mut().zip(&at) {
+            *corner = u[s];
         }
         let local = e - job.body_start;
         let rate = if material.reads_rate() {
-            for (corner, &n) in ve.iter_mut().zip(tet) {
-                *corner = velocity[slots.at(n as usize)];
+            for (corner, &s) in ve.iter_mut().zip(&at) {
+                *corner = velocity[s];
             }
             Some((&ve, dt))
         } else {
@@ -556,7 +558,7 @@ where
         if !(update.det > 0.0) {
             first_inverted = first_inverted.min(e);
         }
-        for (&n, fa) in tet.iter().zip(update.forces) {
+        for ((&n, &s), fa) in tet.iter().zip(&at).zip(update.forces) {
             // SAFETY: `n` is stored in `f` (it indexed `u` above, and `u` and `f` are stored
             // alike).
             // `first_element` was computed from the same `model.tets` (the model never changes
@@ -570,7 +572,7 @@ where
                     first_element[n as usize],
                     fa,
                     nodal,
-                    slots.at(n as usize),
+                    s,
                     slot_out,
                     &mut next_slot,
                     job.slots.end,
