@@ -2,10 +2,10 @@
 //!
 //! On one process a [`NodeField`] is a plain vector over every node. On a rank of a distributed
 //! run it stores the *pages* of [`NODE_PAGE`] consecutive node ids that hold at least one of the
-//! rank's active nodes (`crate::distributed::NodePlan::active`): its elements' nodes and the exchanged ones,
-//! about `1 / P` of the mesh plus a halo. Ids stay global everywhere (contact, probes, the
-//! exchange), only the storage is the rank's; reading a node of a page the rank does not store is
-//! a bug and panics.
+//! rank's active nodes (`crate::distributed::NodePlan::active`): its elements' nodes and the
+//! exchanged ones, about `1 / P` of the mesh plus a halo. Ids stay global everywhere (contact,
+//! probes, the exchange), only the storage is the rank's; reading a node of a page the rank does
+//! not store is a bug and panics.
 
 use std::ops::{Index, IndexMut, Range};
 use std::sync::Arc;
