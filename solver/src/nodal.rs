@@ -60,11 +60,6 @@ impl NodeSlots {
         }
     }
 
-    /// Number of nodes of the mesh (the ids run over `0..node_count`).
-    pub fn node_count(&self) -> usize {
-        self.node_count
-    }
-
     /// Number of values stored.
     pub fn stored(&self) -> usize {
         self.stored
@@ -191,19 +186,9 @@ impl<T> NodeField<T> {
         self.slots.is_dense().then_some(&self.data[..])
     }
 
-    /// Every node's value, when every node is stored at its id (one process).
-    pub fn as_mut_slice(&mut self) -> Option<&mut [T]> {
-        self.slots.is_dense().then_some(&mut self.data[..])
-    }
-
     /// The values of the stored nodes, in ascending id ([`NodeSlots::stored_ids`]).
     pub fn stored(&self) -> &[T] {
         &self.data
-    }
-
-    /// The values of the stored nodes, in ascending id ([`NodeSlots::stored_ids`]).
-    pub fn stored_mut(&mut self) -> &mut [T] {
-        &mut self.data
     }
 
     /// The values of every node, taken out when the field is dense.
@@ -320,11 +305,6 @@ impl<'a, T> NodeView<'a, T> {
     /// The stored values.
     pub fn storage(&self) -> &'a [T] {
         self.data
-    }
-
-    /// Whether nothing is stored.
-    pub fn is_empty(&self) -> bool {
-        self.data.is_empty()
     }
 }
 

@@ -400,13 +400,7 @@ fn statics(
     }
     if let (Some(dir), true) = (options.out, options.fields) {
         let mut pvd = PvdWriter::new(dir, options.stem)?;
-        let points: Vec<_> = problem
-            .model
-            .reference
-            .iter()
-            .zip(&solution.u)
-            .map(|(x, u)| x + u)
-            .collect();
+        let points = problem.model.positions(&solution.u);
         written.push(pvd.write_frame(&field_frame_with_history(
             &problem.model,
             solution.material_history.as_ref(),

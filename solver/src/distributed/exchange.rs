@@ -1,8 +1,6 @@
 //! The nodal forces of a distributed step, completed across ranks in the one-process fold order.
 
-use std::ops::Range;
-
-use std::ops::IndexMut;
+use std::ops::{IndexMut, Range};
 
 use nalgebra::Vector3;
 

@@ -24,9 +24,9 @@
 //! rank folds the leaves' shares in leaf order. The stored energy is likewise folded over blocks
 //! of elements, which the element ranges keep whole. A rank stores the nodal values of its active
 //! nodes only ([`crate::nodal::NodeField`]: pages of [`crate::nodal::NODE_PAGE`] ids, indexed by
-//! global id), so output that
-//! reads every node (history rows need only exchanged nodes and sums; field frames, snapshots
-//! and the end of a run do) gathers a whole copy from the ranks that sum the nodes' leaves.
+//! global id), so output that reads every node (history rows need only exchanged nodes and sums;
+//! field frames, snapshots and the end of a run do) gathers a whole copy from the ranks that sum
+//! the nodes' leaves.
 //!
 //! **Collectives.** [`Communicator`] is the few collective operations the run needs. The MPI one
 //! (`mpi` feature, `mpi_world.rs`) runs under `mpirun`; [`ThreadGroup`] runs the ranks as threads

@@ -463,6 +463,12 @@ impl Model {
         self.kept.keep(elements);
     }
 
+    /// The current position `X + u` of every node at the displacement `u` of every node.
+    pub fn positions(&self, u: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+        assert_eq!(u.len(), self.reference.len(), "one displacement per node");
+        self.reference.iter().zip(u).map(|(x, u)| x + u).collect()
+    }
+
     /// Displacements of element `e`'s nodes.
     #[inline]
     pub fn element_displacements<U: NodeValues<Vector3<f64>> + ?Sized>(

@@ -10,8 +10,6 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use nalgebra::Vector3;
-
 use super::apply::remesh_problem;
 use super::record::RemeshRecord;
 use super::resume::{Checkpointing, RemeshCheckpoint, RemeshStart};
@@ -172,12 +170,7 @@ impl<'a> Checks<'a> {
         }
         let m = &problem.model;
         let u = s.whole(&s.u);
-        let x: Vec<Vector3<f64>> = m
-            .reference
-            .iter()
-            .zip(u.iter())
-            .map(|(x, u)| x + u)
-            .collect();
+        let x = m.positions(&u);
         let region = policy.region(problem, &x, self.threshold);
         if !region.is_empty() {
             // With erosion, every element past the limit is offered to the remesher (the

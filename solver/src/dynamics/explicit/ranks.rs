@@ -224,7 +224,7 @@ impl<'p> ExplicitSolver<'p> {
         match (&self.ranks, field.as_slice()) {
             (None, Some(values)) => Cow::Borrowed(values),
             (Some(share), _) => Cow::Owned(self.nodes.gather(share.comm, field)),
-            (None, None) => unreachable!("one process stores every node"),
+            (None, None) => unreachable!("{ONE_PROCESS}"),
         }
     }
 
@@ -241,18 +241,21 @@ impl<'p> ExplicitSolver<'p> {
         ] {
             *field = NodeField::dense(Vec::new());
         }
-        let mut u = std::mem::replace(&mut self.u, NodeField::dense(Vec::new()));
-        let mut v = std::mem::replace(&mut self.v_full, NodeField::dense(Vec::new()));
-        if self.ranks.is_some() {
-            // The gathered displacement takes the place of the stored one before the velocity's.
-            let whole = self.whole(&u).into_owned();
-            u = NodeField::dense(whole);
-            let whole = self.whole(&v).into_owned();
-            v = NodeField::dense(whole);
+        // One at a time: the gathered displacement takes the place of the stored one before
+        // the velocity is gathered.
+        let u = std::mem::replace(&mut self.u, NodeField::dense(Vec::new()));
+        let u = self.whole_taken(u);
+        let v = std::mem::replace(&mut self.v_full, NodeField::dense(Vec::new()));
+        (u, self.whole_taken(v))
+    }
+
+    /// Every node's values of `field`, taken out ([`Self::whole`] without a copy on one process;
+    /// collective).
+    fn whole_taken(&self, field: NodeField<Vector3<f64>>) -> Vec<Vector3<f64>> {
+        match &self.ranks {
+            None => field.into_dense().expect(ONE_PROCESS),
+            Some(share) => self.nodes.gather(share.comm, &field),
         }
-        let dense = "every node's values";
-        let (u, v) = (u.into_dense().expect(dense), v.into_dense().expect(dense));
-        (u, v)
     }
 
     /// The elastic energy stored in all elements ([`crate::model::Model::stored_energy`]): each

@@ -232,12 +232,7 @@ impl<'p> ExplicitSolver<'p> {
     pub(super) fn field_frame(&mut self, observers: &mut ObserverSet) -> Result<()> {
         let (u, v) = (self.whole(&self.u), self.whole(&self.v_full));
         let model = &self.problem.model;
-        let points: Vec<Vector3<f64>> = model
-            .reference
-            .iter()
-            .zip(u.iter())
-            .map(|(x, u)| x + u)
-            .collect();
+        let points = model.positions(&u);
         observers.field_frame(&field_frame_with_history(
             model,
             Some(&self.history),

@@ -11,10 +11,11 @@
 //! dynamic balance, in the energy ledger as external work); the node is free again the next
 //! step, so it can leave the plane when the body pulls it back.
 
-use crate::nodal::NodeField;
 use std::ops::Range;
 
 use nalgebra::Vector3;
+
+use crate::nodal::NodeField;
 
 use crate::model::Motion;
 

@@ -40,12 +40,7 @@ impl OldBody {
         let model = &problem.model;
         let body = &model.bodies[b];
         let (nodes, elements) = (body.nodes.clone(), body.elements.clone());
-        let x_all: Vec<Vector3<f64>> = model
-            .reference
-            .iter()
-            .zip(&state.u)
-            .map(|(x, u)| x + u)
-            .collect();
+        let x_all = model.positions(&state.u);
         let local_tets: Vec<[u32; 4]> = model.tets[elements.clone()]
             .iter()
             .map(|t| t.map(|n| n - nodes.start as u32))
