@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
+use impact_solver::dynamics::{keeps_own_elements, restore_connectivity};
 use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem_on_rank, Scene};
 use impact_solver::SolverError;
@@ -92,7 +93,14 @@ impl LevelRunner<'_> {
                     &|_| {}
                 },
             };
-            execute(&mut problem, &scene.analysis, &opts, &mut |_| {}).map(|run| (problem, run))
+            // The measures read the whole problem: every rank gathers back the connectivity its
+            // run kept to its own elements, whatever its outcome (the gather is collective).
+            let kept_own = ranks.is_some_and(|c| keeps_own_elements(&problem, c));
+            let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {});
+            if let Some(comm) = ranks.filter(|_| kept_own) {
+                restore_connectivity(&mut problem, comm);
+            }
+            run.map(|run| (problem, run))
         })
     }
 }

@@ -12,7 +12,10 @@ use std::path::{Path, PathBuf};
 
 use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
-use impact_solver::dynamics::{keep_rank_element_data, ExplicitSolver, OutputSettings};
+use impact_solver::dynamics::{
+    keep_rank_element_data, keeps_own_elements, restore_connectivity, ExplicitSolver,
+    OutputSettings,
+};
 use impact_solver::model::{body_part, MaterialHistory};
 use impact_solver::scene::{build_problem_on_rank, Analysis, ExplicitAnalysis, Scene};
 
@@ -32,6 +35,8 @@ struct Bits {
     elements: Range<usize>,
     /// The elements whose shape-function gradients the model holds.
     kept: Range<usize>,
+    /// The elements whose connectivity the model holds during the run.
+    connected: Range<usize>,
     /// The snapshots' times, displacements and crack openings.
     snapshots: Vec<u64>,
     /// Values this rank sent per step to complete the forces.
@@ -52,7 +57,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     let built = problem.model.kept_elements();
     keep_rank_element_data(&mut problem.model, comm);
     assert_eq!(problem.model.kept_elements(), built);
-    let problem = problem;
+    let whole = problem.model.tets.clone();
     let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("{}: an explicit scene", path.display())
     };
@@ -61,12 +66,22 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     settings
         .snapshot_interval
         .get_or_insert(settings.end_time / 1000.0);
+    // As `execute` does: a rank of a run without contact keeps its own elements' connectivity.
+    let keeps = comm.is_some_and(|c| keeps_own_elements(&problem, c));
     let mut solver = match comm {
+        Some(comm) if keeps => ExplicitSolver::new_rank_keeping_own_elements(
+            &mut problem,
+            settings,
+            OutputSettings::default(),
+            comm,
+        )
+        .unwrap(),
         Some(comm) => {
             ExplicitSolver::new_rank(&problem, settings, OutputSettings::default(), comm).unwrap()
         }
         None => ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap(),
     };
+    let running = solver.problem();
     let summary = solver.run(&mut |_| {}).unwrap();
     let sent = comm.map_or(0, |c| solver.exchange_counts()[c.rank()]);
     let history = &summary.history;
@@ -76,7 +91,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
         .filter(|c| c.ends_with("_active"))
         .flat_map(|c| history.column(c).unwrap())
         .fold(0.0, f64::max);
-    Bits {
+    let bits = Bits {
         history: summary
             .history
             .rows()
@@ -91,7 +106,7 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .flat_map(|x| x.iter().map(|c| c.to_bits()))
             .collect(),
         material: solver.history().clone(),
-        bodies: problem
+        bodies: running
             .model
             .bodies
             .iter()
@@ -99,8 +114,9 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .collect(),
         elements: solver
             .rank_elements()
-            .unwrap_or(0..problem.model.element_count()),
-        kept: problem.model.kept_elements(),
+            .unwrap_or(0..running.model.element_count()),
+        kept: running.model.kept_elements(),
+        connected: running.model.tets.stored_range(),
         snapshots: summary
             .snapshots
             .iter()
@@ -112,7 +128,16 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .collect(),
         sent,
         most_in_contact,
+    };
+    drop(solver);
+    if let Some(comm) = comm.filter(|_| keeps) {
+        restore_connectivity(&mut problem, comm);
     }
+    assert_eq!(
+        problem.model.tets, whole,
+        "the whole connectivity after the run"
+    );
+    bits
 }
 
 /// The bits of every rank of a run on `ranks` threads.
@@ -169,6 +194,18 @@ fn holds_own_elements_only(bits: &[Bits], path: &Path) {
             r.kept,
             r.elements,
             "{}: rank {rank}'s gradients",
+            path.display()
+        );
+        // Contact reads its surfaces' layers every step: the connectivity stays whole there.
+        let connected = if r.most_in_contact > 0.0 || bits.len() == 1 {
+            r.connected.clone()
+        } else {
+            r.elements.clone()
+        };
+        assert_eq!(
+            r.connected,
+            connected,
+            "{}: rank {rank}'s connectivity",
             path.display()
         );
     }
@@ -228,9 +265,11 @@ fn check(path: &str, steps: usize, ranks: &[usize], contact: bool) {
         }
         holds_own_elements_only(&bits, &path);
         // Ranks above the first send contributions to their lower neighbour's nodes: the
-        // exchange is exercised, not bypassed.
+        // exchange is exercised, not bypassed (by every rank that has elements).
         assert!(
-            bits.iter().all(|b| b.sent > 0),
+            bits.iter()
+                .filter(|b| !b.elements.is_empty())
+                .all(|b| b.sent > 0),
             "{}: every rank sends",
             path.display()
         );
@@ -284,4 +323,29 @@ analysis:
     std::fs::write(&path, scene).unwrap();
     check(path.to_str().unwrap(), 200, &[2, 3], false);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A model of fewer elements than one leaf of the energy sums: the second rank has no element and
+/// no leaf (its empty range once took the first rank's leaf too, and the stored energy was
+/// counted twice).
+#[test]
+fn a_model_smaller_than_one_leaf_on_two_ranks_is_bitwise_the_one_process_run() {
+    let scene = "name: bar
+bodies:
+  - name: bar
+    mesh: { box: { origin: [0, 0, 0], size: [1, 0.1, 0.1], divisions: [2, 1, 1] } }
+    material: { linear_elastic: { density: 2300, youngs_modulus: 30.0e9, poisson_ratio: 0.2 } }
+boundary_conditions:
+  - name: push
+    body: bar
+    nodes: { plane: { point: [0, 0, 0], normal: [1, 0, 0] } }
+    motion: { velocity: { components: [x], value: { constant: 1.0 } } }
+analysis: { explicit: { end_time: 1.0e-4 } }
+";
+    let dir = std::env::temp_dir().join(format!("impact-small-ranks-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bar.yaml");
+    std::fs::write(&path, scene).unwrap();
+    check(path.to_str().unwrap(), 20, &[2], false);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -145,3 +145,54 @@ fn invalid_material_constants_are_refused() {
         "{err}"
     );
 }
+
+/// The unstable run above on ranks that keep their own elements' connectivity only: each looks
+/// for the most strained element among its own, and together they name the one-process run's.
+#[test]
+fn ranks_keeping_their_own_elements_name_the_one_process_runs_most_strained_element() {
+    use impact_solver::distributed::ThreadGroup;
+    let unstable = || {
+        let p = pushed_column();
+        let (dt_cr, _) = p.model.critical_time_step();
+        let mut settings = ExplicitSettings::new(2e-3);
+        settings.time_step = Some(2.0 * dt_cr);
+        settings.allow_unstable_time_step = true;
+        (p, settings)
+    };
+    let element = |err: SolverError| match err {
+        SolverError::Unstable(report) => report.element,
+        other => panic!("expected an instability report, got {other}"),
+    };
+    let (p, settings) = unstable();
+    let mut solver = ExplicitSolver::new(&p, settings, OutputSettings::default()).unwrap();
+    let alone = element(solver.run(&mut |_| {}).expect_err("it blows up"));
+    assert!(alone.is_some());
+    for ranks in [2, 3] {
+        let group = ThreadGroup::new(ranks);
+        let named: Vec<Option<usize>> = std::thread::scope(|s| {
+            let handles: Vec<_> = group
+                .iter()
+                .map(|comm| {
+                    s.spawn(move || {
+                        let (mut p, settings) = unstable();
+                        let mut solver = ExplicitSolver::new_rank_keeping_own_elements(
+                            &mut p,
+                            settings,
+                            OutputSettings::default(),
+                            comm,
+                        )
+                        .unwrap();
+                        assert_eq!(
+                            Some(solver.problem().model.tets.stored_range()),
+                            solver.rank_elements(),
+                            "a rank keeps its own elements' connectivity"
+                        );
+                        element(solver.run(&mut |_| {}).expect_err("it blows up"))
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        assert_eq!(named, vec![alone; ranks], "{ranks} ranks");
+    }
+}

@@ -261,6 +261,7 @@ fn vtu_holds_every_field_kind_exactly() {
         time: 1.25e-6,
         points: &points,
         tets: &tets,
+        first_cell: 0,
         point_data: vec![
             (
                 "displacement".into(),
@@ -348,6 +349,7 @@ fn pvd_lists_frames_in_order_with_their_times() {
             time,
             points: &points,
             tets: &tets,
+            first_cell: 0,
             point_data: vec![("index".into(), FieldData::Int(vec![i as i32; 5]))],
             cell_data: vec![],
         };
@@ -383,6 +385,7 @@ fn malformed_frames_are_errors_and_write_nothing() {
         time: 0.0,
         points: &points,
         tets: &tets,
+        first_cell: 0,
         point_data,
         cell_data,
     };
@@ -428,6 +431,7 @@ fn malformed_frames_are_errors_and_write_nothing() {
         time: 0.0,
         points: &points,
         tets: &bad_tets,
+        first_cell: 0,
         point_data: vec![],
         cell_data: vec![],
     };

@@ -162,12 +162,12 @@ fn a_box_reads_its_mirror_axes() {
     assert_eq!(b.mirror, [Axis::X, Axis::Z]);
     let problem = build_problem(&scene).unwrap();
     let mirrored = box_mesh(&b.spec());
-    assert_eq!(problem.model.tets, mirrored.tets);
+    assert_eq!(*problem.model.tets, *mirrored.tets);
     let plain = build_problem(
         &Scene::from_yaml(&MIRROR_SCENE.replace(", mirror: [x, z]", ""), "plain.yaml").unwrap(),
     )
     .unwrap();
-    assert_ne!(plain.model.tets, mirrored.tets);
+    assert_ne!(*plain.model.tets, *mirrored.tets);
 }
 
 #[test]

@@ -135,7 +135,7 @@ fn the_field_frame_shows_the_strength_field() {
     let concrete_elements = model.bodies[0].elements.len();
     assert_eq!(values.len(), model.element_count());
     let field = StrengthField::new(&field_spec(5)).unwrap();
-    for (e, tet) in model.tets[..concrete_elements].iter().enumerate() {
+    for (e, tet) in model.tets[0..concrete_elements].iter().enumerate() {
         let x = tet.map(|n| model.reference[n as usize]);
         let centroid = std::array::from_fn(|i| 0.25 * (x[0][i] + x[1][i] + x[2][i] + x[3][i]));
         assert_eq!(values[e], field.factor(centroid));

@@ -7,7 +7,9 @@ use std::path::Path;
 use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
 use crate::distributed::Communicator;
-use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
+use crate::dynamics::{
+    keeps_own_elements, ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot,
+};
 use crate::model::{ElementFields, MaterialHistory, Model};
 use crate::output::{
     field_frame_with_history, Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag,
@@ -76,7 +78,10 @@ pub struct ExecuteOptions<'a> {
     /// Stops an explicit run at the end of the step during which it becomes true (a signal).
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
     /// The ranks of a distributed explicit run (`crate::distributed`), of which this process is
-    /// one; only rank 0 writes files. `None` or one rank: the run of one process.
+    /// one; only rank 0 writes files. `None` or one rank: the run of one process. A distributed
+    /// run without contact leaves each rank with its own elements' connectivity only
+    /// ([`crate::dynamics::keeps_own_elements`]; [`crate::dynamics::restore_connectivity`]
+    /// gathers the rest back).
     pub ranks: Option<&'a dyn Communicator>,
     /// Where the run's log lines go (a remeshing's summary), one line per call without its
     /// newline. The caller decides: `impact-vv scene` prints them ([`log_to_stderr`]), the
@@ -197,8 +202,44 @@ impl<'p> Watchers<'p> {
     }
 }
 
+/// An explicit run of `problem`. A distributed run without contact keeps each rank's own
+/// elements' connectivity only ([`keeps_own_elements`]), and leaves it so: what reads the whole
+/// problem afterwards (a case's measures) first gathers it back with [`crate::dynamics::restore_connectivity`],
+/// on every rank whatever the outcome (it is collective).
 fn explicit(
-    problem: &Problem,
+    problem: &mut Problem,
+    settings: &ExplicitSettings,
+    initial_u: Option<&[Vector3<f64>]>,
+    options: &ExecuteOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Execution, SolverError> {
+    let ranks = options.ranks.filter(|c| c.size() > 1);
+    if !ranks.is_some_and(|c| keeps_own_elements(problem, c)) {
+        return explicit_on(
+            Lend::Shared(problem),
+            settings,
+            initial_u,
+            options,
+            progress,
+        );
+    }
+    explicit_on(
+        Lend::KeepingOwnElements(problem),
+        settings,
+        initial_u,
+        options,
+        progress,
+    )
+}
+
+/// How [`explicit_on`] gets its problem: shared, or to keep a rank's own elements only.
+enum Lend<'a> {
+    Shared(&'a Problem),
+    KeepingOwnElements(&'a mut Problem),
+}
+
+fn explicit_on(
+    lend: Lend<'_>,
     settings: &ExplicitSettings,
     initial_u: Option<&[Vector3<f64>]>,
     options: &ExecuteOptions,
@@ -213,10 +254,17 @@ fn explicit(
     };
     let ranks = options.ranks.filter(|c| c.size() > 1);
     // A rank allocates the material history of its own elements only.
-    let mut solver = match ranks {
-        Some(comm) => ExplicitSolver::new_rank(problem, settings.clone(), output, comm)?,
-        None => ExplicitSolver::new(problem, settings.clone(), output)?,
+    let mut solver = match (ranks, lend) {
+        (Some(comm), Lend::KeepingOwnElements(problem)) => {
+            ExplicitSolver::new_rank_keeping_own_elements(problem, settings.clone(), output, comm)?
+        }
+        (Some(comm), Lend::Shared(problem)) => {
+            ExplicitSolver::new_rank(problem, settings.clone(), output, comm)?
+        }
+        (None, Lend::Shared(problem)) => ExplicitSolver::new(problem, settings.clone(), output)?,
+        (None, Lend::KeepingOwnElements(_)) => unreachable!("a rank keeps its own elements"),
     };
+    let problem = solver.problem();
     if let Some(u0) = initial_u {
         solver.set_initial_displacement(u0);
     }

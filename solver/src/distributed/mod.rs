@@ -61,6 +61,8 @@ pub trait Communicator: Send + Sync {
     fn all_gather_f64(&self, mine: &[f64], counts: &[usize], out: &mut [f64]);
     /// [`Self::all_gather_f64`] of `f32` values.
     fn all_gather_f32(&self, mine: &[f32], counts: &[usize], out: &mut [f32]);
+    /// [`Self::all_gather_f64`] of `u32` values (node ids).
+    fn all_gather_u32(&self, mine: &[u32], counts: &[usize], out: &mut [u32]);
     /// The largest of every rank's `value`.
     fn max_u64(&self, value: u64) -> u64;
 }

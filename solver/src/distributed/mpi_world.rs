@@ -94,6 +94,13 @@ impl Collectives for MpiWorld {
         self.world.all_gather_varcount_into(mine, &mut parts);
     }
 
+    fn all_gather_u32(&self, mine: &[u32], counts: &[usize], out: &mut [u32]) {
+        self.check_thread();
+        let (counts, displs) = Self::partition(counts);
+        let mut parts = PartitionMut::new(out, counts, displs);
+        self.world.all_gather_varcount_into(mine, &mut parts);
+    }
+
     fn max_u64(&self, value: u64) -> u64 {
         self.check_thread();
         let mut max = 0u64;

@@ -19,6 +19,7 @@ struct Shared {
     barrier: Barrier,
     f64s: Mutex<Vec<Vec<f64>>>,
     f32s: Mutex<Vec<Vec<f32>>>,
+    u32s: Mutex<Vec<Vec<u32>>>,
     u64s: Mutex<Vec<u64>>,
 }
 
@@ -30,6 +31,7 @@ impl ThreadGroup {
             barrier: Barrier::new(size),
             f64s: Mutex::new(vec![Vec::new(); size]),
             f32s: Mutex::new(vec![Vec::new(); size]),
+            u32s: Mutex::new(vec![Vec::new(); size]),
             u64s: Mutex::new(vec![0; size]),
         });
         (0..size)
@@ -89,6 +91,16 @@ impl Communicator for ThreadGroup {
             self.rank
         );
         self.gather(&self.shared.f32s, mine, out);
+    }
+
+    fn all_gather_u32(&self, mine: &[u32], counts: &[usize], out: &mut [u32]) {
+        assert_eq!(
+            mine.len(),
+            counts[self.rank],
+            "rank {} sends its count",
+            self.rank
+        );
+        self.gather(&self.shared.u32s, mine, out);
     }
 
     fn max_u64(&self, value: u64) -> u64 {

@@ -27,7 +27,8 @@ use crate::nodal::NodeField;
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use crate::problem::Problem;
 use contact_phase::ContactScratch;
-pub use ranks::{keep_rank_element_data, rank_ranges_of};
+use ranks::Lent;
+pub use ranks::{keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_connectivity};
 pub use restart::{RestartState, ScheduleRecord};
 pub use resume::RunState;
 pub use run_loop::{OutputSchedule, SegmentEnd};
@@ -120,19 +121,20 @@ impl<'p> ExplicitSolver<'p> {
         output: OutputSettings,
     ) -> Result<Self> {
         let history = problem.model.initial_history();
-        Self::with_history(problem, settings, output, history, None)
+        Self::with_history(Lent::Shared(problem), settings, output, history, None)
     }
 
     /// [`Self::new`] with the material histories `history` (a resumed run's, which the model's
     /// initial ones would only be built to be replaced by), as rank `comm.rank()` of
     /// `comm.size()` when `comm` is given ([`Self::new_rank`]).
     fn with_history(
-        problem: &'p Problem,
+        lent: Lent<'p>,
         settings: ExplicitSettings,
         output: OutputSettings,
         history: MaterialHistory,
         comm: Option<&'p dyn Communicator>,
     ) -> Result<Self> {
+        let problem = lent.problem();
         let model = &problem.model;
         settings.validate("analysis.explicit")?;
         let (dt_critical, critical_element) = model.critical_time_step();
@@ -208,6 +210,29 @@ impl<'p> ExplicitSolver<'p> {
                 }
             }
         }
+        let history_node = if model.has_history() {
+            let mut flags = vec![false; n];
+            // The nodes of the history bodies' elements (a material region owns no nodes
+            // of its own but uses its parent's).
+            for body in model.bodies.iter().filter(|b| b.material.history_len() > 0) {
+                for e in body.elements.clone() {
+                    for &node in &model.tets[e] {
+                        flags[node as usize] = true;
+                    }
+                }
+            }
+            flags
+        } else {
+            Vec::new()
+        };
+        // What reads other ranks' elements is done: a rank that may keep its own elements'
+        // connectivity only frees the rest (contact reads its surfaces' layers every step).
+        let problem = lent.keep_own_elements(
+            ranks
+                .as_ref()
+                .filter(|_| contact.is_none())
+                .map(|r| r.own_elements()),
+        );
         let v0 = &problem.initial_velocity;
         let zeros = NodeField::filled(&slots, Vector3::zeros());
         let mut solver = Self {
@@ -230,21 +255,7 @@ impl<'p> ExplicitSolver<'p> {
             v_next: zeros.clone(),
             contact,
             history,
-            history_node: if model.has_history() {
-                let mut flags = vec![false; n];
-                // The nodes of the history bodies' elements (a material region owns no nodes
-                // of its own but uses its parent's).
-                for body in model.bodies.iter().filter(|b| b.material.history_len() > 0) {
-                    for e in body.elements.clone() {
-                        for &node in &model.tets[e] {
-                            flags[node as usize] = true;
-                        }
-                    }
-                }
-                flags
-            } else {
-                Vec::new()
-            },
+            history_node,
             contact_steps: Vec::new(),
             phases: PhaseTimes::default(),
             contact_totals: ContactTotals::default(),
@@ -263,6 +274,12 @@ impl<'p> ExplicitSolver<'p> {
         solver.energies.initial_kinetic = k0;
         solver.energies.kinetic = k0;
         Ok(solver)
+    }
+
+    /// The problem this solver runs (on a rank that keeps its own elements only, with that
+    /// part of the connectivity).
+    pub fn problem(&self) -> &'p Problem {
+        self.problem
     }
 
     /// Starts the run from displacement `u0` (for example a static solution) instead of the
@@ -435,7 +452,7 @@ impl<'p> ExplicitSolver<'p> {
             &mut self.f_int,
         );
         if let Some(e) = self.complete_forces(inverted) {
-            let det = model.deformation_gradient(e, &self.u).determinant();
+            let det = self.element_jacobian(e);
             return Err((format!("element inverted (det F = {det:.3e})"), Some(e)));
         }
         Ok(())

@@ -11,7 +11,9 @@ pub use crate::error::InstabilityReport;
 pub use crate::output::Snapshot;
 pub use checkpoint_every::CheckpointEvery;
 pub use energy::EnergyLedger;
-pub use explicit::{keep_rank_element_data, rank_ranges_of};
+pub use explicit::{
+    keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_connectivity,
+};
 pub use explicit::{
     ExplicitSolver, OutputSchedule, RestartState, RunState, ScheduleRecord, SegmentEnd,
 };

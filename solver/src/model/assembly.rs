@@ -36,7 +36,7 @@ use rayon::prelude::*;
 
 use super::element::{element_forces, element_forces_carried, ElementForces};
 use super::history::MaterialHistory;
-use super::Model;
+use super::{Connectivity, Model};
 use crate::material::{ElementState, Material};
 use crate::nodal::{NodeIndexer, NodeView, NodeViewMut};
 
@@ -195,7 +195,7 @@ fn owns(elements: &Range<usize>, first: u32) -> bool {
 impl ForceAssembler {
     /// Prepares the assembly of the elements `tets` over `node_count` nodes, with the elements of
     /// each body in `bodies`, for the current rayon thread count.
-    pub fn new(tets: &[[u32; 4]], node_count: usize, bodies: &[Range<usize>]) -> Self {
+    pub fn new(tets: &Connectivity, node_count: usize, bodies: &[Range<usize>]) -> Self {
         assert!(
             tets.len() < NO_ELEMENT as usize,
             "element ids must fit in u32"
@@ -588,7 +588,7 @@ impl Layout {
     /// chunk per body on a single thread, which has nobody to share work with.
     fn for_threads(
         first_element: &[u32],
-        tets: &[[u32; 4]],
+        tets: &Connectivity,
         bodies: &[Range<usize>],
         threads: usize,
         range: Range<usize>,
@@ -614,7 +614,7 @@ impl Layout {
     /// are the bodies' parts of `range`, the elements assembled.
     fn with_chunk_length(
         first_element: &[u32],
-        tets: &[[u32; 4]],
+        tets: &Connectivity,
         bodies: &[Range<usize>],
         length: usize,
         assembled: Range<usize>,

@@ -120,10 +120,24 @@ impl Model {
             out.green_lagrange.push(voigt(&green));
             h
         };
+        // A rank of a distributed run that keeps its own elements' connectivity writes only their
+        // cells: the others get no value.
+        let stored = self.tets.stored_range();
+        let unknown = |out: &mut ElementFields| {
+            out.cauchy.push([f64::NAN; 6]);
+            out.green_lagrange.push([f64::NAN; 6]);
+            out.max_principal_strain.push(f64::NAN);
+            out.crack_indicator.push(f64::NAN);
+            out.rate_factor.push(f64::NAN);
+        };
         for (b, body) in self.bodies.iter().enumerate() {
             let material = &body.material;
             if material.history_len() == 0 {
                 for e in body.elements.clone() {
+                    if !stored.contains(&e) {
+                        unknown(&mut out);
+                        continue;
+                    }
                     let deformation = Deformation::at_rest(strains(&mut out, e));
                     let f = deformation.f;
                     let local = e - body.elements.start;
@@ -146,6 +160,10 @@ impl Model {
                 .and_then(|h| h.bodies.get(b))
                 .and_then(Option::as_ref);
             for e in body.elements.clone() {
+                if !stored.contains(&e) {
+                    unknown(&mut out);
+                    continue;
+                }
                 strains(&mut out, e);
                 let local = e - body.elements.start;
                 // A rank of a distributed run holds its own elements' history only, and writes

@@ -8,6 +8,7 @@ use std::ops::Range;
 
 use nalgebra::Vector3;
 
+use super::Connectivity;
 use crate::kinematics::shape_gradients;
 use crate::mesh::element_quality;
 
@@ -41,10 +42,6 @@ impl KeptElementData {
         volume: Vec<f64>,
         min_altitude: Vec<f64>,
     ) -> Self {
-        let grad_n = tets[range.clone()]
-            .iter()
-            .map(|tet| gradients_and_volume(&tet.map(|n| reference[n as usize])).0)
-            .collect();
         let part = |all: Vec<f64>| {
             if range == (0..all.len()) {
                 all
@@ -52,12 +49,44 @@ impl KeptElementData {
                 all[range.clone()].to_vec()
             }
         };
+        // The parts first: every element's volumes and altitudes are freed before the
+        // gradients, the largest of the three, are allocated (a rank's peak during the setup).
+        let volume = part(volume);
+        let min_altitude = part(min_altitude);
+        let grad_n = tets[range.clone()]
+            .iter()
+            .map(|tet| gradients_and_volume(&tet.map(|n| reference[n as usize])).0)
+            .collect();
         Self {
             first: range.start,
             grad_n,
-            volume: part(volume),
-            min_altitude: part(min_altitude),
+            volume,
+            min_altitude,
         }
+    }
+
+    /// The data of the elements `range` of `tets` over `reference`, every value computed from
+    /// the corners (by the functions that compute the whole model's, so the same bits).
+    pub(super) fn compute(
+        tets: &Connectivity,
+        reference: &[Vector3<f64>],
+        range: Range<usize>,
+    ) -> Self {
+        let elements = &tets[range.clone()];
+        let mut data = Self {
+            first: range.start,
+            grad_n: Vec::with_capacity(elements.len()),
+            volume: Vec::with_capacity(elements.len()),
+            min_altitude: Vec::with_capacity(elements.len()),
+        };
+        for tet in elements {
+            let x = tet.map(|n| reference[n as usize]);
+            let (grad_n, volume) = gradients_and_volume(&x);
+            data.grad_n.push(grad_n);
+            data.volume.push(volume);
+            data.min_altitude.push(element_quality(&x).min_altitude);
+        }
+        data
     }
 
     /// The elements whose data is kept.

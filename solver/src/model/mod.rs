@@ -5,6 +5,7 @@ mod assembly;
 mod body_material;
 mod carried;
 mod conditions;
+mod connectivity;
 mod crack_opening;
 mod element;
 mod fields;
@@ -27,6 +28,7 @@ pub use assembly::{ChunkJob, ForceAssembler};
 pub use body_material::BodyMaterial;
 pub use carried::CarriedState;
 pub use conditions::{Component, Constraint, Dofs, Motion, NodalLoad, TimeFunction};
+pub use connectivity::Connectivity;
 pub use element::{element_forces, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
 pub use history::{body_part, BodyHistory, MaterialHistory};
@@ -155,8 +157,8 @@ pub struct Region {
 pub struct Model {
     /// Reference coordinates `X` (m).
     pub reference: Vec<Vector3<f64>>,
-    /// Global connectivity.
-    pub tets: Vec<[u32; 4]>,
+    /// Global connectivity: every element's, or one rank's own during a distributed run.
+    pub tets: Connectivity,
     /// Reference shape-function gradients, volumes and smallest altitudes of the elements
     /// [`Self::kept_elements`]: every element's, or one rank's own in a distributed run
     /// ([`Self::keep_element_data`]); [`Self::grad_n`], [`Self::volume`] and
@@ -304,6 +306,7 @@ impl Model {
             }
         }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
+        let tets = Connectivity::from(tets);
         let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
         let kept = kept::KeptElementData::new(&tets, &reference, kept, volume, min_altitude);
         Ok(Self {
@@ -461,6 +464,14 @@ impl Model {
     /// message), through [`Self::grad_n`], [`Self::volume`] and [`Self::min_altitude`].
     pub fn keep_element_data(&mut self, elements: Range<usize>) {
         self.kept.keep(elements);
+    }
+
+    /// Computes and keeps the per-element data of `elements` ([`Self::keep_element_data`]) in
+    /// place of what is kept: the data of a model built keeping none
+    /// ([`Self::with_regions_keeping`] of an empty range), computed once what built it (the
+    /// meshes it was copied from) is freed, so that a rank's setup never holds both.
+    pub fn compute_element_data(&mut self, elements: Range<usize>) {
+        self.kept = kept::KeptElementData::compute(&self.tets, &self.reference, elements);
     }
 
     /// The current position `X + u` of every node at the displacement `u` of every node.

@@ -88,7 +88,8 @@ pub fn field_frame_with_history<'a>(
     FieldFrame {
         time,
         points,
-        tets: &model.tets,
+        tets: model.tets.stored(),
+        first_cell: model.tets.stored_range().start,
         point_data,
         cell_data,
     }

@@ -140,7 +140,8 @@ pub struct FramePiece {
 /// order of their index in `frame`), and every field restricted to them.
 pub fn frame_piece(frame: &FieldFrame, cells: Range<usize>) -> FramePiece {
     let mut new_index = vec![u32::MAX; frame.points.len()];
-    for tet in &frame.tets[cells.clone()] {
+    let stored = cells.start - frame.first_cell..cells.end - frame.first_cell;
+    for tet in &frame.tets[stored.clone()] {
         for &n in tet {
             new_index[n as usize] = 0;
         }
@@ -153,7 +154,7 @@ pub fn frame_piece(frame: &FieldFrame, cells: Range<usize>) -> FramePiece {
         }
     }
     let points = used.iter().map(|&n| frame.points[n]).collect();
-    let tets = frame.tets[cells.clone()]
+    let tets = frame.tets[stored]
         .iter()
         .map(|tet| tet.map(|n| new_index[n as usize]))
         .collect();
@@ -195,6 +196,7 @@ impl RunObserver for PieceFrames {
             time: frame.time,
             points: &part.points,
             tets: &part.tets,
+            first_cell: 0,
             point_data: part.point_data,
             cell_data: part.cell_data,
         };
@@ -243,6 +245,7 @@ mod tests {
             time: 0.5,
             points: &points,
             tets: &tets,
+            first_cell: 0,
             point_data: vec![
                 ("id".into(), FieldData::Int((0..12).collect())),
                 (

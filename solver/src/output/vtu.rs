@@ -59,6 +59,10 @@ pub struct FieldFrame<'a> {
     pub points: &'a [Vector3<f64>],
     /// Node indices of each tetrahedron, in the solver's positive-volume order (same as VTK's).
     pub tets: &'a [[u32; 4]],
+    /// Index of `tets[0]` among the frame's cells: 0 where `tets` holds every cell; a rank's
+    /// first element where it holds that rank's elements only (then only pieces of those
+    /// cells are written, [`crate::output::pieces::frame_piece`]).
+    pub first_cell: usize,
     /// Named fields with one value per point.
     pub point_data: Vec<(String, FieldData)>,
     /// Named fields with one value per tetrahedron.
@@ -366,6 +370,7 @@ mod tests {
             time: 0.0,
             points: &[],
             tets: &[],
+            first_cell: 0,
             point_data: vec![("displacement".into(), FieldData::Scalar(vec![1.0]))],
             cell_data: vec![
                 ("body".into(), FieldData::Int(vec![3])),

@@ -9,7 +9,7 @@ use crate::material::MaterialModel;
 use crate::mesh::{
     boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
 };
-use crate::model::{Body, Constraint, Model, Motion, NodalLoad, Probe, Region};
+use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Region};
 use crate::problem::Problem;
 
 fn invalid(entity: impl Into<String>, message: impl Into<String>) -> SolverError {
@@ -113,13 +113,15 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
         &scene.analysis,
         Analysis::Explicit(a) if a.remeshing.is_none()
     );
-    let kept = |bodies: &[Body], element_body: &[u16]| match rank {
-        Some((rank, size)) if size > 1 && distributable => {
-            rank_ranges_of(bodies, element_body, size)[rank].clone()
-        }
-        _ => 0..element_body.len(),
+    // A rank computes its elements' data at the end, once the meshes the model copies are
+    // freed; one process keeps the volumes and altitudes the model computes for its masses.
+    let ranked = rank.filter(|&(_, size)| size > 1 && distributable);
+    let mut model = match ranked {
+        Some(_) => Model::with_regions_keeping(bodies, regions, &|_, _| 0..0)?,
+        None => Model::with_regions(bodies, regions)?,
     };
-    let mut model = Model::with_regions_keeping(bodies, regions, &kept)?;
+    let kept = ranked
+        .map(|(rank, size)| rank_ranges_of(&model.bodies, &model.element_body, size)[rank].clone());
     scene
         .crack_indicator
         .validate()
@@ -141,6 +143,10 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
     problem.loads = loads;
     problem.probes = probes;
     problem.gravity = scene.gravity.map(Vector3::from);
+    drop(meshes);
+    if let Some(kept) = kept {
+        problem.model.compute_element_data(kept);
+    }
     Ok(problem)
 }
 

@@ -82,6 +82,11 @@ impl<'p> RankShare<'p> {
     pub(super) fn comm(&self) -> &'p dyn Communicator {
         self.comm
     }
+
+    /// This rank's elements.
+    pub(super) fn own_elements(&self) -> Range<usize> {
+        self.ranges[self.comm.rank()].clone()
+    }
 }
 
 /// Rank `comm.rank()`'s part of a distributed run on `problem` (`comm.size() > 1`): the nodes it
@@ -92,7 +97,7 @@ impl<'p> RankShare<'p> {
 /// other ranks make the same call on the same problem. A run that remeshes cannot be
 /// distributed.
 pub(super) fn rank_share<'p>(
-    problem: &'p Problem,
+    problem: &Problem,
     contact: Option<&ContactScratch>,
     history: MaterialHistory,
     comm: &'p dyn Communicator,
@@ -152,14 +157,35 @@ impl<'p> ExplicitSolver<'p> {
         output: OutputSettings,
         comm: &'p dyn Communicator,
     ) -> Result<Self> {
-        let model = &problem.model;
+        Self::rank_of(Lent::Shared(problem), settings, output, comm)
+    }
+
+    /// [`Self::new_rank`] that also frees, once the rank's plan is made, the connectivity of
+    /// the other ranks' elements (where no contact reads it; [`crate::model::Connectivity::keep_range`]).
+    /// [`restore_connectivity`] gathers it back after the run, on every rank alike.
+    pub fn new_rank_keeping_own_elements(
+        problem: &'p mut Problem,
+        settings: ExplicitSettings,
+        output: OutputSettings,
+        comm: &'p dyn Communicator,
+    ) -> Result<Self> {
+        Self::rank_of(Lent::KeepingOwnElements(problem), settings, output, comm)
+    }
+
+    fn rank_of(
+        lent: Lent<'p>,
+        settings: ExplicitSettings,
+        output: OutputSettings,
+        comm: &'p dyn Communicator,
+    ) -> Result<Self> {
+        let model = &lent.problem().model;
         let elements = if comm.size() > 1 && model.carried.is_none() {
             rank_ranges(model, comm.size())[comm.rank()].clone()
         } else {
             0..model.element_count()
         };
         let history = model.initial_history_of(elements);
-        Self::with_history(problem, settings, output, history, Some(comm))
+        Self::with_history(lent, settings, output, history, Some(comm))
     }
 
     /// The rank and the number of ranks (0 and 1 for a run on one process).
@@ -206,6 +232,25 @@ impl<'p> ExplicitSolver<'p> {
             .comm
             .max_u64(inverted.map_or(0, |e| u64::MAX - e as u64));
         (lowest != 0).then(|| (u64::MAX - lowest) as usize)
+    }
+
+    /// `det F` of element `e`, computed by the rank that owns it and sent to all (collective;
+    /// computed here on one process): another rank stores neither its nodes nor, when it keeps
+    /// its own elements' only, its connectivity.
+    pub(super) fn element_jacobian(&self, e: usize) -> f64 {
+        let model = &self.problem.model;
+        let Some(share) = &self.ranks else {
+            return model.deformation_gradient(e, &self.u).determinant();
+        };
+        let mine = if share.own_elements().contains(&e) {
+            model.deformation_gradient(e, &self.u).determinant()
+        } else {
+            0.0
+        };
+        let size = share.comm.size();
+        let mut all = vec![0.0; size];
+        share.comm.all_gather_f64(&[mine], &vec![1; size], &mut all);
+        all[share.ranges.partition_point(|r| r.end <= e)]
     }
 
     /// Whether `mine` holds on any rank (collective; `mine` on one process): a decision every
@@ -267,7 +312,12 @@ impl<'p> ExplicitSolver<'p> {
             // The slice, not the field: the same loop as a plain vector's, at its speed.
             return model.stored_energy(self.u.as_slice().expect(ONE_PROCESS));
         };
-        let leaves = |r: &Range<usize>| r.start / ELEMENT_LEAF..r.end.div_ceil(ELEMENT_LEAF);
+        // A rank without elements (a model of fewer leaves than ranks) has no leaf: the leaf
+        // around its empty range is the previous rank's.
+        let leaves = |r: &Range<usize>| match r.is_empty() {
+            true => 0..0,
+            false => r.start / ELEMENT_LEAF..r.end.div_ceil(ELEMENT_LEAF),
+        };
         let mine =
             model.stored_energy_shares(&self.u.view(), leaves(&share.ranges[share.comm.rank()]));
         let counts: Vec<usize> = share.ranges.iter().map(|r| leaves(r).len()).collect();
@@ -298,4 +348,59 @@ impl<'p> ExplicitSolver<'p> {
         share.comm.all_gather_f32(&mine, &counts, &mut all);
         all
     }
+}
+
+/// The problem a solver is built on: lent shared, or lent mutably to a rank that keeps only its
+/// own elements' connectivity once its plan is made.
+pub(super) enum Lent<'p> {
+    Shared(&'p Problem),
+    KeepingOwnElements(&'p mut Problem),
+}
+
+impl<'p> Lent<'p> {
+    /// The problem, whole, for the solver's setup.
+    pub(super) fn problem(&self) -> &Problem {
+        match self {
+            Lent::Shared(p) => p,
+            Lent::KeepingOwnElements(p) => p,
+        }
+    }
+
+    /// The problem for the run: with the connectivity of `own` only where it was lent to keep
+    /// that (and `own` is given).
+    pub(super) fn keep_own_elements(self, own: Option<Range<usize>>) -> &'p Problem {
+        match self {
+            Lent::Shared(p) => p,
+            Lent::KeepingOwnElements(p) => {
+                if let Some(range) = own {
+                    p.model.tets.keep_range(range);
+                }
+                p
+            }
+        }
+    }
+}
+
+/// Whether a distributed run on `problem` keeps each rank's own elements' connectivity only
+/// ([`ExplicitSolver::new_rank_keeping_own_elements`]): every rank decides alike.
+pub fn keeps_own_elements(problem: &Problem, comm: &dyn Communicator) -> bool {
+    comm.size() > 1 && problem.contact.is_empty() && problem.model.carried.is_none()
+}
+
+/// Every element's connectivity again on every rank, after a run that kept each rank's own
+/// ([`keeps_own_elements`]; collective): each rank sends the consecutive range it kept. Nothing
+/// where every rank holds it whole (an analysis that did not keep it).
+pub fn restore_connectivity(problem: &mut Problem, comm: &dyn Communicator) {
+    let tets = &problem.model.tets;
+    let mine = tets.stored().as_flattened();
+    let mut posted = vec![0; comm.size()];
+    comm.all_gather_u32(&[mine.len() as u32], &vec![1; comm.size()], &mut posted);
+    let counts: Vec<usize> = posted.iter().map(|&c| c as usize).collect();
+    if counts.iter().all(|&c| c == 4 * tets.len()) {
+        return;
+    }
+    // Straight into the whole connectivity: one copy of it, none of the parts.
+    let mut whole = vec![[0u32; 4]; tets.len()];
+    comm.all_gather_u32(mine, &counts, whole.as_flattened_mut());
+    problem.model.tets.restore(whole);
 }

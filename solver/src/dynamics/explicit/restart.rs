@@ -13,7 +13,7 @@
 
 use nalgebra::Vector3;
 
-use super::{ExplicitSolver, OutputSchedule};
+use super::{ExplicitSolver, Lent, OutputSchedule};
 use crate::dynamics::settings::ContactTotals;
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings, StopProgress};
 use crate::error::{Result, SolverError};
@@ -196,7 +196,8 @@ impl<'p> ExplicitSolver<'p> {
             )));
         }
         let history = std::mem::take(&mut state.history);
-        let mut solver = Self::with_history(problem, settings, output, history, None)?;
+        let mut solver =
+            Self::with_history(Lent::Shared(problem), settings, output, history, None)?;
         if solver.dt.to_bits() != state.time_step.to_bits() {
             return Err(misfit(format!(
                 "written with a time step of {:e} s, but this scene gives {:e} s",

@@ -4,7 +4,7 @@
 
 use nalgebra::Vector3;
 
-use super::ExplicitSolver;
+use super::{ExplicitSolver, Lent};
 use crate::dynamics::settings::{ContactTotals, PhaseTimes};
 use crate::dynamics::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::error::{Result, SolverError};
@@ -132,7 +132,8 @@ impl<'p> ExplicitSolver<'p> {
                 ),
             });
         }
-        let mut solver = Self::with_history(problem, settings, output, state.history, None)?;
+        let mut solver =
+            Self::with_history(Lent::Shared(problem), settings, output, state.history, None)?;
         solver.u = NodeField::dense(state.u);
         solver.v_half = NodeField::dense(state.v_half);
         solver.v_full = NodeField::dense(state.v_full);

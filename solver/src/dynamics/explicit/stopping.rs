@@ -73,7 +73,8 @@ impl<'p> ExplicitSolver<'p> {
         let model = &self.problem.model;
         let u = self.whole(&self.u);
         let mut worst: Option<(f64, usize)> = None;
-        for e in 0..model.element_count() {
+        // A rank that keeps its own elements' connectivity looks at those, and the ranks agree.
+        for e in model.tets.stored_range() {
             let h = model.strain_gradient(e, &*u);
             let norm = green_lagrange_from_h(&h).norm();
             let norm = if norm.is_finite() {
@@ -85,6 +86,17 @@ impl<'p> ExplicitSolver<'p> {
                 worst = Some((norm, e));
             }
         }
-        worst.map(|(_, e)| e)
+        let Some(share) = &self.ranks else {
+            return worst.map(|(_, e)| e);
+        };
+        // The largest norm (non-negative: its bits order as its values), then the first element
+        // that reaches it, as the scan over every element in order finds it.
+        let comm = share.comm();
+        let largest = comm.max_u64(worst.map_or(0, |(w, _)| w.to_bits()));
+        let first = comm.max_u64(match worst {
+            Some((w, e)) if w.to_bits() == largest => u64::MAX - e as u64,
+            _ => 0,
+        });
+        (first != 0).then(|| (u64::MAX - first) as usize)
     }
 }
