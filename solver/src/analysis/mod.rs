@@ -7,9 +7,7 @@ use std::path::Path;
 use crate::contact::problem_file::{ProblemFile, StoredSolution};
 use crate::contact::RecordedProblem;
 use crate::distributed::Communicator;
-use crate::dynamics::{
-    keeps_own_elements, ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot,
-};
+use crate::dynamics::{ExplicitSettings, ExplicitSolver, OutputSettings, RunSummary, Snapshot};
 use crate::model::{ElementFields, MaterialHistory, Model};
 use crate::output::{
     field_frame_with_history, Deadline, HistoryTable, Progress, PvdWriter, RunObserver, StopFlag,
@@ -203,43 +201,12 @@ impl<'p> Watchers<'p> {
 }
 
 /// An explicit run of `problem`. A distributed run without contact keeps each rank's own
-/// elements' connectivity only ([`keeps_own_elements`]), and leaves it so: what reads the whole
-/// problem afterwards (a case's measures) first gathers it back with [`crate::dynamics::restore_connectivity`],
-/// on every rank whatever the outcome (it is collective).
+/// elements' connectivity only ([`crate::dynamics::keeps_own_elements`]), and leaves it so: what
+/// reads the whole problem afterwards (a case's measures) first gathers it back with
+/// [`crate::dynamics::restore_connectivity`], on every rank whatever the outcome (it is
+/// collective).
 fn explicit(
     problem: &mut Problem,
-    settings: &ExplicitSettings,
-    initial_u: Option<&[Vector3<f64>]>,
-    options: &ExecuteOptions,
-    progress: &mut dyn FnMut(f64),
-) -> Result<Execution, SolverError> {
-    let ranks = options.ranks.filter(|c| c.size() > 1);
-    if !ranks.is_some_and(|c| keeps_own_elements(problem, c)) {
-        return explicit_on(
-            Lend::Shared(problem),
-            settings,
-            initial_u,
-            options,
-            progress,
-        );
-    }
-    explicit_on(
-        Lend::KeepingOwnElements(problem),
-        settings,
-        initial_u,
-        options,
-        progress,
-    )
-}
-
-/// How [`explicit_on`] gets its problem: shared, or to keep a rank's own elements only.
-enum Lend<'a> {
-    Shared(&'a Problem),
-    KeepingOwnElements(&'a mut Problem),
-}
-
-fn explicit_on(
-    lend: Lend<'_>,
     settings: &ExplicitSettings,
     initial_u: Option<&[Vector3<f64>]>,
     options: &ExecuteOptions,
@@ -254,15 +221,11 @@ fn explicit_on(
     };
     let ranks = options.ranks.filter(|c| c.size() > 1);
     // A rank allocates the material history of its own elements only.
-    let mut solver = match (ranks, lend) {
-        (Some(comm), Lend::KeepingOwnElements(problem)) => {
+    let mut solver = match ranks {
+        Some(comm) => {
             ExplicitSolver::new_rank_keeping_own_elements(problem, settings.clone(), output, comm)?
         }
-        (Some(comm), Lend::Shared(problem)) => {
-            ExplicitSolver::new_rank(problem, settings.clone(), output, comm)?
-        }
-        (None, Lend::Shared(problem)) => ExplicitSolver::new(problem, settings.clone(), output)?,
-        (None, Lend::KeepingOwnElements(_)) => unreachable!("a rank keeps its own elements"),
+        None => ExplicitSolver::new(problem, settings.clone(), output)?,
     };
     let problem = solver.problem();
     if let Some(u0) = initial_u {

@@ -227,12 +227,11 @@ impl<'p> ExplicitSolver<'p> {
         };
         // What reads other ranks' elements is done: a rank that may keep its own elements'
         // connectivity only frees the rest (contact reads its surfaces' layers every step).
-        let problem = lent.keep_own_elements(
-            ranks
-                .as_ref()
-                .filter(|_| contact.is_none())
-                .map(|r| r.own_elements()),
-        );
+        let own = ranks
+            .as_ref()
+            .filter(|r| keeps_own_elements(lent.problem(), r.comm()))
+            .map(|r| r.own_elements());
+        let problem = lent.keep_own_elements(own);
         let v0 = &problem.initial_velocity;
         let zeros = NodeField::filled(&slots, Vector3::zeros());
         let mut solver = Self {

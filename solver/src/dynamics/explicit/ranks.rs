@@ -161,7 +161,8 @@ impl<'p> ExplicitSolver<'p> {
     }
 
     /// [`Self::new_rank`] that also frees, once the rank's plan is made, the connectivity of
-    /// the other ranks' elements (where no contact reads it; [`crate::model::Connectivity::keep_range`]).
+    /// the other ranks' elements where the run never reads it ([`keeps_own_elements`]: no
+    /// contact, no remeshed model; [`crate::model::Connectivity::keep_range`]).
     /// [`restore_connectivity`] gathers it back after the run, on every rank alike.
     pub fn new_rank_keeping_own_elements(
         problem: &'p mut Problem,
