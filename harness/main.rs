@@ -181,6 +181,7 @@ fn parse_tier(s: &str) -> Result<Tier, ArgError> {
 }
 
 fn main() -> ExitCode {
+    impact_vv::memory::keep_large_blocks_mapped();
     let cli = Cli::parse();
     match cli.command {
         Command::List {
