@@ -102,9 +102,7 @@ fn main() {
 
     let model = &problem.model;
     let b = model.body_index(body).unwrap();
-    let elements: Vec<usize> = (0..model.tets.len())
-        .filter(|&e| model.element_body[e] as usize == b)
-        .collect();
+    let elements: Vec<usize> = model.bodies[b].elements.clone().collect();
     // Centroids and volumes of the whole model, as the remeshing's transfer computes them.
     let centroid = centroids(&model.reference, &model.tets);
     let volumes = element_volumes(&model.reference, &model.tets);

@@ -40,9 +40,15 @@ use crate::material::{LinearElastic, MaterialModel, MicroplaneMaterial, SaintVen
 use crate::mesh::{element_quality, Mesh, DEFAULT_MIN_ALTITUDE_RATIO};
 use crate::nodal::{NodeValues, NodeView, NodeViewMut};
 
-/// Which elements' shape-function gradients a model computes, from its bodies and the body index
-/// of each element ([`Model::with_regions_keeping`]).
-pub type KeptElements<'a> = dyn Fn(&[Body], &[u16]) -> Range<usize> + 'a;
+/// Which elements' shape-function gradients a model computes, from its bodies
+/// ([`Model::with_regions_keeping`]).
+pub type KeptElements<'a> = dyn Fn(&[Body]) -> Range<usize> + 'a;
+
+/// The index of the body of `bodies` that holds `element`: bodies hold consecutive ranges of
+/// elements, in the order of the bodies.
+pub fn body_of(bodies: &[Body], element: usize) -> usize {
+    bodies.partition_point(|b| b.elements.end <= element)
+}
 
 /// One body of the model: a mesh of one material.
 #[derive(Debug, Clone)]
@@ -166,10 +172,9 @@ pub struct Model {
     kept: kept::KeptElementData,
     /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes.
     pub mass: Vec<f64>,
-    /// The bodies, in the order given; their nodes and elements are consecutive global ranges.
+    /// The bodies, in the order given; their nodes and elements are consecutive global ranges
+    /// (the body of an element: [`Self::body_of`]).
     pub bodies: Vec<Body>,
-    /// Body index of each element.
-    pub element_body: Vec<u16>,
     /// How the crack indicator of the field output is computed (FORMULATION 5).
     pub crack_indicator: CrackIndicator,
     /// The deformation and displacement carried from before a remeshing ([`CarriedState`]);
@@ -198,12 +203,13 @@ impl Model {
         bodies: Vec<(String, Mesh, M)>,
         regions: Vec<Region>,
     ) -> Result<Self> {
-        Self::with_regions_keeping(bodies, regions, &|_, element_body| 0..element_body.len())
+        Self::with_regions_keeping(bodies, regions, &|bodies| {
+            0..bodies.last().map_or(0, |b| b.elements.end)
+        })
     }
 
     /// As [`Self::with_regions`], computing the shape-function gradients of the elements
-    /// `kept(bodies, element_body)` only (the body index of each element; the range
-    /// [`Self::keep_element_data`] would keep): a rank of a distributed run passes its own range
+    /// `kept(bodies)` only (the range [`Self::keep_element_data`] would keep): a rank of a distributed run passes its own range
     /// (`crate::dynamics::rank_ranges_of`), so that no rank holds every element's gradients even
     /// while the model is built (96 bytes per element: 92 MiB for a million).
     pub fn with_regions_keeping<M: Into<MaterialSource>>(
@@ -215,8 +221,7 @@ impl Model {
         let mut tets = Vec::new();
         // Name, nodes, elements, node sets and material of each body, prepared below.
         let mut parts = Vec::new();
-        let mut element_body = Vec::new();
-        for (index, (name, mesh, material)) in bodies.into_iter().enumerate() {
+        for (name, mesh, material) in bodies {
             mesh.validate(&name, DEFAULT_MIN_ALTITUDE_RATIO)?;
             let material: MaterialSource = material.into();
             material.validate(&format!("body `{name}` material"))?;
@@ -224,7 +229,6 @@ impl Model {
             let first_element = tets.len();
             reference.extend_from_slice(&mesh.nodes);
             tets.extend(mesh.tets.iter().map(|t| t.map(|n| n + offset)));
-            element_body.extend(std::iter::repeat_n(index as u16, mesh.tets.len()));
             let node_sets = mesh
                 .node_sets
                 .iter()
@@ -257,9 +261,7 @@ impl Model {
             let material = MaterialSource::Model(region.material);
             material.validate(&format!("region `{}` material", region.name))?;
             let first_element = tets.len();
-            let index = parts.len();
             tets.extend(region.tets.iter().map(|t| t.map(|n| n + offset)));
-            element_body.extend(std::iter::repeat_n(index as u16, region.tets.len()));
             parts.push((
                 region.name,
                 end..end,
@@ -293,16 +295,16 @@ impl Model {
                 node_sets,
             });
         }
-        let kept = kept(&model_bodies, &element_body);
-        let density: Vec<f64> = model_bodies
-            .iter()
-            .map(|b| b.material.constants().density)
-            .collect();
+        let kept = kept(&model_bodies);
+        // Element by element in ascending order, as the bodies hold consecutive ranges.
         let mut mass = vec![0.0; reference.len()];
-        for (e, tet) in tets.iter().enumerate() {
-            let m = density[element_body[e] as usize] * volume[e] / 4.0;
-            for &n in tet {
-                mass[n as usize] += m;
+        for body in &model_bodies {
+            let density = body.material.constants().density;
+            for e in body.elements.clone() {
+                let m = density * volume[e] / 4.0;
+                for &n in &tets[e] {
+                    mass[n as usize] += m;
+                }
             }
         }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
@@ -315,7 +317,6 @@ impl Model {
             kept,
             mass,
             bodies: model_bodies,
-            element_body,
             crack_indicator: CrackIndicator::default(),
             carried: None,
             mass_scale: None,
@@ -338,9 +339,14 @@ impl Model {
         self.bodies.iter().position(|b| b.name == name)
     }
 
+    /// The index of the body that holds `element` (a global element index).
+    pub fn body_of(&self, element: usize) -> usize {
+        body_of(&self.bodies, element)
+    }
+
     /// The material of the body that holds `element` (a global element index).
     pub fn material_of(&self, element: usize) -> &dyn BodyMaterial {
-        &*self.bodies[self.element_body[element] as usize].material
+        &*self.bodies[self.body_of(element)].material
     }
 
     /// Critical time step `dt_cr = min_e L_e / c_e` with `L_e` the smallest altitude and `c_e`
@@ -591,10 +597,12 @@ impl Model {
     pub fn element_masses(&self) -> Vec<f64> {
         match &self.carried {
             Some(c) => c.element_mass.clone(),
-            None => (0..self.element_count())
-                .map(|e| {
-                    let body = &self.bodies[self.element_body[e] as usize];
-                    body.material.constants().density * self.volume(e)
+            None => self
+                .bodies
+                .iter()
+                .flat_map(|body| {
+                    let density = body.material.constants().density;
+                    body.elements.clone().map(move |e| density * self.volume(e))
                 })
                 .collect(),
         }
@@ -625,39 +633,35 @@ impl Model {
         let mut shares = vec![0.0; leaves.len()];
         let elements =
             leaves.start * ELEMENT_LEAF..(leaves.end * ELEMENT_LEAF).min(self.element_count());
-        let has_potential: Vec<bool> = self
-            .bodies
-            .iter()
-            .map(|b| {
-                b.material
-                    .strain_energy_density(&Matrix3::zeros())
-                    .is_some()
-            })
-            .collect();
-        for e in elements {
-            let body = self.element_body[e] as usize;
-            if !has_potential[body] {
+        // Body by body: the elements still come in ascending order (consecutive ranges).
+        for body in &self.bodies {
+            let material = &body.material;
+            if material.strain_energy_density(&Matrix3::zeros()).is_none() {
                 continue;
             }
-            let material = &self.bodies[body].material;
-            let energy = match &self.carried {
-                // The stress-free volume is V_r / det F_0.
-                Some(c) => {
-                    let h = self.deformation_gradient(e, u) - Matrix3::identity();
-                    material
-                        .strain_energy_density(&h)
-                        .map(|w| self.volume(e) / c.deformation[e].determinant() * w)
+            let ours = body.elements.start.max(elements.start)..body.elements.end.min(elements.end);
+            for e in ours {
+                let energy = match &self.carried {
+                    // The stress-free volume is V_r / det F_0.
+                    Some(c) => {
+                        let h = self.deformation_gradient(e, u) - Matrix3::identity();
+                        material
+                            .strain_energy_density(&h)
+                            .map(|w| self.volume(e) / c.deformation[e].determinant() * w)
+                    }
+                    None => {
+                        let h = displacement_gradient(
+                            &self.element_displacements(e, u),
+                            &self.grad_n(e),
+                        );
+                        material
+                            .strain_energy_density(&h)
+                            .map(|w| self.volume(e) * w)
+                    }
+                };
+                if let Some(energy) = energy {
+                    shares[e / ELEMENT_LEAF - leaves.start] += energy;
                 }
-                None => {
-                    let h =
-                        displacement_gradient(&self.element_displacements(e, u), &self.grad_n(e));
-                    material
-                        .strain_energy_density(&h)
-                        .map(|w| self.volume(e) * w)
-                }
-            };
-            if let Some(energy) = energy {
-                shares[e / ELEMENT_LEAF - leaves.start] += energy;
             }
         }
         shares

@@ -66,7 +66,11 @@ pub fn field_frame_with_history<'a>(
         ("rate_factor".into(), FieldData::Scalar(fields.rate_factor)),
         (
             "body".into(),
-            FieldData::Int(model.element_body.iter().map(|&b| b as i32).collect()),
+            FieldData::Int(
+                (model.bodies.iter().enumerate())
+                    .flat_map(|(b, body)| body.elements.clone().map(move |_| b as i32))
+                    .collect(),
+            ),
         ),
     ];
     // The strength field, where a body has one (1 on the other bodies' elements).

@@ -122,7 +122,7 @@ fn cauchy(
     u: &[Vector3<f64>],
 ) -> Option<[f64; 6]> {
     let m = &problem.model;
-    let b = m.element_body[e] as usize;
+    let b = m.body_of(e);
     let body = &m.bodies[b];
     let local = e - body.elements.start;
     if body.material.history_len() > 0 {

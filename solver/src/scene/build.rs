@@ -117,11 +117,10 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
     // freed; one process keeps the volumes and altitudes the model computes for its masses.
     let ranked = rank.filter(|&(_, size)| size > 1 && distributable);
     let mut model = match ranked {
-        Some(_) => Model::with_regions_keeping(bodies, regions, &|_, _| 0..0)?,
+        Some(_) => Model::with_regions_keeping(bodies, regions, &|_| 0..0)?,
         None => Model::with_regions(bodies, regions)?,
     };
-    let kept = ranked
-        .map(|(rank, size)| rank_ranges_of(&model.bodies, &model.element_body, size)[rank].clone());
+    let kept = ranked.map(|(rank, size)| rank_ranges_of(&model.bodies, size)[rank].clone());
     scene
         .crack_indicator
         .validate()

@@ -37,7 +37,7 @@ impl Inverted {
             .iter()
             .map(|&n| (trial[n as usize] - committed[n as usize]).norm())
             .fold(0.0, f64::max);
-        let body = &model.bodies[model.element_body[e] as usize].name;
+        let body = &model.bodies[model.body_of(e)].name;
         format!(
             "body {body}, centroid ({:.3}, {:.3}, {:.3}) mm, size {:.3} mm, det F {:.3e}, \
              its nodes moved up to {:.3e} m from the committed state",

@@ -12,7 +12,7 @@ use super::ExplicitSolver;
 use super::{ExplicitSettings, OutputSettings};
 use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
-use crate::model::{body_part, Body, MaterialHistory, Model, ELEMENT_LEAF};
+use crate::model::{body_of, body_part, Body, MaterialHistory, Model, ELEMENT_LEAF};
 use crate::nodal::NodeField;
 use crate::problem::Problem;
 
@@ -22,15 +22,16 @@ const ONE_PROCESS: &str = "one process stores every node";
 /// The element ranges of `size` ranks over `model` ([`element_ranges_by_cost`], by the
 /// materials' relative cost): those of [`ExplicitSolver::new_rank`].
 fn rank_ranges(model: &Model, size: usize) -> Vec<Range<usize>> {
-    rank_ranges_of(&model.bodies, &model.element_body, size)
+    rank_ranges_of(&model.bodies, size)
 }
 
-/// The element ranges of `size` ranks over the elements of `bodies` (body index of each element
-/// `element_body`), by the materials' relative cost: the ranges the solver distributes, before the model exists,
-/// while it is built for one rank (`Model::with_regions_keeping`).
-pub fn rank_ranges_of(bodies: &[Body], element_body: &[u16], size: usize) -> Vec<Range<usize>> {
+/// The element ranges of `size` ranks over the elements of `bodies`, by the materials' relative
+/// cost: the ranges the solver distributes, computed before the model exists while it is built
+/// for one rank (`Model::with_regions_keeping`).
+pub fn rank_ranges_of(bodies: &[Body], size: usize) -> Vec<Range<usize>> {
     let cost: Vec<f64> = bodies.iter().map(|b| b.material.relative_cost()).collect();
-    element_ranges_by_cost(element_body.len(), size, |e| cost[element_body[e] as usize])
+    let elements = bodies.last().map_or(0, |b| b.elements.end);
+    element_ranges_by_cost(elements, size, |e| cost[body_of(bodies, e)])
 }
 
 /// Keeps in `model` the per-element data of this rank's elements only

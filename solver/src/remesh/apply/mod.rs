@@ -85,16 +85,14 @@ fn region_body(model: &Model, region: &[usize]) -> Result<usize> {
             ),
         ));
     }
-    let body = model.element_body[first] as usize;
-    if let Some(&e) = region
-        .iter()
-        .find(|&&e| model.element_body[e] as usize != body)
-    {
+    let body = model.body_of(first);
+    if let Some(&e) = region.iter().find(|&&e| model.body_of(e) != body) {
         return Err(fail(
             "region",
             format!(
                 "spans bodies `{}` and `{}` (element {e}): a remeshing refines one body",
-                model.bodies[body].name, model.bodies[model.element_body[e] as usize].name
+                model.bodies[body].name,
+                model.bodies[model.body_of(e)].name
             ),
         ));
     }
