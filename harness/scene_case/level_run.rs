@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
-use impact_solver::dynamics::{keeps_own_elements, restore_connectivity};
+use impact_solver::dynamics::{keeps_own_elements, restore_whole_problem};
 use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem_on_rank, Scene};
 use impact_solver::SolverError;
@@ -98,7 +98,7 @@ impl LevelRunner<'_> {
             let kept_own = ranks.is_some_and(|c| keeps_own_elements(&problem, c));
             let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {});
             if let Some(comm) = ranks.filter(|_| kept_own) {
-                restore_connectivity(&mut problem, comm);
+                restore_whole_problem(&mut problem, comm);
             }
             run.map(|run| (problem, run))
         })

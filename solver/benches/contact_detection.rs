@@ -60,7 +60,7 @@ fn scene(n: usize) -> Scene {
     .unwrap();
     let slave = ContactSurface::new(&model, 1);
     let master = ContactSurface::new(&model, 0);
-    let x0 = model.reference.clone();
+    let x0 = model.reference.to_vec();
     let mut x1 = x0.clone();
     let push = 0.1 / n as f64;
     for i in model.bodies[1].nodes.clone() {

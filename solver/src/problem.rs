@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 
 use crate::contact::ContactPair;
-use crate::model::{Constraint, Model, NodalLoad, Probe, ProbeQuantity};
+use crate::model::{Constraint, Model, NodalLoad, NodeArray, Probe, ProbeQuantity};
 use crate::nodal::{NodeStoreMut, NodeValues};
 
 /// A model with its boundary conditions, loads and initial state.
@@ -19,8 +19,9 @@ pub struct Problem {
     pub loads: Vec<NodalLoad>,
     /// Gravitational acceleration (m/s^2), if any.
     pub gravity: Option<Vector3<f64>>,
-    /// Initial velocity of every node (m/s).
-    pub initial_velocity: Vec<Vector3<f64>>,
+    /// Initial velocity of every node (m/s): one rank's own nodes' during a distributed run
+    /// without contact, as the model's nodal arrays ([`crate::model::NodeArray`]).
+    pub initial_velocity: NodeArray<Vector3<f64>>,
     /// Quantities recorded in the history.
     pub probes: Vec<Probe>,
     /// Pairs of bodies that may touch.
@@ -36,7 +37,7 @@ impl Problem {
             constraints: Vec::new(),
             loads: Vec::new(),
             gravity: None,
-            initial_velocity: vec![Vector3::zeros(); n],
+            initial_velocity: vec![Vector3::zeros(); n].into(),
             probes: Vec::new(),
             contact: Vec::new(),
         }

@@ -53,7 +53,7 @@ fn only_the_touched_nodes_move() {
             .iter()
             .map(|&m| Vector3::repeat(1.0 / m))
             .collect();
-        let x0 = model.reference.clone();
+        let x0 = model.reference.to_vec();
         // The right block moves into the left one and sideways: normal and friction forces.
         let right = model.bodies[1].nodes.clone();
         let mut x1 = x0.clone();

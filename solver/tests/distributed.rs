@@ -13,8 +13,7 @@ use std::path::{Path, PathBuf};
 use common::material_history_bits;
 use impact_solver::distributed::{Communicator, ThreadGroup};
 use impact_solver::dynamics::{
-    keep_rank_element_data, keeps_own_elements, restore_connectivity, ExplicitSolver,
-    OutputSettings,
+    keeps_own_elements, restore_whole_problem, ExplicitSolver, OutputSettings,
 };
 use impact_solver::model::{body_part, MaterialHistory};
 use impact_solver::scene::{build_problem_on_rank, Analysis, ExplicitAnalysis, Scene};
@@ -37,6 +36,12 @@ struct Bits {
     kept: Range<usize>,
     /// The elements whose connectivity the model holds during the run.
     connected: Range<usize>,
+    /// The nodes whose reference coordinates, masses and initial velocities the problem holds
+    /// during the run, of how many.
+    nodes_held: [usize; 3],
+    node_count: usize,
+    /// The nodes whose values the integrator stores.
+    integrated: usize,
     /// The snapshots' times, displacements and crack openings.
     snapshots: Vec<u64>,
     /// Values this rank sent per step to complete the forces.
@@ -51,13 +56,22 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     let scene = Scene::from_yaml_file_entry(path, "scene")
         .or_else(|_| Scene::from_yaml_file(path))
         .unwrap();
-    // As a scene run does: a rank's model computes its own elements' shape gradients only, and
-    // keeping them is then nothing to do.
+    // As a scene run does: a rank's model holds no element's shape gradients until its solver
+    // has kept its part (then its own elements' only, checked below).
     let mut problem = build_problem_on_rank(&scene, comm.map(|c| (c.rank(), c.size()))).unwrap();
-    let built = problem.model.kept_elements();
-    keep_rank_element_data(&mut problem.model, comm);
-    assert_eq!(problem.model.kept_elements(), built);
+    let ranked = comm.is_some_and(|c| c.size() > 1);
+    assert_eq!(
+        problem.model.kept_elements().is_empty(),
+        ranked,
+        "{}",
+        path.display()
+    );
     let whole = problem.model.tets.clone();
+    let whole_nodes = (
+        problem.model.reference.clone(),
+        problem.model.mass.clone(),
+        problem.initial_velocity.clone(),
+    );
     let Analysis::Explicit(ExplicitAnalysis { mut settings, .. }) = scene.analysis.clone() else {
         panic!("{}: an explicit scene", path.display())
     };
@@ -66,19 +80,17 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     settings
         .snapshot_interval
         .get_or_insert(settings.end_time / 1000.0);
-    // As `execute` does: a rank of a run without contact keeps its own elements' connectivity.
+    // As `execute` does: a rank keeps its own elements' data, and in a run without contact its
+    // own elements' connectivity and its nodes' arrays.
     let keeps = comm.is_some_and(|c| keeps_own_elements(&problem, c));
     let mut solver = match comm {
-        Some(comm) if keeps => ExplicitSolver::new_rank_keeping_own_elements(
+        Some(comm) => ExplicitSolver::new_rank_keeping_own_elements(
             &mut problem,
             settings,
             OutputSettings::default(),
             comm,
         )
         .unwrap(),
-        Some(comm) => {
-            ExplicitSolver::new_rank(&problem, settings, OutputSettings::default(), comm).unwrap()
-        }
         None => ExplicitSolver::new(&problem, settings, OutputSettings::default()).unwrap(),
     };
     let running = solver.problem();
@@ -117,6 +129,13 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
             .unwrap_or(0..running.model.element_count()),
         kept: running.model.kept_elements(),
         connected: running.model.tets.stored_range(),
+        nodes_held: [
+            running.model.reference.stored().len(),
+            running.model.mass.stored().len(),
+            running.initial_velocity.stored().len(),
+        ],
+        node_count: running.model.node_count(),
+        integrated: solver.u.stored().len(),
         snapshots: summary
             .snapshots
             .iter()
@@ -131,11 +150,20 @@ fn run(path: &Path, steps: usize, comm: Option<&dyn Communicator>) -> Bits {
     };
     drop(solver);
     if let Some(comm) = comm.filter(|_| keeps) {
-        restore_connectivity(&mut problem, comm);
+        restore_whole_problem(&mut problem, comm);
     }
     assert_eq!(
         problem.model.tets, whole,
         "the whole connectivity after the run"
+    );
+    assert!(problem.model.reference.is_whole() && problem.initial_velocity.is_whole());
+    assert!(
+        (
+            problem.model.reference.clone(),
+            problem.model.mass.clone(),
+            problem.initial_velocity.clone()
+        ) == whole_nodes,
+        "the whole nodal arrays after the run"
     );
     bits
 }
@@ -206,6 +234,18 @@ fn holds_own_elements_only(bits: &[Bits], path: &Path) {
             r.connected,
             connected,
             "{}: rank {rank}'s connectivity",
+            path.display()
+        );
+        // The model's nodal arrays are kept with the connectivity: for the nodes the
+        // integrator stores.
+        let held = match r.connected.len() < r.bodies.iter().map(|b| b.end).max().unwrap_or(0) {
+            true => r.integrated,
+            false => r.node_count,
+        };
+        assert_eq!(
+            r.nodes_held,
+            [held; 3],
+            "{}: rank {rank}'s reference coordinates, masses and initial velocities",
             path.display()
         );
     }

@@ -54,7 +54,7 @@ fn light_tet(ratio: f64) -> Model {
         )
         .unwrap(),
     );
-    model.mass = vec![0.25 * m; 4];
+    model.mass = vec![0.25 * m; 4].into();
     model
 }
 
@@ -189,7 +189,8 @@ fn a_light_element_run_at_its_step_stays_bounded_and_at_the_nominal_step_blows_u
         Vector3::new(1.0, 0.0, -0.3),
         Vector3::new(0.0, 1.0, 0.4),
         Vector3::new(0.0, -0.5, -0.3),
-    ];
+    ]
+    .into();
     // Kicked at about 1 m/s, the element vibrates at about that speed. The steps are the
     // contact runs' safety, 0.6, times each estimate.
     let at_estimate = largest_speed(&problem, 0.6 * estimate, 400);

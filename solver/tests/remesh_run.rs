@@ -65,7 +65,7 @@ fn rigidly_moving_box() -> (Problem, Vector3<f64>, RunState, Vec<usize>) {
         MaterialModel::SaintVenantKirchhoff(STEEL),
     );
     let v0 = Vector3::new(3.0, -2.0, 1.5);
-    p.initial_velocity = vec![v0; p.model.node_count()];
+    p.initial_velocity = vec![v0; p.model.node_count()].into();
     let dt = 0.5 * p.model.critical_time_step().0;
     let state = run(&p, dt, None, 20);
     let region = region_near(&p, Vector3::repeat(0.5), 0.2);

@@ -78,7 +78,7 @@ pub struct ExecuteOptions<'a> {
     /// The ranks of a distributed explicit run (`crate::distributed`), of which this process is
     /// one; only rank 0 writes files. `None` or one rank: the run of one process. A distributed
     /// run without contact leaves each rank with its own elements' connectivity only
-    /// ([`crate::dynamics::keeps_own_elements`]; [`crate::dynamics::restore_connectivity`]
+    /// ([`crate::dynamics::keeps_own_elements`]; [`crate::dynamics::restore_whole_problem`]
     /// gathers the rest back).
     pub ranks: Option<&'a dyn Communicator>,
     /// Where the run's log lines go (a remeshing's summary), one line per call without its
@@ -137,10 +137,9 @@ pub fn execute(
             settings,
             remeshing: Some(remeshing),
         }) => explicit_remeshing(problem, settings, remeshing, options, progress),
-        Analysis::Explicit(a) => {
-            crate::dynamics::keep_rank_element_data(&mut problem.model, options.ranks);
-            explicit(problem, &a.settings, None, options, progress)
-        }
+        // A rank's solver keeps its part of the element data itself, once it has freed what it
+        // does not need (`ExplicitSolver::new_rank_keeping_own_elements`).
+        Analysis::Explicit(a) => explicit(problem, &a.settings, None, options, progress),
         Analysis::Static(settings) => statics(problem, settings, options, progress),
         Analysis::Release {
             preload,
@@ -203,7 +202,7 @@ impl<'p> Watchers<'p> {
 /// An explicit run of `problem`. A distributed run without contact keeps each rank's own
 /// elements' connectivity only ([`crate::dynamics::keeps_own_elements`]), and leaves it so: what
 /// reads the whole problem afterwards (a case's measures) first gathers it back with
-/// [`crate::dynamics::restore_connectivity`], on every rank whatever the outcome (it is
+/// [`crate::dynamics::restore_whole_problem`], on every rank whatever the outcome (it is
 /// collective).
 fn explicit(
     problem: &mut Problem,

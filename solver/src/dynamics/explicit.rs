@@ -23,12 +23,14 @@ use super::{EnergyLedger, ExplicitSettings, OutputSettings};
 use crate::distributed::{Communicator, NodePlan};
 use crate::error::{Result, SolverError};
 use crate::model::{MaterialHistory, Motion};
-use crate::nodal::NodeField;
+use crate::nodal::{NodeField, NodeSlots};
 use crate::output::{FieldFrames, HistoryFile, ObserverSet, PieceFrames, Progress, RunObserver};
 use crate::problem::Problem;
 use contact_phase::ContactScratch;
 use ranks::Lent;
-pub use ranks::{keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_connectivity};
+pub use ranks::{
+    keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_whole_problem,
+};
 pub use restart::{RestartState, ScheduleRecord};
 pub use resume::RunState;
 pub use run_loop::{OutputSchedule, SegmentEnd};
@@ -198,41 +200,21 @@ impl<'p> ExplicitSolver<'p> {
             .collect();
         let constraint_of = NodeField::from_whole(&slots, &constraint_map);
         drop(constraint_map);
-        let mut node_length = NodeField::filled(&slots, f64::INFINITY);
-        for (e, tet) in model.tets.iter().enumerate() {
-            if tet.iter().all(|&a| node_length.get(a as usize).is_none()) {
-                continue;
-            }
-            let l = model.min_altitude(e);
-            for &a in tet {
-                if let Some(length) = node_length.get_mut(a as usize) {
-                    *length = length.min(l);
-                }
-            }
-        }
-        let history_node = if model.has_history() {
-            let mut flags = vec![false; n];
-            // The nodes of the history bodies' elements (a material region owns no nodes
-            // of its own but uses its parent's).
-            for body in model.bodies.iter().filter(|b| b.material.history_len() > 0) {
-                for e in body.elements.clone() {
-                    for &node in &model.tets[e] {
-                        flags[node as usize] = true;
-                    }
-                }
-            }
-            flags
-        } else {
-            Vec::new()
+        let node_length = node_lengths(model, &slots);
+        let history_node = history_nodes(model);
+        let walls = symmetry_wall::SymmetryWalls::new(lent.problem());
+        let v0 = NodeField::from_whole(&slots, &lent.problem().initial_velocity);
+        let k0 = {
+            let (m, v) = (&model.mass, &lent.problem().initial_velocity);
+            fixed_order_sum(n, |i| 0.5 * m[i] * v[i].norm_squared())
         };
-        // What reads other ranks' elements is done: a rank that may keep its own elements'
-        // connectivity only frees the rest (contact reads its surfaces' layers every step).
-        let own = ranks
+        // What reads other ranks' elements and nodes is done: a rank that may keep its own
+        // part only frees the rest (contact reads its surfaces' layers every step).
+        let own = ranks.as_ref().map(|r| r.own_elements());
+        let keeps = ranks
             .as_ref()
-            .filter(|r| keeps_own_elements(lent.problem(), r.comm()))
-            .map(|r| r.own_elements());
-        let problem = lent.keep_own_elements(own);
-        let v0 = &problem.initial_velocity;
+            .is_some_and(|r| keeps_own_elements(lent.problem(), r.comm()));
+        let problem = lent.keep_own_part(own, keeps.then_some(&slots));
         let zeros = NodeField::filled(&slots, Vector3::zeros());
         let mut solver = Self {
             problem,
@@ -243,11 +225,11 @@ impl<'p> ExplicitSolver<'p> {
             critical_element,
             constraint_of,
             constrained_nodes,
-            walls: symmetry_wall::SymmetryWalls::new(problem),
+            walls,
             node_length,
             u: zeros.clone(),
-            v_full: NodeField::from_whole(&slots, v0),
-            v_half: NodeField::from_whole(&slots, v0),
+            v_half: v0.clone(),
+            v_full: v0,
             f_int: zeros.clone(),
             f_ext: zeros.clone(),
             du_prev: zeros.clone(),
@@ -269,7 +251,6 @@ impl<'p> ExplicitSolver<'p> {
             ranks,
             nodes,
         };
-        let k0 = solver.kinetic_energy(v0);
         solver.energies.initial_kinetic = k0;
         solver.energies.kinetic = k0;
         Ok(solver)
@@ -340,12 +321,6 @@ impl<'p> ExplicitSolver<'p> {
         self.settings
             .max_steps
             .map_or(by_time, |m| m.min(by_time.max(m)))
-    }
-
-    fn kinetic_energy(&self, v: &[Vector3<f64>]) -> f64 {
-        fixed_order_sum(v.len(), |i| {
-            0.5 * self.problem.model.mass[i] * v[i].norm_squared()
-        })
     }
 
     /// One time step without observers: the forces, contact and energies at `t_n`, then the
@@ -572,4 +547,39 @@ impl<'p> ExplicitSolver<'p> {
 /// Sum of `term(i)` for `i < n` in index order, so the result does not depend on threads.
 pub(crate) fn fixed_order_sum(n: usize, term: impl Fn(usize) -> f64) -> f64 {
     (0..n).map(term).sum()
+}
+
+/// The smallest altitude of the elements around each node `slots` stores (m; infinite at a
+/// node of no element): the length of its stable step.
+fn node_lengths(model: &crate::model::Model, slots: &NodeSlots) -> NodeField<f64> {
+    let mut node_length = NodeField::filled(slots, f64::INFINITY);
+    for (e, tet) in model.tets.iter().enumerate() {
+        if tet.iter().all(|&a| node_length.get(a as usize).is_none()) {
+            continue;
+        }
+        let l = model.min_altitude(e);
+        for &a in tet {
+            if let Some(length) = node_length.get_mut(a as usize) {
+                *length = length.min(l);
+            }
+        }
+    }
+    node_length
+}
+
+/// Whether each node belongs to an element of a body with a material history (empty when no
+/// body has one). A material region owns no nodes of its own but uses its parent's.
+fn history_nodes(model: &crate::model::Model) -> Vec<bool> {
+    if !model.has_history() {
+        return Vec::new();
+    }
+    let mut flags = vec![false; model.node_count()];
+    for body in model.bodies.iter().filter(|b| b.material.history_len() > 0) {
+        for e in body.elements.clone() {
+            for &node in &model.tets[e] {
+                flags[node as usize] = true;
+            }
+        }
+    }
+    flags
 }

@@ -12,7 +12,7 @@ pub use crate::output::Snapshot;
 pub use checkpoint_every::CheckpointEvery;
 pub use energy::EnergyLedger;
 pub use explicit::{
-    keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_connectivity,
+    keep_rank_element_data, keeps_own_elements, rank_ranges_of, restore_whole_problem,
 };
 pub use explicit::{
     ExplicitSolver, OutputSchedule, RestartState, RunState, ScheduleRecord, SegmentEnd,

@@ -68,7 +68,12 @@ impl Connectivity {
         if range.len() == self.count {
             return;
         }
-        self.stored = self.stored[range.clone()].to_vec();
+        // In place: the whole connectivity is the largest array of a rank's setup, and a copy
+        // of the part beside it would raise the rank's peak by the part (a large block's
+        // shrinking realloc returns its tail without a copy).
+        self.stored.truncate(range.end);
+        self.stored.drain(..range.start);
+        self.stored.shrink_to_fit();
         self.first = range.start;
     }
 

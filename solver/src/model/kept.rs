@@ -8,7 +8,7 @@ use std::ops::Range;
 
 use nalgebra::Vector3;
 
-use super::Connectivity;
+use super::{Connectivity, NodeArray};
 use crate::kinematics::shape_gradients;
 use crate::mesh::element_quality;
 
@@ -69,7 +69,7 @@ impl KeptElementData {
     /// the corners (by the functions that compute the whole model's, so the same bits).
     pub(super) fn compute(
         tets: &Connectivity,
-        reference: &[Vector3<f64>],
+        reference: &NodeArray<Vector3<f64>>,
         range: Range<usize>,
     ) -> Self {
         let elements = &tets[range.clone()];

@@ -11,6 +11,7 @@ mod element;
 mod fields;
 mod history;
 mod kept;
+mod node_array;
 mod probe;
 pub mod stable_step;
 
@@ -32,6 +33,7 @@ pub use connectivity::Connectivity;
 pub use element::{element_forces, ElementForces};
 pub use fields::{CrackIndicator, ElementFields};
 pub use history::{body_part, BodyHistory, MaterialHistory};
+pub use node_array::NodeArray;
 pub use probe::{Probe, ProbeQuantity};
 
 use crate::error::{Result, SolverError};
@@ -161,8 +163,9 @@ pub struct Region {
 /// The assembled model in its reference configuration.
 #[derive(Debug)]
 pub struct Model {
-    /// Reference coordinates `X` (m).
-    pub reference: Vec<Vector3<f64>>,
+    /// Reference coordinates `X` (m): every node's, or one rank's own during a distributed run
+    /// without contact ([`NodeArray::keep`]).
+    pub reference: NodeArray<Vector3<f64>>,
     /// Global connectivity: every element's, or one rank's own during a distributed run.
     pub tets: Connectivity,
     /// Reference shape-function gradients, volumes and smallest altitudes of the elements
@@ -170,8 +173,9 @@ pub struct Model {
     /// ([`Self::keep_element_data`]); [`Self::grad_n`], [`Self::volume`] and
     /// [`Self::min_altitude`] read them.
     kept: kept::KeptElementData,
-    /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes.
-    pub mass: Vec<f64>,
+    /// Lumped nodal masses (kg): a quarter of each element's mass to each of its nodes (every
+    /// node's, or one rank's own as [`Self::reference`]).
+    pub mass: NodeArray<f64>,
     /// The bodies, in the order given; their nodes and elements are consecutive global ranges
     /// (the body of an element: [`Self::body_of`]).
     pub bodies: Vec<Body>,
@@ -312,10 +316,10 @@ impl Model {
         let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
         let kept = kept::KeptElementData::new(&tets, &reference, kept, volume, min_altitude);
         Ok(Self {
-            reference,
+            reference: reference.into(),
             tets,
             kept,
-            mass,
+            mass: mass.into(),
             bodies: model_bodies,
             crack_indicator: CrackIndicator::default(),
             carried: None,
@@ -475,15 +479,39 @@ impl Model {
     /// Computes and keeps the per-element data of `elements` ([`Self::keep_element_data`]) in
     /// place of what is kept: the data of a model built keeping none
     /// ([`Self::with_regions_keeping`] of an empty range), computed once what built it (the
-    /// meshes it was copied from) is freed, so that a rank's setup never holds both.
+    /// meshes it was copied from, the other ranks' connectivity and nodes) is freed, so that a
+    /// rank's setup never holds both. Reads the connectivity of `elements` and the reference
+    /// coordinates of their nodes only.
     pub fn compute_element_data(&mut self, elements: Range<usize>) {
         self.kept = kept::KeptElementData::compute(&self.tets, &self.reference, elements);
+    }
+
+    /// The per-element data of exactly `elements`: the part of what is kept where it holds them
+    /// ([`Self::keep_element_data`]), computed otherwise ([`Self::compute_element_data`]).
+    pub fn keep_or_compute_element_data(&mut self, elements: Range<usize>) {
+        let kept = self.kept_elements();
+        if kept.start <= elements.start && elements.end <= kept.end {
+            self.keep_element_data(elements);
+        } else {
+            self.compute_element_data(elements);
+        }
     }
 
     /// The current position `X + u` of every node at the displacement `u` of every node.
     pub fn positions(&self, u: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
         assert_eq!(u.len(), self.reference.len(), "one displacement per node");
         self.reference.iter().zip(u).map(|(x, u)| x + u).collect()
+    }
+
+    /// [`Self::positions`] on a rank that keeps its own nodes' reference coordinates only
+    /// ([`NodeArray::keep`]): `NaN` at the nodes it does not store, which its piece of a field
+    /// frame (its own elements and their nodes) never reads.
+    pub fn positions_where_stored(&self, u: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+        assert_eq!(u.len(), self.reference.len(), "one displacement per node");
+        let field = self.reference.field();
+        (0..u.len())
+            .map(|a| field.get(a).map_or(Vector3::repeat(f64::NAN), |x| x + u[a]))
+            .collect()
     }
 
     /// Displacements of element `e`'s nodes.

@@ -122,7 +122,7 @@ pub fn read_problem(r: &mut Reader, scene: &Problem) -> Read<Problem> {
         )));
     }
     model.crack_indicator = scene.model.crack_indicator;
-    model.mass = mass;
+    model.mass = mass.into();
     model.mass_scale = mass_scale;
     if let Some((deformation, displacement, element_mass)) = carried {
         model.carried = Some(
@@ -268,7 +268,7 @@ fn read_conditions(r: &mut Reader, scene: &Problem, problem: &mut Problem) -> Re
     for (p, nodes) in problem.probes.iter_mut().zip(probes) {
         p.nodes = nodes;
     }
-    problem.initial_velocity = r.vectors("initial velocities")?;
+    problem.initial_velocity = r.vectors("initial velocities")?.into();
     problem.gravity = scene.gravity;
     problem.contact = scene.contact.clone();
     let n = problem.model.node_count();

@@ -3,7 +3,6 @@
 use nalgebra::{Matrix3, Unit, Vector3};
 
 use super::{Analysis, BodySpec, Component, MeshSource, MotionSpec, Numbering, Scene, Selector};
-use crate::dynamics::rank_ranges_of;
 use crate::error::{Result, SolverError};
 use crate::material::MaterialModel;
 use crate::mesh::{
@@ -103,9 +102,12 @@ pub fn build_problem(scene: &Scene) -> Result<Problem> {
 
 /// As [`build_problem`], for rank `rank` of `size` of a distributed run (`Some((rank, size))`):
 /// where the scene's analysis can run on several ranks (explicit, without remeshing), the model
-/// computes the shape-function gradients of this rank's elements only
-/// ([`Model::with_regions_keeping`] of its range of [`rank_ranges_of`]). The problem is
-/// otherwise the same.
+/// holds no element's shape-function gradients, volumes or altitudes
+/// ([`Model::with_regions_keeping`] of an empty range): the rank's solver computes those of its
+/// own elements once it has freed what it does not need
+/// ([`crate::dynamics::ExplicitSolver::new_rank_keeping_own_elements`], or before a solver that
+/// shares the problem, [`crate::dynamics::keep_rank_element_data`]); until then any element's
+/// are computed when read, with the same bits. The problem is otherwise the same.
 pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Result<Problem> {
     scene.validate()?;
     let (bodies, regions, meshes) = scene_bodies(scene)?;
@@ -113,14 +115,12 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
         &scene.analysis,
         Analysis::Explicit(a) if a.remeshing.is_none()
     );
-    // A rank computes its elements' data at the end, once the meshes the model copies are
-    // freed; one process keeps the volumes and altitudes the model computes for its masses.
+    // One process keeps the volumes and altitudes the model computes for its masses.
     let ranked = rank.filter(|&(_, size)| size > 1 && distributable);
     let mut model = match ranked {
         Some(_) => Model::with_regions_keeping(bodies, regions, &|_| 0..0)?,
         None => Model::with_regions(bodies, regions)?,
     };
-    let kept = ranked.map(|(rank, size)| rank_ranges_of(&model.bodies, size)[rank].clone());
     scene
         .crack_indicator
         .validate()
@@ -142,10 +142,6 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
     problem.loads = loads;
     problem.probes = probes;
     problem.gravity = scene.gravity.map(Vector3::from);
-    drop(meshes);
-    if let Some(kept) = kept {
-        problem.model.compute_element_data(kept);
-    }
     Ok(problem)
 }
 

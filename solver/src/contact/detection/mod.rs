@@ -461,7 +461,7 @@ mod tests {
         let model = two_blocks(1e-3);
         let lower = ContactSurface::new(&model, 0);
         let upper = ContactSurface::new(&model, 1);
-        let x0: Vec<Vector3<f64>> = model.reference.clone();
+        let x0: Vec<Vector3<f64>> = model.reference.to_vec();
         // The upper block moves down by 3 mm: its bottom nodes end 2 mm inside the lower block.
         let x1 = upper_lowered(&model, &x0, 3e-3);
         let settings = closed_at_once();
@@ -518,7 +518,7 @@ mod tests {
         // block's side planes. CCD sees them coplanar with the side faces all step long; only
         // the top face is crossed, and the closest point must not take a side face either.
         let (model, lower, upper) = equal_footprints();
-        let x0 = model.reference.clone();
+        let x0 = model.reference.to_vec();
         let x1 = upper_lowered(&model, &x0, 2e-3);
         let settings = closed_at_once();
         let (constraints, stats) = detect(&model, &upper, &lower, &x0, &x1, &settings);
@@ -545,7 +545,7 @@ mod tests {
         // that plane lie outside the lower block's box by that rounding, and must be found as
         // the others are when the upper block is pushed 2 mm into the lower one.
         let (model, lower, upper) = equal_footprints();
-        let mut x0 = model.reference.clone();
+        let mut x0 = model.reference.to_vec();
         for n in model.bodies[1].nodes.clone() {
             if x0[n].x == 0.0 {
                 x0[n].x = -1.2246467991473532e-19;
@@ -625,7 +625,7 @@ mod tests {
             ContactSurface::new(&model, 0),
             ContactSurface::new(&model, 1),
         );
-        let x = model.reference.clone();
+        let x = model.reference.to_vec();
         let (c, stats) = detect(&model, &upper, &lower, &x, &x, &closed_at_once());
         assert!(c.is_empty());
         assert_eq!(stats, DetectionStats::default());

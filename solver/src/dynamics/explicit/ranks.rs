@@ -12,8 +12,8 @@ use super::ExplicitSolver;
 use super::{ExplicitSettings, OutputSettings};
 use crate::distributed::{element_ranges_by_cost, Communicator, ForceExchange, NodePlan};
 use crate::error::{Result, SolverError};
-use crate::model::{body_of, body_part, Body, MaterialHistory, Model, ELEMENT_LEAF};
-use crate::nodal::NodeField;
+use crate::model::{body_of, body_part, Body, MaterialHistory, Model, NodeArray, ELEMENT_LEAF};
+use crate::nodal::{NodeField, NodeSlots};
 use crate::problem::Problem;
 
 /// Why a field of a run on one process has a slice: it stores every node at its id.
@@ -34,14 +34,15 @@ pub fn rank_ranges_of(bodies: &[Body], size: usize) -> Vec<Range<usize>> {
     element_ranges_by_cost(elements, size, |e| cost[body_of(bodies, e)])
 }
 
-/// Keeps in `model` the per-element data of this rank's elements only
-/// ([`Model::keep_element_data`]) when `comm` runs more than one rank and the run can be
-/// distributed: before the solver is built, so that the whole model's data is freed before the
-/// rank allocates its history.
+/// Gives `model` the per-element data of this rank's elements only, kept from what it holds or
+/// computed ([`Model::keep_or_compute_element_data`]), when `comm` runs more than one rank and
+/// the run can be distributed: before a solver that shares the problem is built
+/// ([`ExplicitSolver::new_rank`]), so that the whole model's data is freed before the rank
+/// allocates its history. [`ExplicitSolver::new_rank_keeping_own_elements`] does it itself.
 pub fn keep_rank_element_data(model: &mut Model, comm: Option<&dyn Communicator>) {
     if let Some(comm) = comm.filter(|c| c.size() > 1 && model.carried.is_none()) {
         let mine = rank_ranges(model, comm.size())[comm.rank()].clone();
-        model.keep_element_data(mine);
+        model.keep_or_compute_element_data(mine);
     }
 }
 
@@ -161,10 +162,12 @@ impl<'p> ExplicitSolver<'p> {
         Self::rank_of(Lent::Shared(problem), settings, output, comm)
     }
 
-    /// [`Self::new_rank`] that also frees, once the rank's plan is made, the connectivity of
-    /// the other ranks' elements where the run never reads it ([`keeps_own_elements`]: no
-    /// contact, no remeshed model; [`crate::model::Connectivity::keep_range`]).
-    /// [`restore_connectivity`] gathers it back after the run, on every rank alike.
+    /// [`Self::new_rank`] that also frees, once the rank's plan is made, what the run never
+    /// reads of the other ranks' part ([`keeps_own_elements`]: no contact, no remeshed model):
+    /// their elements' connectivity ([`crate::model::Connectivity::keep_range`]), and the
+    /// reference coordinates, masses and initial velocities of the nodes it does not store
+    /// ([`crate::model::NodeArray::keep`]). [`restore_whole_problem`] gathers them back after
+    /// the run, on every rank alike.
     pub fn new_rank_keeping_own_elements(
         problem: &'p mut Problem,
         settings: ExplicitSettings,
@@ -368,15 +371,30 @@ impl<'p> Lent<'p> {
         }
     }
 
-    /// The problem for the run: with the connectivity of `own` only where it was lent to keep
-    /// that (and `own` is given).
-    pub(super) fn keep_own_elements(self, own: Option<Range<usize>>) -> &'p Problem {
+    /// The problem for the run. Lent to keep a rank's own part: where `nodes` is given (a run
+    /// that never reads the rest, [`keeps_own_elements`]) with the connectivity of its
+    /// `elements` and the reference coordinates, masses and initial velocities of its `nodes`
+    /// only; then, in any case, with the per-element data of its `elements` only, computed
+    /// after the rest is freed where the model holds none (a rank's model,
+    /// `crate::scene::build_problem_on_rank`), so that the rank never holds both.
+    pub(super) fn keep_own_part(
+        self,
+        elements: Option<Range<usize>>,
+        nodes: Option<&NodeSlots>,
+    ) -> &'p Problem {
         match self {
             Lent::Shared(p) => p,
             Lent::KeepingOwnElements(p) => {
-                if let Some(range) = own {
-                    p.model.tets.keep_range(range);
+                let Some(elements) = elements else {
+                    return p;
+                };
+                if let Some(nodes) = nodes {
+                    p.model.tets.keep_range(elements.clone());
+                    p.model.reference.keep(nodes);
+                    p.model.mass.keep(nodes);
+                    p.initial_velocity.keep(nodes);
                 }
+                p.model.keep_or_compute_element_data(elements);
                 p
             }
         }
@@ -389,15 +407,20 @@ pub fn keeps_own_elements(problem: &Problem, comm: &dyn Communicator) -> bool {
     comm.size() > 1 && problem.contact.is_empty() && problem.model.carried.is_none()
 }
 
-/// Every element's connectivity again on every rank, after a run that kept each rank's own
-/// ([`keeps_own_elements`]; collective): each rank sends the consecutive range it kept. Nothing
-/// where every rank holds it whole (an analysis that did not keep it).
-pub fn restore_connectivity(problem: &mut Problem, comm: &dyn Communicator) {
+/// The whole problem again on every rank, after a run that kept each rank's own part
+/// ([`keeps_own_elements`]; collective): every element's connectivity, and every node's
+/// reference coordinates, mass and initial velocity. Nothing where every rank holds it whole
+/// (an analysis that did not keep its part).
+pub fn restore_whole_problem(problem: &mut Problem, comm: &dyn Communicator) {
+    restore_connectivity(problem, comm);
+    restore_node_arrays(problem, comm);
+}
+
+/// Every element's connectivity: each rank sends the consecutive range it kept.
+fn restore_connectivity(problem: &mut Problem, comm: &dyn Communicator) {
     let tets = &problem.model.tets;
     let mine = tets.stored().as_flattened();
-    let mut posted = vec![0; comm.size()];
-    comm.all_gather_u32(&[mine.len() as u32], &vec![1; comm.size()], &mut posted);
-    let counts: Vec<usize> = posted.iter().map(|&c| c as usize).collect();
+    let counts = posted_counts(comm, mine.len());
     if counts.iter().all(|&c| c == 4 * tets.len()) {
         return;
     }
@@ -405,4 +428,63 @@ pub fn restore_connectivity(problem: &mut Problem, comm: &dyn Communicator) {
     let mut whole = vec![[0u32; 4]; tets.len()];
     comm.all_gather_u32(mine, &counts, whole.as_flattened_mut());
     problem.model.tets.restore(whole);
+}
+
+/// How many values each rank sends, from each rank's `mine`.
+fn posted_counts(comm: &dyn Communicator, mine: usize) -> Vec<usize> {
+    let mut posted = vec![0; comm.size()];
+    let mine = u32::try_from(mine).expect("a rank sends fewer than 2^32 values");
+    comm.all_gather_u32(&[mine], &vec![1; comm.size()], &mut posted);
+    posted.iter().map(|&c| c as usize).collect()
+}
+
+/// Every node's reference coordinates, mass and initial velocity: each rank sends the ids of
+/// the nodes it kept and their values. A node two ranks kept has the same values on both (each
+/// kept them from the same whole array), so the order of the writes does not matter; every node
+/// is kept by at least one rank (the one that integrates it).
+fn restore_node_arrays(problem: &mut Problem, comm: &dyn Communicator) {
+    let model = &problem.model;
+    let n = model.node_count();
+    let ids: Vec<u32> = match model.reference.field().slots().is_dense() {
+        true => Vec::new(),
+        false => (model.reference.field().slots().stored_ids())
+            .map(|a| a as u32)
+            .collect(),
+    };
+    let counts = posted_counts(comm, ids.len());
+    if counts.iter().all(|&c| c == 0) {
+        return;
+    }
+    let mut all_ids = vec![0u32; counts.iter().sum()];
+    comm.all_gather_u32(&ids, &counts, &mut all_ids);
+    let gather = |mine: Vec<f64>, width: usize| {
+        let counts: Vec<usize> = counts.iter().map(|c| c * width).collect();
+        let mut all = vec![0.0; counts.iter().sum()];
+        comm.all_gather_f64(&mine, &counts, &mut all);
+        all
+    };
+    let vectors = |field: &NodeArray<Vector3<f64>>| {
+        let mine = field
+            .stored()
+            .iter()
+            .flat_map(|x| x.iter().copied())
+            .collect();
+        let all = gather(mine, 3);
+        let mut whole = vec![Vector3::from_element(f64::NAN); n];
+        for (&a, x) in all_ids.iter().zip(all.chunks_exact(3)) {
+            whole[a as usize] = Vector3::new(x[0], x[1], x[2]);
+        }
+        whole
+    };
+    let reference = vectors(&model.reference);
+    let initial_velocity = vectors(&problem.initial_velocity);
+    let mut mass = vec![f64::NAN; n];
+    for (&a, &m) in all_ids.iter().zip(&gather(model.mass.stored().to_vec(), 1)) {
+        mass[a as usize] = m;
+    }
+    // The nodes nobody kept would be NaN; there are none (see above).
+    debug_assert!(reference.iter().all(|x| !x.x.is_nan()));
+    problem.model.reference.restore(reference);
+    problem.model.mass.restore(mass);
+    problem.initial_velocity.restore(initial_velocity);
 }

@@ -232,7 +232,8 @@ impl<'p> ExplicitSolver<'p> {
     pub(super) fn field_frame(&mut self, observers: &mut ObserverSet) -> Result<()> {
         let (u, v) = (self.whole(&self.u), self.whole(&self.v_full));
         let model = &self.problem.model;
-        let points = model.positions(&u);
+        // A rank's piece holds its own elements and their nodes, which it stores.
+        let points = model.positions_where_stored(&u);
         observers.field_frame(&field_frame_with_history(
             model,
             Some(&self.history),

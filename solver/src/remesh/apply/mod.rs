@@ -235,7 +235,7 @@ pub fn remesh_problem(
     new_problem.constraints = constraints;
     new_problem.loads = loads;
     new_problem.gravity = problem.gravity;
-    new_problem.initial_velocity = v_full;
+    new_problem.initial_velocity = v_full.into();
     new_problem.probes = probes;
     new_problem.contact = problem.contact.clone();
     Ok(Remeshed {

@@ -107,7 +107,7 @@ pub(super) fn new_model(
     }
     let mut new_model = Model::new(parts)?;
     new_model.crack_indicator = model.crack_indicator;
-    new_model.mass = masses.nodal;
+    new_model.mass = masses.nodal.into();
     if masses.added_mass > 0.0 {
         let mut scale = vec![1.0; new_model.element_count()];
         scale[new_model.bodies[b].elements.clone()].copy_from_slice(&masses.body_scale);
