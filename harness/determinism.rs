@@ -191,6 +191,7 @@ fn run_on(
             let opts = ExecuteOptions {
                 out: None,
                 stem: "run",
+                final_state: true,
                 fields: false,
                 time_limit_s: Some(time_limit_s),
                 stop: options.stop.clone(),

@@ -174,6 +174,7 @@ pub fn run_scene_file_with(
     let options = ExecuteOptions {
         out: Some(out),
         stem: &scene.name,
+        final_state: false,
         fields,
         time_limit_s: None,
         stop,

@@ -76,6 +76,7 @@ fn sheared_block_run(dir: &Path, remeshing: &str) -> (Vec<f64>, Vec<f64>, bool) 
     let options = ExecuteOptions {
         out: Some(dir),
         stem: "run",
+        final_state: true,
         fields: false,
         time_limit_s: None,
         stop: None,

@@ -81,6 +81,7 @@ impl LevelRunner<'_> {
             let opts = ExecuteOptions {
                 out: self.case_dir,
                 stem,
+                final_state: true,
                 fields: false,
                 time_limit_s: Some(self.spec.time_limit_s.unwrap_or(self.options.time_limit_s)),
                 stop: self.options.stop.clone(),

@@ -76,6 +76,7 @@ fn run(dir: &Path, problem: &mut Problem, analysis: &Analysis) -> Result<(), Sol
     let options = ExecuteOptions {
         out: Some(dir),
         stem: "shear",
+        final_state: true,
         fields: false,
         time_limit_s: None,
         stop: None,

@@ -32,6 +32,7 @@ fn options<'a>(
     ExecuteOptions {
         out: Some(out),
         stem: STEM,
+        final_state: true,
         fields: true,
         time_limit_s: None,
         stop,
@@ -51,6 +52,29 @@ fn plain(out: &Path) -> Execution {
         &mut |_| {},
     )
     .unwrap()
+}
+
+#[test]
+fn a_run_that_asks_for_no_final_state_returns_none_and_writes_the_same_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let (with, without) = (dir.path().join("with"), dir.path().join("without"));
+    let full = plain(&with);
+    let scene = scene();
+    let mut problem = build_problem(&scene).unwrap();
+    let bare = execute(
+        &mut problem,
+        &scene.analysis,
+        &ExecuteOptions {
+            final_state: false,
+            ..options(&without, None, &|_| {})
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(full.u.len(), problem.model.node_count());
+    assert!(full.v.is_some());
+    assert!(bare.u.is_empty() && bare.v.is_none());
+    same_files(&with, &without);
 }
 
 /// The run with a checkpoint every `every` steps into `out`, stopped (as by a signal) once its

@@ -49,6 +49,7 @@ fn plain(out: &Path, comm: &dyn Communicator) -> Execution {
     let options = ExecuteOptions {
         out: Some(out),
         stem: STEM,
+        final_state: true,
         fields: true,
         time_limit_s: None,
         stop: None,
@@ -99,6 +100,7 @@ fn checkpointed_every(
     let options = ExecuteOptions {
         out: Some(out),
         stem: STEM,
+        final_state: true,
         fields: true,
         time_limit_s: None,
         stop: Some(flag.clone()),

@@ -78,6 +78,7 @@ fn options<'a>(
     ExecuteOptions {
         out: Some(out),
         stem: STEM,
+        final_state: true,
         fields: true,
         time_limit_s: None,
         stop,

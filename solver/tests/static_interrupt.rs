@@ -45,6 +45,7 @@ fn raised_stop(out: Option<&std::path::Path>) -> ExecuteOptions<'_> {
     ExecuteOptions {
         out,
         stem: "bar",
+        final_state: true,
         fields: false,
         time_limit_s: None,
         stop: Some(Arc::new(AtomicBool::new(true))),

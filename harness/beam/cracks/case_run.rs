@@ -62,6 +62,7 @@ fn run_scene(
     let options = impact_solver::analysis::ExecuteOptions {
         out: None,
         stem: "run",
+        final_state: true,
         fields: false,
         time_limit_s: None,
         stop: None,

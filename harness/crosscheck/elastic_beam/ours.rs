@@ -108,6 +108,7 @@ pub fn explicit(
     let options = impact_solver::analysis::ExecuteOptions {
         out: None,
         stem: "explicit",
+        final_state: true,
         fields: false,
         time_limit_s: Some(time_limit_s),
         stop: None,

@@ -25,9 +25,10 @@ pub use remesh_outputs::RemeshOutputs;
 pub struct Execution {
     /// One-line description of what ran (analysis, sizes, time step), printed before the run.
     pub plan: String,
-    /// Final displacement.
+    /// Final displacement of every node; empty after an explicit run whose options asked for
+    /// no final state ([`ExecuteOptions::final_state`]).
     pub u: Vec<Vector3<f64>>,
-    /// Final full-step velocity (explicit runs).
+    /// Final full-step velocity of every node (explicit runs that return their final state).
     pub v: Option<Vec<Vector3<f64>>>,
     /// The history rows (time, energies, probes, reactions), where the analysis records one.
     pub history: Option<HistoryTable>,
@@ -68,6 +69,12 @@ pub struct ExecuteOptions<'a> {
     pub out: Option<&'a Path>,
     /// File stem of the output: `<stem>_history.csv`, `<stem>.pvd`, ...
     pub stem: &'a str,
+    /// Whether an explicit run returns the final displacement and velocity of every node
+    /// ([`Execution::u`], [`Execution::v`]), which a distributed run gathers whole on every rank
+    /// at its end (two vectors of 24 bytes per node of the mesh, beside the rank's own data).
+    /// `false` for a caller that reads neither (the scene command): [`Execution::u`] is then
+    /// empty and [`Execution::v`] `None`.
+    pub final_state: bool,
     /// Write VTU field frames (with `out`).
     pub fields: bool,
     /// Wall-clock limit of an explicit run (s of real time); it stops with
@@ -249,11 +256,11 @@ fn explicit(
     };
     let mut summary = outcome?;
     summary.written.append(&mut written_problems);
-    let (u, v) = solver.final_nodes();
+    let (u, v) = final_state(&mut solver, options);
     Ok(Execution {
         plan,
         u,
-        v: Some(v),
+        v,
         history: Some(summary.history.clone()),
         written: summary.written.clone(),
         summary: Some(summary),
@@ -262,6 +269,19 @@ fn explicit(
         material_history: Some(solver.take_history()),
         remeshings: Vec::new(),
     })
+}
+
+/// The final displacement and velocity of every node, where `options` asks for them
+/// ([`ExecuteOptions::final_state`]; collective in a distributed run): empty otherwise.
+pub(crate) fn final_state(
+    solver: &mut ExplicitSolver,
+    options: &ExecuteOptions,
+) -> (Vec<Vector3<f64>>, Option<Vec<Vector3<f64>>>) {
+    if !options.final_state {
+        return (Vec::new(), None);
+    }
+    let (u, v) = solver.final_nodes();
+    (u, Some(v))
 }
 
 /// The plan's line on the ranks of a distributed solver: how many, the nodes exchanged and what

@@ -299,11 +299,11 @@ pub fn execute_checkpointed(
     }
     let recorder = std::mem::take(&mut observers.recorder);
     let summary = solver.summary(&schedule, started, recorder, written);
-    let (u, v) = solver.final_nodes();
+    let (u, v) = crate::analysis::final_state(&mut solver, options);
     Ok(Execution {
         plan: plan_text,
         u,
-        v: Some(v),
+        v,
         history: Some(summary.history.clone()),
         written: summary.written.clone(),
         summary: Some(summary),
