@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use impact_solver::analysis::{execute, ExecuteOptions, Execution};
 use impact_solver::distributed::{Communicator, ThreadGroup};
-use impact_solver::dynamics::{keeps_own_elements, restore_whole_problem};
+use impact_solver::dynamics::restore_whole_problem;
 use impact_solver::problem::Problem;
 use impact_solver::scene::{build_problem_on_rank, Scene};
 use impact_solver::SolverError;
@@ -94,11 +94,11 @@ impl LevelRunner<'_> {
                     &|_| {}
                 },
             };
-            // The measures read the whole problem: every rank gathers back the connectivity its
-            // run kept to its own elements, whatever its outcome (the gather is collective).
-            let kept_own = ranks.is_some_and(|c| keeps_own_elements(&problem, c));
+            // The measures read the whole problem: every rank gathers back what its run kept
+            // to its own part (nothing where it kept all), whatever the run's outcome (the
+            // gather is collective).
             let run = execute(&mut problem, &scene.analysis, &opts, &mut |_| {});
-            if let Some(comm) = ranks.filter(|_| kept_own) {
+            if let Some(comm) = ranks {
                 restore_whole_problem(&mut problem, comm);
             }
             run.map(|run| (problem, run))

@@ -357,11 +357,16 @@ probes:
 analysis:
   explicit: { end_time: 1.0e-3, safety: 0.6, history_interval: 1.0e-5 }
 ";
-    let dir = std::env::temp_dir().join(format!("distributed-loads-{}", std::process::id()));
+    check_scene_text("loaded-cantilever", scene, 200, &[2, 3]);
+}
+
+/// [`check`] of the scene `text`, written to a file `<name>.yaml` of its own folder.
+fn check_scene_text(name: &str, text: &str, steps: usize, ranks: &[usize]) {
+    let dir = std::env::temp_dir().join(format!("distributed-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("loaded-cantilever.yaml");
-    std::fs::write(&path, scene).unwrap();
-    check(path.to_str().unwrap(), 200, &[2, 3], false);
+    let path = dir.join(format!("{name}.yaml"));
+    std::fs::write(&path, text).unwrap();
+    check(path.to_str().unwrap(), steps, ranks, false);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -382,10 +387,5 @@ boundary_conditions:
     motion: { velocity: { components: [x], value: { constant: 1.0 } } }
 analysis: { explicit: { end_time: 1.0e-4 } }
 ";
-    let dir = std::env::temp_dir().join(format!("impact-small-ranks-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("bar.yaml");
-    std::fs::write(&path, scene).unwrap();
-    check(path.to_str().unwrap(), 20, &[2], false);
-    let _ = std::fs::remove_dir_all(&dir);
+    check_scene_text("bar", scene, 20, &[2]);
 }

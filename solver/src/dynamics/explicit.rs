@@ -202,10 +202,10 @@ impl<'p> ExplicitSolver<'p> {
         drop(constraint_map);
         let node_length = node_lengths(model, &slots);
         let history_node = history_nodes(model);
-        let walls = symmetry_wall::SymmetryWalls::new(lent.problem());
-        let v0 = NodeField::from_whole(&slots, &lent.problem().initial_velocity);
+        let walls = symmetry_wall::SymmetryWalls::new(problem);
+        let v0 = NodeField::from_whole(&slots, &problem.initial_velocity);
         let k0 = {
-            let (m, v) = (&model.mass, &lent.problem().initial_velocity);
+            let (m, v) = (&model.mass, &problem.initial_velocity);
             fixed_order_sum(n, |i| 0.5 * m[i] * v[i].norm_squared())
         };
         // What reads other ranks' elements and nodes is done: a rank that may keep its own
@@ -213,7 +213,7 @@ impl<'p> ExplicitSolver<'p> {
         let own = ranks.as_ref().map(|r| r.own_elements());
         let keeps = ranks
             .as_ref()
-            .is_some_and(|r| keeps_own_elements(lent.problem(), r.comm()));
+            .is_some_and(|r| keeps_own_elements(problem, r.comm()));
         let problem = lent.keep_own_part(own, keeps.then_some(&slots));
         let zeros = NodeField::filled(&slots, Vector3::zeros());
         let mut solver = Self {
