@@ -231,8 +231,15 @@ impl Model {
             material.validate(&format!("body `{name}` material"))?;
             let offset = reference.len() as u32;
             let first_element = tets.len();
-            reference.extend_from_slice(&mesh.nodes);
-            tets.extend(mesh.tets.iter().map(|t| t.map(|n| n + offset)));
+            if reference.is_empty() && tets.is_empty() {
+                // The first body's arrays become the model's, not copied: a rank of a
+                // distributed run builds the whole model and holds no second mesh meanwhile.
+                reference = mesh.nodes;
+                tets = mesh.tets;
+            } else {
+                reference.extend_from_slice(&mesh.nodes);
+                tets.extend(mesh.tets.iter().map(|t| t.map(|n| n + offset)));
+            }
             let node_sets = mesh
                 .node_sets
                 .iter()

@@ -6,7 +6,8 @@ use super::{Analysis, BodySpec, Component, MeshSource, MotionSpec, Numbering, Sc
 use crate::error::{Result, SolverError};
 use crate::material::MaterialModel;
 use crate::mesh::{
-    boundary_faces, boundary_nodes, box_mesh, gmsh::read_msh, perturb_interior, Mesh,
+    boundary_faces, boundary_faces_of, boundary_nodes, bounding_box, box_mesh, gmsh::read_msh,
+    perturb_interior, Mesh,
 };
 use crate::model::{Constraint, Model, Motion, NodalLoad, Probe, Region};
 use crate::problem::Problem;
@@ -145,12 +146,18 @@ pub fn build_problem_on_rank(scene: &Scene, rank: Option<(usize, usize)>) -> Res
     Ok(problem)
 }
 
-/// The model's bodies and material regions, and each scene body's whole mesh (regions
-/// included), which the selectors see.
+/// The model's bodies and material regions, and the whole mesh (regions included) of each
+/// scene body that has regions, which the selectors see; a body without regions is the model's
+/// body, node for node and element for element, so its mesh is not copied (a second copy of the
+/// mesh is the largest thing a rank of a distributed run holds while it builds).
 #[allow(clippy::type_complexity)]
 fn scene_bodies(
     scene: &Scene,
-) -> Result<(Vec<(String, Mesh, MaterialModel)>, Vec<Region>, Vec<Mesh>)> {
+) -> Result<(
+    Vec<(String, Mesh, MaterialModel)>,
+    Vec<Region>,
+    Vec<Option<Mesh>>,
+)> {
     let mut bodies = Vec::new();
     let mut regions = Vec::new();
     let mut full_meshes = Vec::new();
@@ -163,7 +170,7 @@ fn scene_bodies(
         }
         let mut mesh = body_mesh(body)?;
         // Selectors (the boundary among them) see the whole mesh, regions included.
-        full_meshes.push(mesh.clone());
+        full_meshes.push((!body.regions.is_empty()).then(|| mesh.clone()));
         split_regions(scene, i, &mut mesh, &mut regions)?;
         bodies.push((body.name.clone(), mesh, body.material.model(&body.name)?));
     }
@@ -297,20 +304,23 @@ fn set_initial_velocities(scene: &Scene, problem: &mut Problem) {
 struct NodePicker<'a> {
     scene: &'a Scene,
     model: &'a Model,
-    /// Each scene body's whole mesh (regions included).
-    meshes: &'a [Mesh],
+    /// The whole mesh (regions included) of each scene body that has regions; the others are
+    /// read from the model.
+    meshes: &'a [Option<Mesh>],
 }
 
 impl NodePicker<'_> {
     /// The nodes `selector` picks on body `body`, for `entity`; an error naming it when there
     /// is no such body or node set, a node id is out of range, or nothing is picked.
     fn pick(&self, entity: &str, body: &str, selector: &Selector) -> Result<Vec<u32>> {
-        let (scene, meshes) = (self.scene, self.meshes);
+        let (scene, model) = (self.scene, self.model);
         let b = scene_body(scene, entity, body)?;
-        let range = self.model.bodies[b].nodes.clone();
+        let range = model.bodies[b].nodes.clone();
         let offset = range.start as u32;
+        let whole = self.meshes[b].as_ref();
         let nodes: Vec<u32> = match selector {
-            Selector::Group(name) => meshes[b]
+            // The model's node sets are the mesh's, offset to global ids (regions keep them).
+            Selector::Group(name) => model.bodies[b]
                 .node_sets
                 .get(name)
                 .ok_or_else(|| {
@@ -318,17 +328,22 @@ impl NodePicker<'_> {
                         entity,
                         format!(
                             "body `{body}` has no node set `{name}`; it has {:?}",
-                            meshes[b].node_sets.keys().collect::<Vec<_>>()
+                            model.bodies[b].node_sets.keys().collect::<Vec<_>>()
                         ),
                     )
                 })?
-                .iter()
-                .map(|n| n + offset)
-                .collect(),
-            Selector::Boundary => boundary_nodes(&boundary_faces(&meshes[b]))
-                .iter()
-                .map(|n| n + offset)
-                .collect(),
+                .clone(),
+            // Boundary nodes come sorted and unique, whatever the order of the elements.
+            Selector::Boundary => match whole {
+                Some(mesh) => boundary_nodes(&boundary_faces(mesh))
+                    .iter()
+                    .map(|n| n + offset)
+                    .collect(),
+                None => {
+                    let elements = model.bodies[b].elements.clone();
+                    boundary_nodes(&boundary_faces_of(&model.tets[elements]))
+                }
+            },
             Selector::Nodes(ids) => {
                 if let Some(bad) = ids.iter().find(|&&n| n as usize >= range.len()) {
                     return Err(invalid(
@@ -342,11 +357,11 @@ impl NodePicker<'_> {
                 ids.iter().map(|n| n + offset).collect()
             }
             geometric => {
-                let (lo, hi) = meshes[b].bounding_box();
+                let (lo, hi) = bounding_box(&model.reference[range.clone()]);
                 let scale = (hi - lo).norm();
                 range
                     .clone()
-                    .filter(|&n| geometric.contains(&self.model.reference[n], scale) == Some(true))
+                    .filter(|&n| geometric.contains(&model.reference[n], scale) == Some(true))
                     .map(|n| n as u32)
                     .collect()
             }
