@@ -87,6 +87,15 @@ impl Problem {
         N: NodeValues<Vector3<f64>> + ?Sized,
         C: NodeValues<[Option<u16>; 3]> + ?Sized,
     {
+        self.push_probe_means(row, u, v, reaction);
+        self.push_condition_reactions(row, reaction, constraint_of);
+    }
+
+    /// The probes' part of [`Self::push_probe_values`].
+    pub fn push_probe_means<N>(&self, row: &mut Vec<f64>, u: &N, v: Option<&N>, reaction: &N)
+    where
+        N: NodeValues<Vector3<f64>> + ?Sized,
+    {
         for p in &self.probes {
             let (field, mean) = match (p.quantity, v) {
                 (ProbeQuantity::Displacement, _) => (u, true),
@@ -116,6 +125,20 @@ impl Problem {
             };
             row.extend((sum / count).iter());
         }
+    }
+
+    /// The conditions' part of [`Self::push_probe_values`]: each condition's reaction, summed
+    /// over its nodes in their order. `reaction` and `constraint_of` are read at the conditions'
+    /// nodes only.
+    pub fn push_condition_reactions<R, C>(
+        &self,
+        row: &mut Vec<f64>,
+        reaction: &R,
+        constraint_of: &C,
+    ) where
+        R: NodeValues<Vector3<f64>> + ?Sized,
+        C: NodeValues<[Option<u16>; 3]> + ?Sized,
+    {
         for (c, k) in self.constraints.iter().enumerate() {
             let mut sum = Vector3::zeros();
             for &n in &k.nodes {

@@ -23,14 +23,16 @@ pub struct ForceExchange {
     /// Exchanged nodes owned by this rank, ascending: their partial sums open this rank's
     /// message.
     owned: Vec<u32>,
-    /// The exchanged nodes, ascending: the nodes whose forces [`Self::complete`] sets.
+    /// The exchanged nodes this rank integrates, ascending: the nodes whose forces
+    /// [`Self::complete`] sets.
     exchanged: Vec<u32>,
     /// This rank's foreign contributions (the rest of its message), to check the assembler's.
     foreign_len: usize,
     /// Values (`f64`) each rank sends.
     counts: Vec<usize>,
-    /// The gathered vectors each node folds, in fold order:
-    /// `sources[offsets[n]..offsets[n + 1]]` (empty for a node without elements).
+    /// The gathered vectors the `i`-th of those nodes folds, in fold order:
+    /// `sources[offsets[i]..offsets[i + 1]]` (empty for a node without elements). Indexed by
+    /// exchanged node, not by mesh node: a rank holds no table over the whole mesh.
     offsets: Vec<u32>,
     sources: Vec<u32>,
     send: Vec<f64>,
@@ -40,14 +42,16 @@ pub struct ForceExchange {
 impl ForceExchange {
     /// The exchange of rank `rank` when the ranks hold the element `ranges` (consecutive, in rank
     /// order, covering every element) of a mesh of `tets` over `node_count` nodes, for the nodes
-    /// flagged in `exchanged` (which must hold every node two ranks use). Every rank builds the
-    /// same plan: the mesh is known everywhere.
+    /// flagged in `exchanged` (which must hold every node two ranks use), completing those among
+    /// the ascending runs `held` (the nodes this rank integrates, which hold its elements' nodes).
+    /// Every rank builds the same message plan: the mesh is known everywhere.
     pub fn new(
         tets: &[[u32; 4]],
         node_count: usize,
         ranges: &[Range<usize>],
         rank: usize,
         exchanged: &[bool],
+        held: &[Range<usize>],
     ) -> Self {
         assert!(rank < ranges.len(), "rank {rank} of {} ranks", ranges.len());
         assert_eq!(
@@ -82,21 +86,28 @@ impl ForceExchange {
                 list
             })
             .collect();
-        let mut offsets = vec![0u32; node_count + 1];
-        for (n, &first) in first_element.iter().enumerate() {
-            offsets[n + 1] = u32::from(first != NO_ELEMENT && exchanged[n]);
+        let exchanged_ids: Vec<u32> = (0..node_count as u32)
+            .filter(|&n| exchanged[n as usize])
+            .collect();
+        let position = |n: u32| {
+            exchanged_ids
+                .binary_search(&n)
+                .unwrap_or_else(|_| panic!("node {n} is used by two ranks but not exchanged"))
+        };
+        let mut offsets = vec![0u32; exchanged_ids.len() + 1];
+        for (i, &n) in exchanged_ids.iter().enumerate() {
+            offsets[i + 1] = u32::from(first_element[n as usize] != NO_ELEMENT);
         }
         for list in &foreign {
             for &(n, _) in list {
-                assert!(exchanged[n as usize], "node {n} is used by two ranks");
-                offsets[n as usize + 1] += 1;
+                offsets[position(n) + 1] += 1;
             }
         }
-        for n in 0..node_count {
-            offsets[n + 1] += offsets[n];
+        for i in 0..exchanged_ids.len() {
+            offsets[i + 1] += offsets[i];
         }
-        let mut sources = vec![0u32; offsets[node_count] as usize];
-        let mut next: Vec<u32> = offsets[..node_count].to_vec();
+        let mut sources = vec![0u32; offsets[exchanged_ids.len()] as usize];
+        let mut next: Vec<u32> = offsets[..exchanged_ids.len()].to_vec();
         let mut base = 0u32;
         let mut counts = Vec::with_capacity(ranges.len());
         // Owners first (a node's owner precedes every rank that sends it a contribution), then
@@ -105,30 +116,49 @@ impl ForceExchange {
         for (own, list) in owned.iter().zip(&foreign) {
             bases.push(base);
             for (i, &n) in own.iter().enumerate() {
-                sources[next[n as usize] as usize] = base + i as u32;
-                next[n as usize] += 1;
+                let p = position(n);
+                sources[next[p] as usize] = base + i as u32;
+                next[p] += 1;
             }
             counts.push(3 * (own.len() + list.len()));
             base += (own.len() + list.len()) as u32;
         }
         for ((own, list), &base) in owned.iter().zip(&foreign).zip(&bases) {
             for (j, &(n, _)) in list.iter().enumerate() {
-                sources[next[n as usize] as usize] = base + (own.len() + j) as u32;
-                next[n as usize] += 1;
+                let p = position(n);
+                sources[next[p] as usize] = base + (own.len() + j) as u32;
+                next[p] += 1;
             }
         }
         let total = 3 * base as usize;
+        // This rank completes the exchanged nodes it integrates only.
+        let is_held = |n: u32| {
+            let i = held.partition_point(|run| run.end <= n as usize);
+            held.get(i).is_some_and(|run| run.contains(&(n as usize)))
+        };
+        let mut held_ids = Vec::new();
+        let mut held_offsets = vec![0u32];
+        let mut held_sources = Vec::new();
+        for (i, &n) in exchanged_ids.iter().enumerate() {
+            if is_held(n) {
+                held_ids.push(n);
+                held_sources.extend(&sources[offsets[i] as usize..offsets[i + 1] as usize]);
+                held_offsets.push(held_sources.len() as u32);
+            }
+        }
         let mine = owned.swap_remove(rank);
+        assert!(
+            mine.iter().all(|&n| is_held(n)),
+            "rank {rank} integrates the nodes of its elements"
+        );
         Self {
             send: Vec::with_capacity(counts[rank]),
             foreign_len: foreign[rank].len(),
             owned: mine,
-            exchanged: (0..node_count as u32)
-                .filter(|&n| exchanged[n as usize])
-                .collect(),
+            exchanged: held_ids,
             counts,
-            offsets,
-            sources,
+            offsets: held_offsets,
+            sources: held_sources,
             gathered: vec![0.0; total],
         }
     }
@@ -139,36 +169,34 @@ impl ForceExchange {
     }
 
     /// Completes the nodal forces `f` of every exchanged node from this rank's partial sums (in
-    /// `f`, for the nodes it owns) and `foreign` contributions (in the assembler's order), and those of the
-    /// other ranks. Collective: every rank calls it at the same step.
+    /// `f`, for the nodes it owns) and foreign contributions (which `append_foreign` appends to
+    /// the message, three components each in the assembler's order), and those of the other
+    /// ranks. Collective: every rank calls it at the same step.
     pub fn complete(
         &mut self,
         comm: &dyn Communicator,
-        foreign: &[Vector3<f64>],
+        append_foreign: impl FnOnce(&mut Vec<f64>),
         f: &mut (impl IndexMut<usize, Output = Vector3<f64>> + ?Sized),
     ) {
-        assert_eq!(
-            foreign.len(),
-            self.foreign_len,
-            "foreign contributions out of date"
-        );
         self.send.clear();
         for &n in &self.owned {
             self.send.extend(f[n as usize].iter());
         }
-        for v in foreign {
-            self.send.extend(v.iter());
-        }
+        append_foreign(&mut self.send);
+        assert_eq!(
+            self.send.len(),
+            3 * (self.owned.len() + self.foreign_len),
+            "foreign contributions out of date"
+        );
         comm.all_gather_f64(&self.send, &self.counts, &mut self.gathered);
         let g = &self.gathered;
         let vector = |s: u32| {
             let i = 3 * s as usize;
             Vector3::new(g[i], g[i + 1], g[i + 2])
         };
-        for &n in &self.exchanged {
-            let n = n as usize;
-            let range = self.offsets[n] as usize..self.offsets[n + 1] as usize;
-            f[n] = match self.sources[range].split_first() {
+        for (i, &n) in self.exchanged.iter().enumerate() {
+            let range = self.offsets[i] as usize..self.offsets[i + 1] as usize;
+            f[n as usize] = match self.sources[range].split_first() {
                 None => Vector3::zeros(),
                 Some((&owner, rest)) => rest.iter().fold(vector(owner), |acc, &s| acc + vector(s)),
             };

@@ -15,17 +15,19 @@
 //!
 //! **Nodes.** Each rank integrates the nodes of its elements ([`NodePlan`]). The nodes that two
 //! ranks share, and those that every rank needs whole (the contact surfaces and the elements
-//! under them, probed and prescribed nodes), are *exchanged*: their forces are completed on every
-//! rank as above, and every rank integrates them alike, so contact is solved on every rank from
-//! the same state and agrees bit for bit wherever the partition cuts the contact zone; only
-//! their contributions travel, once per step. Sums over nodes (energies, momenta) are folds over
-//! fixed blocks of node ids, *leaves* ([`NODE_LEAF`]), one process or many: each leaf is summed by
-//! one rank that holds all its nodes (a leaf that no rank holds whole is exchanged), and every
-//! rank folds the leaves' shares in leaf order. The stored energy is likewise folded over blocks
+//! under them, probed nodes), are *exchanged*: their contributions travel once per step, and
+//! every rank that integrates such a node (the ranks using a shared node, every rank for one
+//! needed whole) completes its force as above and integrates it alike, so contact is solved on
+//! every rank from the same state and agrees bit for bit wherever the partition cuts the contact
+//! zone. Prescribed nodes are integrated where they are used; the history rows gather their
+//! reactions. Sums over nodes (energies, momenta) are folds over fixed blocks of node ids,
+//! *leaves* ([`NODE_LEAF`]), one process or many: each leaf is summed by one rank that
+//! integrates all its nodes (a leaf that no rank holds whole is exchanged and integrated by
+//! every rank), and every rank folds the leaves' shares in leaf order. The stored energy is likewise folded over blocks
 //! of elements, which the element ranges keep whole. A rank stores the nodal values of its active
 //! nodes only ([`crate::nodal::NodeField`]: pages of [`crate::nodal::NODE_PAGE`] ids, indexed by
-//! global id), so output that reads every node (history rows need only exchanged nodes and sums;
-//! field frames, snapshots and the end of a run do) gathers a whole copy from the ranks that sum
+//! global id), so output that reads every node (history rows need only exchanged nodes, sums and
+//! the gathered reactions; field frames, snapshots and the end of a run do) gathers a whole copy from the ranks that sum
 //! the nodes' leaves.
 //!
 //! **Collectives.** [`Communicator`] is the few collective operations the run needs. The MPI one

@@ -15,10 +15,11 @@ pub const NODE_LEAF: usize = 256;
 /// A rank's nodes in a distributed run (module doc of `distributed`).
 ///
 /// The rank integrates its *active* nodes: the nodes of its elements whose forces it assembles
-/// alone, and the *exchanged* nodes, whose forces every rank completes
-/// ([`super::ForceExchange`]) and which every rank therefore integrates alike: the nodes shared
-/// between ranks, the nodes the caller replicates (contact surfaces and layers, probes,
-/// prescribed nodes), nodes without elements, and the nodes of a leaf that no single rank
+/// alone, and the *exchanged* nodes it needs, whose forces the ranks complete from each other's
+/// contributions ([`super::ForceExchange`]) and which every rank holding them therefore
+/// integrates alike: the nodes shared between ranks (integrated by the ranks from the lowest to
+/// the highest using them), and on every rank the nodes the caller replicates (contact surfaces
+/// and layers, probes), nodes without elements, and the nodes of a leaf that no single rank
 /// would otherwise hold whole. Each leaf has one rank that holds all its nodes; that rank
 /// computes the leaf's share of every sum over nodes and sends it, so that every rank folds the
 /// same shares in the same order.
@@ -68,8 +69,9 @@ impl NodePlan {
         replicated: &[u32],
     ) -> Self {
         const NONE: u32 = u32::MAX;
-        // The lowest rank using each node, and whether another one uses it too.
+        // The lowest and highest rank using each node, and whether another one uses it too.
         let mut first_rank = vec![NONE; node_count];
+        let mut last_rank = vec![0u32; node_count];
         let mut exchanged = vec![false; node_count];
         for (r, range) in ranges.iter().enumerate() {
             for tet in &tets[range.clone()] {
@@ -80,33 +82,45 @@ impl NodePlan {
                     } else if first_rank[a] != r as u32 {
                         exchanged[a] = true;
                     }
+                    last_rank[a] = r as u32;
                 }
             }
         }
         let shared_nodes = exchanged.iter().filter(|&&x| x).count();
-        for (a, &r) in first_rank.iter().enumerate() {
-            exchanged[a] |= r == NONE;
+        // The ranks `first_rank[a]..=last_rank[a]` integrate node `a`: the ranks using it (and
+        // any between, which complete its force from the same gathered contributions), every
+        // rank for a node without elements or replicated.
+        let last = ranges.len().saturating_sub(1) as u32;
+        let mut everywhere = |a: usize, first: &mut [u32], last_rank: &mut [u32]| {
+            exchanged[a] = true;
+            first[a] = 0;
+            last_rank[a] = last;
+        };
+        for a in 0..node_count {
+            if first_rank[a] == NONE {
+                everywhere(a, &mut first_rank, &mut last_rank);
+            }
         }
         for &a in replicated {
-            exchanged[a as usize] = true;
+            everywhere(a as usize, &mut first_rank, &mut last_rank);
         }
-        // A leaf belongs to the one rank that holds its other nodes, or is exchanged whole.
+        // A leaf belongs to the lowest rank that integrates all its nodes or, where none does,
+        // is integrated and exchanged by every rank.
         let leaves = node_count.div_ceil(NODE_LEAF);
         let mut leaf_rank = vec![0u32; leaves];
         for (k, owner) in leaf_rank.iter_mut().enumerate() {
             let nodes = k * NODE_LEAF..((k + 1) * NODE_LEAF).min(node_count);
-            let mut ranks = nodes
-                .clone()
-                .filter(|&a| !exchanged[a])
-                .map(|a| first_rank[a]);
-            let first = ranks.next();
-            if ranks.all(|r| Some(r) == first) {
-                *owner = first.unwrap_or(0);
+            let lowest = nodes.clone().map(|a| first_rank[a]).max().unwrap_or(0);
+            let highest = nodes.clone().map(|a| last_rank[a]).min().unwrap_or(0);
+            if lowest <= highest {
+                *owner = lowest;
             } else {
-                exchanged[nodes].iter_mut().for_each(|x| *x = true);
+                for a in nodes {
+                    everywhere(a, &mut first_rank, &mut last_rank);
+                }
             }
         }
-        let is_mine = |a: usize| exchanged[a] || first_rank[a] == rank as u32;
+        let is_mine = |a: usize| first_rank[a] <= rank as u32 && rank as u32 <= last_rank[a];
         let in_my_leaf = |a: usize| leaf_rank[a / NODE_LEAF] == rank as u32;
         let active = runs(node_count, is_mine);
         let extra = runs(node_count, |a| is_mine(a) && !in_my_leaf(a));
@@ -162,7 +176,8 @@ impl NodePlan {
         &self.extra
     }
 
-    /// Whether each node's forces are completed by every rank (empty on one process).
+    /// Whether each node's forces are completed from the ranks' contributions (empty on one
+    /// process).
     pub fn exchanged(&self) -> &[bool] {
         &self.exchanged
     }
@@ -170,6 +185,19 @@ impl NodePlan {
     /// The leaves this rank sums, ascending.
     pub fn my_leaves(&self) -> &[u32] {
         &self.my_leaves
+    }
+
+    /// The rank that sums leaf `k`, which integrates every node of it.
+    pub fn leaf_rank(&self, k: usize) -> usize {
+        let slot = self.leaf_slot[k] as usize;
+        let mut start = 0;
+        for (r, &count) in self.leaf_counts.iter().enumerate() {
+            if slot < start + count {
+                return r;
+            }
+            start += count;
+        }
+        unreachable!("every leaf has a slot")
     }
 
     /// The node ids of leaf `k`.

@@ -205,3 +205,71 @@ fn leaf_folds_and_node_gathers_give_every_rank_the_one_process_values() {
         }
     }
 }
+
+/// Slabs of a box (cells numbered slab by slab, layers of 441 nodes): a node that only the two
+/// lower ranks' elements share, or that only one rank uses, is integrated by those ranks alone;
+/// a rank integrates another rank's node only where a leaf no rank holds whole (a cut inside it)
+/// or the caller's replication asks for it.
+#[test]
+fn a_rank_integrates_the_nodes_its_elements_use_and_no_other_ranks_halo() {
+    let mesh = crate::mesh::box_mesh(&crate::mesh::BoxSpec {
+        origin: [0.0; 3],
+        size: [1.0, 1.0, 0.3],
+        divisions: [20, 20, 6],
+        mirror: Vec::new(),
+    });
+    let (tets, nodes) = (&mesh.tets, mesh.nodes.len());
+    let size = 3;
+    let ranges = element_ranges(tets.len(), size);
+    let replicated = [7u32];
+    let plans: Vec<NodePlan> = (0..size)
+        .map(|r| NodePlan::new(tets, nodes, &ranges, r, &replicated))
+        .collect();
+    let active = |r: usize, a: usize| plans[r].active().iter().any(|run| run.contains(&a));
+    let mut users = vec![std::collections::BTreeSet::new(); nodes];
+    for (r, range) in ranges.iter().enumerate() {
+        for tet in &tets[range.clone()] {
+            for &a in tet {
+                users[a as usize].insert(r);
+            }
+        }
+    }
+    // The ranks that integrate each node by the rule: the span of its users, where the
+    // spans of its leaf's nodes overlap; every rank for a replicated node or a split leaf.
+    let span = |a: usize| {
+        if replicated.contains(&(a as u32)) {
+            (0, size - 1)
+        } else {
+            (*users[a].first().unwrap(), *users[a].last().unwrap())
+        }
+    };
+    let mut halo_free = 0;
+    for a in 0..nodes {
+        let leaf = plans[0].leaf_nodes((a / NODE_LEAF) as u32);
+        let lowest = leaf.clone().map(|b| span(b).0).max().unwrap();
+        let highest = leaf.clone().map(|b| span(b).1).min().unwrap();
+        let (first, last) = if lowest <= highest {
+            span(a)
+        } else {
+            (0, size - 1)
+        };
+        for r in 0..size {
+            assert_eq!(
+                active(r, a),
+                (first..=last).contains(&r),
+                "node {a} (users {:?}) on rank {r}",
+                users[a]
+            );
+        }
+        halo_free += usize::from(users[a].len() == 2 && !active(size - 1, a));
+    }
+    assert!(
+        halo_free > 0,
+        "the top rank integrates no node that only the two lower ranks share (the case under test)"
+    );
+    let stored: Vec<usize> = plans.iter().map(|p| p.slots().stored()).collect();
+    assert!(
+        stored.iter().all(|&s| s < nodes * 2 / 3),
+        "each of 3 ranks stores well under two thirds of {nodes} nodes: {stored:?}"
+    );
+}

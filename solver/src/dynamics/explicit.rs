@@ -7,6 +7,7 @@ mod contact_phase;
 mod ledger;
 mod rank_restart;
 mod ranks;
+mod reactions;
 mod records;
 mod restart;
 mod resume;
@@ -63,7 +64,11 @@ pub struct ExplicitSolver<'p> {
     dt_critical: f64,
     critical_element: usize,
     constraint_of: NodeField<[Option<u16>; 3]>,
+    /// The constrained nodes this process stores, ascending.
     constrained_nodes: Vec<u32>,
+    /// On a rank of a distributed run, the gather of the conditions' reactions for the history
+    /// rows (their nodes lie on several ranks).
+    condition_reactions: Option<reactions::ConditionReactions>,
     /// Symmetry planes that hold every node of their body reaching them.
     walls: symmetry_wall::SymmetryWalls,
     node_length: NodeField<f64>,
@@ -197,7 +202,18 @@ impl<'p> ExplicitSolver<'p> {
         let constraint_map = problem.constraint_map();
         let constrained_nodes = (0..n as u32)
             .filter(|&i| constraint_map[i as usize].iter().any(Option::is_some))
+            .filter(|&i| slots.slot(i as usize).is_some())
             .collect();
+        let condition_reactions = ranks.as_ref().map(|r| {
+            let comm = r.comm();
+            reactions::ConditionReactions::new(
+                problem,
+                &constraint_map,
+                &nodes,
+                comm.rank(),
+                comm.size(),
+            )
+        });
         let constraint_of = NodeField::from_whole(&slots, &constraint_map);
         drop(constraint_map);
         let node_length = node_lengths(model, &slots);
@@ -225,6 +241,7 @@ impl<'p> ExplicitSolver<'p> {
             critical_element,
             constraint_of,
             constrained_nodes,
+            condition_reactions,
             walls,
             node_length,
             u: zeros.clone(),

@@ -90,7 +90,7 @@ struct Layout {
     shared_slots: Vec<u32>,
     /// Slots of the nodes whose first element lies before `range` (in a lower rank's range),
     /// by node and then element: not folded here but handed to the other ranks
-    /// ([`ForceAssembler::foreign_contributions`]).
+    /// ([`ForceAssembler::append_foreign_contributions`]).
     foreign_slots: Vec<u32>,
     buffer: Vec<Vector3<f64>>,
 }
@@ -241,7 +241,7 @@ impl ForceAssembler {
     /// Assembles only the elements of `range` from now on (one rank's elements in a distributed
     /// run, `crate::distributed`): the nodes whose first element lies in `range` get the fold of
     /// its contributions, the nodes of lower ranks' elements none (their contributions are
-    /// [`Self::foreign_contributions`]), the other nodes are left as they were.
+    /// [`Self::append_foreign_contributions`]), the other nodes are left as they were.
     pub fn restrict_to(&self, model: &Model, range: Range<usize>) {
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
@@ -249,18 +249,15 @@ impl ForceAssembler {
         *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads, range);
     }
 
-    /// The contributions of the last assembly to nodes whose first element precedes the
-    /// assembled range, node by node in ascending order and for each in ascending element order,
-    /// into `out` (cleared first).
-    pub fn foreign_contributions(&self, out: &mut Vec<Vector3<f64>>) {
+    /// Appends to `out` the contributions of the last assembly to nodes whose first element
+    /// precedes the assembled range, node by node in ascending order and for each in ascending
+    /// element order, three components each: straight into the message a rank sends, with no
+    /// copy of its own.
+    pub fn append_foreign_contributions(&self, out: &mut Vec<f64>) {
         let layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
-        out.clear();
-        out.extend(
-            layout
-                .foreign_slots
-                .iter()
-                .map(|&s| layout.buffer[s as usize]),
-        );
+        for &s in &layout.foreign_slots {
+            out.extend(layout.buffer[s as usize].iter());
+        }
     }
 
     /// Internal forces at `u` into `f`, with the velocities, time step and history the materials

@@ -616,15 +616,16 @@ impl Model {
     /// the elements of `range`, one rank's share of a distributed run (`crate::distributed`): a
     /// node whose first element lies in `range` gets the fold of the range's contributions, the
     /// contributions to nodes of earlier elements are kept apart
-    /// ([`Self::foreign_contributions`]).
+    /// ([`Self::append_foreign_contributions`]).
     pub fn restrict_assembly(&self, range: std::ops::Range<usize>) {
         self.assembler.restrict_to(self, range);
     }
 
-    /// The last assembly's contributions to nodes whose first element precedes its range, node
-    /// by node ascending and each in element order ([`Self::restrict_assembly`]).
-    pub fn foreign_contributions(&self, out: &mut Vec<Vector3<f64>>) {
-        self.assembler.foreign_contributions(out);
+    /// Appends to `out` the last assembly's contributions to nodes whose first element precedes
+    /// its range, node by node ascending and each in element order, three components each
+    /// ([`Self::restrict_assembly`]).
+    pub fn append_foreign_contributions(&self, out: &mut Vec<f64>) {
+        self.assembler.append_foreign_contributions(out);
     }
 
     /// The mass of each element (kg): the body's density times its reference volume, or the

@@ -75,8 +75,6 @@ pub(super) struct RankShare<'p> {
     comm: &'p dyn Communicator,
     ranges: Vec<Range<usize>>,
     exchange: ForceExchange,
-    /// This rank's contributions to nodes of lower ranks, reused from step to step.
-    foreign: Vec<Vector3<f64>>,
 }
 
 impl<'p> RankShare<'p> {
@@ -115,13 +113,11 @@ pub(super) fn rank_share<'p>(
     let mine = ranges[comm.rank()].clone();
     model.restrict_assembly(mine.clone());
     let history = history_part(model, history, &mine);
-    // Every rank integrates what contact reads and moves and what the history rows read.
+    // Every rank integrates what contact reads and moves and the probes' nodes; the
+    // conditions' nodes only where used, their reactions gathered for the history rows.
     let mut replicated = contact.map(|c| c.replicated_nodes()).unwrap_or_default();
     for probe in &problem.probes {
         replicated.extend(&probe.nodes);
-    }
-    for constraint in &problem.constraints {
-        replicated.extend(&constraint.nodes);
     }
     let nodes = NodePlan::new(
         &model.tets,
@@ -136,12 +132,12 @@ pub(super) fn rank_share<'p>(
         &ranges,
         comm.rank(),
         nodes.exchanged(),
+        nodes.active(),
     );
     let share = RankShare {
         comm,
         ranges,
         exchange,
-        foreign: Vec::new(),
     };
     Ok((nodes, share, history))
 }
@@ -228,10 +224,12 @@ impl<'p> ExplicitSolver<'p> {
         let Some(share) = self.ranks.as_mut() else {
             return inverted;
         };
-        self.problem.model.foreign_contributions(&mut share.foreign);
-        share
-            .exchange
-            .complete(share.comm, &share.foreign, &mut self.f_int);
+        let model = &self.problem.model;
+        share.exchange.complete(
+            share.comm,
+            |send| model.append_foreign_contributions(send),
+            &mut self.f_int,
+        );
         // The lowest element is the largest `u64::MAX - e`; 0 for none.
         let lowest = share
             .comm

@@ -156,13 +156,20 @@ impl<'p> ExplicitSolver<'p> {
             row.push(e.history_work);
         }
         row.extend(&sums[6..]);
-        self.problem.push_probe_values(
-            &mut row,
-            &self.u,
-            Some(&self.v_full),
-            &self.reaction,
-            &self.constraint_of,
-        );
+        match (&self.condition_reactions, &self.ranks) {
+            (Some(reactions), Some(share)) => {
+                let problem = self.problem;
+                problem.push_probe_means(&mut row, &self.u, Some(&self.v_full), &self.reaction);
+                reactions.push(problem, share.comm(), &self.reaction, &mut row);
+            }
+            _ => self.problem.push_probe_values(
+                &mut row,
+                &self.u,
+                Some(&self.v_full),
+                &self.reaction,
+                &self.constraint_of,
+            ),
+        }
         for (i, pair) in self.problem.contact.iter().enumerate() {
             let s = self.contact_steps.get(i).copied().unwrap_or_default();
             // The force the first body exerts on the second: the rate of the momentum that
