@@ -70,57 +70,52 @@ impl NodePlan {
     ) -> Self {
         const NONE: u32 = u32::MAX;
         // The lowest and highest rank using each node, and whether another one uses it too.
-        let mut first_rank = vec![NONE; node_count];
-        let mut last_rank = vec![0u32; node_count];
+        let mut span = vec![(NONE, 0u32); node_count];
         let mut exchanged = vec![false; node_count];
         for (r, range) in ranges.iter().enumerate() {
+            let r = r as u32;
             for tet in &tets[range.clone()] {
                 for &a in tet {
-                    let a = a as usize;
-                    if first_rank[a] == NONE {
-                        first_rank[a] = r as u32;
-                    } else if first_rank[a] != r as u32 {
-                        exchanged[a] = true;
+                    let (first, last) = &mut span[a as usize];
+                    if *first == NONE {
+                        *first = r;
+                    } else if *first != r {
+                        exchanged[a as usize] = true;
                     }
-                    last_rank[a] = r as u32;
+                    *last = r;
                 }
             }
         }
         let shared_nodes = exchanged.iter().filter(|&&x| x).count();
-        // The ranks `first_rank[a]..=last_rank[a]` integrate node `a`: the ranks using it (and
-        // any between, which complete its force from the same gathered contributions), every
+        // The ranks `span[a].0..=span[a].1` integrate node `a`: the ranks using it (and any
+        // between, which complete its force from the same gathered contributions), and every
         // rank for a node without elements or replicated.
-        let last = ranges.len().saturating_sub(1) as u32;
-        let mut everywhere = |a: usize, first: &mut [u32], last_rank: &mut [u32]| {
-            exchanged[a] = true;
-            first[a] = 0;
-            last_rank[a] = last;
-        };
-        for a in 0..node_count {
-            if first_rank[a] == NONE {
-                everywhere(a, &mut first_rank, &mut last_rank);
+        let everyone = (0, ranges.len().saturating_sub(1) as u32);
+        for (a, s) in span.iter_mut().enumerate() {
+            if s.0 == NONE {
+                (*s, exchanged[a]) = (everyone, true);
             }
         }
         for &a in replicated {
-            everywhere(a as usize, &mut first_rank, &mut last_rank);
+            (span[a as usize], exchanged[a as usize]) = (everyone, true);
         }
         // A leaf belongs to the lowest rank that integrates all its nodes or, where none does,
-        // is integrated and exchanged by every rank.
+        // is integrated and exchanged by every rank (and summed by the first).
         let leaves = node_count.div_ceil(NODE_LEAF);
         let mut leaf_rank = vec![0u32; leaves];
         for (k, owner) in leaf_rank.iter_mut().enumerate() {
             let nodes = k * NODE_LEAF..((k + 1) * NODE_LEAF).min(node_count);
-            let lowest = nodes.clone().map(|a| first_rank[a]).max().unwrap_or(0);
-            let highest = nodes.clone().map(|a| last_rank[a]).min().unwrap_or(0);
+            let lowest = nodes.clone().map(|a| span[a].0).max().unwrap_or(0);
+            let highest = nodes.clone().map(|a| span[a].1).min().unwrap_or(0);
             if lowest <= highest {
                 *owner = lowest;
             } else {
                 for a in nodes {
-                    everywhere(a, &mut first_rank, &mut last_rank);
+                    (span[a], exchanged[a]) = (everyone, true);
                 }
             }
         }
-        let is_mine = |a: usize| first_rank[a] <= rank as u32 && rank as u32 <= last_rank[a];
+        let is_mine = |a: usize| span[a].0 <= rank as u32 && rank as u32 <= span[a].1;
         let in_my_leaf = |a: usize| leaf_rank[a / NODE_LEAF] == rank as u32;
         let active = runs(node_count, is_mine);
         let extra = runs(node_count, |a| is_mine(a) && !in_my_leaf(a));
