@@ -86,28 +86,32 @@ impl ForceExchange {
                 list
             })
             .collect();
-        let exchanged_ids: Vec<u32> = (0..node_count as u32)
-            .filter(|&n| exchanged[n as usize])
-            .collect();
-        let position = |n: u32| {
-            exchanged_ids
-                .binary_search(&n)
-                .unwrap_or_else(|_| panic!("node {n} is used by two ranks but not exchanged"))
+        // This rank completes the exchanged nodes it integrates only: its fold table holds those.
+        let is_held = |n: u32| {
+            let i = held.partition_point(|run| run.end <= n as usize);
+            held.get(i).is_some_and(|run| run.contains(&(n as usize)))
         };
-        let mut offsets = vec![0u32; exchanged_ids.len() + 1];
-        for (i, &n) in exchanged_ids.iter().enumerate() {
+        let held_ids: Vec<u32> = (0..node_count as u32)
+            .filter(|&n| exchanged[n as usize] && is_held(n))
+            .collect();
+        let position = |n: u32| held_ids.binary_search(&n).ok();
+        let mut offsets = vec![0u32; held_ids.len() + 1];
+        for (i, &n) in held_ids.iter().enumerate() {
             offsets[i + 1] = u32::from(first_element[n as usize] != NO_ELEMENT);
         }
         for list in &foreign {
             for &(n, _) in list {
-                offsets[position(n) + 1] += 1;
+                assert!(exchanged[n as usize], "node {n} is used by two ranks");
+                if let Some(p) = position(n) {
+                    offsets[p + 1] += 1;
+                }
             }
         }
-        for i in 0..exchanged_ids.len() {
+        for i in 0..held_ids.len() {
             offsets[i + 1] += offsets[i];
         }
-        let mut sources = vec![0u32; offsets[exchanged_ids.len()] as usize];
-        let mut next: Vec<u32> = offsets[..exchanged_ids.len()].to_vec();
+        let mut sources = vec![0u32; offsets[held_ids.len()] as usize];
+        let mut next: Vec<u32> = offsets[..held_ids.len()].to_vec();
         let mut base = 0u32;
         let mut counts = Vec::with_capacity(ranges.len());
         // Owners first (a node's owner precedes every rank that sends it a contribution), then
@@ -116,36 +120,23 @@ impl ForceExchange {
         for (own, list) in owned.iter().zip(&foreign) {
             bases.push(base);
             for (i, &n) in own.iter().enumerate() {
-                let p = position(n);
-                sources[next[p] as usize] = base + i as u32;
-                next[p] += 1;
+                if let Some(p) = position(n) {
+                    sources[next[p] as usize] = base + i as u32;
+                    next[p] += 1;
+                }
             }
             counts.push(3 * (own.len() + list.len()));
             base += (own.len() + list.len()) as u32;
         }
         for ((own, list), &base) in owned.iter().zip(&foreign).zip(&bases) {
             for (j, &(n, _)) in list.iter().enumerate() {
-                let p = position(n);
-                sources[next[p] as usize] = base + (own.len() + j) as u32;
-                next[p] += 1;
+                if let Some(p) = position(n) {
+                    sources[next[p] as usize] = base + (own.len() + j) as u32;
+                    next[p] += 1;
+                }
             }
         }
         let total = 3 * base as usize;
-        // This rank completes the exchanged nodes it integrates only.
-        let is_held = |n: u32| {
-            let i = held.partition_point(|run| run.end <= n as usize);
-            held.get(i).is_some_and(|run| run.contains(&(n as usize)))
-        };
-        let mut held_ids = Vec::new();
-        let mut held_offsets = vec![0u32];
-        let mut held_sources = Vec::new();
-        for (i, &n) in exchanged_ids.iter().enumerate() {
-            if is_held(n) {
-                held_ids.push(n);
-                held_sources.extend(&sources[offsets[i] as usize..offsets[i + 1] as usize]);
-                held_offsets.push(held_sources.len() as u32);
-            }
-        }
         let mine = owned.swap_remove(rank);
         assert!(
             mine.iter().all(|&n| is_held(n)),
@@ -157,8 +148,8 @@ impl ForceExchange {
             owned: mine,
             exchanged: held_ids,
             counts,
-            offsets: held_offsets,
-            sources: held_sources,
+            offsets,
+            sources,
             gathered: vec![0.0; total],
         }
     }

@@ -182,17 +182,18 @@ impl NodePlan {
         &self.my_leaves
     }
 
-    /// The rank that sums leaf `k`, which integrates every node of it.
-    pub fn leaf_rank(&self, k: usize) -> usize {
-        let slot = self.leaf_slot[k] as usize;
-        let mut start = 0;
+    /// The rank that sums each leaf, which integrates every node of it.
+    pub fn leaf_ranks(&self) -> Vec<u32> {
+        // Leaf slots are rank-major: rank `r` holds the slots from the sum of the lower ranks'
+        // counts on.
+        let mut rank_of_slot = Vec::with_capacity(self.leaf_slot.len());
         for (r, &count) in self.leaf_counts.iter().enumerate() {
-            if slot < start + count {
-                return r;
-            }
-            start += count;
+            rank_of_slot.extend(std::iter::repeat_n(r as u32, count));
         }
-        unreachable!("every leaf has a slot")
+        self.leaf_slot
+            .iter()
+            .map(|&slot| rank_of_slot[slot as usize])
+            .collect()
     }
 
     /// The node ids of leaf `k`.

@@ -5,7 +5,7 @@
 //! lies across every rank of a slab partition): replicating them on every rank would store, for
 //! every scattered face node, a page of nodal vectors. The history row needs the reaction of
 //! every node of every condition, so at each row the rank that sums a node's leaf
-//! ([`NodePlan::leaf_rank`], which integrates it) sends its reaction, every rank gathers them, and
+//! ([`NodePlan::leaf_ranks`], which integrates it) sends its reaction, every rank gathers them, and
 //! the sums run over the gathered values in the conditions' node order
 //! ([`Problem::push_condition_reactions`]): the one-process sums, bit for bit.
 
@@ -18,13 +18,13 @@ use crate::nodal::NodeField;
 use crate::problem::Problem;
 
 /// Values at a few nodes (the conditions' nodes), read by global node id.
-struct SparseNodes<T> {
+struct AtNodes<'a, T> {
     /// The nodes, ascending.
-    ids: Vec<u32>,
-    values: Vec<T>,
+    ids: &'a [u32],
+    values: &'a [T],
 }
 
-impl<T> Index<usize> for SparseNodes<T> {
+impl<T> Index<usize> for AtNodes<'_, T> {
     type Output = T;
 
     fn index(&self, a: usize) -> &T {
@@ -38,9 +38,11 @@ impl<T> Index<usize> for SparseNodes<T> {
 
 /// The gather of the conditions' reactions for the history rows of one rank.
 pub(super) struct ConditionReactions {
-    /// The components each condition owns at its nodes (the problem's constraint map there).
-    owner: SparseNodes<[Option<u16>; 3]>,
-    /// The rank that sends each node's reaction (in the order of `owner.ids`).
+    /// The conditions' nodes, ascending.
+    ids: Vec<u32>,
+    /// The components each condition owns at each of `ids` (the problem's constraint map there).
+    owner: Vec<[Option<u16>; 3]>,
+    /// The rank that sends each node's reaction: the one that sums its leaf.
     sender: Vec<u32>,
     /// Values (`f64`) each rank sends.
     counts: Vec<usize>,
@@ -64,17 +66,19 @@ impl ConditionReactions {
             .collect();
         ids.sort_unstable();
         ids.dedup();
+        let leaf_ranks = plan.leaf_ranks();
         let sender: Vec<u32> = ids
             .iter()
-            .map(|&a| plan.leaf_rank(a as usize / NODE_LEAF) as u32)
+            .map(|&a| leaf_ranks[a as usize / NODE_LEAF])
             .collect();
         let mut counts = vec![0; ranks];
         for &r in &sender {
             counts[r as usize] += 3;
         }
-        let values = ids.iter().map(|&a| constraint_map[a as usize]).collect();
+        let owner = ids.iter().map(|&a| constraint_map[a as usize]).collect();
         Self {
-            owner: SparseNodes { ids, values },
+            ids,
+            owner,
             sender,
             counts,
             rank,
@@ -90,7 +94,7 @@ impl ConditionReactions {
         reaction: &NodeField<Vector3<f64>>,
         row: &mut Vec<f64>,
     ) {
-        let ids = &self.owner.ids;
+        let ids = &self.ids;
         let mut send = Vec::with_capacity(self.counts[self.rank]);
         for (&a, &r) in ids.iter().zip(&self.sender) {
             if r as usize == self.rank {
@@ -109,7 +113,7 @@ impl ConditionReactions {
                 Some(here)
             })
             .collect();
-        let values = self
+        let values: Vec<Vector3<f64>> = self
             .sender
             .iter()
             .map(|&r| {
@@ -118,10 +122,14 @@ impl ConditionReactions {
                 Vector3::new(gathered[i], gathered[i + 1], gathered[i + 2])
             })
             .collect();
-        let reactions = SparseNodes {
-            ids: ids.clone(),
-            values,
+        let reactions = AtNodes {
+            ids,
+            values: &values,
         };
-        problem.push_condition_reactions(row, &reactions, &self.owner);
+        let owner = AtNodes {
+            ids,
+            values: &self.owner,
+        };
+        problem.push_condition_reactions(row, &reactions, &owner);
     }
 }
