@@ -69,6 +69,32 @@ fn hordijk_with_slope(y: f64, decay: f64) -> (f64, f64) {
 /// Largest `|dH/dy|` (at `y = 0`): `c2 + (1 + c1^3) exp(-c2)`.
 const HORDIJK_STEEPEST: f64 = 6.93 + 28.0 * 0.000_977_7;
 
+/// `y` up to which the bounds below hold: `H` is smooth there and well above zero (`H(0.95)` is
+/// 7.5e-3), so neither its end at `y = 1` nor the clamp at zero lies between two iterates.
+const HORDIJK_BOUNDED_UNTIL: f64 = 0.95;
+/// Bound on `|H''|` over `[0, 1]`: `H'' = exp(-c2 y) (6 c1^3 y - 6 c1^3 c2 y^2 + c2^2 (1 + c1^3
+/// y^3))`, largest at `y = 0` (`c2^2 = 48.02`; checked on a fine grid in the tests).
+const HORDIJK_CURVATURE: f64 = 48.1;
+/// Bounds on the errors of `H` and `H'` computed with the tabulated `exp(-c2 y)` over
+/// `[0, HORDIJK_BOUNDED_UNTIL]` (measured 7.4e-14 and 1.7e-13, `hordijk_table_errors_are_bounded`).
+const HORDIJK_TABLE_ERROR: f64 = 2e-13;
+const HORDIJK_TABLE_SLOPE_ERROR: f64 = 5e-13;
+
+/// A bound on the residual `|f(u + step)|` of the tail's equation `f(u) = u + g_p H(k (u - u_p))
+/// - x` after the Newton step `step = -f(u) / f'(u)` computed with the tabulated H, both iterates
+/// inside `[0, HORDIJK_BOUNDED_UNTIL]` in `y`. Taylor's theorem on the exact `f` gives
+/// `f(u + step) = [f(u) - f~(u)] - step [f~'(u) - f'(u)] + f''(xi) step^2 / 2`, and the residual
+/// evaluated, `f~(u + step)`, is off by the table's error once more: so at most twice the error
+/// of `g_p H`, the slope's error times the step, `g_p k^2 max|H''| step^2 / 2`, and the rounding
+/// of `u + g_p H - x` and of the step (a few ulp of `max(x, 1)`, taken as 1e-14 of it).
+#[inline(always)]
+fn newton_residual_bound(g_p: f64, k: f64, step: f64, x: f64) -> f64 {
+    2.0 * g_p * HORDIJK_TABLE_ERROR
+        + g_p * k * HORDIJK_TABLE_SLOPE_ERROR * step.abs()
+        + 0.5 * g_p * k * k * HORDIJK_CURVATURE * step * step
+        + 1e-14 * x.max(1.0)
+}
+
 /// An exponential softening law `s = C0 x exp(-x^m)`, `x = e / e_s`, with its crack-band data;
 /// optionally with Hordijk's (1991) softening curve after the peak instead (see
 /// [`ExponentialLaw::with_hordijk_tail`]).
@@ -220,6 +246,9 @@ impl ExponentialLaw {
             hordijk_with_slope(guess, self.hordijk_decay_at(guess)).0
         };
         let mut u = (x - g_p * h_guess).clamp(lo, hi);
+        // 1e-12: the tabulated H carries absolute errors of ~1e-13 g_p, below which Newton
+        // cannot go (a tighter test would spend its 30 iterations on that noise).
+        let tolerance = 1e-12 * x.max(1.0);
         for _ in 0..30 {
             let y = k * (u - u_p);
             let (h, dh) = if y >= 1.0 {
@@ -233,18 +262,27 @@ impl ExponentialLaw {
             } else {
                 lo = u;
             }
-            // 1e-12: the tabulated H carries absolute errors of ~1e-14 g_p, below which Newton
-            // cannot go (a tighter test would spend its 30 iterations on that noise).
-            if f.abs() <= 1e-12 * x.max(1.0) {
+            if f.abs() <= tolerance {
                 break;
             }
             let d = 1.0 + g_p * k * dh;
             let next = u - f / d;
-            u = if d > 0.0 && next > lo && next < hi {
-                next
-            } else {
-                0.5 * (lo + hi)
-            };
+            if !(d > 0.0 && next > lo && next < hi) {
+                u = 0.5 * (lo + hi);
+                continue;
+            }
+            // The next pass would evaluate `f(next)` only to find it within the tolerance and
+            // stop there: where a bound on `|f(next)|` says so, stop now, with the same `u`
+            // (the same bits, one evaluation of H fewer; most solves end this way).
+            let y_next = k * (next - u_p);
+            let smooth = |y: f64| (0.0..=HORDIJK_BOUNDED_UNTIL).contains(&y);
+            let within = smooth(y)
+                && smooth(y_next)
+                && newton_residual_bound(g_p, k, next - u, x) <= 0.5 * tolerance;
+            u = next;
+            if within {
+                break;
+            }
         }
         (x - u).clamp(0.0, g_p)
     }
@@ -317,6 +355,114 @@ pub fn volumetric_compression_tangent(x: f64, e_v0: f64, a: f64, b: f64, p: f64,
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The constants of [`newton_residual_bound`]: the curvature of H on a fine grid of
+    /// `[0, 1]`, and the errors of H and H' with the tabulated decay against `exp` on a fine grid
+    /// of `[0, HORDIJK_BOUNDED_UNTIL]`, where H stays clear of zero.
+    #[test]
+    fn hordijk_table_errors_are_bounded() {
+        let (c1, c2) = (3.0f64, HORDIJK_DECAY);
+        let a = c1 * c1 * c1;
+        let table = DecayTable::new(HORDIJK_DECAY, 1.0);
+        let (mut curvature, mut error, mut slope_error) = (0.0f64, 0.0f64, 0.0f64);
+        let n = 1 << 21;
+        for i in 0..=n {
+            let y = i as f64 / n as f64;
+            let h2 = (-c2 * y).exp()
+                * (6.0 * a * y - 6.0 * a * c2 * y * y + c2 * c2 * (1.0 + a * y * y * y));
+            curvature = curvature.max(h2.abs());
+            let y = HORDIJK_BOUNDED_UNTIL * y;
+            let (h, dh) = hordijk_with_slope(y, table.eval(y));
+            let (h0, dh0) = hordijk_with_slope(y, (-HORDIJK_DECAY * y).exp());
+            error = error.max((h - h0).abs());
+            slope_error = slope_error.max((dh - dh0).abs());
+        }
+        assert!(curvature <= HORDIJK_CURVATURE, "max |H''| {curvature}");
+        assert!(error <= HORDIJK_TABLE_ERROR, "H off by {error:e}");
+        assert!(
+            slope_error <= HORDIJK_TABLE_SLOPE_ERROR,
+            "H' off by {slope_error:e}"
+        );
+        assert!(hordijk(HORDIJK_BOUNDED_UNTIL) > 1e-3);
+    }
+
+    /// [`ExponentialLaw::tail_stress`] as it stood before the early stop: every pass evaluates
+    /// the residual, and the solve stops only on a residual found within the tolerance.
+    fn tail_stress_evaluating_every_residual(law: &ExponentialLaw, x: f64, band: f64) -> f64 {
+        let (g_p, k) = (law.g_peak, band / law.tail);
+        let u_p = law.x_peak - g_p;
+        let (mut lo, mut hi) = (x - g_p, x);
+        if k * (lo - u_p) >= 1.0 {
+            return 0.0;
+        }
+        let guess = k * (x - law.x_peak);
+        let h_guess = if guess >= 1.0 {
+            0.0
+        } else {
+            hordijk_with_slope(guess, law.hordijk_decay_at(guess)).0
+        };
+        let mut u = (x - g_p * h_guess).clamp(lo, hi);
+        for _ in 0..30 {
+            let y = k * (u - u_p);
+            let (h, dh) = if y >= 1.0 {
+                (0.0, 0.0)
+            } else {
+                hordijk_with_slope(y, law.hordijk_decay_at(y.max(0.0)))
+            };
+            let f = u + g_p * h - x;
+            if f > 0.0 {
+                hi = u;
+            } else {
+                lo = u;
+            }
+            if f.abs() <= 1e-12 * x.max(1.0) {
+                break;
+            }
+            let d = 1.0 + g_p * k * dh;
+            let next = u - f / d;
+            u = if d > 0.0 && next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
+        }
+        (x - u).clamp(0.0, g_p)
+    }
+
+    /// The early stop of the tail's Newton solve changes no bit: on a fine sweep of the whole
+    /// tail, at crack-band factors from a large to a small element, for the thesis concrete's
+    /// tension law and two others, tabulated and exact.
+    #[test]
+    fn the_tail_solve_stops_early_with_the_same_bits() {
+        for (exponent, tail) in [
+            (4.357788286638685, 25.837119789485644),
+            (2.0, 10.0),
+            (8.0, 60.0),
+        ] {
+            for exact in [false, true] {
+                let mut law = ExponentialLaw::with_hordijk_tail(exponent, tail);
+                law.exact = exact;
+                for band in [0.3, 0.7, 1.0, 1.9, 4.0] {
+                    let end = law.x_peak + 1.2 * tail / band;
+                    let n = 20_000;
+                    for i in 1..=n {
+                        let x = law.x_peak + (end - law.x_peak) * i as f64 / n as f64;
+                        let old = tail_stress_evaluating_every_residual(&law, x, band);
+                        let new = law.tail_stress(x, band);
+                        assert_eq!(
+                            new.to_bits(),
+                            old.to_bits(),
+                            "m {exponent}, band {band}, x {x}"
+                        );
+                    }
+                }
+            }
+        }
+        // A step of 1e-6 strain scales, the size of a second Newton step, passes the bound.
+        let law = ExponentialLaw::with_hordijk_tail(4.357788286638685, 25.837119789485644);
+        let k = 1.0 / law.tail;
+        assert!(newton_residual_bound(law.g_peak, k, 1e-6, 2.0) <= 0.5e-12);
+    }
 
     #[test]
     fn hordijk_curve_and_tail_area() {
