@@ -120,21 +120,23 @@ pub fn polar_decomposition(f: &Matrix3<f64>) -> Option<(Matrix3<f64>, Matrix3<f6
 /// `g = (|X^-1| / |X|)^(1/2)` (Frobenius norms) while far from convergence.
 ///
 /// The iteration converges quadratically to the orthogonal polar factor for every `F` with
-/// `det F > 0`; it stops once an iterate moves by less than 1e-9 (its error is then the square of
-/// that, far below round-off), which takes three or four iterations at the strains of concrete
-/// and a handful at large stretches: about a tenth of the cost of [`polar_decomposition`]'s
-/// eigen-decomposition. Returns `None` for `det F <= 0`, and falls back to
-/// [`polar_decomposition`] if the iteration has not converged after 30 steps.
+/// `det F > 0`: every iterate is `R U_k` with `U_{k+1} = (U_k + U_k^-1) / 2`, so an iterate
+/// `R (I + e)` moves by `|e|` and lands at an error of `|e|^2 / 2`. It stops after a move below
+/// 1e-8, whose iterate is then within 5e-17 of `R`, below the rounding of its entries: two
+/// iterations at the strains of a vibrating concrete beam (1e-4), three at 1e-3, a handful at
+/// large stretches; about a tenth of the cost of [`polar_decomposition`]'s eigen-decomposition.
+/// `X^-T = cof X / det X`, with the determinant from the cofactor's first column
+/// (`det X = x_0 . (x_1 x x_2)`) and one division. Returns `None` for `det F <= 0`, and falls
+/// back to [`polar_decomposition`] if the iteration has not converged after 30 steps.
 pub fn polar_rotation(f: &Matrix3<f64>) -> Option<Matrix3<f64>> {
-    let det = f.determinant();
+    let mut x = *f;
+    let mut cof = cofactor(&x);
+    let mut det = x.column(0).dot(&cof.column(0));
     if !(det > 0.0 && det.is_finite()) {
         return None;
     }
-    let mut x = *f;
-    let mut det = det;
     for _ in 0..30 {
-        // X^-T = cof X / det X.
-        let inverse_transpose = cofactor(&x) / det;
+        let inverse_transpose = cof * (1.0 / det);
         let change = inverse_transpose - x;
         // Scaling speeds up the first steps at large stretch; near convergence it is 1 to
         // round-off and is left out, so that the last steps are the plain quadratic ones.
@@ -146,10 +148,11 @@ pub fn polar_rotation(f: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         };
         let moved = (next - x).norm_squared();
         x = next;
-        if moved < 1e-18 {
+        if moved < 1e-16 {
             return Some(x);
         }
-        det = x.determinant();
+        cof = cofactor(&x);
+        det = x.column(0).dot(&cof.column(0));
     }
     polar_decomposition(f).map(|(r, _)| r)
 }
