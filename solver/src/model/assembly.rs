@@ -46,7 +46,21 @@ use crate::nodal::{NodeIndexer, NodeView, NodeViewMut};
 /// per thread 10.5, 13.2; 2: 10.7, 11.0-13.3; 4: 10.9, 11.2; 8: 11.4, 11.7. The medians of 1 and
 /// 2 jump to 13 ns whenever one thread runs slow, as it often does on the 2-vCPU test machine.
 const CHUNKS_PER_THREAD: usize = 4;
-/// Smallest chunk worth a task of its own.
+/// Chunks per thread, over each body, in a model with a body whose elements cost more than an
+/// elastic one ([`crate::material::Material::relative_cost`]): a material with a history, whose
+/// work per element varies with the element's state (microplane concrete: an update on the
+/// elastic path, one unloading, one on the Hordijk tail differ by a factor of ten, and the
+/// costly ones gather where the load is). Four chunks per thread left a thread idle while the
+/// other finished the last chunk: the 2 m/s drop test's internal forces on two threads took
+/// 8.7-8.9 s with its beam in 32 chunks and the hammer in two, 8.3-8.5 s with the hammer in nine
+/// as well, and 9.3-9.9 s with 4 chunks per thread over both (`cargo run --release -p
+/// impact-solver --example drop_test_cost`, alternating). A chunk boundary's slot traffic is a
+/// few microseconds against the milliseconds of such a chunk.
+const VARYING_CHUNKS_PER_THREAD: usize = 16;
+/// Smallest chunk in such a model, in elastic elements: a body of relative cost `c` has chunks of
+/// at least `VARYING_MIN_CHUNK / c` elements.
+const VARYING_MIN_CHUNK: f64 = 512.0;
+/// Smallest chunk worth a task of its own where every element costs about the same.
 const MIN_CHUNK: usize = 4096;
 /// `first_element` of a node that belongs to no element.
 pub(crate) const NO_ELEMENT: u32 = u32::MAX;
@@ -194,8 +208,21 @@ fn owns(elements: &Range<usize>, first: u32) -> bool {
 
 impl ForceAssembler {
     /// Prepares the assembly of the elements `tets` over `node_count` nodes, with the elements of
-    /// each body in `bodies`, for the current rayon thread count.
+    /// each body in `bodies`, for the current rayon thread count; every element costs what an
+    /// elastic one does (see [`Self::with_costs`]).
     pub fn new(tets: &Connectivity, node_count: usize, bodies: &[Range<usize>]) -> Self {
+        Self::with_costs(tets, node_count, bodies, &vec![1.0; bodies.len()])
+    }
+
+    /// [`Self::new`] with each body's cost per element relative to an elastic element
+    /// ([`crate::material::Material::relative_cost`]), which sets how finely its elements are cut
+    /// into chunks ([`VARYING_CHUNKS_PER_THREAD`]).
+    pub fn with_costs(
+        tets: &Connectivity,
+        node_count: usize,
+        bodies: &[Range<usize>],
+        costs: &[f64],
+    ) -> Self {
         assert!(
             tets.len() < NO_ELEMENT as usize,
             "element ids must fit in u32"
@@ -204,10 +231,18 @@ impl ForceAssembler {
         let orphans = (0..node_count as u32)
             .filter(|&n| first_element[n as usize] == NO_ELEMENT)
             .collect();
+        let bodies: Vec<BodyElements> = bodies
+            .iter()
+            .zip(costs)
+            .map(|(elements, &cost)| BodyElements {
+                elements: elements.clone(),
+                cost,
+            })
+            .collect();
         let layout = Layout::for_threads(
             &first_element,
             tets,
-            bodies,
+            &bodies,
             rayon::current_num_threads(),
             0..tets.len(),
         );
@@ -244,7 +279,7 @@ impl ForceAssembler {
     /// [`Self::append_foreign_contributions`]), the other nodes are left as they were.
     pub fn restrict_to(&self, model: &Model, range: Range<usize>) {
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
-        let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
+        let bodies = BodyElements::of(model);
         let threads = layout.threads;
         *layout = Layout::for_threads(&self.first_element, &model.tets, &bodies, threads, range);
     }
@@ -273,7 +308,7 @@ impl ForceAssembler {
         let mut layout = self.layout.lock().unwrap_or_else(|e| e.into_inner());
         let threads = rayon::current_num_threads();
         if layout.threads != threads {
-            let bodies: Vec<_> = model.bodies.iter().map(|b| b.elements.clone()).collect();
+            let bodies = BodyElements::of(model);
             let range = layout.range.clone();
             *layout =
                 Layout::for_threads(&self.first_element, &model.tets, &bodies, threads, range);
@@ -580,46 +615,84 @@ where
     first_inverted
 }
 
+/// A body's elements and their cost relative to an elastic element, which set its chunks.
+#[derive(Debug, Clone)]
+struct BodyElements {
+    elements: Range<usize>,
+    cost: f64,
+}
+
+impl BodyElements {
+    /// The bodies of `model` with the relative costs of their materials.
+    fn of(model: &Model) -> Vec<Self> {
+        model
+            .bodies
+            .iter()
+            .map(|b| Self {
+                elements: b.elements.clone(),
+                cost: b.material.relative_cost(),
+            })
+            .collect()
+    }
+}
+
 impl Layout {
-    /// The layout for `threads` threads: about `CHUNKS_PER_THREAD` chunks per thread, and one
-    /// chunk per body on a single thread, which has nobody to share work with.
+    /// The layout for `threads` threads: about `CHUNKS_PER_THREAD` chunks per thread where every
+    /// element costs what an elastic one does, `VARYING_CHUNKS_PER_THREAD` over each body of a
+    /// model with a costlier body, and one chunk per body on a single thread, which has nobody
+    /// to share work with.
     fn for_threads(
         first_element: &[u32],
         tets: &Connectivity,
-        bodies: &[Range<usize>],
+        bodies: &[BodyElements],
         threads: usize,
         range: Range<usize>,
     ) -> Self {
         // Each body's part of the assembled range (empty for a body outside it).
-        let bodies: Vec<Range<usize>> = bodies
+        let parts: Vec<Range<usize>> = bodies
             .iter()
-            .map(|b| b.start.clamp(range.start, range.end)..b.end.clamp(range.start, range.end))
+            .map(|b| {
+                let b = &b.elements;
+                b.start.clamp(range.start, range.end)..b.end.clamp(range.start, range.end)
+            })
             .collect();
-        let total: usize = bodies.iter().map(|b| b.len()).sum();
-        let length = if threads <= 1 {
-            total
+        let total: usize = parts.iter().map(|b| b.len()).sum();
+        let lengths: Vec<usize> = if threads <= 1 {
+            vec![total; parts.len()]
+        } else if bodies.iter().any(|b| b.cost > 1.0) {
+            parts
+                .iter()
+                .zip(bodies)
+                .map(|(part, body)| {
+                    let smallest = (VARYING_MIN_CHUNK / body.cost.max(1.0)).ceil() as usize;
+                    part.len()
+                        .div_ceil(VARYING_CHUNKS_PER_THREAD * threads)
+                        .max(smallest)
+                })
+                .collect()
         } else {
-            total.div_ceil(CHUNKS_PER_THREAD * threads).max(MIN_CHUNK)
+            let length = total.div_ceil(CHUNKS_PER_THREAD * threads).max(MIN_CHUNK);
+            vec![length; parts.len()]
         };
         Self {
             threads,
-            ..Self::with_chunk_length(first_element, tets, &bodies, length, range)
+            ..Self::with_chunk_lengths(first_element, tets, &parts, &lengths, range)
         }
     }
 
-    /// Chunks of at most `length` elements, equal within each body, and their slots; `bodies`
-    /// are the bodies' parts of `range`, the elements assembled.
-    fn with_chunk_length(
+    /// Chunks of at most `lengths[b]` elements in body `b`, equal within each body, and their
+    /// slots; `bodies` are the bodies' parts of `range`, the elements assembled.
+    fn with_chunk_lengths(
         first_element: &[u32],
         tets: &Connectivity,
         bodies: &[Range<usize>],
-        length: usize,
+        lengths: &[usize],
         assembled: Range<usize>,
     ) -> Self {
         let mut chunks = Vec::new();
         // Slotted contributions `(node, slot)`, with slots numbered in ascending element order.
         let mut slotted = Vec::new();
-        for (body, range) in bodies.iter().enumerate() {
+        for (body, (range, &length)) in bodies.iter().zip(lengths).enumerate() {
             if range.is_empty() {
                 continue;
             }

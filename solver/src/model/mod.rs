@@ -320,7 +320,11 @@ impl Model {
         }
         let ranges: Vec<Range<usize>> = model_bodies.iter().map(|b| b.elements.clone()).collect();
         let tets = Connectivity::from(tets);
-        let assembler = ForceAssembler::new(&tets, reference.len(), &ranges);
+        let costs: Vec<f64> = model_bodies
+            .iter()
+            .map(|b| b.material.relative_cost())
+            .collect();
+        let assembler = ForceAssembler::with_costs(&tets, reference.len(), &ranges, &costs);
         let kept = kept::KeptElementData::new(&tets, &reference, kept, volume, min_altitude);
         Ok(Self {
             reference: reference.into(),

@@ -94,8 +94,13 @@ fn any_chunking_gives_the_serial_sum_bitwise() {
             "the large field inverts"
         );
         for length in [1, 5, 64, 333, n / 3, n] {
-            let mut layout =
-                Layout::with_chunk_length(first, &model.tets, &bodies, length, 0..model.tets.len());
+            let mut layout = Layout::with_chunk_lengths(
+                first,
+                &model.tets,
+                &bodies,
+                &vec![length; bodies.len()],
+                0..model.tets.len(),
+            );
             for threads in [1, 2, 3] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
