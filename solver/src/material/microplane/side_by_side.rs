@@ -41,7 +41,13 @@ pub(super) struct SideBySide {
     kn: [Lanes; 6],
     /// `6 w`: the weight of the sum over the hemisphere (5.36).
     weight: Lanes,
+    /// The same tensors plane by plane, for the homogenisation: each plane's six components
+    /// (two padding zeros), so that its terms of all components are formed side by side.
+    by_plane: [[Components; 3]; PLANES],
 }
+
+/// The six components of a plane's tensor, padded to two AVX2 registers.
+type Components = [f64; 8];
 
 impl SideBySide {
     /// The layout of `planes`, if they are the 21 of the rule this kernel is built for.
@@ -54,12 +60,16 @@ impl SideBySide {
             mn: [[0.0; LANES]; 6],
             kn: [[0.0; LANES]; 6],
             weight: [0.0; LANES],
+            by_plane: [[[0.0; 8]; 3]; PLANES],
         };
         for (p, plane) in planes.iter().enumerate() {
             for i in 0..6 {
                 out.nn[i][p] = plane.nn[i];
                 out.mn[i][p] = plane.mn[i];
                 out.kn[i][p] = plane.kn[i];
+                out.by_plane[p][0][i] = plane.nn[i];
+                out.by_plane[p][1][i] = plane.mn[i];
+                out.by_plane[p][2][i] = plane.kn[i];
             }
             out.weight[p] = 6.0 * plane.weight;
         }
@@ -398,9 +408,11 @@ impl MicroplaneConcrete {
     }
 }
 
-/// The homogenisation (5.36) of the planes' signed stresses: each plane's terms side by side,
-/// their sums in plane order (so the sums of the plane-by-plane loop, bit for bit), with the sum
-/// of the normal stresses for the trace term and of `inelastic` for the dilatancy.
+/// The homogenisation (5.36) of the planes' signed stresses, with the sum of the normal
+/// stresses for the trace term and of `inelastic` for the dilatancy. The sums run in plane order,
+/// each plane's terms of the six components side by side (the same products in the same order
+/// as the plane-by-plane loop, so its sums bit for bit): one pass with two registers of sums,
+/// where terms formed per component across the planes had to be read back one by one.
 #[inline(always)]
 fn homogenised(
     layout: &SideBySide,
@@ -410,20 +422,17 @@ fn homogenised(
     inelastic: &Lanes,
 ) -> PlaneSums {
     let w = &layout.weight;
-    let mut terms = [[0.0; LANES]; 6];
-    for (i, term) in terms.iter_mut().enumerate() {
-        let (nn, mn, kn) = (&layout.nn[i], &layout.mn[i], &layout.kn[i]);
-        for p in 0..LANES {
-            term[p] = w[p] * (s_d[p] * nn[p] + s_m[p] * mn[p] + s_k[p] * kn[p]);
-        }
-    }
+    let mut sigma: Components = [0.0; 8];
     let mut sums = PlaneSums::default();
     for p in 0..PLANES {
-        sums.inelastic_compression += inelastic[p];
-        sums.sum_d += w[p] * s_d[p];
-        for i in 0..6 {
-            sums.sigma[i] += terms[i][p];
+        let [nn, mn, kn] = &layout.by_plane[p];
+        let (d, m, k, weight) = (s_d[p], s_m[p], s_k[p], w[p]);
+        for i in 0..8 {
+            sigma[i] += weight * (d * nn[i] + m * mn[i] + k * kn[i]);
         }
+        sums.inelastic_compression += inelastic[p];
+        sums.sum_d += weight * d;
     }
+    sums.sigma.copy_from_slice(&sigma[..6]);
     sums
 }
