@@ -216,7 +216,7 @@ impl ForceAssembler {
 
     /// [`Self::new`] with each body's cost per element relative to an elastic element
     /// ([`crate::material::Material::relative_cost`]), which sets how finely its elements are cut
-    /// into chunks ([`VARYING_CHUNKS_PER_THREAD`]).
+    /// into chunks (16 per thread over each body where a body is costlier than elastic).
     pub fn with_costs(
         tets: &Connectivity,
         node_count: usize,

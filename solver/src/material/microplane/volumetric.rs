@@ -48,7 +48,7 @@ pub fn volume_ratio_squared_minus_one(e: &Sym) -> f64 {
 /// `e_V = (J^(2/3) - 1) / 2` of the Green-Lagrange strain `e`, in a form that keeps its digits at
 /// small strain: with `d = J^2 - 1` (expanded, [`volume_ratio_squared_minus_one`]) and
 /// `r = (1 + d)^(1/3) = J^(2/3)`, `r - 1 = d / (r^2 + r + 1)`, so the small difference comes from
-/// `d` itself and only the denominator (about 3, [`cube_root_denominator`]) carries the rounding:
+/// `d` itself and only the denominator (about 3, `cube_root_denominator`) carries the rounding:
 /// a relative error of a few `1e-16` at any strain (against the `log1p`/`expm1` form in the
 /// tests). `None` where `J^2 <= 0` (no volume: an inverted or collapsed element).
 pub fn dilatational_strain(e: &Sym) -> Option<f64> {
