@@ -52,9 +52,9 @@ const CHUNKS_PER_THREAD: usize = 4;
 /// elastic path, one unloading, one on the Hordijk tail differ by a factor of ten, and the
 /// costly ones gather where the load is). Four chunks per thread left a thread idle while the
 /// other finished the last chunk: the 2 m/s drop test's internal forces on two threads took
-/// 8.7-8.9 s with its beam in 32 chunks and the hammer in two, 8.3-8.5 s with the hammer in nine
-/// as well, and 9.3-9.9 s with 4 chunks per thread over both (`cargo run --release -p
-/// impact-solver --example drop_test_cost`, alternating). A chunk boundary's slot traffic is a
+/// 9.0-9.4 s with 4 chunks per thread over the beam and the hammer, 8.7-8.9 s with the beam in
+/// 32 chunks and the hammer in two, and 8.1-8.5 s with the hammer in nine as well (`cargo run
+/// --release -p impact-solver --example drop_test_cost`, alternating rounds). A chunk boundary's slot traffic is a
 /// few microseconds against the milliseconds of such a chunk.
 const VARYING_CHUNKS_PER_THREAD: usize = 16;
 /// Smallest chunk in such a model, in elastic elements: a body of relative cost `c` has chunks of
