@@ -29,6 +29,9 @@ const LANES: usize = 24;
 /// unloading lines of all planes one by one, and each virgin component then runs its scalar
 /// law as well).
 const MOSTLY_LOADING: usize = 21;
+/// A branch of a negative strain sits two values after that of the positive one, in each
+/// component's history: the read picks it by offset.
+const _: () = assert!(state::D_NEGATIVE == state::D_POSITIVE + 2);
 /// One value per plane, padding lanes last.
 type Lanes = [f64; LANES];
 
@@ -91,10 +94,10 @@ impl SideBySide {
 }
 
 /// One stress component of every plane: the branch of the strain's sign, read from the
-/// history, and the strain magnitude. Padding lanes sit below a turning point of strain 1 and
-/// stress 0, so they unload to zero stress.
+/// history (the strain's magnitude is `|e|`, as the plane-by-plane loop forms it up to the sign
+/// of a zero, which the unloading line's clamp at zero stress removes). Padding lanes, of zero
+/// strain, sit below a turning point of strain 1 and stress 0, so they unload to zero stress.
 struct Component {
-    x: Lanes,
     reached: Lanes,
     stress_reached: Lanes,
 }
@@ -102,34 +105,31 @@ struct Component {
 impl Component {
     fn new() -> Self {
         Self {
-            x: [0.0; LANES],
             reached: [1.0; LANES],
             stress_reached: [0.0; LANES],
         }
     }
 
-    /// Reads plane `p`'s branch at `slot` of its history, at strain magnitude `x`.
+    /// Reads plane `p`'s branch at `slot` of its history.
     #[inline(always)]
-    fn read(&mut self, p: usize, history: &[f32], slot: usize, x: f64) {
-        self.x[p] = x;
+    fn read(&mut self, p: usize, history: &[f32], slot: usize) {
         self.reached[p] = history[slot] as f64;
         self.stress_reached[p] = history[slot + 1] as f64;
     }
 
     /// [`super::cyclic::Branch::unloading`] of every lane, with the peak strain `e_p` of each
     /// lane's law and its residual strain at the peak `<e_p - s_p / C0>` (5.103, see
-    /// [`residual_at_peak`]): the stress on the unloading line into `stress`, and whether any
-    /// lane is at or beyond its turning point (virgin loading: `x >= reached`, where `stress` is
-    /// not used).
+    /// [`residual_at_peak`]): the stress on the unloading line into `stress` (not used where a
+    /// lane is at or beyond its turning point, loading on its virgin law).
     #[inline(always)]
     fn unloading(
         &self,
+        strain: &Lanes,
         c0: f64,
         peak: (&Lanes, &Lanes),
         rule: &UnloadingRule,
         stress: &mut Lanes,
-        virgin: &mut [bool; LANES],
-    ) -> bool {
+    ) {
         // Most components of most updates have every plane at or before its peak (`e <= e_p`),
         // where the modulus after the peak, and its division, is never selected: the pass
         // without it gives the same bits. `!(e <= e_p)` also takes a NaN turning point, which
@@ -137,9 +137,9 @@ impl Component {
         // stress with either modulus, so only the planes are asked.
         let past_peak = (0..PLANES).any(|p| !(self.reached[p] <= peak.0[p]));
         if past_peak {
-            self.unloading_lines::<true>(c0, peak, rule, stress, virgin)
+            self.unloading_lines::<true>(strain, c0, peak, rule, stress)
         } else {
-            self.unloading_lines::<false>(c0, peak, rule, stress, virgin)
+            self.unloading_lines::<false>(strain, c0, peak, rule, stress)
         }
     }
 
@@ -148,16 +148,15 @@ impl Component {
     #[inline(always)]
     fn unloading_lines<const PAST_PEAK: bool>(
         &self,
+        strain: &Lanes,
         c0: f64,
         peak: (&Lanes, &Lanes),
         rule: &UnloadingRule,
         stress: &mut Lanes,
-        virgin: &mut [bool; LANES],
-    ) -> bool {
+    ) {
         let (alpha, beta) = (rule.alpha, rule.beta);
-        let mut any = false;
         for p in 0..LANES {
-            let (e, s, x) = (self.reached[p], self.stress_reached[p], self.x[p]);
+            let (e, s, x) = (self.reached[p], self.stress_reached[p], strain[p].abs());
             let (e_p, at_peak) = (peak.0[p], peak.1[p]);
             // `UnloadingRule::modulus` with both sides of its tests computed, then selected.
             let before = alpha * c0 + (1.0 - alpha) * (s / e);
@@ -173,10 +172,7 @@ impl Component {
             };
             let unloaded = s - modulus * (e - x);
             stress[p] = if unloaded > 0.0 { unloaded } else { 0.0 };
-            virgin[p] = x >= e;
-            any |= x >= e;
         }
-        any
     }
 }
 
@@ -248,20 +244,21 @@ impl MicroplaneConcrete {
             e_m[p] = along_m[p] * relaxation;
             e_k[p] = along_k[p] * relaxation;
         }
+        // Padding lanes carry no strain (their normal one would be `-e_V`): at magnitude 0 they
+        // stay below their turning point.
+        for e in [&mut e_d, &mut e_m, &mut e_k] {
+            e[PLANES..].fill(0.0);
+        }
 
         // Each component's branch of its strain's sign, and the shears' cyclic dissipation.
         let (mut d, mut m, mut k) = (Component::new(), Component::new(), Component::new());
         let mut lambda_m = [0.0; LANES];
         let mut lambda_k = [0.0; LANES];
         for (p, history) in planes.chunks_exact(state::PER_PLANE).enumerate() {
-            if e_d[p] >= 0.0 {
-                d.read(p, history, state::D_POSITIVE, e_d[p]);
-            } else {
-                d.read(p, history, state::D_NEGATIVE, -e_d[p]);
-            }
             let side = |e: f64| if e >= 0.0 { 0 } else { 2 };
-            m.read(p, history, state::M + side(e_m[p]), e_m[p].abs());
-            k.read(p, history, state::K + side(e_k[p]), e_k[p].abs());
+            d.read(p, history, state::D_POSITIVE + side(e_d[p]));
+            m.read(p, history, state::M + side(e_m[p]));
+            k.read(p, history, state::K + side(e_k[p]));
             lambda_m[p] = history[state::M + 4] as f64;
             lambda_k[p] = history[state::K + 4] as f64;
         }
@@ -270,9 +267,18 @@ impl MicroplaneConcrete {
         // monotonically, the quasi-static beam) would compute their unloading lines for nothing
         // and then run them plane by plane: it runs plane by plane from the start.
         let mut loading = 0;
-        for c in [&d, &m, &k] {
+        let mut virgin_d = [false; LANES];
+        let mut virgin_m = [false; LANES];
+        let mut virgin_k = [false; LANES];
+        let components = [
+            (&d, &e_d, &mut virgin_d),
+            (&m, &e_m, &mut virgin_m),
+            (&k, &e_k, &mut virgin_k),
+        ];
+        for (c, e, virgin) in components {
             for p in 0..LANES {
-                loading += usize::from(c.x[p] >= c.reached[p]);
+                virgin[p] = e[p].abs() >= c.reached[p];
+                loading += usize::from(virgin[p]);
             }
         }
         if loading > MOSTLY_LOADING {
@@ -298,16 +304,13 @@ impl MicroplaneConcrete {
         let mut s_d = [0.0; LANES];
         let mut s_m = [0.0; LANES];
         let mut s_k = [0.0; LANES];
-        let mut virgin_d = [false; LANES];
-        let mut virgin_m = [false; LANES];
-        let mut virgin_k = [false; LANES];
         let rule = &self.rule;
-        let mut virgin = d.unloading(self.e_d0, (&peak_e, &peak_s), rule, &mut s_d, &mut virgin_d);
+        d.unloading(&e_d, self.e_d0, (&peak_e, &peak_s), rule, &mut s_d);
         let shear_e = [scales.shear_peak.0; LANES];
         let shear_s = [residual_at_peak(scales.shear_peak, self.e_t0); LANES];
         let shear_peak = (&shear_e, &shear_s);
-        virgin |= m.unloading(self.e_t0, shear_peak, rule, &mut s_m, &mut virgin_m);
-        virgin |= k.unloading(self.e_t0, shear_peak, rule, &mut s_k, &mut virgin_k);
+        m.unloading(&e_m, self.e_t0, shear_peak, rule, &mut s_m);
+        k.unloading(&e_k, self.e_t0, shear_peak, rule, &mut s_k);
 
         // The shears' sign and cyclic damage (5.104).
         if self.parameters.shear_cyclic_damage {
@@ -327,7 +330,7 @@ impl MicroplaneConcrete {
 
         // Components on their virgin laws, plane by plane in the order of the loop they replace
         // (normal, M, K), so that the virgin steps are recorded in its order.
-        if virgin {
+        if loading > 0 {
             self.virgin_components(
                 planes,
                 [&e_d, &e_m, &e_k],
