@@ -176,6 +176,21 @@ impl Component {
     }
 }
 
+/// Which lanes of each component load on their virgin laws (strain magnitude at or beyond the
+/// turning point), and how many in all.
+#[inline(always)]
+fn loading_on_virgin_laws(components: [(&Component, &Lanes); 3]) -> ([[bool; LANES]; 3], usize) {
+    let mut virgin = [[false; LANES]; 3];
+    let mut loading = 0;
+    for ((c, e), virgin) in components.into_iter().zip(&mut virgin) {
+        for p in 0..LANES {
+            virgin[p] = e[p].abs() >= c.reached[p];
+            loading += usize::from(virgin[p]);
+        }
+    }
+    (virgin, loading)
+}
+
 /// `<e_p - s_p / C0>`, the residual strain of the unloading rule at the peak `(e_p, s_p)` of a law
 /// of initial modulus `c0` (5.103): the same for every plane of a law, so computed once per
 /// update instead of once per plane (the same value, so the same bits).
@@ -266,21 +281,8 @@ impl MicroplaneConcrete {
         // An update that loads most components on their virgin laws (a structure loaded
         // monotonically, the quasi-static beam) would compute their unloading lines for nothing
         // and then run them plane by plane: it runs plane by plane from the start.
-        let mut loading = 0;
-        let mut virgin_d = [false; LANES];
-        let mut virgin_m = [false; LANES];
-        let mut virgin_k = [false; LANES];
-        let components = [
-            (&d, &e_d, &mut virgin_d),
-            (&m, &e_m, &mut virgin_m),
-            (&k, &e_k, &mut virgin_k),
-        ];
-        for (c, e, virgin) in components {
-            for p in 0..LANES {
-                virgin[p] = e[p].abs() >= c.reached[p];
-                loading += usize::from(virgin[p]);
-            }
-        }
+        let ([virgin_d, virgin_m, virgin_k], loading) =
+            loading_on_virgin_laws([(&d, &e_d), (&m, &e_m), (&k, &e_k)]);
         if loading > MOSTLY_LOADING {
             let strains = [&normal[..PLANES], &along_m[..PLANES], &along_k[..PLANES]];
             return self.planes_one_by_one(planes, sliders, strains, scales, None, virgin_steps);
