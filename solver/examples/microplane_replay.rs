@@ -19,7 +19,11 @@
 //!   history is laid out per quantity, plane after plane, and `if` becomes a select. It runs in
 //!   `f64` and in `f32`, in the AVX2 build. The `f64` prototype is checked against the
 //!   production stress: the difference must be the isotropic volumetric part the prototype
-//!   leaves out. The `f32` one is checked against the `f64` one.
+//!   leaves out. The `f32` one is checked against the `f64` one;
+//! - on the unloading class again, the same plane work with four elements side by side instead
+//!   of the planes (`microplane_replay/across_elements.rs`), checked bit for bit against the
+//!   production's shear stresses and timed against the prototype above, with the share of
+//!   groups of four neighbours that are all of the unloading class.
 //!
 //! `cargo run --release -p impact-solver --example microplane_replay [STEP]` (step 500 by
 //! default; about 20 s)
@@ -243,8 +247,17 @@ fn main() {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         side_by_side::compare(&model, &parameters, &updates, &unloading);
+        let mut classes = vec![false; n];
+        for u in &unloading {
+            classes[u.0] = true;
+        }
+        across_elements::compare(&model, &parameters, &updates, &unloading, &classes);
     }
 }
+
+#[cfg(target_arch = "x86_64")]
+#[path = "microplane_replay/across_elements.rs"]
+mod across_elements;
 
 /// The plane work of the unloading class with the planes side by side.
 #[cfg(target_arch = "x86_64")]
@@ -253,9 +266,11 @@ mod side_by_side {
 
     /// What the prototype needs of the model, planes padded with zero weights.
     pub struct Planes {
-        nn: [[f64; LANES_PLANES]; 6],
-        mn: [[f64; LANES_PLANES]; 6],
-        kn: [[f64; LANES_PLANES]; 6],
+        pub(super) nn: [[f64; LANES_PLANES]; 6],
+        pub(super) mn: [[f64; LANES_PLANES]; 6],
+        pub(super) kn: [[f64; LANES_PLANES]; 6],
+        /// `6 w`, the weight of the sum over the hemisphere (5.36).
+        pub(super) weight: [f64; LANES_PLANES],
         /// `6 w N`, `6 w M`, `6 w K`.
         weighted: [[[f64; LANES_PLANES]; 6]; 3],
         /// The same four in `f32`.
@@ -263,23 +278,24 @@ mod side_by_side {
         mn32: [[f32; LANES_PLANES]; 6],
         kn32: [[f32; LANES_PLANES]; 6],
         weighted32: [[[f32; LANES_PLANES]; 6]; 3],
-        e_d0: f64,
-        e_t0: f64,
-        alpha: f64,
-        beta: f64,
-        tension: ExponentialLaw,
-        compression: ExponentialLaw,
-        shear: ExponentialLaw,
-        scales: [f64; 4],
-        damage: DecayTable,
+        pub(super) e_d0: f64,
+        pub(super) e_t0: f64,
+        pub(super) alpha: f64,
+        pub(super) beta: f64,
+        pub(super) tension: ExponentialLaw,
+        pub(super) compression: ExponentialLaw,
+        pub(super) shear: ExponentialLaw,
+        pub(super) scales: [f64; 4],
+        pub(super) damage: DecayTable,
     }
 
     impl Planes {
-        fn new(model: &MicroplaneConcrete, p: &MicroplaneParameters) -> Self {
+        pub(super) fn new(model: &MicroplaneConcrete, p: &MicroplaneParameters) -> Self {
             let mut out = Planes {
                 nn: [[0.0; LANES_PLANES]; 6],
                 mn: [[0.0; LANES_PLANES]; 6],
                 kn: [[0.0; LANES_PLANES]; 6],
+                weight: [0.0; LANES_PLANES],
                 weighted: [[[0.0; LANES_PLANES]; 6]; 3],
                 nn32: [[0.0; LANES_PLANES]; 6],
                 mn32: [[0.0; LANES_PLANES]; 6],
@@ -297,6 +313,7 @@ mod side_by_side {
             };
             for (j, plane) in model.planes().iter().enumerate() {
                 let w = 6.0 * plane.weight;
+                out.weight[j] = w;
                 for i in 0..6 {
                     out.nn[i][j] = plane.nn[i];
                     out.mn[i][j] = plane.mn[i];
@@ -317,7 +334,7 @@ mod side_by_side {
 
     /// The history of the planes laid out per quantity, plane after plane; padding planes sit
     /// at a turning point of strain 1 and stress 0.
-    fn per_quantity(history: &[f32], planes: usize) -> Vec<f32> {
+    pub(super) fn per_quantity(history: &[f32], planes: usize) -> Vec<f32> {
         let mut out = vec![0.0f32; QUANTITIES * LANES_PLANES];
         for q in 0..QUANTITIES {
             for p in 0..LANES_PLANES {
