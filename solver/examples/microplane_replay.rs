@@ -131,6 +131,13 @@ fn replay(model: &MicroplaneConcrete, updates: &[Update], order: &[usize]) -> f6
     best
 }
 
+/// The median of the rounds `v`.
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
 fn main() {
     let step: usize = std::env::args()
         .nth(1)
@@ -227,11 +234,6 @@ fn main() {
             times[o][1].push(replay(&one_by_one, &updates, order));
         }
     }
-    let median = |v: &[f64]| {
-        let mut v = v.to_vec();
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     println!(
         "production update, one thread (best of 5 passes, median of {ROUNDS} rounds), planes \
          side by side against one by one:"
@@ -247,11 +249,7 @@ fn main() {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         side_by_side::compare(&model, &parameters, &updates, &unloading);
-        let mut classes = vec![false; n];
-        for u in &unloading {
-            classes[u.0] = true;
-        }
-        across_elements::compare(&model, &parameters, &updates, &unloading, &classes);
+        across_elements::compare(&model, &parameters, &updates, &unloading);
     }
 }
 
